@@ -1,0 +1,134 @@
+"""The effect interface: one module per effect, owning its GL resources, parameters and passes.
+
+An effect declares
+
+* ``programs`` — every shader program it may compile (``natura shaders check`` compiles them
+  all, and their ``// @param`` annotations become parameters of the effect);
+* ``python_params()`` — tunables that live on the CPU;
+* ``update(frame, dt)`` — CPU work and what it adds to the frame context;
+* ``render(frame, target)`` — its passes, in order;
+* ``passes()`` — named callables for ``natura bench``.
+
+GL resources are created lazily through ``self.gpu`` under the effect's name, so a scene
+without the effect allocates nothing of it.
+"""
+
+from __future__ import annotations
+
+import abc
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Callable, ClassVar
+
+from ..gpu.shaders import PreprocessError, ShaderLibrary
+from ..params import Param, ParamSet, parse_glsl_annotations
+
+if TYPE_CHECKING:
+    from ..frame import FrameContext
+    from ..gpu.device import Gpu
+    from ..gpu.targets import RenderTarget
+
+
+@dataclass(frozen=True)
+class ProgramSpec:
+    """A program by library name, with optional explicit stage files and defines."""
+
+    name: str
+    vert: str | None = None
+    frag: str | None = None
+    comp: str | None = None
+    defines: tuple = ()
+    requires_compute: bool = False
+
+    def stages(self) -> dict[str, str | None]:
+        return {"vert": self.vert, "frag": self.frag, "comp": self.comp}
+
+
+def fullscreen(frag_name: str, **kw) -> ProgramSpec:
+    """A full-screen pass: the shared triangle vertex shader plus ``<frag_name>.frag``."""
+    return ProgramSpec(frag_name, vert="common/fullscreen.vert", frag=f"{frag_name}.frag", **kw)
+
+
+@dataclass
+class Pass:
+    name: str
+    run: Callable[[], None]
+
+
+class Effect(abc.ABC):
+    name: ClassVar[str] = ""
+    title: ClassVar[str] = ""
+    spec: ClassVar[str] = ""  # digest the effect implements, e.g. "spec/000"
+    programs: ClassVar[tuple[ProgramSpec, ...]] = ()
+    #: groups of parameters the effect owns besides its own name
+    extra_groups: ClassVar[tuple[str, ...]] = ()
+
+    # -- parameters ------------------------------------------------------------------------
+    @classmethod
+    def python_params(cls) -> list[Param]:
+        return []
+
+    @classmethod
+    def shader_files(cls, library: ShaderLibrary) -> list[Path]:
+        files: list[Path] = []
+        for spec in cls.programs:
+            for path in library.stage_files(spec.name, **spec.stages()).values():
+                try:
+                    files.extend(library.preprocess(path, dict(spec.defines)).files)
+                except PreprocessError as exc:
+                    files.extend(exc.files)
+        return list(dict.fromkeys(files))
+
+    @classmethod
+    def glsl_params(cls, library: ShaderLibrary) -> list[Param]:
+        """Parameters from ``// @param`` annotations in every file the programs include."""
+        out: dict[str, Param] = {}
+        for path in cls.shader_files(library):
+            try:
+                text = path.read_text(encoding="utf-8")
+            except (OSError, UnicodeDecodeError):
+                continue
+            for p in parse_glsl_annotations(text, cls.name, library.display(path), cls.spec):
+                out.setdefault(p.name, p)
+        return list(out.values())
+
+    @classmethod
+    def declare(cls, library: ShaderLibrary) -> list[Param]:
+        return cls.python_params() + cls.glsl_params(library)
+
+    # -- life ------------------------------------------------------------------------------
+    def __init__(self, gpu: "Gpu", params: ParamSet, scene=None):
+        self.gpu = gpu
+        self.params = params
+        self.scene = scene
+
+    def program(self, spec: ProgramSpec):
+        prog = self.gpu.program(self.name, spec.name, dict(spec.defines), **spec.stages())
+        if self._on_reload not in prog.on_reload:
+            prog.on_reload.append(self._on_reload)
+        return prog
+
+    def _on_reload(self, prog) -> None:
+        """A reloaded shader may declare new ``@param`` uniforms: give them widgets now."""
+        for p in self.glsl_params(self.gpu.shaders):
+            self.params.add(p, replace=True)
+
+    def apply_params(self, prog) -> None:
+        """Push every parameter of this effect that names a uniform."""
+        for p in self.params:
+            if p.uniform and p.group == self.name:
+                prog.set(p.uniform, self.params[p.name])
+
+    def update(self, frame: "FrameContext", dt: float) -> None:
+        """CPU work for this frame; may add to ``frame`` (lights, wind...)."""
+
+    @abc.abstractmethod
+    def render(self, frame: "FrameContext", target: "RenderTarget") -> None:
+        """Draw the effect's passes into ``target`` (linear radiance)."""
+
+    def passes(self, frame: "FrameContext", target: "RenderTarget") -> list[Pass]:
+        return [Pass(self.name, lambda: self.render(frame, target))]
+
+    def release(self) -> None:
+        self.gpu.release_owner(self.name)
+

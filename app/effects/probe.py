@@ -1,0 +1,36 @@
+"""A mirror ball showing the sky's environment cubemap (the thesis's reflection probe).
+
+It asks the sky for :meth:`~app.effects.sky.Sky.environment`, so the cubemap exists only in
+scenes that reflect something, and is re-rendered only when the sky changed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import moderngl
+
+from .base import Effect, fullscreen
+
+MIRROR_BALL = fullscreen("probe/mirror_ball")
+
+
+class MirrorBall(Effect):
+    name = "probe"
+    title = "Reflection probe (mirror ball)"
+    spec = "spec/000"
+    programs = (MIRROR_BALL,)
+
+    def render(self, frame, target) -> None:
+        sky = self.scene.effect("sky")
+        cube = sky.environment(frame)
+        prog = self.program(MIRROR_BALL)
+        cube.use(0)
+        prog.set_many(frame.camera_uniforms())
+        prog.set_many(frame.light_uniforms())
+        prog.set("uEnvironment", 0)
+        prog.set("uEnvironmentLods", float(int(math.log2(cube.size[0]))))
+        self.apply_params(prog)
+        target.use()
+        self.gpu.ctx.disable(moderngl.DEPTH_TEST)
+        prog.vao().render(moderngl.TRIANGLES, vertices=3)

@@ -1,0 +1,315 @@
+"""The procedural day–night sky of the maritime thesis (spec/000 §1.7, §2).
+
+GPU side: ``glsl/sky/sky_radiance.glsl`` (the model, with its ``@param`` uniforms),
+``sky.frag`` (what the camera sees) and the environment cubemap (``sky_cubemap.comp`` with
+compute shaders, ``sky_face.frag`` without) that reflective effects ask for through
+:meth:`Sky.environment`. The cubemap is created on the first request and re-rendered only when
+the hour, a sky parameter or the keyframes changed — the thesis's reflection probe, rendered
+"only when needed".
+
+CPU side: ``app.sim.daynight`` (hour, sun and moon, keyframes). The numpy functions at the end
+of this module are the twins the tests compare the shader with.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import moderngl
+import numpy as np
+
+from .. import RESOURCES
+from ..params import Param
+from ..sim.daynight import DayNight, Keyframes, wrap_hour
+from .base import Effect, Pass, ProgramSpec, fullscreen
+
+MIE_G = -0.990
+MIE_G2 = 0.9801
+DEFAULT_KEYFRAMES = RESOURCES / "sky" / "keyframes.toml"
+
+SKY = fullscreen("sky/sky")
+SKY_FACE = fullscreen("sky/sky_face")
+SKY_CUBEMAP = ProgramSpec("sky/sky_cubemap", requires_compute=True)
+
+
+class Sky(Effect):
+    name = "sky"
+    title = "Day–night sky"
+    spec = "spec/000"
+    programs = (SKY, SKY_FACE, SKY_CUBEMAP)
+    extra_groups = ("time",)
+
+    @classmethod
+    def python_params(cls) -> list[Param]:
+        s = "spec/000 §1.7"
+        return [
+            Param("time.hour", 12.0, 0.0, 24.0, "hour of day (SkyboxController.Time), wraps into [0, 24)",
+                  step=0.05, unit="h", section=s),
+            Param("time.playing", False, doc="time advances (SkyboxController.IsPlaying)", kind="bool", section=s),
+            Param("time.speed", 0.25, 0.0, 24.0, "hours of sky time per second (Planet Rotation Speed)",
+                  step=0.01, unit="h/s", section=s),
+            Param("sky.ecliptic", (0.0, 0.6, -1.0), -1.0, 1.0,
+                  "Earth's rotation axis (Ecliptic): tilt toward north (−z) sets the noon sun height",
+                  kind="vec3", step=0.01, section=s),
+            Param("sky.moon_light", 0.08, 0.0, 1.0, "main-light intensity of the moon relative to the sun",
+                  step=0.01, section=s),
+            Param("sky.star_seed", 7, 0, 2**31 - 1, "seed of the procedural star field", kind="int", section=s),
+            Param("sky.cubemap_size", 128, 8, 2048, "environment cubemap face size (reflection probe)",
+                  kind="int", step=8, unit="px", section=s),
+        ]
+
+    def __init__(self, gpu, params, scene=None, keyframes: Keyframes | None = None):
+        super().__init__(gpu, params, scene)
+        self.keyframes = keyframes or Keyframes.load(DEFAULT_KEYFRAMES)
+        self.state = None
+        self.environment_renders = 0
+        self._gradient = None
+        self._gradient_version = None
+        self._stars = None
+        self._stars_seed = None
+        self._moon = None
+        self._cube = None
+        self._cube_key = None
+
+    # -- CPU -------------------------------------------------------------------------------
+    def daynight(self) -> DayNight:
+        p = self.params
+        return DayNight(
+            keyframes=self.keyframes,
+            hour=p["time.hour"],
+            ecliptic=p["sky.ecliptic"],
+            speed=p["time.speed"],
+            playing=p["time.playing"],
+            sun_color=p["sky.sun_color"],
+            moon_color=p["sky.moon_color"],
+            moon_light=p["sky.moon_light"],
+        )
+
+    def update(self, frame, dt: float) -> None:
+        dn = self.daynight()
+        dn.advance(dt)
+        if dn.hour != self.params["time.hour"]:
+            self.params.set("time.hour", dn.hour)
+        self.state = dn.state()
+        frame.hour = self.state.hour
+        frame.sun, frame.moon, frame.main_light = self.state.sun, self.state.moon, self.state.main_light
+
+    # -- textures --------------------------------------------------------------------------
+    def _textures(self) -> None:
+        gpu = self.gpu
+        if self._gradient is None or self._gradient_version != self.keyframes.version:
+            data = self.keyframes.texture_data()
+            if self._gradient is not None and self._gradient.size == (data.shape[1], data.shape[0]):
+                self._gradient.write(data.tobytes())
+            else:
+                if self._gradient is not None:
+                    gpu.free(self._gradient)
+                self._gradient = gpu.texture(self.name, "sky gradient keyframes", (data.shape[1], data.shape[0]), 4,
+                                             data.tobytes())
+            self._gradient_version = self.keyframes.version
+        seed = self.params["sky.star_seed"]
+        if self._stars is None or self._stars_seed != seed:
+            if self._stars is not None:
+                gpu.free(self._stars)
+            stars = star_field(seed)
+            self._stars = gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1, stars.tobytes(),
+                                      repeat=True)
+            self._stars_seed = seed
+        if self._moon is None:
+            moon = moon_texture()
+            self._moon = gpu.texture(self.name, "moon", (moon.shape[1], moon.shape[0]), 4, moon.tobytes())
+
+    def _bind(self, prog) -> None:
+        st = self.state
+        self._textures()
+        self._gradient.use(0)
+        self._stars.use(1)
+        self._moon.use(2)
+        rows = self._gradient.size[1]
+        i0, i1, t = st.keyframe_rows
+        prog.set_many({
+            "uSkyGradient": 0, "uStarTex": 1, "uMoonTex": 2,
+            "uGradientRows": ((i0 + 0.5) / rows, (i1 + 0.5) / rows),
+            "uGradientMix": t,
+            "uGradientTexels": float(self._gradient.size[0]),
+            "uKeyframeStars": st.stars,
+            "uSunDir": tuple(st.sun_dir),
+            "uMoonDir": tuple(st.moon_dir),
+            "uWorldToMoon": st.world_to_moon,
+        })
+        self.apply_params(prog)
+
+    # -- passes ----------------------------------------------------------------------------
+    def render(self, frame, target) -> None:
+        prog = self.program(SKY)
+        self._bind(prog)
+        prog.set_many(frame.camera_uniforms())
+        target.use()
+        self.gpu.ctx.disable(moderngl.DEPTH_TEST)
+        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+
+    def environment_key(self) -> tuple:
+        return (round(self.state.hour, 6), self.params.version("sky"), self.keyframes.version)
+
+    def environment(self, frame=None, force: bool = False):
+        """The sky as a cubemap for reflections; re-rendered only when it changed."""
+        size = self.params["sky.cubemap_size"]
+        if self._cube is not None and self._cube.size[0] != size:
+            self.gpu.free(self._cube)
+            self._cube = None
+        if self._cube is None:
+            self._cube = self.gpu.texture_cube(self.name, "environment", size)
+            self._cube.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+            self._cube_key = None
+        key = self.environment_key()
+        if force or key != self._cube_key:
+            self._render_cubemap(self._cube)
+            self._cube_key = key
+            self.environment_renders += 1
+        return self._cube
+
+    def _render_cubemap(self, cube, use_compute: bool | None = None) -> None:
+        size = cube.size[0]
+        ctx = self.gpu.ctx
+        if use_compute is None:
+            use_compute = self.gpu.caps.compute
+        if use_compute:
+            prog = self.program(SKY_CUBEMAP)
+            self._bind(prog)
+            prog.set("uFaceSize", size)
+            cube.bind_to_image(0, read=False, write=True)
+            groups = (size + 7) // 8
+            prog.program.run(groups, groups, 6)
+            ctx.memory_barrier()
+        else:
+            prog = self.program(SKY_FACE)
+            self._bind(prog)
+            face_target = self.gpu.target(self.name, "cubemap face", (size, size), dtype="f4", depth=False)
+            try:
+                for face in range(6):
+                    face_target.use()
+                    prog.set("uFace", face)
+                    prog.vao().render(moderngl.TRIANGLES, vertices=3)
+                    raw = np.frombuffer(face_target.fbo.read(components=4, dtype="f4"), dtype=np.float32)
+                    cube.write(face, raw.astype(np.float16).tobytes())
+            finally:
+                self.gpu.free(face_target)
+        cube.build_mipmaps()
+
+    def passes(self, frame, target) -> list[Pass]:
+        out = [Pass("sky", lambda: self.render(frame, target))]
+        if self._cube is not None:
+            out.append(Pass("sky.cubemap", lambda: self.environment(frame, force=True)))
+        return out
+
+    def save_keyframes_text(self) -> str:
+        return self.keyframes.to_toml()
+
+
+# ---- procedural textures ---------------------------------------------------------------------
+
+def star_field(seed: int, width: int = 1024, height: int = 512, count: int = 2600) -> np.ndarray:
+    """A tileable star texture (R, float32): small Gaussian points, mostly faint.
+
+    The shader keeps saturate(3·s³), so only points brighter than ~0.69 show at full strength.
+    """
+    rng = np.random.default_rng(seed)
+    img = np.zeros((height, width), dtype=np.float32)
+    xs = rng.uniform(0, width, count)
+    ys = rng.uniform(0, height, count)
+    bright = 0.45 + 0.55 * rng.random(count) ** 2.5
+    offsets = np.arange(-2, 3)
+    for dy in offsets:
+        for dx in offsets:
+            px = np.floor(xs).astype(int) + dx
+            py = np.floor(ys).astype(int) + dy
+            d2 = (px + 0.5 - xs) ** 2 + (py + 0.5 - ys) ** 2
+            np.add.at(img, (py % height, px % width), bright * np.exp(-d2 / (2 * 0.55**2)))
+    return np.clip(img, 0.0, 1.0)
+
+
+def moon_texture(size: int = 256, seed: int = 3) -> np.ndarray:
+    """The moon: a grey disc of radius 0.47 (in texture units) with maria and craters, black
+    outside so clamp-to-edge sampling adds nothing around it. RGBA float32."""
+    rng = np.random.default_rng(seed)
+    y, x = np.mgrid[0:size, 0:size]
+    u = (x + 0.5) / size - 0.5
+    v = (y + 0.5) / size - 0.5
+    r = np.hypot(u, v) / 0.47
+    albedo = np.full((size, size), 0.82)
+    for _ in range(7):  # maria: broad dark patches
+        cu, cv = rng.uniform(-0.3, 0.3, 2)
+        rad = rng.uniform(0.06, 0.16)
+        albedo -= 0.22 * np.exp(-((u - cu) ** 2 + (v - cv) ** 2) / (2 * rad**2))
+    for _ in range(60):  # craters: dark floor, bright rim
+        cu, cv = rng.uniform(-0.45, 0.45, 2)
+        rad = rng.uniform(0.008, 0.05)
+        d = np.hypot(u - cu, v - cv) / rad
+        albedo -= 0.12 * np.exp(-(d**2) * 2.0)
+        albedo += 0.08 * np.exp(-((d - 1.0) ** 2) * 18.0)
+    limb = np.sqrt(np.clip(1.0 - r**2, 0.0, 1.0)) ** 0.35
+    disc = np.clip((1.0 - r) * size * 0.47, 0.0, 1.0)  # one-texel anti-aliased edge
+    grey = np.clip(albedo, 0.05, 1.0) * limb * disc
+    out = np.zeros((size, size, 4), dtype=np.float32)
+    out[..., 0] = grey
+    out[..., 1] = grey * 0.98
+    out[..., 2] = grey * 0.93
+    out[..., 3] = disc
+    return out
+
+
+# ---- numpy twins (tests compare the shader with these) ---------------------------------------
+
+def mie_phase(c, c2, sun_size: float = 0.05):
+    """(B.2) ``getMiePhase`` with the SunSize exponent and the 1e-4 clamp."""
+    t = 1.0 + MIE_G2 - 2.0 * MIE_G * np.asarray(c, dtype=np.float64)
+    t = np.maximum(t, 0.0) ** (sun_size**0.65 * 10.0)
+    t = np.maximum(t, 1e-4)
+    return 1.5 * ((1.0 - MIE_G2) / (2.0 + MIE_G2)) * (1.0 + np.asarray(c2)) / t
+
+
+def sun_term(cos_angle, sun_size: float = 0.05, intensity: float = 2.0):
+    """Sun disk value (per unit SunCol) at angle ``acos(cos_angle)`` from the sun (B.3)."""
+    f = np.clip(np.asarray(cos_angle, dtype=np.float64), 0.0, 1.0) ** 5
+    return mie_phase(-f, f * f, sun_size) * intensity
+
+
+def smoothstep(e0, e1, x):
+    t = np.clip((np.asarray(x, dtype=np.float64) - e0) / (e1 - e0), 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
+def scattering_intensity_factor(sun_sin_elevation):
+    """scatInt = max(0.15, smoothstep(0.6, 0.0, sin elevation)), the reversed ramp by hand."""
+    return np.maximum(0.15, 1.0 - smoothstep(0.0, 0.6, sun_sin_elevation))
+
+
+def halo_term(cos_angle, sun_sin_elevation, scattering_intensity: float = 1.0):
+    return smoothstep(0.5, 1.5, cos_angle) * scattering_intensity * scattering_intensity_factor(sun_sin_elevation)
+
+
+def cubemap_face_direction(face: int, s, t) -> np.ndarray:
+    """Twin of ``CubemapFaceDirection`` (glsl/common/cubemap.glsl)."""
+    s, t = np.broadcast_arrays(np.asarray(s, dtype=np.float64), np.asarray(t, dtype=np.float64))
+    one = np.ones_like(s)
+    d = {
+        0: (one, -t, -s), 1: (-one, -t, s), 2: (s, one, t),
+        3: (s, -one, -t), 4: (s, -t, one), 5: (-s, -t, -one),
+    }[face]
+    d = np.stack(d, axis=-1)
+    return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+
+def elevation_u(directions: np.ndarray) -> np.ndarray:
+    """sphereUV.y = asin(p.y) / (π/2)."""
+    return np.arcsin(np.clip(directions[..., 1], -1.0, 1.0)) / (math.pi / 2)
+
+
+def hour_label(hour: float) -> str:
+    minutes = int(round(wrap_hour(hour) * 60.0)) % 1440
+    return f"{minutes // 60:02d}:{minutes % 60:02d}"
+
+
+def keyframes_path(path: str | Path | None) -> Path:
+    return Path(path) if path else DEFAULT_KEYFRAMES

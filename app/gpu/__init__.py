@@ -1,0 +1,1 @@
+"""Thin layer over moderngl: contexts, the shader library, render targets, timing."""

@@ -1,0 +1,75 @@
+"""The GPU as the app sees it: a context, its capabilities, the shader library, and a record of
+every resource each effect allocated (so tests can check that a scene creates nothing it does
+not use, and the panel can list what a scene holds)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import moderngl
+
+from .context import Caps, caps_of, create_headless_context
+from .shaders import Program, ShaderLibrary
+from .targets import RenderTarget
+
+
+@dataclass
+class Allocation:
+    owner: str  # effect or scene name
+    kind: str  # program | texture | cubemap | target | buffer
+    name: str
+    obj: Any
+
+
+class Gpu:
+    def __init__(self, ctx: moderngl.Context | None = None, shader_root: Path | None = None):
+        self.ctx = ctx or create_headless_context()
+        self.caps: Caps = caps_of(self.ctx)
+        self.shaders = ShaderLibrary(self.ctx, shader_root)
+        self.allocations: list[Allocation] = []
+
+    def _record(self, owner: str, kind: str, name: str, obj: Any) -> Any:
+        self.allocations.append(Allocation(owner, kind, name, obj))
+        return obj
+
+    def program(self, owner: str, name: str, defines: dict | None = None, **stages) -> Program:
+        prog = self.shaders.program(name, defines, **stages)
+        if not any(a.obj is prog and a.owner == owner for a in self.allocations):
+            self._record(owner, "program", name, prog)
+        return prog
+
+    def texture(self, owner: str, name: str, size, components: int, data=None, dtype: str = "f4",
+                filter=(moderngl.LINEAR, moderngl.LINEAR), repeat: bool = False) -> moderngl.Texture:
+        tex = self.ctx.texture(tuple(size), components, data=data, dtype=dtype)
+        tex.filter = filter
+        tex.repeat_x = tex.repeat_y = repeat
+        return self._record(owner, "texture", name, tex)
+
+    def texture_cube(self, owner: str, name: str, size: int, components: int = 4, dtype: str = "f2"):
+        cube = self.ctx.texture_cube((size, size), components, dtype=dtype)
+        return self._record(owner, "cubemap", name, cube)
+
+    def target(self, owner: str, name: str, size, dtype: str = "f4", depth: bool = True) -> RenderTarget:
+        return self._record(owner, "target", name, RenderTarget(self.ctx, size, dtype=dtype, depth=depth))
+
+    def owned_by(self, owner: str) -> list[Allocation]:
+        return [a for a in self.allocations if a.owner == owner]
+
+    def free(self, obj: Any) -> None:
+        """Release one resource and forget it."""
+        for a in list(self.allocations):
+            if a.obj is obj:
+                self.allocations.remove(a)
+        if not isinstance(obj, Program):  # programs are shared through the library
+            obj.release()
+
+    def release_owner(self, owner: str) -> None:
+        for a in self.owned_by(owner):
+            self.free(a.obj)
+
+    def release(self) -> None:
+        for a in list(self.allocations):
+            self.free(a.obj)
+        self.shaders.release()

@@ -1,0 +1,379 @@
+"""One mechanism for every tunable.
+
+A :class:`Param` gives a tunable its name (``effect.name``), default, range, step, unit,
+one-line doc and the thesis section it comes from. From it come the ImGui widgets
+(``app.ui.panel``), validation, TOML presets and ``--set name=value``.
+
+Parameters are declared in Python (``Param(...)``) or by annotating a uniform in GLSL::
+
+    uniform float uSunSize; // @param 0.05 [0, 1] step=0.005 §1.7 sun disk size
+
+which becomes ``<effect>.sun_size`` (a leading ``u`` prefix is dropped and camelCase becomes
+snake_case). See :func:`parse_glsl_annotations` for the full grammar.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterable
+
+from .errors import ParamError
+
+KINDS = ("float", "int", "bool", "vec3", "color", "choice")
+
+
+def _fmt(x: float) -> str:
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e15 else f"{x:g}"
+
+
+@dataclass
+class Param:
+    """A tunable: everything the UI, the CLI, presets and validation need to know."""
+
+    name: str
+    default: Any
+    lo: float | None = None
+    hi: float | None = None
+    doc: str = ""
+    kind: str = "float"
+    step: float | None = None
+    unit: str = ""
+    section: str = ""
+    uniform: str | None = None
+    choices: tuple[str, ...] = ()
+    source: str = "python"  # "python" or the GLSL file that declared it
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise ValueError(f"{self.name}: unknown kind {self.kind!r}")
+        if self.step is None:
+            if self.kind == "int":
+                self.step = 1
+            elif self.lo is not None and self.hi is not None:
+                self.step = (self.hi - self.lo) / 100.0
+            else:
+                self.step = 0.01
+        self.default = self.validate(self.default)
+
+    @property
+    def group(self) -> str:
+        return self.name.split(".", 1)[0]
+
+    @property
+    def short(self) -> str:
+        return self.name.split(".", 1)[-1]
+
+    def allowed(self) -> str:
+        """What is allowed, as a phrase for error messages."""
+        if self.kind == "bool":
+            return "true or false"
+        if self.kind == "choice":
+            return "one of " + ", ".join(self.choices)
+        rng = f"[{_fmt(self.lo)}, {_fmt(self.hi)}]" if self.lo is not None else "any finite value"
+        if self.kind in ("vec3", "color"):
+            return f"three comma-separated numbers, each in {rng}"
+        if self.kind == "int":
+            return f"an integer in {rng}"
+        return f"a number in {rng}"
+
+    def _bad(self, value, why: str) -> ParamError:
+        return ParamError(f"{self.name}={value!r} {why}: allowed {self.allowed()}")
+
+    def _scalar(self, value, original) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            try:
+                value = float(str(value).strip())
+            except ValueError:
+                raise self._bad(original, "is not a number") from None
+        value = float(value)
+        if not math.isfinite(value):
+            raise self._bad(original, "is not finite")
+        if self.lo is not None and value < self.lo - 1e-12:
+            raise self._bad(original, "is out of range")
+        if self.hi is not None and value > self.hi + 1e-12:
+            raise self._bad(original, "is out of range")
+        return value
+
+    def validate(self, value: Any) -> Any:
+        """Return ``value`` converted to this parameter's type, or raise :class:`ParamError`."""
+        original = value
+        if self.kind == "bool":
+            if isinstance(value, bool):
+                return value
+            text = str(value).strip().lower()
+            if text in ("1", "true", "yes", "on"):
+                return True
+            if text in ("0", "false", "no", "off"):
+                return False
+            raise self._bad(original, "is not a boolean")
+        if self.kind == "choice":
+            text = str(value).strip()
+            if text not in self.choices:
+                raise self._bad(original, "is not a choice")
+            return text
+        if self.kind in ("vec3", "color"):
+            if isinstance(value, str):
+                text = value.strip().strip("()[]")
+                if text.startswith("#") and len(text) == 7 and self.kind == "color":
+                    try:
+                        value = [int(text[i : i + 2], 16) / 255.0 for i in (1, 3, 5)]
+                    except ValueError:
+                        raise self._bad(original, "is not a colour") from None
+                else:
+                    value = [v for v in re.split(r"[,\s]+", text) if v]
+            try:
+                items = list(value)
+            except TypeError:
+                raise self._bad(original, "is not three numbers") from None
+            if len(items) != 3:
+                raise self._bad(original, "is not three numbers")
+            return tuple(self._scalar(v, original) for v in items)
+        number = self._scalar(value, original)
+        if self.kind == "int":
+            if abs(number - round(number)) > 1e-9:
+                raise self._bad(original, "is not an integer")
+            return int(round(number))
+        return number
+
+
+class ParamSet:
+    """The parameters of one scene and their current values.
+
+    ``version(group)`` increases whenever a value in that group changes, so effects can redo
+    work (a cubemap, a lookup table) only when something they depend on changed.
+    """
+
+    def __init__(self, params: Iterable[Param] = ()):
+        self._params: dict[str, Param] = {}
+        self._values: dict[str, Any] = {}
+        self._versions: dict[str, int] = {}
+        for p in params:
+            self.add(p)
+
+    # -- declaration -------------------------------------------------------------------------
+    def add(self, param: Param, replace: bool = False) -> None:
+        """Declare a parameter. A re-declaration (e.g. after a shader reload) keeps the value
+        when it is still valid."""
+        old = self._params.get(param.name)
+        if old is not None and not replace and old.source == param.source == "python":
+            raise ValueError(f"parameter {param.name} declared twice")
+        self._params[param.name] = param
+        if param.name in self._values:
+            try:
+                self._values[param.name] = param.validate(self._values[param.name])
+                return
+            except ParamError:
+                pass
+        self._values[param.name] = param.default
+        self._bump(param.group)
+
+    def remove(self, name: str) -> None:
+        if name in self._params:
+            group = self._params.pop(name).group
+            self._values.pop(name, None)
+            self._bump(group)
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._params
+
+    def __iter__(self):
+        return iter(self._params.values())
+
+    def __len__(self):
+        return len(self._params)
+
+    def spec(self, name: str) -> Param:
+        try:
+            return self._params[name]
+        except KeyError:
+            raise self._unknown(name) from None
+
+    def groups(self) -> dict[str, list[Param]]:
+        out: dict[str, list[Param]] = {}
+        for p in self._params.values():
+            out.setdefault(p.group, []).append(p)
+        return out
+
+    def _unknown(self, name: str) -> ParamError:
+        group = name.split(".", 1)[0]
+        same = [p.name for p in self._params.values() if p.group == group]
+        pool = same or list(self._params)
+        return ParamError(f"unknown parameter {name!r}: allowed " + ", ".join(sorted(pool)))
+
+    # -- values ----------------------------------------------------------------------------
+    def __getitem__(self, name: str) -> Any:
+        if name not in self._values:
+            raise self._unknown(name)
+        return self._values[name]
+
+    def get(self, name: str, default: Any = None) -> Any:
+        return self._values.get(name, default)
+
+    def set(self, name: str, value: Any) -> Any:
+        param = self.spec(name)
+        value = param.validate(value)
+        if self._values.get(name) != value:
+            self._values[name] = value
+            self._bump(param.group)
+        return value
+
+    def set_from_string(self, assignment: str) -> None:
+        """Apply ``name=value`` as given to ``--set``."""
+        if "=" not in assignment:
+            raise ParamError(f"--set {assignment!r} is not name=value: allowed e.g. sky.sun_size=0.1")
+        name, _, value = assignment.partition("=")
+        self.set(name.strip(), value.strip())
+
+    def reset(self, name: str | None = None) -> None:
+        for p in [self.spec(name)] if name else list(self._params.values()):
+            self.set(p.name, p.default)
+
+    def values(self, group: str | None = None) -> dict[str, Any]:
+        return {k: v for k, v in self._values.items() if group is None or k.split(".")[0] == group}
+
+    def version(self, group: str) -> int:
+        return self._versions.get(group, 0)
+
+    def _bump(self, group: str) -> None:
+        self._versions[group] = self._versions.get(group, 0) + 1
+
+    # -- presets ---------------------------------------------------------------------------
+    def load_preset(self, path: Path) -> None:
+        """Apply a TOML preset: one table per group, ``[sky] sun_size = 0.05``."""
+        try:
+            data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise ParamError(f"preset {str(path)!r} does not exist") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise ParamError(f"preset {str(path)!r} is not valid TOML: {exc}") from None
+        for group, table in data.items():
+            if not isinstance(table, dict):
+                raise ParamError(f"preset {str(path)!r}: {group!r} must be a table like [{group}]")
+            for key, value in table.items():
+                self.set(f"{group}.{key}", value)
+
+    def preset_text(self, title: str = "") -> str:
+        """The current values as a TOML preset (every parameter, grouped)."""
+        lines = [f"# Natura preset{(' — ' + title) if title else ''}"]
+        for group, params in self.groups().items():
+            lines.append(f"\n[{group}]")
+            for p in params:
+                lines.append(f"{p.short} = {_toml_value(self._values[p.name])}")
+        return "\n".join(lines) + "\n"
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        return repr(v)
+    if isinstance(v, (tuple, list)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    return '"' + str(v).replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+# ---- GLSL annotations ------------------------------------------------------------------------
+
+_ANNOTATION = re.compile(
+    r"^\s*uniform\s+(?P<type>float|int|bool|vec3)\s+(?P<name>\w+)\s*;\s*//\s*@param\s+(?P<rest>.*)$"
+)
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_DEFAULT = re.compile(
+    rf"^(?P<default>\(\s*{_NUMBER}\s*,\s*{_NUMBER}\s*,\s*{_NUMBER}\s*\)|{_NUMBER}|true|false)\s*"
+)
+_RANGE = re.compile(rf"^\[\s*(?P<lo>{_NUMBER})\s*,\s*(?P<hi>{_NUMBER})\s*\]\s*")
+_OPTION = re.compile(r"^(?P<key>step|unit)=(?P<value>\S+)\s*|^(?P<color>color)\b\s*|^(?P<section>§\S+)\s*")
+
+
+def param_name_from_uniform(uniform: str) -> str:
+    """``uSunSize`` → ``sun_size``; ``u_sun_size`` → ``sun_size``; ``fogDensity`` → ``fog_density``."""
+    name = uniform
+    if re.match(r"^u[A-Z_]", name):
+        name = name[1:].lstrip("_")
+    name = re.sub(r"(?<=[a-z0-9])([A-Z])", r"_\1", name)
+    return name.lower()
+
+
+def parse_glsl_annotations(text: str, group: str, source: str = "", spec_doc: str = "") -> list[Param]:
+    """Parameters declared by ``// @param`` comments on uniforms.
+
+    Grammar (after ``@param``)::
+
+        DEFAULT [LO, HI] [step=S] [unit=U] [color] [§SECTION] one-line doc
+
+    DEFAULT is a number, ``true``/``false`` (bool uniforms) or ``(a, b, c)`` (vec3). The range
+    is required except for bools. ``color`` marks a vec3 as a colour (colour-picker widget).
+    A malformed annotation raises :class:`ParamError` naming the file and line.
+    """
+    out = []
+    for lineno, line in enumerate(text.splitlines(), 1):
+        m = _ANNOTATION.match(line)
+        if not m:
+            if "@param" in line and re.match(r"^\s*uniform\b", line):
+                raise ParamError(
+                    f"{source}:{lineno}: @param on an unsupported uniform: allowed float, int, bool, vec3"
+                )
+            continue
+        gtype, uname, rest = m["type"], m["name"], m["rest"].strip()
+        where = f"{source}:{lineno}"
+        d = _DEFAULT.match(rest)
+        if not d:
+            raise ParamError(f"{where}: @param needs a default first: allowed a number, true/false or (a, b, c)")
+        default_text = d["default"]
+        rest = rest[d.end():]
+        lo = hi = None
+        r = _RANGE.match(rest)
+        if r:
+            lo, hi = float(r["lo"]), float(r["hi"])
+            rest = rest[r.end():]
+        elif gtype != "bool":
+            raise ParamError(f"{where}: @param needs a range [lo, hi] after the default")
+        opts: dict[str, Any] = {}
+        while True:
+            o = _OPTION.match(rest)
+            if not o:
+                break
+            if o["key"]:
+                opts[o["key"]] = o["value"]
+            elif o["color"]:
+                opts["color"] = True
+            else:
+                opts["section"] = o["section"]
+            rest = rest[o.end():]
+        kind = {"float": "float", "int": "int", "bool": "bool", "vec3": "vec3"}[gtype]
+        if kind == "vec3" and opts.get("color"):
+            kind = "color"
+        if kind in ("vec3", "color"):
+            default: Any = default_text.strip("()")
+        elif kind == "bool":
+            default = default_text
+        else:
+            default = float(default_text)
+        section = opts.get("section", "")
+        if section and spec_doc:
+            section = f"{spec_doc} {section}"
+        try:
+            param = Param(
+                name=f"{group}.{param_name_from_uniform(uname)}",
+                default=default,
+                lo=lo,
+                hi=hi,
+                doc=rest.strip(),
+                kind=kind,
+                step=float(opts["step"]) if "step" in opts else None,
+                unit=opts.get("unit", ""),
+                section=section,
+                uniform=uname,
+                source=source or "glsl",
+            )
+        except ParamError as exc:
+            raise ParamError(f"{where}: default {exc}") from None
+        out.append(param)
+    return out
+

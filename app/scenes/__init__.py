@@ -1,0 +1,36 @@
+"""The scene registry: ``natura scenes`` lists it."""
+
+from __future__ import annotations
+
+from ..effects.probe import MirrorBall
+from ..effects.sky import Sky
+from ..errors import UsageError
+from .base import Scene
+
+DEFAULT_SCENE = "sky"
+
+
+class SkyScene(Scene):
+    name = "sky"
+    title = "Day–night sky at sea level"
+    description = "procedural sky, sun, halo, moon and stars over 24 h (spec/000 §1.7)"
+    effects = (Sky,)
+    camera = {"position": (0.0, 2.0, 0.0), "yaw": 225.0, "pitch": 25.0, "fov": 90.0}
+
+
+class ProbeScene(Scene):
+    name = "probe"
+    title = "Sky with a reflection probe"
+    description = "the sky's environment cubemap on a mirror ball, re-rendered only when the sky changes (spec/000 §1.7)"
+    effects = (Sky, MirrorBall)
+    camera = {"position": (0.0, 2.0, 0.0), "yaw": 0.0, "pitch": 5.0, "fov": 60.0}
+
+
+SCENES: dict[str, type[Scene]] = {cls.name: cls for cls in (SkyScene, ProbeScene)}
+
+
+def get_scene(name: str) -> type[Scene]:
+    try:
+        return SCENES[name]
+    except KeyError:
+        raise UsageError(f"unknown scene {name!r}: allowed {', '.join(SCENES)}") from None

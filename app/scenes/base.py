@@ -1,0 +1,89 @@
+"""Scenes compose effects. A scene names exactly the effects it uses; nothing else is created.
+
+Per frame (DESIGN.md, "What flows through a frame"): each effect's ``update`` runs in order and
+fills the :class:`~app.frame.FrameContext` (the sky adds the lights), then each effect renders
+into the scene's linear-radiance target.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+from .. import RESOURCES
+from ..effects.base import Effect, Pass
+from ..frame import FrameContext
+from ..gpu.shaders import ShaderLibrary
+from ..imageio import TONEMAPS
+from ..params import Param, ParamSet
+from ..sim.camera import Camera
+
+PRESETS = RESOURCES / "presets"
+
+
+def output_params() -> list[Param]:
+    return [
+        Param("output.exposure", 1.0, 0.001, 1000.0, "exposure multiplier before tone mapping", step=0.01),
+        Param("output.tonemap", "aces", doc="tone map for PNG and the window (EXR stays linear)", kind="choice",
+              choices=TONEMAPS),
+    ]
+
+
+class Scene:
+    name: ClassVar[str] = ""
+    title: ClassVar[str] = ""
+    description: ClassVar[str] = ""
+    effects: ClassVar[tuple[type[Effect], ...]] = ()
+    camera: ClassVar[dict] = {}
+
+    @classmethod
+    def declare_params(cls, library: ShaderLibrary) -> ParamSet:
+        params = ParamSet(output_params())
+        for effect in cls.effects:
+            for p in effect.declare(library):
+                params.add(p)
+        preset = PRESETS / f"{cls.name}.toml"
+        if preset.is_file():
+            params.load_preset(preset)
+        return params
+
+    def __init__(self, gpu, params: ParamSet, camera: Camera | None = None):
+        self.gpu = gpu
+        self.params = params
+        self.camera = camera or Camera(**self.camera)
+        self.time = 0.0
+        self.index = 0
+        self.instances: list[Effect] = [cls(gpu, params, self) for cls in self.effects]
+
+    def effect(self, name: str) -> Effect:
+        for e in self.instances:
+            if e.name == name:
+                return e
+        raise KeyError(f"scene {self.name!r} has no effect {name!r}")
+
+    def has_effect(self, name: str) -> bool:
+        return any(e.name == name for e in self.instances)
+
+    def frame(self, size: tuple[int, int], dt: float = 0.0) -> FrameContext:
+        """Advance the simulation by ``dt`` seconds and return this frame's context."""
+        self.time += dt
+        frame = FrameContext(size=tuple(size), camera=self.camera, time=self.time, dt=dt, index=self.index)
+        self.index += 1
+        for effect in self.instances:
+            effect.update(frame, dt)
+        return frame
+
+    def render(self, frame: FrameContext, target) -> None:
+        target.use()
+        target.clear()
+        for effect in self.instances:
+            effect.render(frame, target)
+
+    def passes(self, frame: FrameContext, target) -> list[Pass]:
+        out = []
+        for effect in self.instances:
+            out.extend(effect.passes(frame, target))
+        return out
+
+    def release(self) -> None:
+        for effect in self.instances:
+            effect.release()

@@ -1,0 +1,1 @@
+"""CPU-side numpy code with no GL: sun and moon, camera, and (later) spectra and buoyancy."""

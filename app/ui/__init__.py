@@ -1,0 +1,1 @@
+"""The desktop window: ImGui panels built from parameters, HUD, key maps."""

@@ -1,0 +1,9 @@
+#version 330 core
+// One triangle that covers the screen; vUV is (0,0) bottom-left to (1,1) top-right.
+out vec2 vUV;
+
+void main() {
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    vUV = p;
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
