@@ -1,0 +1,41 @@
+"""Shared fixtures: one standalone EGL context for the whole run (llvmpipe on CI)."""
+
+from __future__ import annotations
+
+import pytest
+
+from app.gpu.context import create_headless_context
+from app.gpu.device import Gpu
+from app.runtime import open_session, render_frames, scene_params
+from app.sim.camera import Camera
+
+
+@pytest.fixture(scope="session")
+def gl_ctx():
+    ctx = create_headless_context()
+    yield ctx
+    ctx.release()
+
+
+@pytest.fixture
+def gpu(gl_ctx):
+    g = Gpu(gl_ctx)
+    yield g
+    g.release()
+
+
+@pytest.fixture
+def render(gl_ctx):
+    """render(scene, size, sets=..., camera=...) → (image (h, w, 4) float32, session)."""
+    sessions = []
+
+    def _render(scene="sky", size=(160, 90), sets=(), camera: Camera | None = None, frames: int = 1, fps=30.0):
+        params = scene_params(scene, sets=sets)
+        session = open_session(scene, params, ctx=gl_ctx, camera=camera)
+        sessions.append(session)
+        images = list(render_frames(session, size, frames, fps))
+        return (images[0] if frames == 1 else images), session
+
+    yield _render
+    for s in sessions:
+        s.release()

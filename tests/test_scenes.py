@@ -1,0 +1,120 @@
+"""Scenes create only what they use; the environment cubemap re-renders only when the sky changed;
+the display pass agrees with the PNG writer's tone map."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from app.effects.sky import Sky, cubemap_face_direction
+from app.gpu.device import Gpu
+from app.imageio import to_srgb8
+from app.runtime import open_session, render_frames, scene_params
+from app.scenes import SCENES
+from app.scenes.base import Scene
+from app.sim.camera import Camera
+from app.ui.display import draw_display
+
+
+class EmptyScene(Scene):
+    name = "empty"
+    effects = ()
+
+
+def test_scene_without_an_effect_allocates_none_of_it(gl_ctx):
+    gpu = Gpu(gl_ctx)
+    params = EmptyScene.declare_params(gpu.shaders)
+    scene = EmptyScene(gpu, params)
+    target = gpu.target("output", "scene", (32, 18))
+    scene.render(scene.frame((32, 18)), target)
+    assert {a.owner for a in gpu.allocations} == {"output"}
+    assert gpu.shaders.programs() == []
+    gpu.release()
+
+
+def test_sky_scene_allocates_no_cubemap_and_no_probe(gl_ctx):
+    session = open_session("sky", ctx=gl_ctx)
+    next(render_frames(session, (32, 18)))
+    kinds = {(a.owner, a.kind) for a in session.gpu.allocations}
+    assert ("sky", "cubemap") not in kinds
+    assert not session.gpu.owned_by("probe")
+    assert [p.name for p in session.gpu.shaders.programs()] == ["sky/sky"]
+    session.release()
+
+
+def test_probe_scene_rerenders_cubemap_only_when_sky_changes(gl_ctx):
+    params = scene_params("probe", sets=["sky.cubemap_size=16"])
+    session = open_session("probe", params, ctx=gl_ctx)
+    sky = session.scene.effect("sky")
+    frames = render_frames(session, (32, 18), frames=8)
+    next(frames)
+    assert sky.environment_renders == 1
+    next(frames)
+    next(frames)  # paused time: nothing changed
+    assert sky.environment_renders == 1
+    params.set("time.hour", 15.0)
+    next(frames)
+    assert sky.environment_renders == 2
+    params.set("sky.sun_size", 0.1)
+    next(frames)
+    assert sky.environment_renders == 3
+    params.set("output.exposure", 2.0)  # not a sky parameter
+    next(frames)
+    assert sky.environment_renders == 3
+    params.set("time.playing", True)  # time moves: the probe follows every frame
+    next(frames)
+    next(frames)
+    assert sky.environment_renders == 5
+    frames.close()
+    session.release()
+
+
+def test_cubemap_compute_and_fragment_paths_agree_and_match_the_screen(gl_ctx):
+    n = 32
+    session = open_session("probe", scene_params("probe", sets=[f"sky.cubemap_size={n}", "time.hour=17.5"]),
+                           ctx=gl_ctx)
+    next(render_frames(session, (16, 16)))
+    sky: Sky = session.scene.effect("sky")
+    cube_a = sky.environment()
+    cube_b = session.gpu.texture_cube("test", "fallback", n)
+    sky._render_cubemap(cube_b, use_compute=False)
+    faces_a = [np.frombuffer(cube_a.read(f), dtype=np.float16).reshape(n, n, 4).astype(np.float32) for f in range(6)]
+    faces_b = [np.frombuffer(cube_b.read(f), dtype=np.float16).reshape(n, n, 4).astype(np.float32) for f in range(6)]
+    for a, b in zip(faces_a, faces_b):
+        assert np.allclose(a, b, rtol=2e-3, atol=2e-3)
+    # face +X seen by a camera looking east with a 90° square view: same directions, mirrored columns
+    cam = Camera(position=(0, 2, 0), yaw=90.0, pitch=0.0, fov=90.0)
+    screen = next(render_frames(open_session("sky", session.params, ctx=gl_ctx, camera=cam), (n, n)))
+    assert np.allclose(faces_a[0][:, ::-1, :3], screen[..., :3], rtol=3e-3, atol=3e-3)
+    # and the twin of the face directions agrees with the camera twin
+    st = (np.arange(n) + 0.5) / n * 2 - 1
+    s, t = np.meshgrid(st, st)
+    assert np.allclose(cubemap_face_direction(0, s, t)[:, ::-1], cam.ray_directions(n, n), atol=1e-6)
+    session.release()
+
+
+def test_every_scene_renders_finite(gl_ctx):
+    for name in SCENES:
+        session = open_session(name, ctx=gl_ctx)
+        img = next(render_frames(session, (32, 18)))
+        assert np.isfinite(img).all() and img[..., :3].mean() > 0.0
+        session.release()
+
+
+def test_display_pass_matches_png_tonemap(gl_ctx):
+    gpu = Gpu(gl_ctx)
+    rng = np.random.default_rng(1)
+    hdr = np.concatenate([rng.uniform(0, 1, (8, 64, 3)), rng.uniform(0, 30, (8, 64, 3))]).astype(np.float32)
+    hdr[0, :3] = 0.0
+    src = gpu.texture("test", "hdr", (64, 16), 3, hdr[::-1].tobytes(), filter=(moderngl.NEAREST, moderngl.NEAREST))
+    out = gl_ctx.texture((64, 16), 4)
+    fbo = gl_ctx.framebuffer([out])
+    for mode in ("aces", "reinhard", "clamp"):
+        fbo.use()
+        draw_display(gpu, src, 0.7, mode)
+        got = np.frombuffer(fbo.read(components=3), dtype=np.uint8).reshape(16, 64, 3)[::-1]
+        want = to_srgb8(hdr, 0.7, mode)
+        assert np.abs(got.astype(int) - want.astype(int)).max() <= 1, mode
+    fbo.release()
+    out.release()
+    gpu.release()
