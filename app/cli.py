@@ -59,6 +59,7 @@ def build_parser() -> argparse.ArgumentParser:
     w = sub.add_parser("window", help="open the desktop window")
     w.add_argument("scene", nargs="?", default=None)
     _add_scene_options(w)
+    w.add_argument("--frames", type=int, default=None, help="close after N frames (scripts, tests)")
 
     r = sub.add_parser("render", help="render headless to PNG (tone-mapped sRGB) or EXR (linear)")
     r.add_argument("scene")
@@ -146,6 +147,8 @@ def cmd_render(args) -> int:
 def cmd_window(args) -> int:
     from .scenes import DEFAULT_SCENE
 
+    if getattr(args, "frames", None) is not None and args.frames < 1:
+        raise UsageError(f"--frames {args.frames} is out of range: allowed 1 or more")
     scene_name = args.scene or DEFAULT_SCENE
     params, camera, size = _session_inputs(args, scene_name)
     from .ui.window import display_available, run_window
@@ -165,7 +168,8 @@ def cmd_window(args) -> int:
             session.release()
         print(out)
         return 0
-    return run_window(scene_name, params, camera, size, shader_root=resolve_shader_root(args.shaders))
+    return run_window(scene_name, params, camera, size, shader_root=resolve_shader_root(args.shaders),
+                      frames=args.frames)
 
 
 def cmd_scenes(args) -> int:

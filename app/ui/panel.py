@@ -1,0 +1,103 @@
+"""ImGui widgets built from parameters, grouped per effect (one collapsing header per group).
+
+Every widget writes through :meth:`ParamSet.set`, so the panel can never store a value the
+CLI would reject. Hovering a widget shows its doc, unit, range and thesis section.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from imgui_bundle import imgui
+
+from ..imageio import linear_to_srgb, srgb_to_linear
+from ..params import Param, ParamSet
+
+ERROR_COLOUR = (1.0, 0.35, 0.3, 1.0)
+
+
+def _tooltip(p: Param) -> None:
+    if imgui.is_item_hovered():
+        unit = f" {p.unit}" if p.unit else ""
+        lines = [p.name, p.doc, f"allowed: {p.allowed()}{unit}", f"default: {p.default}"]
+        if p.section:
+            lines.append(f"thesis: {p.section}")
+        if p.source != "python":
+            lines.append(f"declared in {p.source}")
+        imgui.set_tooltip("\n".join(lines))
+
+
+def param_widget(params: ParamSet, p: Param) -> bool:
+    """Draw one widget; returns True when the value changed."""
+    value = params[p.name]
+    label = f"{p.short}##{p.name}"
+    changed = False
+    new = value
+    if p.kind == "bool":
+        changed, new = imgui.checkbox(label, value)
+    elif p.kind == "choice":
+        idx = p.choices.index(value)
+        changed, idx = imgui.combo(label, idx, list(p.choices))
+        new = p.choices[idx]
+    elif p.kind == "int":
+        lo, hi = int(p.lo), int(p.hi)
+        if hi - lo <= 4096:
+            changed, new = imgui.slider_int(label, int(value), lo, hi)
+        else:
+            changed, new = imgui.drag_int(label, int(value), 1.0, lo, hi)
+    elif p.kind == "float":
+        fmt = "%.4g" + (f" {p.unit}" if p.unit else "")
+        changed, new = imgui.slider_float(label, float(value), float(p.lo), float(p.hi), fmt)
+    elif p.kind == "color":
+        shown = [float(v) for v in linear_to_srgb(np.asarray(value))]  # pickers show sRGB
+        changed, shown = imgui.color_edit3(label, shown)
+        new = tuple(float(v) for v in srgb_to_linear(np.clip(np.asarray(shown), p.lo, p.hi)))
+    elif p.kind == "vec3":
+        changed, new = imgui.drag_float3(label, list(value), float(p.step), float(p.lo), float(p.hi))
+    _tooltip(p)
+    if imgui.begin_popup_context_item(f"ctx##{p.name}"):
+        if imgui.menu_item_simple("reset to default"):
+            new, changed = p.default, True
+        imgui.end_popup()
+    if changed:
+        try:
+            params.set(p.name, new)
+        except Exception:  # a half-typed or out-of-range value: keep the last valid one
+            return False
+    return changed
+
+
+def params_panel(params: ParamSet, titles: dict[str, str], skip: set[str] = frozenset()) -> None:
+    for group, items in params.groups().items():
+        shown = [p for p in items if p.name not in skip]
+        if not shown:
+            continue
+        title = titles.get(group, group)
+        if imgui.collapsing_header(f"{title}##{group}", imgui.TreeNodeFlags_.default_open):
+            for p in shown:
+                param_widget(params, p)
+
+
+def keyframes_panel(keyframes) -> bool:
+    """Colour stops and star factor of each sky keyframe; returns True when edited."""
+    edited = False
+    for k in keyframes.frames:
+        if imgui.tree_node(f"{int(k.hour):02d}:00##kf{k.hour}"):
+            for i, (pos, col) in enumerate(k.gradient):
+                shown = [float(v) for v in linear_to_srgb(col)]
+                ch, shown = imgui.color_edit3(f"elev {pos:.2f}##kf{k.hour}-{i}", shown)
+                if ch:
+                    k.gradient[i] = (pos, srgb_to_linear(np.clip(np.asarray(shown), 0.0, 1.0)))
+                    edited = True
+            ch, stars = imgui.slider_float(f"stars##kf{k.hour}", k.stars, 0.0, 1.0)
+            if ch:
+                k.stars = float(stars)
+                edited = True
+            imgui.tree_pop()
+    if edited:
+        keyframes.version += 1
+    return edited
+
+
+def error_list(errors) -> None:
+    for e in errors:
+        imgui.text_colored(ERROR_COLOUR, str(e))

@@ -1,0 +1,363 @@
+"""The desktop window: moderngl-window (pyglet) + an ImGui panel mirroring the theses' inspectors.
+
+Controls (also in the README and the panel's "Controls" section):
+
+=================  =========================================================
+W A S D            fly forward / left / back / right
+Q / E              down / up
+Shift              4× faster; mouse wheel changes the base speed
+right mouse drag   look around;  M toggles mouse look without a button
+Space              pause / resume time
+[ / ]              time of day −/+ 15 minutes
+R                  reset the camera to the scene's default
+P or F12           screenshot (scene only, tone-mapped): screenshots/SCENE-NNNN.png, never overwrites
+F1                 hide / show the panel
+Esc                quit
+=================  =========================================================
+
+Shader files are polled every 0.25 s: saving one recompiles what includes it; a broken edit
+keeps the last good program running and lists ``file:line`` errors in the panel.
+"""
+
+from __future__ import annotations
+
+import collections
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..imageio import next_free_path, write_png, write_text_atomic
+from ..params import ParamSet
+from ..sim.camera import Camera
+
+POLL_SECONDS = 0.25
+MOVE_SPEED = 5.0  # m/s
+LOOK_DEGREES_PER_PIXEL = 0.15
+
+CONTROLS = (
+    ("W A S D", "fly"), ("Q / E", "down / up"), ("Shift", "4x faster; wheel: base speed"),
+    ("right drag", "look; M toggles mouse look"), ("Space", "pause / resume time"),
+    ("[ / ]", "time -/+ 15 min"), ("R", "reset camera"), ("P or F12", "screenshot"),
+    ("F1", "hide / show panel"), ("Esc", "quit"),
+)
+
+
+def display_available() -> bool:
+    """True when a window can be opened (an X display answers). pyglet 2.1 needs X11."""
+    if sys.platform.startswith("linux"):
+        if not os.environ.get("DISPLAY"):
+            return False
+        try:
+            import pyglet.display  # this import does not create pyglet's shadow window
+
+            pyglet.display.get_display()
+        except Exception:
+            return False
+    return True
+
+
+def _create_window(size, title):
+    import moderngl_window as mglw
+
+    cls = mglw.get_local_window_cls("pyglet")
+    last = None
+    for version in ((4, 3), (3, 3)):
+        try:
+            wnd = cls(title=title, gl_version=version, size=size, resizable=True, vsync=True, samples=0,
+                      cursor=True, visible=True, fullscreen=False)
+        except Exception as exc:  # pyglet.gl.ContextException
+            last = exc
+            continue
+        mglw.activate_context(window=wnd)
+        return wnd
+    from ..errors import GpuUnavailableError
+
+    raise GpuUnavailableError(f"could not create an OpenGL 3.3+ window: {last}")
+
+
+class NaturaWindow:
+    def __init__(self, scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720), shader_root=None,
+                 screenshot_dir: str | os.PathLike = "screenshots"):
+        from imgui_bundle import imgui
+        from moderngl_window.integrations.imgui_bundle import ModernglWindowRenderer
+
+        from ..runtime import open_session
+
+        self.imgui = imgui
+        self.wnd = _create_window(size, f"Natura — {scene_name}")
+        self.wnd.exit_key = None  # Esc is ours: it must not quit while typing in a text field
+        self.ctx = self.wnd.ctx
+        self.session = open_session(scene_name, params, shader_root, ctx=self.ctx, camera=camera)
+        self.scene = self.session.scene
+        self.params = params
+        self.home = Camera(**{k: getattr(camera, k) for k in ("position", "yaw", "pitch", "fov")})
+        imgui.create_context()
+        imgui.get_io().set_ini_filename("")  # no imgui.ini in the user's folder
+        self.ui = ModernglWindowRenderer(self.wnd)
+        w = self.wnd
+        w.key_event_func = self.on_key
+        w.mouse_position_event_func = self.on_mouse_position
+        w.mouse_drag_event_func = self.on_mouse_drag
+        w.mouse_scroll_event_func = self.on_mouse_scroll
+        w.mouse_press_event_func = self.on_mouse_press
+        w.mouse_release_event_func = self.on_mouse_release
+        w.unicode_char_entered_func = self.ui.unicode_char_entered
+        w.resize_func = self.on_resize
+        self.keys_down: set = set()
+        self.looking = False
+        self.mouse_look = False
+        self.speed = MOVE_SPEED
+        self.show_panel = True
+        self.frame_ms = collections.deque([0.0] * 240, maxlen=240)
+        self.messages: collections.deque[str] = collections.deque(maxlen=6)
+        self.screenshot_dir = Path(screenshot_dir)
+        self.screenshot_requested = False
+        self.screenshots: list[Path] = []
+        self.render_error: str | None = None
+        self._last_poll = 0.0
+        self.target = None
+        self.on_resize(*self.wnd.buffer_size)
+
+    # -- events ----------------------------------------------------------------------------
+    def _ui_wants_keyboard(self) -> bool:
+        return self.imgui.get_io().want_capture_keyboard
+
+    def _ui_wants_mouse(self) -> bool:
+        return self.show_panel and self.imgui.get_io().want_capture_mouse
+
+    def on_key(self, key, action, modifiers):
+        self.ui.key_event(key, action, modifiers)
+        k = self.wnd.keys
+        if action == k.ACTION_RELEASE:
+            self.keys_down.discard(key)
+            return
+        if key == k.F12:
+            self.screenshot_requested = True
+            return
+        if self._ui_wants_keyboard():
+            return
+        if key == k.ESCAPE:
+            self.wnd.close()
+        elif key == k.P:
+            self.screenshot_requested = True
+        elif key == k.SPACE and "time.playing" in self.params:
+            self.params.set("time.playing", not self.params["time.playing"])
+        elif key == k.M:
+            self.mouse_look = not self.mouse_look
+            self.wnd.mouse_exclusivity = self.mouse_look
+        elif key == k.F1:
+            self.show_panel = not self.show_panel
+        elif key == k.R:
+            self.scene.camera.set(position=self.home.position, yaw=self.home.yaw, pitch=self.home.pitch, fov=self.home.fov)
+        elif key in (k.LEFT_BRACKET, k.RIGHT_BRACKET) and "time.hour" in self.params:
+            step = 0.25 if key == k.RIGHT_BRACKET else -0.25
+            self.params.set("time.hour", (self.params["time.hour"] + step) % 24.0)
+        else:
+            self.keys_down.add(key)
+
+    def on_mouse_position(self, x, y, dx, dy):
+        self.ui.mouse_position_event(x, y, dx, dy)
+        if self.mouse_look:
+            self.scene.camera.rotate(dx * LOOK_DEGREES_PER_PIXEL, -dy * LOOK_DEGREES_PER_PIXEL)
+
+    def on_mouse_drag(self, x, y, dx, dy):
+        self.ui.mouse_drag_event(x, y, dx, dy)
+        if self.looking or self.mouse_look:
+            self.scene.camera.rotate(dx * LOOK_DEGREES_PER_PIXEL, -dy * LOOK_DEGREES_PER_PIXEL)
+
+    def on_mouse_scroll(self, dx, dy):
+        self.ui.mouse_scroll_event(dx, dy)
+        if not self._ui_wants_mouse():
+            self.speed = float(np.clip(self.speed * 1.15**dy, 0.1, 5000.0))
+
+    def on_mouse_press(self, x, y, button):
+        self.ui.mouse_press_event(x, y, button)
+        if button == self.wnd.mouse.right and not self._ui_wants_mouse():
+            self.looking = True
+
+    def on_mouse_release(self, x, y, button):
+        self.ui.mouse_release_event(x, y, button)
+        if button == self.wnd.mouse.right:
+            self.looking = False
+
+    def on_resize(self, width, height):
+        self.ui.resize(width, height)
+        if width > 0 and height > 0:
+            if self.target is not None:
+                self.session.gpu.free(self.target)
+            self.target = self.session.gpu.target("window", "scene radiance", (width, height))
+
+    # -- frame -----------------------------------------------------------------------------
+    def move_camera(self, dt: float) -> None:
+        k = self.wnd.keys
+        d = self.keys_down
+        fast = 4.0 if (self.wnd.modifiers.shift or k.LEFT_SHIFT in d or k.RIGHT_SHIFT in d) else 1.0
+        step = self.speed * fast * dt
+        self.scene.camera.move(forward=((k.W in d) - (k.S in d)) * step, right=((k.D in d) - (k.A in d)) * step,
+                               up=((k.E in d) - (k.Q in d)) * step)
+
+    def poll_shaders(self) -> None:
+        now = time.perf_counter()
+        if now - self._last_poll < POLL_SECONDS:
+            return
+        self._last_poll = now
+        for prog in self.session.gpu.shaders.poll():
+            if prog.errors:
+                self.messages.append(f"{prog.name}: reload failed, still showing the last good version")
+            else:
+                self.messages.append(f"{prog.name}: reloaded")
+
+    def render_scene(self, dt: float) -> None:
+        import moderngl
+
+        ctx = self.ctx
+        ctx.disable(moderngl.BLEND)  # the ImGui renderer leaves blending on
+        frame = self.scene.frame(self.target.size, dt)
+        try:
+            self.scene.render(frame, self.target)
+            self.render_error = None
+        except Exception as exc:  # keep the window alive; show why the image stopped updating
+            self.render_error = f"render failed: {exc}"
+        from .display import draw_display
+
+        self.wnd.use()
+        ctx.viewport = (0, 0, *self.wnd.buffer_size)
+        draw_display(self.session.gpu, self.target.color, self.params["output.exposure"], self.params["output.tonemap"])
+
+    def save_screenshot(self) -> Path | None:
+        self.screenshot_dir.mkdir(parents=True, exist_ok=True)
+        for _ in range(100):  # another process may take the name between the check and the link
+            path = next_free_path(self.screenshot_dir, self.scene.name, ".png")
+            try:
+                write_png(path, self.target.read(), self.params["output.exposure"], self.params["output.tonemap"])
+            except FileExistsError:
+                continue
+            except Exception as exc:
+                self.messages.append(f"screenshot failed: {exc}")
+                return None
+            self.screenshots.append(path)
+            self.messages.append(f"saved {path}")
+            return path
+        return None
+
+    def save_preset(self) -> None:
+        folder = Path("presets")
+        folder.mkdir(exist_ok=True)
+        path = next_free_path(folder, self.scene.name, ".toml")
+        write_text_atomic(path, self.params.preset_text(f"scene {self.scene.name}"))
+        self.messages.append(f"saved {path}")
+
+    def save_keyframes(self) -> None:
+        sky = self.scene.effect("sky")
+        path = next_free_path(Path("."), "keyframes", ".toml")
+        write_text_atomic(path, sky.keyframes.to_toml())
+        self.messages.append(f"saved {path}")
+
+    def build_panel(self, dt: float) -> None:
+        from . import panel
+
+        imgui = self.imgui
+        imgui.set_next_window_pos((10, 10), imgui.Cond_.first_use_ever)
+        imgui.set_next_window_size((380, 620), imgui.Cond_.first_use_ever)
+        imgui.begin(f"Natura — {self.scene.title}")
+        gpu = self.session.gpu
+        imgui.text(f"{gpu.caps.describe()}")
+        ms = np.array(self.frame_ms, dtype=np.float32)
+        imgui.text(f"frame {ms[-1]:6.2f} ms   median {np.median(ms[ms > 0]) if (ms > 0).any() else 0:6.2f} ms")
+        imgui.plot_lines("##frametime", ms, scale_min=0.0, graph_size=(-1, 48), overlay_text=f"max {ms.max():.1f} ms")
+        errors = gpu.shaders.errors()
+        if errors or self.render_error:
+            imgui.text_colored(panel.ERROR_COLOUR, "Shader errors (the last good program keeps rendering):")
+            panel.error_list(errors + ([self.render_error] if self.render_error else []))
+        if "time.hour" in self.params:
+            playing = self.params["time.playing"]
+            if imgui.button("Pause" if playing else "Resume"):
+                self.params.set("time.playing", not playing)
+            imgui.same_line()
+            from ..effects.sky import hour_label
+
+            imgui.text(hour_label(self.params["time.hour"]))
+            changed, hour = imgui.slider_float("time of day##scrub", self.params["time.hour"], 0.0, 24.0, "%.2f h")
+            if changed:
+                self.params.set("time.hour", hour % 24.0)
+        cam = self.scene.camera
+        imgui.text(f"camera ({cam.position[0]:.1f}, {cam.position[1]:.1f}, {cam.position[2]:.1f})  "
+                   f"yaw {cam.yaw:.0f}  pitch {cam.pitch:.0f}  speed {self.speed:.1f} m/s")
+        changed, fov = imgui.slider_float("fov##camera", cam.fov, 10.0, 120.0, "%.0f deg")
+        if changed:
+            cam.set(fov=fov)
+        if imgui.button("Screenshot"):
+            self.screenshot_requested = True
+        imgui.same_line()
+        if imgui.button("Save preset"):
+            self.save_preset()
+        imgui.same_line()
+        if imgui.button("Reset all"):
+            self.params.reset()
+        titles = {e.name: e.title for e in self.scene.instances}
+        titles.update({"time": "Time", "output": "Output"})
+        panel.params_panel(self.params, titles, skip={"time.hour"})
+        if self.scene.has_effect("sky") and imgui.collapsing_header("Sky keyframes (every 3 h)"):
+            panel.keyframes_panel(self.scene.effect("sky").keyframes)
+            if imgui.button("Save keyframes"):
+                self.save_keyframes()
+        if imgui.collapsing_header("Resources"):
+            for a in gpu.allocations:
+                imgui.text(f"{a.owner}: {a.kind} {a.name}")
+        if imgui.collapsing_header("Controls"):
+            for keys, what in CONTROLS:
+                imgui.text(f"{keys:12s} {what}")
+        for m in self.messages:
+            imgui.text_disabled(m)
+        imgui.end()
+
+    def frame(self, dt: float) -> None:
+        imgui = self.imgui
+        self.frame_ms.append(dt * 1000.0)
+        self.poll_shaders()
+        if not self._ui_wants_keyboard():
+            self.move_camera(dt)
+        self.render_scene(dt)
+        if self.screenshot_requested:
+            self.screenshot_requested = False
+            self.save_screenshot()
+        io = imgui.get_io()
+        io.delta_time = max(dt, 1e-5)  # the moderngl-window renderer does not set it
+        imgui.new_frame()
+        if self.show_panel:
+            self.build_panel(dt)
+        imgui.render()
+        self.ui.render(imgui.get_draw_data())
+
+    def run(self, frames: int | None = None) -> int:
+        last = time.perf_counter()
+        n = 0
+        while not self.wnd.is_closing and (frames is None or n < frames):
+            now = time.perf_counter()
+            dt = 1.0 / 60.0 if n == 0 else now - last
+            last = now
+            self.wnd.clear(0.0, 0.0, 0.0, 1.0)
+            self.frame(dt)
+            self.wnd.swap_buffers()
+            n += 1
+        return n
+
+    def close(self) -> None:
+        self.ui.shutdown()
+        self.imgui.destroy_context()
+        self.session.release()
+        self.wnd.close()
+        self.wnd.destroy()
+
+
+def run_window(scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720), shader_root=None,
+               frames: int | None = None) -> int:
+    win = NaturaWindow(scene_name, params, camera, size, shader_root)
+    try:
+        win.run(frames)
+    finally:
+        win.close()
+    return 0

@@ -1,0 +1,144 @@
+"""Drives a real Natura window (run under Xvfb by tests/test_window.py) and prints JSON results.
+
+It feeds the window's own event handlers, so it exercises the same code as a person at the
+keyboard: fly keys, mouse look, pause, screenshots, live shader edits on a copy of glsl/.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+
+def atomic_write(path: Path, text: str) -> None:
+    tmp = path.with_name(path.name + ".tmp~")
+    tmp.write_text(text)
+    os.replace(tmp, path)  # like editors that save by rename
+
+
+def main(work: str) -> int:
+    from app import DEFAULT_SHADER_ROOT
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.sim.camera import Camera
+    from app.ui import window as W
+
+    work_dir = Path(work)
+    shaders = work_dir / "glsl"
+    shutil.copytree(DEFAULT_SHADER_ROOT, shaders)
+    os.chdir(work_dir)
+    out: dict = {}
+    params = scene_params("sky", shader_root=shaders, sets=["time.hour=10"])
+    win = W.NaturaWindow("sky", params, Camera(**get_scene("sky").camera), (320, 180), shaders, screenshot_dir="shots")
+    k = win.wnd.keys
+    mods = win.wnd.modifiers
+    w, h = win.wnd.buffer_size
+
+    def frames(n, dt=1 / 60):
+        for _ in range(n):
+            win.wnd.clear()
+            win.frame(dt)
+            win.wnd.swap_buffers()
+
+    def screen():
+        data = win.ctx.screen.read(viewport=(0, 0, w, h), components=3)
+        return np.frombuffer(data, dtype=np.uint8).reshape(h, w, 3)[::-1].astype(int)
+
+    import imgui_bundle
+
+    out["imgui_bundle"] = imgui_bundle.__version__
+    out["gl"] = win.ctx.version_code
+    frames(3)
+    with_panel = screen()
+    win.show_panel = False
+    frames(2)
+    without_panel = screen()
+    win.show_panel = True
+    out["panel_pixels"] = int((np.abs(with_panel - without_panel).sum(axis=2) > 30).sum())
+    # F1 hides the panel; the rest runs without it so the scene fills the small window
+    win.on_key(k.F1, k.ACTION_PRESS, mods)
+    win.on_key(k.F1, k.ACTION_RELEASE, mods)
+    out["f1_hides_panel"] = not win.show_panel
+    # fly: W for 30 frames at 1/60 s
+    win.on_mouse_position(w - 5, h - 5, 0, 0)
+    frames(2)
+    p0 = np.array(win.scene.camera.position)
+    win.on_key(k.W, k.ACTION_PRESS, mods)
+    frames(30)
+    win.on_key(k.W, k.ACTION_RELEASE, mods)
+    p1 = np.array(win.scene.camera.position)
+    out["moved_forward_m"] = float(np.dot(p1 - p0, win.scene.camera.forward()))
+    yaw0 = win.scene.camera.yaw
+    win.on_mouse_press(w - 5, h - 5, win.wnd.mouse.right)
+    win.on_mouse_drag(w - 45, h - 5, -40, 0)
+    win.on_mouse_release(w - 45, h - 5, win.wnd.mouse.right)
+    out["yaw_change"] = float((win.scene.camera.yaw - yaw0 + 180) % 360 - 180)
+    playing0 = params["time.playing"]
+    win.on_key(k.SPACE, k.ACTION_PRESS, mods)
+    win.on_key(k.SPACE, k.ACTION_RELEASE, mods)
+    out["space_toggles_time"] = params["time.playing"] != playing0
+    win.on_key(k.SPACE, k.ACTION_PRESS, mods)
+    win.on_key(k.SPACE, k.ACTION_RELEASE, mods)
+    hour0 = params["time.hour"]
+    win.on_key(k.RIGHT_BRACKET, k.ACTION_PRESS, mods)
+    out["bracket_hour_step"] = params["time.hour"] - hour0
+    # screenshots never overwrite
+    (work_dir / "shots").mkdir()
+    (work_dir / "shots" / "sky-0001.png").write_bytes(b"user file")
+    win.on_key(k.P, k.ACTION_PRESS, mods)
+    frames(1)
+    win.on_key(k.F12, k.ACTION_PRESS, mods)
+    frames(1)
+    out["screenshots"] = [str(p) for p in win.screenshots]
+    out["user_file_kept"] = (work_dir / "shots" / "sky-0001.png").read_bytes() == b"user file"
+    # live edit: change the sky → image changes
+    frag = shaders / "sky" / "sky.frag"
+    good = frag.read_text()
+    before = screen()
+    atomic_write(frag, good.replace("fragColor = vec4(SkyRadiance(CameraRayDirection(vUV)), 1.0);",
+                                    "fragColor = vec4(SkyRadiance(CameraRayDirection(vUV)) * vec3(1.0, 0.0, 0.0), 1.0);"))
+    time.sleep(W.POLL_SECONDS + 0.05)
+    frames(2)
+    edited = screen()
+    out["edit_changed_image"] = float(np.abs(edited - before).mean())
+    out["edit_green_mean"] = float(edited[..., 1].mean())
+    # a typo: the last good program keeps rendering, the error names file:line
+    lines = good.splitlines()
+    bad_line = next(i for i, line in enumerate(lines, 1) if "fragColor =" in line)
+    atomic_write(frag, good.replace("fragColor = vec4(", "fragColor = vec4(oops + "))
+    time.sleep(W.POLL_SECONDS + 0.05)
+    frames(2)
+    errors = [str(e) for e in win.session.gpu.shaders.errors()]
+    out["errors"] = errors
+    out["expected_error_prefix"] = f"{frag.relative_to(work_dir)}:{bad_line}:"
+    out["still_rendering_after_typo"] = float(np.abs(screen() - edited).mean())
+    atomic_write(frag, good)
+    time.sleep(W.POLL_SECONDS + 0.05)
+    frames(2)
+    out["errors_after_fix"] = [str(e) for e in win.session.gpu.shaders.errors()]
+    out["restored_diff"] = float(np.abs(screen() - before).mean())
+    # a new annotated uniform gets a parameter (and so a slider) with no Python change
+    radiance = shaders / "sky" / "sky_radiance.glsl"
+    text = radiance.read_text()
+    text = text.replace("uniform float uBelowHorizon;",
+                        "uniform float uNightTint; // @param 0.5 [0, 1] a student's new knob\nuniform float uBelowHorizon;")
+    text = text.replace("    return sky + (sun", "    sky *= 1.0 + 0.0 * uNightTint;\n    return sky + (sun")
+    atomic_write(radiance, text)
+    time.sleep(W.POLL_SECONDS + 0.05)
+    frames(2)
+    out["new_param"] = "sky.night_tint" in params
+    win.on_key(k.ESCAPE, k.ACTION_PRESS, mods)
+    out["escape_closes"] = bool(win.wnd.is_closing)
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1]))
