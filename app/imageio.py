@@ -68,13 +68,27 @@ def check_output_path(path: str | os.PathLike, force: bool = False, suffixes=IMA
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
         raise UsageError(f"output folder {str(parent)!r} does not exist: allowed an existing, writable folder")
-    if not os.access(parent, os.W_OK):
+    if not _can_create_in(parent):
         raise UsageError(f"output folder {str(parent)!r} is not writable: allowed an existing, writable folder")
     if p.is_dir():
         raise UsageError(f"output {str(p)!r} is a folder: allowed a file name ending in {', '.join(suffixes)}")
     if p.exists() and not force:
         raise OutputExistsError(f"refusing to overwrite {str(p)!r}: pass --force or choose another name")
     return p
+
+
+def _can_create_in(folder: Path) -> bool:
+    """Whether a file can be created in ``folder``: ``os.access`` alone says yes to root on
+    read-only or special file systems (``/proc``), so try it with a temporary file."""
+    if not os.access(folder, os.W_OK):
+        return False
+    try:
+        fd, name = tempfile.mkstemp(prefix=".natura-probe.", dir=folder)
+    except OSError:
+        return False
+    os.close(fd)
+    os.unlink(name)
+    return True
 
 
 def next_free_path(folder: str | os.PathLike, stem: str, suffix: str) -> Path:

@@ -72,9 +72,10 @@ def render_frames(session: Session, size: tuple[int, int], frames: int = 1, fps:
         for i in range(frames):
             frame = session.scene.frame(size, dt=0.0 if i == 0 else 1.0 / fps)
             session.scene.render(frame, target)
-            yield target.read()
-            if progress:
+            image = target.read()
+            if progress:  # before the yield: a consumer may never resume after the last frame
                 _progress(i + 1, frames)
+            yield image
     finally:
         session.gpu.free(target)
         if progress:

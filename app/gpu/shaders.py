@@ -7,9 +7,12 @@ reload.
 * ``#include "file"`` resolves relative to the including file, then ``glsl/common``, then the
   root; each file is included once per stage (later includes of it are dropped).
 * Defines are injected right after ``#version``.
-* Every file gets an integer source id in ``#line`` directives (Mesa rejects file names there);
-  compiler messages in Mesa (``0:12(5):``), NVIDIA (``0(12) :``) and AMD (``ERROR: 0:12:``)
-  formats are mapped back to ``glsl/<file>:<line>: message``.
+* Every file gets an integer source id in ``#line`` directives (Mesa rejects file names there),
+  and its lines are numbered from ``id * LINE_STRIDE`` (Mesa reports some errors — e.g. an
+  undeclared identifier — with source id 0 whatever ``#line`` said, but with the right line, so
+  the file is recovered from the line number); compiler messages in Mesa (``0:12(5):``),
+  NVIDIA (``0(12) :``) and AMD (``ERROR: 0:12:``) formats are mapped back to
+  ``glsl/<file>:<line>: message``.
 * :meth:`ShaderLibrary.poll` checks the modification stamps of each program's whole include set
   (on the main thread; editors that save by rename change the inode and are caught). A failed
   reload keeps the last good program and records the error; the user's file is never touched.
@@ -38,6 +41,8 @@ STAGES = {
     "comp": "compute_shader",
 }
 SHADER_ENV = "NATURA_SHADERS"
+#: Line numbers of the file with source id ``k`` start at ``k * LINE_STRIDE`` (see module doc).
+LINE_STRIDE = 100_000
 
 _INCLUDE = re.compile(r'^\s*#\s*include\s+[<"]([^">]+)[">]')
 _VERSION = re.compile(r"^\s*#\s*version\b")
@@ -168,7 +173,8 @@ class ShaderLibrary:
                     )
             else:
                 raise PreprocessError(ShaderError(self.display(path), 1, "missing #version"), files)
-        out.append(f"#line {start + 1} {sid}")
+        base = sid * LINE_STRIDE
+        out.append(f"#line {base + start + 1} {sid}")
         for i in range(start, len(lines)):
             line = lines[i]
             m = _INCLUDE.match(line)
@@ -189,7 +195,7 @@ class ShaderLibrary:
                 out.append(f"// include {m.group(1)} already included")
                 continue
             self._expand(target, files, out, defines, top=False)
-            out.append(f"#line {i + 2} {sid}")
+            out.append(f"#line {base + i + 2} {sid}")
 
     # -- errors ----------------------------------------------------------------------------
     def map_errors(self, message: str, files: list[Path], stage_file: Path | None = None) -> list[ShaderError]:
@@ -202,9 +208,11 @@ class ShaderLibrary:
             for fmt in _MESSAGE_FORMATS:
                 m = fmt.match(line)
                 if m:
-                    sid = int(m["id"])
+                    sid, lineno = int(m["id"]), int(m["line"])
+                    if lineno >= LINE_STRIDE:  # the line number names the file (see module doc)
+                        sid, lineno = divmod(lineno, LINE_STRIDE)
                     where = files[sid] if sid < len(files) else (stage_file or Path("?"))
-                    errors.append(ShaderError(self.display(where), int(m["line"]), m["msg"].strip()))
+                    errors.append(ShaderError(self.display(where), lineno, m["msg"].strip()))
                     break
             else:
                 errors.append(ShaderError(self.display(stage_file) if stage_file else "link", 0, line))
