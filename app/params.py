@@ -23,7 +23,10 @@ from typing import Any, Iterable
 
 from .errors import ParamError
 
-KINDS = ("float", "int", "bool", "vec3", "color", "choice")
+KINDS = ("float", "int", "bool", "vec3", "vec4", "color", "choice")
+#: number of components of each vector kind
+COMPONENTS = {"vec3": 3, "vec4": 4, "color": 3}
+_WORDS = {3: "three", 4: "four"}
 
 
 def _fmt(x: float) -> str:
@@ -46,6 +49,7 @@ class Param:
     uniform: str | None = None
     choices: tuple[str, ...] = ()
     source: str = "python"  # "python" or the GLSL file that declared it
+    srgb: bool = False  # a colour given as display (sRGB) values rather than linear ones
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -74,8 +78,8 @@ class Param:
         if self.kind == "choice":
             return "one of " + ", ".join(self.choices)
         rng = f"[{_fmt(self.lo)}, {_fmt(self.hi)}]" if self.lo is not None else "any finite value"
-        if self.kind in ("vec3", "color"):
-            return f"three comma-separated numbers, each in {rng}"
+        if self.kind in COMPONENTS:
+            return f"{_WORDS[COMPONENTS[self.kind]]} comma-separated numbers, each in {rng}"
         if self.kind == "int":
             return f"an integer in {rng}"
         return f"a number in {rng}"
@@ -115,7 +119,8 @@ class Param:
             if text not in self.choices:
                 raise self._bad(original, "is not a choice")
             return text
-        if self.kind in ("vec3", "color"):
+        if self.kind in COMPONENTS:
+            n = COMPONENTS[self.kind]
             if isinstance(value, str):
                 text = value.strip().strip("()[]")
                 if text.startswith("#") and len(text) == 7 and self.kind == "color":
@@ -128,9 +133,9 @@ class Param:
             try:
                 items = list(value)
             except TypeError:
-                raise self._bad(original, "is not three numbers") from None
-            if len(items) != 3:
-                raise self._bad(original, "is not three numbers")
+                raise self._bad(original, f"is not {_WORDS[n]} numbers") from None
+            if len(items) != n:
+                raise self._bad(original, f"is not {_WORDS[n]} numbers")
             return tuple(self._scalar(v, original) for v in items)
         number = self._scalar(value, original)
         if self.kind == "int":
@@ -186,11 +191,21 @@ class ParamSet:
     def __len__(self):
         return len(self._params)
 
+    def resolve(self, name: str) -> str:
+        """The full name for ``name``; a name without a group (``material``) is accepted when
+        exactly one parameter of the scene has that short name."""
+        if name in self._params:
+            return name
+        if "." not in name:
+            matches = [p.name for p in self._params.values() if p.short == name]
+            if len(matches) == 1:
+                return matches[0]
+            if len(matches) > 1:
+                raise ParamError(f"parameter {name!r} is ambiguous: allowed " + ", ".join(sorted(matches)))
+        raise self._unknown(name)
+
     def spec(self, name: str) -> Param:
-        try:
-            return self._params[name]
-        except KeyError:
-            raise self._unknown(name) from None
+        return self._params[self.resolve(name)]
 
     def groups(self) -> dict[str, list[Param]]:
         out: dict[str, list[Param]] = {}
@@ -206,9 +221,7 @@ class ParamSet:
 
     # -- values ----------------------------------------------------------------------------
     def __getitem__(self, name: str) -> Any:
-        if name not in self._values:
-            raise self._unknown(name)
-        return self._values[name]
+        return self._values[self.resolve(name)]
 
     def get(self, name: str, default: Any = None) -> Any:
         return self._values.get(name, default)
@@ -216,8 +229,8 @@ class ParamSet:
     def set(self, name: str, value: Any) -> Any:
         param = self.spec(name)
         value = param.validate(value)
-        if self._values.get(name) != value:
-            self._values[name] = value
+        if self._values.get(param.name) != value:
+            self._values[param.name] = value
             self._bump(param.group)
         return value
 
@@ -281,11 +294,11 @@ def _toml_value(v: Any) -> str:
 # ---- GLSL annotations ------------------------------------------------------------------------
 
 _ANNOTATION = re.compile(
-    r"^\s*uniform\s+(?P<type>float|int|bool|vec3)\s+(?P<name>\w+)\s*;\s*//\s*@param\s+(?P<rest>.*)$"
+    r"^\s*uniform\s+(?P<type>float|int|bool|vec3|vec4)\s+(?P<name>\w+)\s*;\s*//\s*@param\s+(?P<rest>.*)$"
 )
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _DEFAULT = re.compile(
-    rf"^(?P<default>\(\s*{_NUMBER}\s*,\s*{_NUMBER}\s*,\s*{_NUMBER}\s*\)|{_NUMBER}|true|false)\s*"
+    rf"^(?P<default>\(\s*{_NUMBER}(?:\s*,\s*{_NUMBER}){{2,3}}\s*\)|{_NUMBER}|true|false)\s*"
 )
 _RANGE = re.compile(rf"^\[\s*(?P<lo>{_NUMBER})\s*,\s*(?P<hi>{_NUMBER})\s*\]\s*")
 _OPTION = re.compile(r"^(?P<key>step|unit)=(?P<value>\S+)\s*|^(?P<color>color)\b\s*|^(?P<section>§\S+)\s*")
@@ -317,7 +330,7 @@ def parse_glsl_annotations(text: str, group: str, source: str = "", spec_doc: st
         if not m:
             if "@param" in line and re.match(r"^\s*uniform\b", line):
                 raise ParamError(
-                    f"{source}:{lineno}: @param on an unsupported uniform: allowed float, int, bool, vec3"
+                    f"{source}:{lineno}: @param on an unsupported uniform: allowed float, int, bool, vec3, vec4"
                 )
             continue
         gtype, uname, rest = m["type"], m["name"], m["rest"].strip()
@@ -346,10 +359,10 @@ def parse_glsl_annotations(text: str, group: str, source: str = "", spec_doc: st
             else:
                 opts["section"] = o["section"]
             rest = rest[o.end():]
-        kind = {"float": "float", "int": "int", "bool": "bool", "vec3": "vec3"}[gtype]
+        kind = gtype
         if kind == "vec3" and opts.get("color"):
             kind = "color"
-        if kind in ("vec3", "color"):
+        if kind in COMPONENTS:
             default: Any = default_text.strip("()")
         elif kind == "bool":
             default = default_text

@@ -51,6 +51,16 @@ class Gpu:
         cube = self.ctx.texture_cube((size, size), components, dtype=dtype)
         return self._record(owner, "cubemap", name, cube)
 
+    def buffer(self, owner: str, name: str, data: bytes):
+        return self._record(owner, "buffer", name, self.ctx.buffer(data))
+
+    def texture3d(self, owner: str, name: str, size, components: int, data=None, dtype: str = "f4",
+                  filter=(moderngl.LINEAR, moderngl.LINEAR), repeat: bool = True):
+        tex = self.ctx.texture3d(tuple(size), components, data=data, dtype=dtype)
+        tex.filter = filter
+        tex.repeat_x = tex.repeat_y = tex.repeat_z = repeat
+        return self._record(owner, "texture3d", name, tex)
+
     def target(self, owner: str, name: str, size, dtype: str = "f4", depth: bool = True) -> RenderTarget:
         return self._record(owner, "target", name, RenderTarget(self.ctx, size, dtype=dtype, depth=depth))
 

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import os
 import re
+import struct
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable
@@ -372,14 +373,19 @@ class Program:
         if prog is None or uniform not in prog:
             return
         member = prog[uniform]
-        if isinstance(value, np.ndarray) and value.ndim == 2:
-            member.write(np.ascontiguousarray(value.T, dtype="f4").tobytes())  # numpy row-major → GL column-major
-        elif isinstance(value, bool):
-            member.value = int(value)
-        elif isinstance(value, np.ndarray):
-            member.value = tuple(float(v) for v in value.ravel())
-        else:
-            member.value = value
+        try:
+            if isinstance(value, np.ndarray) and value.ndim == 2:
+                member.write(np.ascontiguousarray(value.T, dtype="f4").tobytes())  # numpy row-major → GL column-major
+            elif isinstance(value, bool):
+                member.value = int(value)
+            elif isinstance(value, np.ndarray):
+                member.value = tuple(float(v) for v in value.ravel())
+            else:
+                member.value = value
+        except (struct.error, TypeError, ValueError) as exc:
+            # e.g. a student changed a uniform's type in the GLSL: name it instead of a struct error
+            raise ValueError(f"uniform {uniform} of program {self.name}: cannot set {value!r} "
+                             f"(GLSL type has {member.dimension} component(s)): {exc}") from None
 
     def set_many(self, values: dict[str, Any]) -> None:
         for k, v in values.items():
@@ -393,7 +399,9 @@ class Program:
         """A vertex array for this program, rebuilt after each reload."""
         key = (tuple(id(c[0]) for c in content), id(index_buffer))
         if key not in self._vaos:
-            self._vaos[key] = self.library.ctx.vertex_array(self.program, list(content), index_buffer=index_buffer)
+            # skip_errors: attributes the compiler removed (e.g. normals in an unlit variant) are fine
+            self._vaos[key] = self.library.ctx.vertex_array(self.program, list(content), index_buffer=index_buffer,
+                                                            skip_errors=True)
         return self._vaos[key]
 
     def release(self) -> None:

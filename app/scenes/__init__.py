@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..effects.materials import Materials
 from ..effects.probe import MirrorBall
 from ..effects.sky import Sky
 from ..errors import UsageError
@@ -26,7 +27,16 @@ class ProbeScene(Scene):
     camera = {"position": (0.0, 2.0, 0.0), "yaw": 0.0, "pitch": 5.0, "fov": 60.0}
 
 
-SCENES: dict[str, type[Scene]] = {cls.name: cls for cls in (SkyScene, ProbeScene)}
+class MaterialsScene(Scene):
+    name = "materials"
+    title = "Procedural materials"
+    description = "the thesis's volumetric wood on a cube, a sphere and a torus; marble and granite (spec/004)"
+    effects = (Materials,)
+    camera = {"position": (0.0, 0.5, 3.1), "yaw": 0.0, "pitch": -8.0, "fov": 40.0}
+    background = (0.02, 0.02, 0.025)
+
+
+SCENES: dict[str, type[Scene]] = {cls.name: cls for cls in (SkyScene, ProbeScene, MaterialsScene)}
 
 
 def get_scene(name: str) -> type[Scene]:

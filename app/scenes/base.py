@@ -34,6 +34,7 @@ class Scene:
     description: ClassVar[str] = ""
     effects: ClassVar[tuple[type[Effect], ...]] = ()
     camera: ClassVar[dict] = {}
+    background: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)  # linear radiance behind everything
 
     @classmethod
     def declare_params(cls, library: ShaderLibrary) -> ParamSet:
@@ -74,7 +75,7 @@ class Scene:
 
     def render(self, frame: FrameContext, target) -> None:
         target.use()
-        target.clear()
+        target.clear((*self.background, 1.0))
         for effect in self.instances:
             effect.render(frame, target)
 

@@ -48,11 +48,14 @@ def param_widget(params: ParamSet, p: Param) -> bool:
         fmt = "%.4g" + (f" {p.unit}" if p.unit else "")
         changed, new = imgui.slider_float(label, float(value), float(p.lo), float(p.hi), fmt)
     elif p.kind == "color":
-        shown = [float(v) for v in linear_to_srgb(np.asarray(value))]  # pickers show sRGB
+        # pickers show display (sRGB) values; linear parameters are converted both ways
+        shown = [float(v) for v in (value if p.srgb else linear_to_srgb(np.asarray(value)))]
         changed, shown = imgui.color_edit3(label, shown)
-        new = tuple(float(v) for v in srgb_to_linear(np.clip(np.asarray(shown), p.lo, p.hi)))
-    elif p.kind == "vec3":
-        changed, new = imgui.drag_float3(label, list(value), float(p.step), float(p.lo), float(p.hi))
+        shown = np.clip(np.asarray(shown, dtype=np.float64), p.lo, p.hi)
+        new = tuple(float(v) for v in (shown if p.srgb else srgb_to_linear(shown)))
+    elif p.kind in ("vec3", "vec4"):
+        drag = imgui.drag_float3 if p.kind == "vec3" else imgui.drag_float4
+        changed, new = drag(label, list(value), float(p.step), float(p.lo), float(p.hi))
     _tooltip(p)
     if imgui.begin_popup_context_item(f"ctx##{p.name}"):
         if imgui.menu_item_simple("reset to default"):

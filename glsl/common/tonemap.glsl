@@ -20,3 +20,10 @@ vec3 LinearToSrgb(vec3 c) {
     vec3 hi = 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055;
     return mix(hi, lo, vec3(lessThanEqual(c, vec3(0.0031308))));
 }
+
+vec3 SrgbToLinear(vec3 c) {
+    c = clamp(c, 0.0, 1.0);
+    vec3 lo = c / 12.92;
+    vec3 hi = pow((c + 0.055) / 1.055, vec3(2.4));
+    return mix(hi, lo, vec3(lessThanEqual(c, vec3(0.04045))));
+}

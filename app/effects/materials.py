@@ -1,0 +1,245 @@
+"""Procedural solid materials on meshes: the procedural-wood thesis (spec/004) and, beyond it,
+marble and granite, with a switch between the thesis's value noise and Perlin's gradient noise.
+
+The thesis's property table (spec/004 §2) is the ``wood`` parameter group, with its names and
+defaults; each Vector property keeps its four components and its effective scale is xyz·w.
+The ring, noise and colour code is in ``glsl/materials/``; numpy twins of the wood chain are at
+the end of this module (tests compare them with the GPU).
+"""
+
+from __future__ import annotations
+
+import math
+
+import moderngl
+import numpy as np
+
+from ..imageio import srgb_to_linear
+from ..noise.value import ValueNoise, ease_in, random_texture
+from ..params import Param
+from .base import Effect, ProgramSpec
+from .meshes import Mesh, cube, slice_quad, torus, uv_sphere
+
+MATERIALS = ("wood", "marble", "granite")
+NOISES = ("value", "gradient")
+OBJECTS = ("all", "cube", "sphere", "torus", "slice")
+
+MATERIAL = ProgramSpec("materials/material")
+MATERIAL_OBJECT_POS = ProgramSpec("materials/material", defines=(("OUTPUT_OBJECT_POSITION", 1),))
+MATERIAL_RADIUS = ProgramSpec("materials/material", defines=(("OUTPUT_RING_RADIUS", 1),))
+
+#: object name → (mesh factory, translation, rotation axis-angle in degrees)
+LAYOUT = {
+    "cube": (cube, (-1.45, 0.0, 0.0), ((1.0, 1.0, 0.0), 35.0)),
+    "sphere": (uv_sphere, (0.0, 0.0, 0.0), ((0.0, 1.0, 0.0), 0.0)),
+    "torus": (torus, (1.45, 0.0, 0.0), ((1.0, 0.0, 0.0), 55.0)),
+    "slice": (slice_quad, (0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), 0.0)),  # mesh built at material.slice_y
+}
+
+
+def rotation(axis, degrees: float) -> np.ndarray:
+    a = np.asarray(axis, dtype=np.float64)
+    a = a / np.linalg.norm(a)
+    t = math.radians(degrees)
+    k = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    r = np.identity(4)
+    r[:3, :3] = np.identity(3) + math.sin(t) * k + (1 - math.cos(t)) * (k @ k)
+    return r
+
+
+def model_matrix(translation, axis, degrees: float, spin_degrees: float = 0.0) -> np.ndarray:
+    m = rotation(axis, degrees) @ rotation((0.0, 1.0, 0.0), spin_degrees)
+    m[:3, 3] = translation
+    return m
+
+
+class Materials(Effect):
+    name = "material"
+    title = "Procedural materials"
+    spec = "spec/004"
+    programs = (MATERIAL, MATERIAL_OBJECT_POS, MATERIAL_RADIUS)
+    extra_groups = ("wood", "marble", "granite")
+
+    @classmethod
+    def python_params(cls) -> list[Param]:
+        w = "spec/004 §2"
+        return [
+            Param("material.material", "wood", doc="which material: the thesis's wood, or marble / granite",
+                  kind="choice", choices=MATERIALS, section="spec/004 §1.4"),
+            Param("material.noise", "value", doc="value = the thesis's lattice value noise; gradient = Perlin 2002",
+                  kind="choice", choices=NOISES, section="spec/004 §1.5"),
+            Param("material.objects", "all", doc="which meshes to draw (slice = the y = 0 cross-section, fig. 7)",
+                  kind="choice", choices=OBJECTS),
+            Param("material.filter_rings", False, doc="box-filter the ring edges over the pixel footprint (anti-aliasing)",
+                  kind="bool"),
+            Param("material.lighting", False, doc="Blinn–Phong lighting (the thesis renders unlit)", kind="bool"),
+            Param("material.light_dir", (0.5, 0.8, 0.45), -1.0, 1.0, "direction toward the light", kind="vec3"),
+            Param("material.light_color", (1.0, 1.0, 1.0), 0.0, 4.0, "light colour", kind="vec3"),
+            Param("material.ambient", 0.3, 0.0, 1.0, "ambient light"),
+            Param("material.specular", 0.15, 0.0, 1.0, "specular strength"),
+            Param("material.shininess", 32.0, 1.0, 512.0, "Blinn–Phong exponent"),
+            Param("material.spin", 0.0, 0.0, 360.0, "turntable speed", unit="deg/s"),
+            Param("material.slice_y", 0.0, -0.5, 0.5, "height of the cross-section (objects = slice)", unit="object units",
+                  section="spec/004 §1.4"),
+            # the thesis's property table (spec/004 §2), names and defaults as documented
+            Param("wood.vol_tex_scale", (1.0, 1.0, 1.0, 10.0), 0.0, 1000.0,
+                  "_VolTexScale: scale before the ring texture (effective xyz·w; ring period 1/w)", kind="vec4", section=w),
+            Param("wood.noise_grid_size", (0.2, 1.0, 1.0, 10.0), 0.0, 1000.0,
+                  "_NoiseGridSize: lattice cells per object unit (xyz·w)", kind="vec4", section=w),
+            Param("wood.distor_factor", (1.0, 1.0, 1.0, 0.5), 0.0, 100.0,
+                  "_DistorFactor: scale of the distortion vector (xyz·w)", kind="vec4", section=w),
+            Param("wood.texture_2d_image_size", (1.0, 1.0, 1.0, 256.0), 0.0, 4096.0,
+                  "_Texture2DImageSize: wrap of the noise input (xyz·w)", kind="vec4", section=w),
+            Param("wood.inner_color", (0.75, 0.5, 0.25), 0.0, 1.0, "_InnerColor: innermost, lighter ring colour",
+                  kind="color", section=w, srgb=True),
+            Param("wood.outer_color", (0.5, 0.25, 0.0), 0.0, 1.0, "_OuterColor: outermost, darker ring colour",
+                  kind="color", section=w, srgb=True),
+            Param("wood.rec_depth", 3, 1, 8, "_RecDepth: octaves of the noise", kind="int", section=w),
+            Param("wood.noise_seed", 1, 0, 2**31 - 1, "seed of the 256×256 random noise source (_Noise)",
+                  kind="int", section=w),
+            # marble and granite: beyond the thesis
+            Param("marble.scale", 2.5, 0.01, 100.0, "frequency of the turbulence in object space"),
+            Param("marble.vein_frequency", 2.0, 0.0, 50.0, "veins per object unit along x"),
+            Param("marble.turbulence", 2.2, 0.0, 20.0, "how far turbulence pushes the veins"),
+            Param("marble.sharpness", 0.35, 0.05, 8.0, "exponent of the vein profile (small = thin dark veins)"),
+            Param("marble.octaves", 5, 1, 10, "octaves of turbulence", kind="int"),
+            Param("marble.base_color", (0.93, 0.92, 0.88), 0.0, 1.0, "marble colour", kind="color", srgb=True),
+            Param("marble.vein_color", (0.28, 0.3, 0.34), 0.0, 1.0, "vein colour", kind="color", srgb=True),
+            Param("granite.scale", 18.0, 0.01, 400.0, "frequency of the grains in object space"),
+            Param("granite.octaves", 4, 1, 10, "octaves of fBm", kind="int"),
+            Param("granite.threshold", 0.22, 0.0, 1.0, "fBm level beyond which a grain is dark or light"),
+            Param("granite.dark_color", (0.12, 0.11, 0.11), 0.0, 1.0, "dark grains", kind="color", srgb=True),
+            Param("granite.matrix_color", (0.62, 0.56, 0.54), 0.0, 1.0, "matrix", kind="color", srgb=True),
+            Param("granite.light_color", (0.9, 0.88, 0.86), 0.0, 1.0, "light grains", kind="color", srgb=True),
+        ]
+
+    def __init__(self, gpu, params, scene=None):
+        super().__init__(gpu, params, scene)
+        self._meshes: dict[str, Mesh] = {}
+        self._value_tex = None
+        self._value_seed = None
+        self._gradient = None
+
+    def meshes(self) -> list[tuple[str, Mesh]]:
+        which = self.params["material.objects"]
+        names = ["cube", "sphere", "torus"] if which == "all" else [which]
+        out = []
+        for n in names:
+            key = (n, self.params["material.slice_y"]) if n == "slice" else n
+            if key not in self._meshes:
+                data = slice_quad(self.params["material.slice_y"]) if n == "slice" else LAYOUT[n][0]()
+                self._meshes[key] = Mesh(self.gpu, self.name, data)
+            out.append((n, self._meshes[key]))
+        return out
+
+    def _bind_noise(self, prog) -> None:
+        seed = self.params["wood.noise_seed"]
+        if self.params["material.noise"] == "value" or self.params["material.material"] == "wood":
+            if self._value_tex is None or self._value_seed != seed:
+                if self._value_tex is not None:
+                    self.gpu.free(self._value_tex)
+                self._value_tex = self.gpu.texture(self.name, "value noise source", (256, 256), 4,
+                                                   random_texture(seed).tobytes(), dtype="f1",
+                                                   filter=(moderngl.NEAREST, moderngl.NEAREST), repeat=True)
+                self._value_seed = seed
+            self._value_tex.use(4)
+            prog.set("uValueNoiseTex", 4)
+        if self.params["material.noise"] == "gradient":
+            from ..noise.gpu import GradientNoiseTextures
+
+            if self._gradient is None:
+                self._gradient = GradientNoiseTextures(self.gpu, self.name)
+            self._gradient.bind(prog, seed, 5)
+
+    def uniforms(self) -> dict:
+        p = self.params
+        size = p["wood.texture_2d_image_size"]
+        out = {
+            "uMaterial": MATERIALS.index(p["material.material"]),
+            "uNoiseKind": NOISES.index(p["material.noise"]),
+            "uRecDepth": p["wood.rec_depth"],
+            "uFilterRings": p["material.filter_rings"],
+            "uLighting": p["material.lighting"],
+            "uLightDir": p["material.light_dir"],
+            "uLightColor": p["material.light_color"],
+            "uAmbient": p["material.ambient"],
+            "uSpecular": p["material.specular"],
+            "uShininess": p["material.shininess"],
+            "uVolTexScale": p["wood.vol_tex_scale"],
+            "uNoiseGridSize": p["wood.noise_grid_size"],
+            "uDistorFactor": p["wood.distor_factor"],
+            "uValueNoiseWrap": tuple(float(v) * size[3] for v in size[:3]),
+        }
+        for group in ("marble", "granite"):
+            for prm in p.groups().get(group, []):
+                value = p[prm.name]
+                if prm.srgb:
+                    value = tuple(float(v) for v in srgb_to_linear(np.asarray(value)))
+                out["u" + group.capitalize() + "".join(s.capitalize() for s in prm.short.split("_"))] = value
+        # the thesis lerps the ring colours as display values (Unity's gamma colour space);
+        # the shader converts the result to linear radiance
+        out["uInnerColor"] = p["wood.inner_color"]
+        out["uOuterColor"] = p["wood.outer_color"]
+        return out
+
+    def render(self, frame, target, spec: ProgramSpec = MATERIAL, view_proj: np.ndarray | None = None) -> None:
+        """Draw the meshes; ``view_proj`` replaces the camera's (tests look at the slice from above)."""
+        ctx = self.gpu.ctx
+        prog = self.program(spec)
+        self._bind_noise(prog)
+        prog.set_many(self.uniforms())
+        if view_proj is None:
+            view_proj = frame.camera.projection_matrix(frame.aspect) @ frame.camera.view_matrix()
+        prog.set("uViewProj", view_proj)
+        prog.set("uCameraPos", tuple(frame.camera.position))
+        target.use()
+        ctx.enable(moderngl.DEPTH_TEST)
+        spin = self.params["material.spin"] * frame.time
+        for name, mesh in self.meshes():
+            _, translation, (axis, degrees) = LAYOUT[name]
+            if name == "slice":  # one-sided quad: seen from above or below
+                ctx.disable(moderngl.CULL_FACE)
+            else:
+                ctx.enable(moderngl.CULL_FACE)
+            prog.set("uModel", model_matrix(translation, axis, degrees, spin))
+            mesh.draw(prog)
+        ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+
+
+# ---- numpy twins of the wood chain (glsl/materials/wood.glsl) -------------------------------------
+
+def effective(v) -> np.ndarray:
+    """A thesis Vector property's effective 3D scale: xyz·w."""
+    v = np.asarray(v, dtype=np.float64)
+    return v[:3] * v[3]
+
+
+def wood_radius(pos: np.ndarray, noise01: np.ndarray, vol_tex_scale=(1, 1, 1, 10), distor_factor=(1, 1, 1, 0.5)):
+    distor = (noise01 - 0.5) * effective(distor_factor)
+    vt = pos * effective(vol_tex_scale) + distor
+    return np.sqrt(vt[..., 0] ** 2 + vt[..., 2] ** 2)
+
+
+def wood_value(radius) -> np.ndarray:
+    return ease_in(np.mod(radius, 1.0))
+
+
+def wood_value_filtered(radius, width) -> np.ndarray:
+    def F(x):
+        return (np.floor(x) + np.mod(x, 1.0) ** 3) / 3.0
+
+    a, b = radius - 0.5 * width, radius + 0.5 * width
+    return np.where(width < 1e-6, wood_value(radius), (F(b) - F(a)) / np.maximum(b - a, 1e-12))
+
+
+def wood_colour(pos: np.ndarray, noise: ValueNoise | None = None, rec_depth: int = 3,
+                vol_tex_scale=(1, 1, 1, 10), noise_grid_size=(0.2, 1, 1, 10), distor_factor=(1, 1, 1, 0.5),
+                inner=(0.75, 0.5, 0.25), outer=(0.5, 0.25, 0.0)) -> np.ndarray:
+    """The thesis's colour (display values, as its Unity shader output them) at object points."""
+    pos = np.asarray(pos, dtype=np.float64)
+    if noise is None:
+        n = np.full(pos.shape, 0.5)
+    else:
+        n = noise.octaves(pos * effective(noise_grid_size), rec_depth)
+    v = wood_value(wood_radius(pos, n, vol_tex_scale, distor_factor))[..., None]
+    return np.asarray(inner) * (1 - v) + np.asarray(outer) * v
