@@ -242,7 +242,7 @@ def cmd_shaders(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from .bench import bench_scene, write_report
+    from .bench import bench_scene, scene_sweeps, write_report
     from .runtime import open_session
 
     params, camera, size = _session_inputs(args, args.scene)
@@ -255,11 +255,21 @@ def cmd_bench(args) -> int:
     session = open_session(args.scene, params, args.shaders, camera=camera)
     try:
         report = bench_scene(session, size, args.warmup, args.repeat)
+        sweeps = scene_sweeps(args.scene)
+        if sweeps is not None:
+            print(f"running the {args.scene} speed/accuracy sweeps (this takes a while on a software renderer)",
+                  file=sys.stderr)
+            report["sweep"] = sweeps.sweep(session, size, warmup=min(args.warmup, 2), repeat=max(3, args.repeat // 2))
     finally:
         session.release()
     path = write_report(report, args.out, force=args.force)
     for name, t in report["passes"].items():
         print(f"{name:24s} {t['median_ms']:9.3f} ms  ×{t['ratio_to_fullscreen']:.2f} of a full-screen pass")
+    if "sweep" in report:
+        chart_path = Path(path).with_suffix(".png")
+        sweeps.chart(report, chart_path)
+        print(sweeps.summary(report))
+        print(f"chart → {chart_path}")
     print(f"{report['renderer']}, {size[0]}x{size[1]} → {path}")
     return 0
 

@@ -40,7 +40,17 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
     try:
         frame = session.scene.frame(size, 0.0)
         session.scene.render(frame, target)  # first frame: lazy resources are created here
-        passes = [trivial_pass(session, target)] + session.scene.passes(frame, target)
+        # each effect pass starts from a cleared target: with the depth buffer of the previous
+        # repetition left in place, depth-tested passes would time rejected fragments only
+        def cleared(p: Pass) -> Pass:
+            def run():
+                target.clear()
+                p.run()
+
+            return Pass(p.name, run)
+
+        passes = [trivial_pass(session, target), Pass("reference.clear", target.clear)]
+        passes += [cleared(p) for p in session.scene.passes(frame, target)]
         passes.append(Pass("frame", lambda: session.scene.render(frame, target)))
         hardware = not gpu.caps.software
         timings = {p.name: time_call(gpu.ctx, p.name, p.run, warmup, repeat, gpu_queries=hardware) for p in passes}
@@ -63,6 +73,16 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
             for name, t in timings.items()
         },
     }
+
+
+def scene_sweeps(scene: str):
+    """The module with ``sweep(session, size, ...)``, ``chart(report, path)`` and ``summary(report)``
+    for scenes that have speed/accuracy sweeps, else None."""
+    if scene == "materials":
+        from . import materials
+
+        return materials
+    return None
 
 
 def write_report(report: dict, out: str | None, force: bool = False) -> Path:

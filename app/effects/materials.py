@@ -27,6 +27,11 @@ OBJECTS = ("all", "cube", "sphere", "torus", "slice")
 MATERIAL = ProgramSpec("materials/material")
 MATERIAL_OBJECT_POS = ProgramSpec("materials/material", defines=(("OUTPUT_OBJECT_POSITION", 1),))
 MATERIAL_RADIUS = ProgramSpec("materials/material", defines=(("OUTPUT_RING_RADIUS", 1),))
+MATERIAL_BAKED = ProgramSpec("materials/material", defines=(("BAKED_NOISE", 1),))
+MATERIAL_BAKED_RADIUS = ProgramSpec("materials/material", defines=(("BAKED_NOISE", 1), ("OUTPUT_RING_RADIUS", 1)))
+WOOD_BAKE_COMPUTE = ProgramSpec("materials/wood_noise_bake", requires_compute=True)
+WOOD_BAKE_FRAGMENT = ProgramSpec("materials/wood_noise_bake", vert="common/fullscreen.vert",
+                                 frag="materials/wood_noise_bake.frag")
 
 #: object name → (mesh factory, translation, rotation axis-angle in degrees)
 LAYOUT = {
@@ -57,7 +62,8 @@ class Materials(Effect):
     name = "material"
     title = "Procedural materials"
     spec = "spec/004"
-    programs = (MATERIAL, MATERIAL_OBJECT_POS, MATERIAL_RADIUS)
+    programs = (MATERIAL, MATERIAL_OBJECT_POS, MATERIAL_RADIUS, MATERIAL_BAKED, MATERIAL_BAKED_RADIUS,
+                WOOD_BAKE_COMPUTE, WOOD_BAKE_FRAGMENT)
     extra_groups = ("wood", "marble", "granite")
 
     @classmethod
@@ -182,12 +188,30 @@ class Materials(Effect):
         out["uOuterColor"] = p["wood.outer_color"]
         return out
 
-    def render(self, frame, target, spec: ProgramSpec = MATERIAL, view_proj: np.ndarray | None = None) -> None:
-        """Draw the meshes; ``view_proj`` replaces the camera's (tests look at the slice from above)."""
+    def bake_noise(self, size: int, use_compute: bool | None = None):
+        """Bake the wood's distortion noise over the object box into a size³ texture."""
+        from ..gpu.bake import bake_volume
+
+        def setup(prog):
+            self._bind_noise(prog)
+            prog.set_many(self.uniforms())
+
+        result = bake_volume(self.gpu, self.name, f"wood noise {size}³", (size, size, size), WOOD_BAKE_COMPUTE,
+                             WOOD_BAKE_FRAGMENT, setup, use_compute)
+        result.texture.repeat_x = result.texture.repeat_y = result.texture.repeat_z = False
+        return result
+
+    def render(self, frame, target, spec: ProgramSpec = MATERIAL, view_proj: np.ndarray | None = None,
+               baked=None) -> None:
+        """Draw the meshes; ``view_proj`` replaces the camera's (tests look at the slice from above);
+        ``baked`` is a noise volume from :meth:`bake_noise` for the BAKED_NOISE variants."""
         ctx = self.gpu.ctx
         prog = self.program(spec)
         self._bind_noise(prog)
         prog.set_many(self.uniforms())
+        if baked is not None:
+            baked.use(6)
+            prog.set("uBakedNoise", 6)
         if view_proj is None:
             view_proj = frame.camera.projection_matrix(frame.aspect) @ frame.camera.view_matrix()
         prog.set("uViewProj", view_proj)

@@ -118,15 +118,18 @@ class ShaderLibrary:
             return str(path)
 
     def stage_files(self, name: str, **explicit: str | None) -> dict[str, Path]:
-        """Stage → file for program ``name``; explicit ``vert=``/``frag=``… override."""
-        out: dict[str, Path] = {}
-        for ext in STAGES:
-            given = explicit.get(ext)
-            if given:
-                out[ext] = self.root / given
-            elif (self.root / f"{name}.{ext}").is_file():
-                out[ext] = self.root / f"{name}.{ext}"
-        if not out:
+        """Stage → file for program ``name``. Explicit ``vert=``/``frag=``/``comp=``… name the
+        stages exactly; otherwise ``name.vert`` + ``name.frag`` (+ geometry/tessellation files of
+        that name) make a graphics program, or ``name.comp`` alone a compute program."""
+        given = {ext: self.root / path for ext, path in explicit.items() if path}
+        if given:
+            out = given
+        elif (self.root / f"{name}.vert").is_file():
+            out = {ext: self.root / f"{name}.{ext}" for ext in STAGES
+                   if ext != "comp" and (self.root / f"{name}.{ext}").is_file()}
+        elif (self.root / f"{name}.comp").is_file():
+            out = {"comp": self.root / f"{name}.comp"}
+        else:
             raise UsageError(f"no shader program {name!r} under {self.root}: expected {name}.vert/.frag or .comp")
         if "comp" in out and len(out) > 1:
             raise UsageError(f"program {name!r} mixes a compute stage with others")

@@ -41,7 +41,9 @@ period 256 — the table's own period).
 Failure cases: coordinates beyond about 2¹⁶ lose the fractional part in float32 on the GPU
 (the twin, in float64, does not), so keep |p| small there and wrap offsets or time modulo 256
 (or the period) on the CPU; lattice indices are wrapped in floating point before any integer
-conversion, so huge or negative coordinates never overflow an int.
+conversion, so huge or negative coordinates never overflow an int. Beyond |p| ~ 2²⁴ the GPU's
+wrap by a non power-of-two period is inexact (it stays in range, the value finite and bounded)
+while the twin's float64 wrap is exact: the two agree only below that.
 """
 
 from __future__ import annotations
@@ -162,7 +164,7 @@ def _noise3(x, y, z, period, perm) -> np.ndarray:
     A, B = p[X0 & 255], p[X1 & 255]          # first lookup, per x index
     AA, AB = p[(A + Y0) & 255], p[(A + Y1) & 255]
     BA, BB = p[(B + Y0) & 255], p[(B + Y1) & 255]
-    h = lambda row, zi: p[(row + zi) & 255]  # noqa: E731 — third lookup
+    h = lambda row, zi: p[(row + zi) & 255]
     return _lerp(
         w,
         _lerp(v, _lerp(u, _grad3(h(AA, Z0), x, y, z), _grad3(h(BA, Z0), x - 1, y, z)),

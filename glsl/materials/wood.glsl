@@ -20,6 +20,7 @@ uniform vec4 uNoiseGridSize;  // (0.2, 1, 1, 10)
 uniform vec4 uDistorFactor;   // (1, 1, 1, 0.5)
 uniform vec3 uInnerColor;     // (0.75, 0.5, 0.25)
 uniform vec3 uOuterColor;     // (0.5, 0.25, 0)
+uniform int uRecDepth;        // octaves of the distortion noise (RecDepth, 1…8)
 
 float WoodRingAntiderivative(float x) {
     float f = fract(x);

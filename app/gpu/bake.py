@@ -1,0 +1,71 @@
+"""Baking a GLSL function into a 3D texture: a compute shader where GL ≥ 4.3, otherwise one
+fragment pass per z slice read back into the volume (macOS GL 4.1 still works).
+
+A bake is a pair of programs whose sources define ``vec4 BakeValue(vec3 uvw)`` and include
+``bake3d_compute.glsl`` (compute) or ``bake3d_fragment.glsl`` (full-screen fragment).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import moderngl
+import numpy as np
+
+from ..effects.base import ProgramSpec
+
+
+@dataclass
+class BakeResult:
+    texture: object  # moderngl.Texture3D
+    seconds: float
+    path: str  # "compute" or "fragment"
+
+
+def bake_volume(gpu, owner: str, name: str, size: tuple[int, int, int], compute: ProgramSpec, fragment: ProgramSpec,
+                setup: Callable[[object], None], use_compute: bool | None = None,
+                progress: Callable[[float], None] | None = None) -> BakeResult:
+    """Bake into a new RGBA32F 3D texture of ``size`` (linear filtering, repeat)."""
+    ctx = gpu.ctx
+    size = tuple(int(s) for s in size)
+    if use_compute is None:
+        use_compute = gpu.caps.compute
+    tex = gpu.texture3d(owner, name, size, 4, dtype="f4")
+    ctx.finish()
+    t0 = time.perf_counter()
+    if use_compute:
+        prog = gpu.program(owner, compute.name, dict(compute.defines), **compute.stages())
+        setup(prog)
+        prog.set("uBakeSize", size)
+        tex.bind_to_image(0, read=False, write=True)
+        groups = [(s + 3) // 4 for s in size]
+        prog.program.run(*groups)
+        ctx.memory_barrier()
+        if progress:
+            progress(1.0)
+    else:
+        prog = gpu.program(owner, fragment.name, dict(fragment.defines), **fragment.stages())
+        setup(prog)
+        prog.set("uBakeSize", size)
+        target = gpu.target(owner, f"{name} slice", size[:2], depth=False)
+        try:
+            for z in range(size[2]):
+                target.use()
+                prog.set("uBakeSlice", z)
+                prog.vao().render(moderngl.TRIANGLES, vertices=3)
+                data = target.fbo.read(components=4, dtype="f4")
+                tex.write(data, viewport=(0, 0, z, size[0], size[1], 1))
+                if progress:
+                    progress((z + 1) / size[2])
+        finally:
+            gpu.free(target)
+    ctx.finish()
+    return BakeResult(tex, time.perf_counter() - t0, "compute" if use_compute else "fragment")
+
+
+def read_volume(texture) -> np.ndarray:
+    """(depth, height, width, 4) float32 contents of an RGBA32F 3D texture."""
+    w, h, d = texture.size
+    return np.frombuffer(texture.read(), dtype=np.float32).reshape(d, h, w, 4)

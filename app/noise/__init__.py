@@ -1,0 +1,23 @@
+"""Noise, in numpy: the twin of every GLSL noise function in ``glsl/common/noise_*.glsl``.
+
+* ``value`` — the procedural-wood thesis's lattice value noise (spec/004 §1.5–1.6)
+* ``gradient`` — Perlin's improved gradient noise (2002), 2D and 3D, plain and periodic
+* ``cellular`` — Worley F1/F2, plain and periodic
+* ``fractal`` — fBm, turbulence, Worley fBm, Perlin–Worley, and tileable variants
+
+``app.noise.gpu`` (textures and a GLSL probe) is kept out of this import so the package stays
+numpy-only, like ``app.sim``.
+"""
+
+from .cellular import (feature_point2, feature_point3, pcg4d, worley2, worley2_periodic, worley3,
+                       worley3_periodic, worley_f2_minus_f1, worley_inverted_f1)
+from .fractal import (gain_for, octave_sum, perlin_fbm2, perlin_fbm2_periodic, perlin_fbm3, perlin_fbm3_periodic,
+                      perlin_turbulence2, perlin_turbulence2_periodic, perlin_turbulence3,
+                      perlin_turbulence3_periodic, perlin_worley2, perlin_worley2_periodic, perlin_worley3,
+                      perlin_worley3_periodic, perlin_worley_remap, worley_fbm2, worley_fbm2_periodic, worley_fbm3,
+                      worley_fbm3_periodic)
+from .gradient import (PERLIN2_BOUND, PERLIN3_BOUND, REFERENCE_PERMUTATION, perlin2, perlin2_periodic, perlin3,
+                       perlin3_periodic, permutation)
+from .value import ValueNoise, ease_in, ease_in_out, random_texture
+
+__all__ = [name for name in dir() if not name.startswith("_")]
