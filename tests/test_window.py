@@ -56,7 +56,8 @@ def test_window_driven_like_a_user(tmp_path):
     assert r["escape_closes"]
 
 
-def test_natura_window_runs_frames_and_exits(tmp_path):
-    proc = _under_xvfb([sys.executable, "-m", "app.cli", "window", "probe", "--frames", "10", "--size", "320x180"],
+@pytest.mark.parametrize("scene", ["probe", "materials"])
+def test_natura_window_runs_frames_and_exits(tmp_path, scene):
+    proc = _under_xvfb([sys.executable, "-m", "app.cli", "window", scene, "--frames", "10", "--size", "320x180"],
                        cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr[-2000:]

@@ -1,5 +1,6 @@
-"""Regenerate docs/sky.png, the README's screenshot: the `sky` scene at four hours and the
-`probe` scene, rendered headless exactly as `natura render` does.
+"""Regenerate the README's pictures, rendered headless exactly as `natura render` does:
+docs/sky.png (the `sky` scene at four hours) and docs/materials.png (wood, marble and granite
+with the thesis's value noise and with Perlin's gradient noise).
 
     python tools/readme_images.py [--force]
 """
@@ -24,24 +25,30 @@ def main(argv=None) -> int:
     ap.add_argument("--size", default="480x270")
     args = ap.parse_args(argv)
     w, h = (int(v) for v in args.size.split("x"))
-    tiles = []
-    for scene, hour, _ in SHOTS:
-        params = scene_params(scene, sets=[f"time.hour={hour}"])
-        session = open_session(scene, params)
-        image = next(render_frames(session, (w, h)))
-        tiles.append(to_srgb8(image[..., :3], params["output.exposure"], params["output.tonemap"]))
-        session.release()
-    grid = np.concatenate([np.concatenate(tiles[:2], axis=1), np.concatenate(tiles[2:], axis=1)], axis=0)
     from PIL import Image
 
-    out = PROJECT_ROOT / "docs" / "sky.png"
-    if out.exists() and not args.force:
-        print(f"{out} exists: pass --force to replace it", file=sys.stderr)
-        return 2
-    Image.fromarray(grid).save(out)
-    print(out)
-    return 0
+    def shot(scene, sets, size):
+        params = scene_params(scene, sets=sets)
+        session = open_session(scene, params)
+        image = next(render_frames(session, size))
+        session.release()
+        return to_srgb8(image[..., :3], params["output.exposure"], params["output.tonemap"])
 
+    sky = [shot(scene, [f"time.hour={hour}"], (w, h)) for scene, hour, _ in SHOTS]
+    grids = {
+        "sky.png": np.concatenate([np.concatenate(sky[:2], axis=1), np.concatenate(sky[2:], axis=1)], axis=0),
+        "materials.png": np.concatenate([
+            np.concatenate([shot("materials", [f"material={m}", f"noise={n}"], (w, w * 2 // 5)) for n in ("value", "gradient")],
+                           axis=1) for m in ("wood", "marble", "granite")], axis=0),
+    }
+    for name, grid in grids.items():
+        out = PROJECT_ROOT / "docs" / name
+        if out.exists() and not args.force:
+            print(f"{out} exists: pass --force to replace it", file=sys.stderr)
+            continue
+        Image.fromarray(grid).save(out)
+        print(out)
+    return 0
 
 if __name__ == "__main__":
     sys.exit(main())
