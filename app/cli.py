@@ -137,7 +137,7 @@ def cmd_render(args) -> int:
     session = open_session(args.scene, params, args.shaders, camera=camera)
     try:
         for out, image in zip(outs, render_frames(session, size, args.frames, args.fps, progress=args.frames > 1)):
-            write_image(out, image, params["output.exposure"], params["output.tonemap"], force=args.force)
+            write_image(out, image, session.scene.exposure(), params["output.tonemap"], force=args.force)
             print(out)
     finally:
         session.release()
@@ -163,7 +163,7 @@ def cmd_window(args) -> int:
         session = open_session(scene_name, params, args.shaders, camera=camera)
         try:
             image = next(render_frames(session, size))
-            write_image(out, image, params["output.exposure"], params["output.tonemap"])
+            write_image(out, image, session.scene.exposure(), params["output.tonemap"])
         finally:
             session.release()
         print(out)

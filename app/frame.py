@@ -27,6 +27,7 @@ class FrameContext:
     moon: Light | None = None
     main_light: Light | None = None
     wind: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    exposure: float = 1.0  # multiplies output.exposure (e.g. the atmosphere thesis's "pupil")
     extra: dict[str, Any] = field(default_factory=dict)
 
     @property

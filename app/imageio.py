@@ -18,7 +18,7 @@ import numpy as np
 
 from .errors import OutputExistsError, UsageError
 
-TONEMAPS = ("aces", "reinhard", "clamp")
+TONEMAPS = ("aces", "reinhard", "clamp", "exponential")
 IMAGE_SUFFIXES = (".png", ".exr")
 
 
@@ -50,6 +50,8 @@ def tonemap(rgb: np.ndarray, exposure: float = 1.0, mode: str = "aces") -> np.nd
         return tonemap_aces(x)
     if mode == "reinhard":
         return x / (1.0 + x)
+    if mode == "exponential":  # O'Neil's exposure, used by the atmosphere thesis (spec/002 §1.6)
+        return 1.0 - np.exp(-x)
     return np.clip(x, 0.0, 1.0)
 
 

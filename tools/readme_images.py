@@ -31,8 +31,9 @@ def main(argv=None) -> int:
         params = scene_params(scene, sets=sets)
         session = open_session(scene, params)
         image = next(render_frames(session, size))
+        exposure = session.scene.exposure()
         session.release()
-        return to_srgb8(image[..., :3], params["output.exposure"], params["output.tonemap"])
+        return to_srgb8(image[..., :3], exposure, params["output.tonemap"])
 
     sky = [shot(scene, [f"time.hour={hour}"], (w, h)) for scene, hour, _ in SHOTS]
     grids = {

@@ -61,6 +61,15 @@ class Gpu:
         tex.repeat_x = tex.repeat_y = tex.repeat_z = repeat
         return self._record(owner, "texture3d", name, tex)
 
+    def depth_texture(self, owner: str, name: str, size):
+        tex = self.ctx.depth_texture(tuple(size))
+        tex.repeat_x = tex.repeat_y = False
+        return self._record(owner, "texture", name, tex)
+
+    def framebuffer(self, owner: str, name: str, color_attachments, depth_attachment=None):
+        return self._record(owner, "framebuffer", name,
+                            self.ctx.framebuffer(color_attachments=list(color_attachments), depth_attachment=depth_attachment))
+
     def target(self, owner: str, name: str, size, dtype: str = "f4", depth: bool = True) -> RenderTarget:
         return self._record(owner, "target", name, RenderTarget(self.ctx, size, dtype=dtype, depth=depth))
 

@@ -16,6 +16,7 @@ from ..gpu.shaders import ShaderLibrary
 from ..imageio import TONEMAPS
 from ..params import Param, ParamSet
 from ..sim.camera import Camera
+from ..ui.keymap import FLY
 
 PRESETS = RESOURCES / "presets"
 
@@ -35,6 +36,7 @@ class Scene:
     effects: ClassVar[tuple[type[Effect], ...]] = ()
     camera: ClassVar[dict] = {}
     background: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)  # linear radiance behind everything
+    keymap: ClassVar = FLY  # the window's key bindings (app/ui/keymap.py)
 
     @classmethod
     def declare_params(cls, library: ShaderLibrary) -> ParamSet:
@@ -54,6 +56,7 @@ class Scene:
         self.time = 0.0
         self.index = 0
         self.instances: list[Effect] = [cls(gpu, params, self) for cls in self.effects]
+        self.last_frame: FrameContext | None = None
 
     def effect(self, name: str) -> Effect:
         for e in self.instances:
@@ -71,7 +74,13 @@ class Scene:
         self.index += 1
         for effect in self.instances:
             effect.update(frame, dt)
+        self.last_frame = frame
         return frame
+
+    def exposure(self) -> float:
+        """output.exposure times what the last frame's effects asked for (e.g. the pupil)."""
+        extra = self.last_frame.exposure if self.last_frame is not None else 1.0
+        return self.params["output.exposure"] * extra
 
     def render(self, frame: FrameContext, target) -> None:
         target.use()

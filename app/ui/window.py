@@ -1,6 +1,7 @@
 """The desktop window: moderngl-window (pyglet) + an ImGui panel mirroring the theses' inspectors.
 
-Controls (also in the README and the panel's "Controls" section):
+Controls come from the scene's key map (app/ui/keymap.py; the README and the panel's "Controls"
+section list them). The default map:
 
 =================  =========================================================
 W A S D            fly forward / left / back / right
@@ -9,6 +10,7 @@ Shift              4× faster; mouse wheel changes the base speed
 right mouse drag   look around;  M toggles mouse look without a button
 Space              pause / resume time
 [ / ]              time of day −/+ 15 minutes
+Up / Down          sun up / down (planet scene)
 R                  reset the camera to the scene's default
 P or F12           screenshot (scene only, tone-mapped): screenshots/SCENE-NNNN.png, never overwrites
 F1                 hide / show the panel
@@ -37,12 +39,26 @@ POLL_SECONDS = 0.25
 MOVE_SPEED = 5.0  # m/s
 LOOK_DEGREES_PER_PIXEL = 0.15
 
-CONTROLS = (
-    ("W A S D", "fly"), ("Q / E", "down / up"), ("Shift", "4x faster; wheel: base speed"),
-    ("right drag", "look; M toggles mouse look"), ("Space", "pause / resume time"),
-    ("[ / ]", "time -/+ 15 min"), ("R", "reset camera"), ("P or F12", "screenshot"),
-    ("F1", "hide / show panel"), ("Esc", "quit"),
-)
+#: keys whose characters come through on_char (the thesis's + − * /), not as key codes
+CHARACTER_KEYS = {"MINUS", "SLASH", "EQUAL"}
+CHARACTERS = {"+": "PLUS", "-": "MINUS", "*": "ASTERISK", "/": "SLASH"}
+
+
+def _key_names(keys) -> dict:
+    """Window key code → key name (``keys.W`` → "W"), for the key maps."""
+    names = {}
+    for name in dir(keys):
+        if name.isupper() and not name.startswith("ACTION_"):
+            value = getattr(keys, name)
+            if isinstance(value, int):
+                names.setdefault(value, name)
+    try:  # keys moderngl-window does not name (pyglet backend)
+        from pyglet.window import key as pk
+
+        names.setdefault(pk.RCTRL, "RIGHT_CTRL")
+    except Exception:
+        pass
+    return names
 
 
 def display_available() -> bool:
@@ -104,12 +120,14 @@ class NaturaWindow:
         w.mouse_scroll_event_func = self.on_mouse_scroll
         w.mouse_press_event_func = self.on_mouse_press
         w.mouse_release_event_func = self.on_mouse_release
-        w.unicode_char_entered_func = self.ui.unicode_char_entered
+        w.unicode_char_entered_func = self.on_char
         w.resize_func = self.on_resize
-        self.keys_down: set = set()
+        from .keymap import Controller
+
+        self.controller = Controller(keymap=self.scene.keymap, speed=MOVE_SPEED)
+        self._key_names = _key_names(self.wnd.keys)
         self.looking = False
         self.mouse_look = False
-        self.speed = MOVE_SPEED
         self.show_panel = True
         self.frame_ms = collections.deque([0.0] * 240, maxlen=240)
         self.messages: collections.deque[str] = collections.deque(maxlen=6)
@@ -131,32 +149,58 @@ class NaturaWindow:
     def on_key(self, key, action, modifiers):
         self.ui.key_event(key, action, modifiers)
         k = self.wnd.keys
+        name = self._key_names.get(key)
+        if name is None or name in CHARACTER_KEYS:  # + - * / arrive as characters (on_char)
+            return
         if action == k.ACTION_RELEASE:
-            self.keys_down.discard(key)
+            self.controller.release(name)  # always: no stuck keys
             return
-        if key == k.F12:
-            self.screenshot_requested = True
+        if self._ui_wants_keyboard() and name != "F12":
             return
-        if self._ui_wants_keyboard():
-            return
-        if key == k.ESCAPE:
-            self.wnd.close()
-        elif key == k.P:
-            self.screenshot_requested = True
-        elif key == k.SPACE and "time.playing" in self.params:
-            self.params.set("time.playing", not self.params["time.playing"])
-        elif key == k.M:
-            self.mouse_look = not self.mouse_look
-            self.wnd.mouse_exclusivity = self.mouse_look
-        elif key == k.F1:
-            self.show_panel = not self.show_panel
-        elif key == k.R:
-            self.scene.camera.set(position=self.home.position, yaw=self.home.yaw, pitch=self.home.pitch, fov=self.home.fov)
-        elif key in (k.LEFT_BRACKET, k.RIGHT_BRACKET) and "time.hour" in self.params:
-            step = 0.25 if key == k.RIGHT_BRACKET else -0.25
-            self.params.set("time.hour", (self.params["time.hour"] + step) % 24.0)
-        else:
-            self.keys_down.add(key)
+        self.controller.press(name)
+        self.run_events()
+
+    def on_char(self, char):
+        self.ui.unicode_char_entered(char)
+        name = CHARACTERS.get(char)
+        if name and not self._ui_wants_keyboard():
+            self.controller.press(name)
+            self.run_events()
+
+    def run_events(self) -> None:
+        """Carry out the one-shot actions the controller collected."""
+        p = self.params
+        for action, arg in self.controller.take_events():
+            if action == "quit":
+                self.wnd.close()
+            elif action == "screenshot":
+                self.screenshot_requested = True
+            elif action == "toggle_time" and "time.playing" in p:
+                p.set("time.playing", not p["time.playing"])
+            elif action in ("time_back", "time_forward") and "time.hour" in p:
+                p.set("time.hour", (p["time.hour"] + (0.25 if action == "time_forward" else -0.25)) % 24.0)
+            elif action == "toggle_mouse":
+                self.mouse_look = not self.mouse_look
+                self.wnd.mouse_exclusivity = self.mouse_look
+            elif action == "toggle_panel":
+                self.show_panel = not self.show_panel
+            elif action == "reset_camera":
+                h = self.home
+                self.scene.camera.set(position=h.position, yaw=h.yaw, pitch=h.pitch, fov=h.fov)
+            elif action == "toggle_auto_sun" and "planet.auto_sun" in p:
+                p.set("planet.auto_sun", not p["planet.auto_sun"])
+            elif action == "print_gl_version":
+                self._say(f"OpenGL {self.ctx.info.get('GL_VERSION')} — {self.session.gpu.caps.renderer}")
+            elif action == "print_camera":
+                c = self.scene.camera
+                self._say(f"camera ({c.position[0]:.2f}, {c.position[1]:.2f}, {c.position[2]:.2f}) "
+                          f"yaw {c.yaw:.1f} pitch {c.pitch:.1f}")
+            elif action == "print":
+                self._say(arg)
+
+    def _say(self, text: str) -> None:
+        print(text)
+        self.messages.append(text)
 
     def on_mouse_position(self, x, y, dx, dy):
         self.ui.mouse_position_event(x, y, dx, dy)
@@ -171,7 +215,7 @@ class NaturaWindow:
     def on_mouse_scroll(self, dx, dy):
         self.ui.mouse_scroll_event(dx, dy)
         if not self._ui_wants_mouse():
-            self.speed = float(np.clip(self.speed * 1.15**dy, 0.1, 5000.0))
+            self.controller.speed = float(np.clip(self.controller.speed * 1.15**dy, 0.1, 5000.0))
 
     def on_mouse_press(self, x, y, button):
         self.ui.mouse_press_event(x, y, button)
@@ -191,14 +235,6 @@ class NaturaWindow:
             self.target = self.session.gpu.target("window", "scene radiance", (width, height))
 
     # -- frame -----------------------------------------------------------------------------
-    def move_camera(self, dt: float) -> None:
-        k = self.wnd.keys
-        d = self.keys_down
-        fast = 4.0 if (self.wnd.modifiers.shift or k.LEFT_SHIFT in d or k.RIGHT_SHIFT in d) else 1.0
-        step = self.speed * fast * dt
-        self.scene.camera.move(forward=((k.W in d) - (k.S in d)) * step, right=((k.D in d) - (k.A in d)) * step,
-                               up=((k.E in d) - (k.Q in d)) * step)
-
     def poll_shaders(self) -> None:
         now = time.perf_counter()
         if now - self._last_poll < POLL_SECONDS:
@@ -225,14 +261,14 @@ class NaturaWindow:
 
         self.wnd.use()
         ctx.viewport = (0, 0, *self.wnd.buffer_size)
-        draw_display(self.session.gpu, self.target.color, self.params["output.exposure"], self.params["output.tonemap"])
+        draw_display(self.session.gpu, self.target.color, self.scene.exposure(), self.params["output.tonemap"])
 
     def save_screenshot(self) -> Path | None:
         self.screenshot_dir.mkdir(parents=True, exist_ok=True)
         for _ in range(100):  # another process may take the name between the check and the link
             path = next_free_path(self.screenshot_dir, self.scene.name, ".png")
             try:
-                write_png(path, self.target.read(), self.params["output.exposure"], self.params["output.tonemap"])
+                write_png(path, self.target.read(), self.scene.exposure(), self.params["output.tonemap"])
             except FileExistsError:
                 continue
             except Exception as exc:
@@ -285,7 +321,8 @@ class NaturaWindow:
                 self.params.set("time.hour", hour % 24.0)
         cam = self.scene.camera
         imgui.text(f"camera ({cam.position[0]:.1f}, {cam.position[1]:.1f}, {cam.position[2]:.1f})  "
-                   f"yaw {cam.yaw:.0f}  pitch {cam.pitch:.0f}  speed {self.speed:.1f} m/s")
+                   f"yaw {cam.yaw:.0f}  pitch {cam.pitch:.0f}  speed {self.controller.speed:.1f} m/s"
+                   + (f"  turbo {self.controller.turbo_speed:g} m/s" if self.controller.turbo else ""))
         changed, fov = imgui.slider_float("fov##camera", cam.fov, 10.0, 120.0, "%.0f deg")
         if changed:
             cam.set(fov=fov)
@@ -308,8 +345,8 @@ class NaturaWindow:
             for a in gpu.allocations:
                 imgui.text(f"{a.owner}: {a.kind} {a.name}")
         if imgui.collapsing_header("Controls"):
-            for keys, what in CONTROLS:
-                imgui.text(f"{keys:12s} {what}")
+            for keys, what in self.controller.keymap.help:
+                imgui.text(f"{keys:14s} {what}")
         for m in self.messages:
             imgui.text_disabled(m)
         imgui.end()
@@ -319,7 +356,7 @@ class NaturaWindow:
         self.frame_ms.append(dt * 1000.0)
         self.poll_shaders()
         if not self._ui_wants_keyboard():
-            self.move_camera(dt)
+            self.controller.update(self.scene.camera, dt, self.params)
         self.render_scene(dt)
         if self.screenshot_requested:
             self.screenshot_requested = False

@@ -1,6 +1,7 @@
 // Tone mapping for display. Twin: app/imageio.py (tonemap, linear_to_srgb); PNG files use the
 // twin, the window uses this file, tests/test_gl_core.py checks they agree.
-// Modes: 0 = ACES filmic (Narkowicz 2015 fit), 1 = Reinhard x/(1+x), 2 = clamp.
+// Modes: 0 = ACES filmic (Narkowicz 2015 fit), 1 = Reinhard x/(1+x), 2 = clamp,
+// 3 = exponential 1 − e^(−x) (O'Neil's exposure, spec/002 §1.6).
 
 vec3 TonemapACES(vec3 x) {
     const float a = 2.51, b = 0.03, c = 2.43, d = 0.59, e = 0.14;
@@ -11,6 +12,7 @@ vec3 Tonemap(vec3 radiance, float exposure, int mode) {
     vec3 x = max(radiance * exposure, vec3(0.0));
     if (mode == 0) return TonemapACES(x);
     if (mode == 1) return x / (1.0 + x);
+    if (mode == 3) return 1.0 - exp(-x);
     return clamp(x, 0.0, 1.0);
 }
 
