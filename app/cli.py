@@ -89,6 +89,9 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--warmup", type=int, default=3)
     b.add_argument("--repeat", type=int, default=15)
     b.add_argument("--out", default=None, metavar="FILE.json", help="default: bench-results/SCENE-NNNN.json")
+    b.add_argument("--sizes", default=None, metavar="WxH,WxH,...",
+                   help="image sizes of the scene's table (planet: the thesis's 800x600,1280x720,1920x1080)")
+    b.add_argument("--no-sweep", action="store_true", help="time the passes only, skip the scene's sweeps")
     b.add_argument("--force", action="store_true")
     return parser
 
@@ -243,11 +246,13 @@ def cmd_shaders(args) -> int:
 
 def cmd_bench(args) -> int:
     from .bench import bench_scene, scene_sweeps, write_report
+    from .runtime import parse_size
     from .runtime import open_session
 
     params, camera, size = _session_inputs(args, args.scene)
     if args.size is None:
         size = (640, 360)
+    table_sizes = [parse_size(t) for t in args.sizes.split(",") if t.strip()] if args.sizes else None
     if args.out:
         from .imageio import check_output_path
 
@@ -255,11 +260,13 @@ def cmd_bench(args) -> int:
     session = open_session(args.scene, params, args.shaders, camera=camera)
     try:
         report = bench_scene(session, size, args.warmup, args.repeat)
-        sweeps = scene_sweeps(args.scene)
+        sweeps = None if args.no_sweep else scene_sweeps(args.scene)
         if sweeps is not None:
             print(f"running the {args.scene} speed/accuracy sweeps (this takes a while on a software renderer)",
                   file=sys.stderr)
-            report["sweep"] = sweeps.sweep(session, size, warmup=min(args.warmup, 2), repeat=max(3, args.repeat // 2))
+            kwargs = {"sizes": table_sizes} if table_sizes else {}
+            report["sweep"] = sweeps.sweep(session, size, warmup=min(args.warmup, 2), repeat=max(3, args.repeat // 2),
+                                           **kwargs)
     finally:
         session.release()
     path = write_report(report, args.out, force=args.force)

@@ -61,3 +61,11 @@ def test_natura_window_runs_frames_and_exits(tmp_path, scene):
     proc = _under_xvfb([sys.executable, "-m", "app.cli", "window", scene, "--frames", "10", "--size", "320x180"],
                        cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr[-2000:]
+
+
+def test_bake_progress_is_drawn_in_the_window(tmp_path):
+    proc = _under_xvfb([sys.executable, str(DRIVER), str(tmp_path), "bake-progress"], cwd=tmp_path)
+    lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
+    assert proc.returncode == 0 and lines, proc.stdout[-2000:] + proc.stderr[-2000:]
+    r = json.loads(lines[-1][len("RESULT "):])
+    assert r["cache"] in ("miss", "rebuilt") and r["progress_frames"] >= 2

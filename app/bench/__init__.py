@@ -82,6 +82,10 @@ def scene_sweeps(scene: str):
         from . import materials
 
         return materials
+    if scene == "planet":
+        from . import planet
+
+        return planet
     return None
 
 

@@ -37,7 +37,7 @@ def _display(img):
     return linear_to_srgb(img[..., :3].astype(np.float64))
 
 
-def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES) -> dict:
+def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES, sizes=None) -> dict:
     params = session.params
     eff: Materials = session.scene.effect("material")
     gpu = session.gpu

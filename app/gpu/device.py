@@ -29,6 +29,8 @@ class Gpu:
         self.caps: Caps = caps_of(self.ctx)
         self.shaders = ShaderLibrary(self.ctx, shader_root)
         self.allocations: list[Allocation] = []
+        #: progress(label, fraction) for long GPU jobs such as bakes; the window draws a bar
+        self.progress = None
 
     def _record(self, owner: str, kind: str, name: str, obj: Any) -> Any:
         self.allocations.append(Allocation(owner, kind, name, obj))

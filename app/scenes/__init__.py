@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 from ..effects.materials import Materials
+from ..effects.noiselab import NoiseLab
+from ..effects.planet import Planet
+from ..ui.keymap import ATMOSPHERE_THESIS
 from ..effects.probe import MirrorBall
 from ..effects.sky import Sky
 from ..errors import UsageError
@@ -36,7 +39,26 @@ class MaterialsScene(Scene):
     background = (0.02, 0.02, 0.025)
 
 
-SCENES: dict[str, type[Scene]] = {cls.name: cls for cls in (SkyScene, ProbeScene, MaterialsScene)}
+class PlanetScene(Scene):
+    name = "planet"
+    title = "Atmospheric scattering, ground to space"
+    description = ("single scattering in the thesis's three approximations (brute force, optical-depth LUT, "
+                   "LUT + shadow-map light shafts) and Hillaire 2020 multiple scattering (spec/002)")
+    effects = (Planet,)
+    camera = {"position": (0.0, 2.0, 60.0), "yaw": 0.0, "pitch": 4.0, "fov": 60.0, "far": 5.0e7}
+    keymap = ATMOSPHERE_THESIS
+
+
+class NoiseScene(Scene):
+    name = "noise"
+    title = "Noise lab"
+    description = ("every noise function of glsl/common and the cloud bakes (shape, detail, weather map), "
+                   "tiled to show they are seamless (spec/001 §1.1, spec/000 §1.6, spec/004)")
+    effects = (NoiseLab,)
+
+
+SCENES: dict[str, type[Scene]] = {cls.name: cls for cls in (SkyScene, ProbeScene, MaterialsScene, PlanetScene,
+                                                            NoiseScene)}
 
 
 def get_scene(name: str) -> type[Scene]:

@@ -135,8 +135,10 @@ class NaturaWindow:
         self.screenshot_requested = False
         self.screenshots: list[Path] = []
         self.render_error: str | None = None
+        self.progress_frames = 0
         self._last_poll = 0.0
         self.target = None
+        self.session.gpu.progress = self.show_progress
         self.on_resize(*self.wnd.buffer_size)
 
     # -- events ----------------------------------------------------------------------------
@@ -262,6 +264,25 @@ class NaturaWindow:
         self.wnd.use()
         ctx.viewport = (0, 0, *self.wnd.buffer_size)
         draw_display(self.session.gpu, self.target.color, self.scene.exposure(), self.params["output.tonemap"])
+
+    def show_progress(self, label: str, fraction: float) -> None:
+        """Draw one frame with a progress bar while a long GPU job (a bake) runs."""
+        imgui = self.imgui
+        self.wnd.use()
+        self.wnd.clear(0.08, 0.08, 0.09, 1.0)
+        imgui.get_io().delta_time = 1.0 / 60.0
+        imgui.new_frame()
+        w, h = self.wnd.size
+        imgui.set_next_window_pos((w * 0.5 - 180, h * 0.5 - 30))
+        imgui.set_next_window_size((360, 70))
+        imgui.begin("Working", flags=imgui.WindowFlags_.no_decoration)
+        imgui.text(label)
+        imgui.progress_bar(float(fraction), (-1, 0), f"{fraction * 100:.0f} %")
+        imgui.end()
+        imgui.render()
+        self.ui.render(imgui.get_draw_data())
+        self.wnd.swap_buffers()
+        self.progress_frames += 1
 
     def save_screenshot(self) -> Path | None:
         self.screenshot_dir.mkdir(parents=True, exist_ok=True)

@@ -140,5 +140,29 @@ def main(work: str) -> int:
     return 0
 
 
+
+
+def bake_progress(work: str) -> int:
+    """Open the noise lab on a cold cache: the bake must draw progress frames in the window."""
+    os.environ["NATURA_CACHE"] = str(Path(work) / "cache")
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.sim.camera import Camera
+    from app.ui import window as W
+
+    params = scene_params("noise", sets=["noise.view=shape", "bake_shape.size=32"])
+    win = W.NaturaWindow("noise", params, Camera(**get_scene("noise").camera), (320, 180))
+    win.wnd.clear()
+    win.frame(1 / 60)
+    win.wnd.swap_buffers()
+    eff = win.scene.effect("noise")
+    out = {"progress_frames": win.progress_frames, "cache": eff.last_bake.cache, "path": eff.last_bake.path}
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
 if __name__ == "__main__":
+    if len(sys.argv) > 2 and sys.argv[2] == "bake-progress":
+        sys.exit(bake_progress(sys.argv[1]))
     sys.exit(main(sys.argv[1]))

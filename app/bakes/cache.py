@@ -1,0 +1,229 @@
+"""The on-disk bake cache: baked textures as checked files, never trusted blindly.
+
+Where: ``$NATURA_CACHE`` if set (the directory itself), else ``~/.cache/natura/bakes``
+(``$XDG_CACHE_HOME/natura/bakes`` where that is set). An explicit directory beats both.
+
+Key: SHA-256 of a canonical JSON of the bake kind, every parameter (size included), the bake
+format version :data:`BAKE_VERSION` (bumped when the Python side of a bake changes: the
+normalisation, the quantisation), a digest of every GLSL file both bake programs include
+(editing a shader invalidates its bakes) and, for Perlin bakes, the permutation table of the
+seed. The file is named ``<kind>-<size>-<first 16 hex digits of the key>.bake``.
+
+File format (little-endian)::
+
+    offset 0   8 bytes   magic b"NATBAKE\\n"
+           8   u32       FILE_FORMAT (1)
+          12   u32       header length H
+          16   H bytes   header, UTF-8 JSON: key, kind, shape, dtype ("uint8"), payload_bytes,
+                         path, bake_seconds, renderer, created, params
+        16+H   N bytes   payload: the texels, C order, shape as in the header
+         end   32 bytes  SHA-256 of everything before it
+
+Reading checks, in order: length, magic ("foreign"), format ("foreign"), header length and
+payload length ("truncated"), checksum ("corrupt"), header JSON ("corrupt"), key ("stale"),
+kind/shape/dtype ("stale"). Any failure — or any OSError — is a miss with a reason; the bake
+is redone and the file rewritten. Writes go to a temporary file in the same directory, are
+flushed and fsynced, then ``os.replace``-d over the old file (atomic on POSIX and Windows), so
+a crash mid-write leaves the old file or none, never half a file. A directory that cannot be
+created or written turns caching off for that call with one warning per directory.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import struct
+import tempfile
+import time
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+CACHE_ENV = "NATURA_CACHE"
+MAGIC = b"NATBAKE\n"
+FILE_FORMAT = 1
+#: Bump when the Python side of any bake changes what ends up in the file.
+BAKE_VERSION = 1
+_PREFIX = struct.Struct("<8sII")
+_DIGEST = 32
+_MAX_HEADER = 1 << 20
+_warned: set[str] = set()
+
+
+def default_cache_dir() -> Path:
+    """``$NATURA_CACHE``, else ``$XDG_CACHE_HOME/natura/bakes``, else ``~/.cache/natura/bakes``."""
+    env = os.environ.get(CACHE_ENV)
+    if env:
+        return Path(env).expanduser()
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    base = Path(xdg).expanduser() if xdg else Path.home() / ".cache"
+    return base / "natura" / "bakes"
+
+
+def _warn_once(directory: Path, why: str) -> None:
+    tag = str(directory)
+    if tag not in _warned:
+        _warned.add(tag)
+        warnings.warn(f"bake cache {tag!r} {why}: baking without the cache", RuntimeWarning, stacklevel=3)
+
+
+def cache_key(kind: str, params: dict[str, Any], shader_digest: str, extra: dict[str, Any] | None = None) -> str:
+    """SHA-256 hex of everything a bake's bytes depend on (see the module doc)."""
+    doc = {"kind": kind, "params": params, "bake_version": BAKE_VERSION, "file_format": FILE_FORMAT,
+           "glsl": shader_digest, "extra": extra or {}}
+    text = json.dumps(doc, sort_keys=True, separators=(",", ":"), default=str)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+@dataclass
+class CacheRead:
+    """What a lookup found: ``data`` (None on a miss), ``status`` "hit" | "miss" | "rebuilt"
+    (a file was there but unusable) and ``reason``; ``header`` of a hit."""
+
+    data: np.ndarray | None
+    status: str
+    reason: str = ""
+    header: dict | None = None
+
+
+class BakeCache:
+    """Bake files in one directory (see the module doc). ``directory=None`` picks
+    :func:`default_cache_dir` at construction time."""
+
+    def __init__(self, directory: str | os.PathLike | None = None):
+        self.directory = Path(directory).expanduser() if directory is not None else default_cache_dir()
+
+    def path_for(self, kind: str, size: int, key: str) -> Path:
+        return self.directory / f"{kind}-{int(size)}-{key[:16]}.bake"
+
+    # -- reading ---------------------------------------------------------------------------
+    def load(self, path: Path, key: str, kind: str, shape: tuple[int, ...]) -> CacheRead:
+        """The array in ``path`` if the file is whole, ours, current and of the expected shape."""
+        try:
+            blob = Path(path).read_bytes()
+        except FileNotFoundError:
+            return CacheRead(None, "miss")
+        except OSError as exc:
+            return CacheRead(None, "rebuilt", f"unreadable ({exc.strerror or exc})")
+        try:
+            return self._parse(blob, key, kind, tuple(int(s) for s in shape))
+        except Exception as exc:  # never trust, never crash: anything odd is a rebuild
+            return CacheRead(None, "rebuilt", f"corrupt ({type(exc).__name__}: {exc})")
+
+    @staticmethod
+    def _parse(blob: bytes, key: str, kind: str, shape: tuple[int, ...]) -> CacheRead:
+        def bad(reason: str) -> CacheRead:
+            return CacheRead(None, "rebuilt", reason)
+
+        if len(blob) < _PREFIX.size + _DIGEST:
+            if blob[: len(MAGIC)] != MAGIC[: len(blob)]:
+                return bad("foreign (not a Natura bake file)")
+            return bad(f"truncated ({len(blob)} bytes)")
+        magic, fmt, header_len = _PREFIX.unpack_from(blob)
+        if magic != MAGIC:
+            return bad("foreign (not a Natura bake file)")
+        if fmt != FILE_FORMAT:
+            return bad(f"foreign (file format {fmt}, this version reads {FILE_FORMAT})")
+        if header_len > _MAX_HEADER or _PREFIX.size + header_len + _DIGEST > len(blob):
+            return bad(f"truncated (header of {header_len} bytes in a {len(blob)}-byte file)")
+        body, digest = blob[:-_DIGEST], blob[-_DIGEST:]
+        header_bytes = body[_PREFIX.size:_PREFIX.size + header_len]
+        try:
+            header = json.loads(header_bytes.decode("utf-8"))
+            payload_bytes = int(header["payload_bytes"])
+        except (UnicodeDecodeError, ValueError, KeyError, TypeError):
+            header, payload_bytes = None, -1
+        payload = body[_PREFIX.size + header_len:]
+        if header is not None and len(payload) < payload_bytes:
+            return bad(f"truncated ({len(payload)} of {payload_bytes} payload bytes)")
+        if hashlib.sha256(body).digest() != digest:
+            return bad("corrupt (checksum mismatch)")
+        if header is None or len(payload) != payload_bytes:
+            return bad("corrupt (header)")
+        if header.get("key") != key:
+            return bad("stale (made with other parameters or shaders)")
+        if header.get("kind") != kind or tuple(header.get("shape", ())) != shape or header.get("dtype") != "uint8":
+            return bad(f"stale (holds {header.get('kind')} {header.get('shape')} {header.get('dtype')})")
+        if payload_bytes != int(np.prod(shape)):
+            return bad("corrupt (payload size does not match the shape)")
+        data = np.frombuffer(payload, dtype=np.uint8).reshape(shape).copy()
+        return CacheRead(data, "hit", "", header)
+
+    # -- writing ---------------------------------------------------------------------------
+    def store(self, path: Path, key: str, kind: str, data: np.ndarray, meta: dict[str, Any] | None = None) -> bool:
+        """Write ``data`` (uint8) atomically. False, with one warning per directory, when the
+        directory cannot be created or written."""
+        data = np.ascontiguousarray(data)
+        if data.dtype != np.uint8:
+            raise TypeError(f"bake cache stores uint8 texels, got {data.dtype}")
+        header = {"key": key, "kind": kind, "shape": list(data.shape), "dtype": "uint8",
+                  "payload_bytes": int(data.nbytes), "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+                  **(meta or {})}
+        header_bytes = json.dumps(header, sort_keys=True, default=str).encode("utf-8")
+        body = _PREFIX.pack(MAGIC, FILE_FORMAT, len(header_bytes)) + header_bytes + data.tobytes()
+        blob = body + hashlib.sha256(body).digest()
+        path = Path(path)
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            _warn_once(path.parent, f"cannot be created ({exc.strerror or exc})")
+            return False
+        tmp = None
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+            with os.fdopen(fd, "wb") as fh:
+                if hasattr(os, "fchmod"):
+                    os.fchmod(fh.fileno(), 0o644)  # mkstemp's 0600 would hide the cache from other users
+                fh.write(blob)
+                fh.flush()
+                os.fsync(fh.fileno())
+            os.replace(tmp, path)
+            tmp = None
+            return True
+        except OSError as exc:
+            _warn_once(path.parent, f"cannot be written ({exc.strerror or exc})")
+            return False
+        finally:
+            if tmp is not None:
+                try:
+                    os.unlink(tmp)
+                except OSError:
+                    pass
+
+    # -- housekeeping ----------------------------------------------------------------------
+    def files(self) -> list[Path]:
+        try:
+            return sorted(self.directory.glob("*.bake"))
+        except OSError:
+            return []
+
+    def prune(self, keep: int = 8) -> list[Path]:
+        """Delete all but the ``keep`` most recently modified files of each kind and size;
+        returns what was deleted (errors are ignored: pruning is best effort)."""
+        groups: dict[str, list[Path]] = {}
+        for f in self.files():
+            groups.setdefault(f.name.rsplit("-", 1)[0], []).append(f)
+        removed = []
+        for members in groups.values():
+            try:
+                members.sort(key=lambda p: p.stat().st_mtime, reverse=True)
+            except OSError:
+                continue
+            for old in members[keep:]:
+                try:
+                    old.unlink()
+                    removed.append(old)
+                except OSError:
+                    pass
+        return removed
+
+    def clear(self) -> None:
+        for f in self.files():
+            try:
+                f.unlink()
+            except OSError:
+                pass

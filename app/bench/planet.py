@@ -1,0 +1,241 @@
+"""Speed and accuracy of the four atmosphere methods (issue 4, items 5–6).
+
+* **The thesis's table** (spec/002 §5): methods 1–3 (and Hillaire as a fourth row) × sizes
+  (800×600, 1280×720, 1920×1080 by default; ``--sizes`` scales it down for slow renderers) ×
+  a ground view and a space view, as ms per frame (median, ``ctx.finish()`` around each frame,
+  static sun so the shadow map is not redrawn) and as ratios to method 1 in the same cell.
+* **Accuracy**: each method's in-scattered radiance ("in-scattering on black") and transmittance
+  ("out-scattering on white") against :func:`app.sim.atmosphere.reference` — the same single-
+  scattering integral in float64 with thousands of steps and exact optical depths — on a small
+  subsampled ground view, as its quality knob changes: N_STEPS (methods 1–3), the optical-depth
+  LUT size (method 2), the shadow-map size (method 3, against the same method with an 8192² map:
+  the reference has no shadows), Hillaire's LUT sizes (method 4; it adds multiple scattering, so
+  its error against a single-scattering reference includes that physics on purpose).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..gpu.timing import time_call
+from ..sim import atmosphere as atm
+
+DEFAULT_SIZES = ((800, 600), (1280, 720), (1920, 1080))
+VIEWS = {
+    "ground": {"position": (0.0, 2.0, 60.0), "yaw": 0.0, "pitch": 4.0, "fov": 60.0},
+    "space": {"position": (0.0, 300000.0, 60.0), "yaw": 0.0, "pitch": -30.0, "fov": 60.0},
+}
+TABLE_METHODS = ("brute_force", "lut", "shadowed", "hillaire")
+
+
+def _set_view(session, view: str) -> None:
+    v = VIEWS[view]
+    session.scene.camera.set(position=v["position"], yaw=v["yaw"], pitch=v["pitch"], fov=v["fov"])
+
+
+def _frame_ms(session, size, warmup, repeat) -> float:
+    gpu = session.gpu
+    target = gpu.target("bench", "planet frame", size)
+    try:
+        frame = session.scene.frame(size)
+        session.scene.render(frame, target)  # builds LUTs, shadow map, G-buffer at this size
+        return time_call(gpu.ctx, "frame", lambda: session.scene.render(frame, target), warmup, repeat).median_ms
+    finally:
+        gpu.free(target)
+
+
+def thesis_table(session, sizes=DEFAULT_SIZES, warmup: int = 2, repeat: int = 5, methods=TABLE_METHODS) -> dict:
+    p = session.params
+    rows = []
+    for view in VIEWS:
+        _set_view(session, view)
+        for size in sizes:
+            cell = {}
+            for method in methods:
+                p.set("planet.method", method)
+                cell[method] = _frame_ms(session, tuple(size), warmup, repeat)
+            base = cell["brute_force"]
+            for method in methods:
+                rows.append({"view": view, "size": list(size), "method": method, "ms": cell[method],
+                             "fps": 1000.0 / cell[method], "ratio_fps_to_method_1": base / cell[method]})
+    return {"rows": rows, "n_steps": p["planet.n_steps"]}
+
+
+# ---- accuracy --------------------------------------------------------------------------------------
+
+def _render_debug(session, size, view: str) -> tuple[np.ndarray, np.ndarray]:
+    """(in-scatter image, transmittance image), each (h, w, 3) linear, row 0 at the top."""
+    p = session.params
+    gpu = session.gpu
+    target = gpu.target("bench", "planet debug", size)
+    out = []
+    try:
+        for dv in ("in_scatter", "out_scatter"):
+            p.set("planet.debug_view", dv)
+            frame = session.scene.frame(size)
+            session.scene.render(frame, target)
+            out.append(target.read()[..., :3].astype(np.float64))
+    finally:
+        gpu.free(target)
+        p.set("planet.debug_view", "final")
+    return out[0], out[1]
+
+
+def reference_for_view(session, size, steps: int = 2048) -> dict:
+    """The numpy reference for every pixel of ``size`` (keep it small: ~1 s per 100 rays at
+    4096 steps), using the G-buffer for mesh distances."""
+    eff = session.scene.effect("planet")
+    model = eff.model()
+    _render_debug(session, size, "ground")  # fills the G-buffer at this size
+    colour, position, _, _ = eff._gbuffer_for(size)
+    w, h = size
+    pos = np.frombuffer(position.read(), dtype=np.float32).reshape(h, w, 4)[::-1].astype(np.float64)
+    cam = session.scene.camera
+    dirs = cam.ray_directions(w, h)
+    covered = pos[..., 3] > 0.5
+    dist = np.linalg.norm(pos[..., :3], axis=-1)
+    dirs = np.where(covered[..., None], pos[..., :3] / np.maximum(dist, 1e-9)[..., None], dirs)
+    max_dist = np.where(covered, dist, np.inf).reshape(-1)
+    cam_planet = atm.local_to_planet(cam.position, model)
+    ref = atm.reference(cam_planet, dirs.reshape(-1, 3), eff.sun_dir, model, max_dist=max_dist, steps=steps)
+    return {"in_scatter": ref.in_scatter.reshape(h, w, 3), "transmittance": ref.transmittance.reshape(h, w, 3)}
+
+
+def _errors(got_in, got_t, ref) -> dict:
+    d_in = np.abs(got_in - ref["in_scatter"]).max(axis=-1)
+    d_t = np.abs(got_t - ref["transmittance"]).max(axis=-1)
+    return {"in_mean": float(d_in.mean()), "in_p99": float(np.percentile(d_in, 99)),
+            "t_mean": float(d_t.mean()), "t_p99": float(np.percentile(d_t, 99))}
+
+
+def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repeat: int = 3,
+             steps_list=(5, 10, 20, 30, 60, 120), lut_sizes=(16, 32, 64, 128, 256),
+             shadow_sizes=(256, 512, 1024, 2048), hillaire_scales=(0.5, 1.0), ref_steps: int = 2048,
+             hillaire: bool = True) -> dict:
+    p = session.params
+    _set_view(session, "ground")
+    p.set("planet.sun_disk", False)
+    p.set("planet.star_intensity", 0.0)
+    ref = reference_for_view(session, size, ref_steps)
+    rows = []
+
+    def measure(method, knob, value, extra_ref=None):
+        p.set("planet.method", method)
+        got_in, got_t = _render_debug(session, size, "ground")
+        errs = _errors(got_in, got_t, extra_ref or ref)
+        ms = _frame_ms(session, time_size, warmup, repeat)
+        rows.append({"method": method, "knob": knob, "value": value, "ms": ms, **errs})
+
+    saved = {k: p[k] for k in ("planet.n_steps", "planet.inner_steps", "planet.lut_height", "planet.lut_angle",
+                               "planet.shadow_map_size")}
+    try:
+        for n in steps_list:
+            p.set("planet.n_steps", n)
+            p.set("planet.inner_steps", n)
+            measure("brute_force", "n_steps", n)
+            measure("lut", "n_steps", n)
+            measure("shadowed", "n_steps", n)
+        p.set("planet.n_steps", saved["planet.n_steps"])
+        p.set("planet.inner_steps", saved["planet.inner_steps"])
+        for size_ in lut_sizes:
+            p.set("planet.lut_height", size_)
+            p.set("planet.lut_angle", size_)
+            measure("lut", "lut_size", size_)
+        p.set("planet.lut_height", saved["planet.lut_height"])
+        p.set("planet.lut_angle", saved["planet.lut_angle"])
+        # the shadow-map knob against the same method with a very large map
+        p.set("planet.method", "shadowed")
+        p.set("planet.shadow_map_size", 8192)
+        best_in, best_t = _render_debug(session, size, "ground")
+        best = {"in_scatter": best_in, "transmittance": best_t}
+        for s in shadow_sizes:
+            p.set("planet.shadow_map_size", s)
+            measure("shadowed", "shadow_map_size (vs 8192²)", s, best)
+        p.set("planet.shadow_map_size", saved["planet.shadow_map_size"])
+        if not hillaire:
+            pass
+        elif any(q.group == "hillaire" for q in p):
+            for scale in hillaire_scales:
+                _scale_hillaire(p, scale)
+                measure("hillaire", "lut scale", scale)
+            _scale_hillaire(p, 1.0)
+        else:
+            measure("hillaire", "defaults", 1)
+    finally:
+        for k, v in saved.items():
+            p.set(k, v)
+    return {"size": list(size), "time_size": list(time_size), "reference_steps": ref_steps, "rows": rows}
+
+
+_HILLAIRE_DEFAULTS: dict = {}
+
+
+def _scale_hillaire(params, scale: float) -> None:
+    """Scale every integer size parameter of the ``hillaire`` group (LUT resolutions)."""
+    for q in params:
+        if q.group == "hillaire" and q.kind == "int" and "size" in q.short or q.group == "hillaire" and \
+                q.kind == "int" and any(s in q.short for s in ("width", "height", "depth", "slices")):
+            base = _HILLAIRE_DEFAULTS.setdefault(q.name, params[q.name])
+            params.set(q.name, int(min(q.hi, max(q.lo, round(base * scale)))))
+
+
+def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None) -> dict:
+    """What ``natura bench planet`` runs after the per-pass timings."""
+    table_sizes = sizes or DEFAULT_SIZES
+    return {"table": thesis_table(session, table_sizes, warmup, repeat),
+            "accuracy": accuracy(session, warmup=max(1, warmup - 1), repeat=max(2, repeat // 2))}
+
+
+def chart(report: dict, path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    s = report["sweep"]
+    fig, axes = plt.subplots(1, 2, figsize=(14, 5))
+    ax = axes[0]
+    markers = {"brute_force": "o", "lut": "s", "shadowed": "^", "hillaire": "D"}
+    for method in markers:
+        for knob in sorted({r["knob"] for r in s["accuracy"]["rows"] if r["method"] == method}):
+            rows = [r for r in s["accuracy"]["rows"] if r["method"] == method and r["knob"] == knob]
+            ax.plot([r["ms"] for r in rows], [max(r["in_mean"], 1e-6) for r in rows], markers[method] + "-",
+                    label=f"{method}: {knob}")
+            for r in rows:
+                ax.annotate(str(r["value"]), (r["ms"], max(r["in_mean"], 1e-6)), fontsize=7,
+                            textcoords="offset points", xytext=(3, 3))
+    ax.set_yscale("log")
+    ax.set_xlabel(f"ms per frame at {s['accuracy']['time_size'][0]}×{s['accuracy']['time_size'][1]}")
+    ax.set_ylabel("mean |in-scatter − reference| (linear radiance)")
+    ax.set_title("time against error")
+    ax.legend(fontsize=7)
+    ax = axes[1]
+    rows = s["table"]["rows"]
+    labels = sorted({(r["view"], tuple(r["size"])) for r in rows}, key=lambda k: (k[0], k[1][0]))
+    width = 0.2
+    for i, method in enumerate(TABLE_METHODS):
+        ys = [next((r["ms"] for r in rows if r["method"] == method and (r["view"], tuple(r["size"])) == lab), np.nan)
+              for lab in labels]
+        ax.bar(np.arange(len(labels)) + (i - 1.5) * width, ys, width, label=method)
+    ax.set_xticks(range(len(labels)), [f"{v}\n{w}×{h}" for v, (w, h) in labels], fontsize=8)
+    ax.set_ylabel("ms per frame")
+    ax.set_title("the thesis's table layout (spec/002 §5)")
+    ax.legend(fontsize=8)
+    fig.suptitle(f"natura bench planet — {report['renderer']}", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def summary(report: dict) -> str:
+    s = report["sweep"]
+    lines = ["view    size        method        ms      fps   ×method 1 (fps)"]
+    for r in s["table"]["rows"]:
+        lines.append(f"{r['view']:7s} {r['size'][0]}x{r['size'][1]:<6d} {r['method']:12s} {r['ms']:8.2f} "
+                     f"{r['fps']:7.1f}   {r['ratio_fps_to_method_1']:.2f}")
+    lines.append("method       knob                         value      ms   in-scatter err mean / p99   "
+                 "transmittance err mean / p99")
+    for r in s["accuracy"]["rows"]:
+        lines.append(f"{r['method']:12s} {r['knob']:28s} {str(r['value']):>6s} {r['ms']:8.2f}   "
+                     f"{r['in_mean']:.2e} / {r['in_p99']:.2e}       {r['t_mean']:.2e} / {r['t_p99']:.2e}")
+    return "\n".join(lines)

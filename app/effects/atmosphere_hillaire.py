@@ -1,0 +1,507 @@
+"""Method 4 of the planet scene, beyond the thesis: Hillaire's LUT atmosphere.
+
+S. Hillaire, "A Scalable and Production Ready Sky and Atmosphere Rendering Technique",
+EGSR 2020 — with the thesis's physical model and constants (spec/002 §1, §7;
+``glsl/atmosphere/model.glsl``): a transmittance LUT, a multiple-scattering LUT (second-order
+light Ψ = L_2nd / (1 − f_ms) with an isotropic phase over N² directions), and, every frame, a
+sky-view LUT and an aerial-perspective volume over the camera frustum. The scene's composite pass
+includes ``glsl/atmosphere/hillaire/hillaire_lookup.glsl`` and calls ``HillaireSkyRadiance``,
+``HillaireAerialPerspective``, ``HillaireTransmittance`` and ``HillaireSunTransmittance``.
+
+Use::
+
+    luts = HillaireLuts(gpu, "planet", params)        # params: a ParamSet holding hillaire.*
+    luts.update(model_uniforms, CameraFrame.from_camera(camera, aspect))   # once per frame
+    unit = luts.bind(composite_program, first_unit=4)  # 6 units: 4 … 9; returns 10
+
+``model_uniforms`` is the dict of model.glsl uniform values the scene sets for methods 1–3
+(``uEarthCenter``, ``uCameraRadius``, ``uBottomRadius``, ``uTopRadius``, ``uBetaRayleigh``,
+``uBetaMieScatter``, ``uBetaMieExt``, ``uHRayleigh``, ``uHMie``, ``uP0``, ``uMieG``,
+``uSunIntensity``, ``uSunDir``); :func:`model_uniforms` builds one for tests and benches.
+The transmittance and multiple-scattering LUTs are rebuilt only when a value they depend on
+changes (radii, β, H, P0, their sizes and sample counts, albedo, the series switch); G and the
+sun intensity are applied per pixel and never cause a rebuild. The sky-view LUT and the volume
+are rebuilt on every :meth:`HillaireLuts.update` while the camera is inside the atmosphere (or
+within the blend band above it); from space the lookups march the two static LUTs per pixel,
+so those two are not built at all.
+
+Conventions, and what differs from Hillaire's paper (all documented in the GLSL headers):
+
+* radiance = ``uSunIntensity`` × dimensionless integrals, ``uSunIntensity`` acting as the sun's
+  illuminance (the thesis's ``lightSun``); with ``hillaire.multiple_scattering`` off, method 4
+  integrates the thesis's single-scattering integral (method 1 with V ≡ 1);
+* the sky-view LUT and the volume store Rayleigh (phase applied) + multiple scattering and the
+  phase-free Mie integral in two textures; the Mie phase is applied per pixel, so the sun halo
+  is as sharp as in methods 1–3 (Hillaire stores the phased total and squeezes u to the sun);
+* no ozone layer (the thesis has none), ground albedo 0 by default (the thesis has no ground
+  reflection in the sky), planet shadow as a hard test (the LUT transmittance is ~0 there).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+import moderngl
+import numpy as np
+
+from ..params import Param
+from .base import ProgramSpec, fullscreen
+
+GROUP = "hillaire"
+SECTION = "Hillaire 2020"
+
+TRANSMITTANCE = fullscreen("atmosphere/hillaire/transmittance_lut")
+MULTISCATTERING = fullscreen("atmosphere/hillaire/multiscattering_lut")
+SKYVIEW = fullscreen("atmosphere/hillaire/skyview_lut")
+AERIAL_FRAGMENT = fullscreen("atmosphere/hillaire/aerial_perspective")
+AERIAL_COMPUTE = ProgramSpec("atmosphere/hillaire/aerial_perspective_compute",
+                             comp="atmosphere/hillaire/aerial_perspective.comp", requires_compute=True)
+#: every program of method 4's LUT passes, for ``natura shaders check`` (via the scene's effect)
+PROGRAMS: tuple[ProgramSpec, ...] = (TRANSMITTANCE, MULTISCATTERING, SKYVIEW, AERIAL_FRAGMENT, AERIAL_COMPUTE)
+
+#: model.glsl uniforms the transmittance and multiple-scattering LUTs depend on
+STATIC_UNIFORMS = ("uBottomRadius", "uTopRadius", "uBetaRayleigh", "uBetaMieScatter", "uBetaMieExt",
+                   "uHRayleigh", "uHMie", "uP0")
+#: model.glsl uniforms the per-frame passes read as well
+FRAME_UNIFORMS = ("uEarthCenter", "uCameraRadius", "uSunDir", "uSunIntensity", "uMieG")
+
+#: texture units bind() uses, in order from first_unit
+SAMPLERS = ("uHillaireTransmittanceLut", "uHillaireMultiScatteringLut", "uHillaireSkyViewRayleighMs",
+            "uHillaireSkyViewMie", "uHillaireApRayleighMs", "uHillaireApMie")
+
+#: the camera above the top by this fraction of the atmosphere's height: lookups fully marched
+SPACE_BLEND = 0.1
+
+#: spec/002 §7 defaults (thesis constants; radii per §9)
+BOTTOM_RADIUS = 6_360_000.0
+ATMOSPHERE_HEIGHT = 60_000.0
+BETA_RAYLEIGH = (5.8e-6, 13.5e-6, 33.1e-6)
+BETA_MIE_SCATTER = 2.0e-5
+H_RAYLEIGH = 7994.0
+H_MIE = 1200.0
+
+
+def params() -> list[Param]:
+    """The ``hillaire.*`` parameters: LUT sizes, sample counts and switches."""
+    s = SECTION
+
+    def p(name, default, lo, hi, doc, **kw):
+        return Param(f"{GROUP}.{name}", default, lo, hi, doc, section=kw.pop("section", s), **kw)
+
+    return [
+        p("transmittance_width", 256, 16, 2048, "transmittance LUT width (x_μ texels; paper 256)",
+          kind="int", unit="px", section=f"{s} §4"),
+        p("transmittance_height", 64, 4, 1024, "transmittance LUT height (x_r texels; paper 64)",
+          kind="int", unit="px", section=f"{s} §4"),
+        p("transmittance_steps", 40, 2, 2000, "samples per transmittance texel (t = d s³ midpoint)",
+          kind="int", section=f"{s} §4"),
+        p("ms_size", 32, 4, 256, "multiple-scattering LUT size, μ_s × h (paper 32 × 32)",
+          kind="int", unit="px", section=f"{s} §5.5"),
+        p("ms_directions", 64, 1, 4096, "directions of the Ψ_ms sphere integral, rounded down to N² "
+          "(paper 64)", kind="int", section=f"{s} §5.5"),
+        p("ms_steps", 20, 2, 500, "samples per direction of the Ψ_ms integral (paper 20)",
+          kind="int", section=f"{s} §5.5"),
+        Param(f"{GROUP}.multiple_scattering", True, doc="add the multiple-scattering term σ_s Ψ_ms "
+              "(off: single scattering only, the thesis's integral)", kind="bool", section=f"{s} §5.5"),
+        Param(f"{GROUP}.ms_infinite", True, doc="all orders through F_ms = 1/(1 − f_ms) "
+              "(off: second order only, F_ms = 1)", kind="bool", section=f"{s} §5.5 eq. 9"),
+        p("ground_albedo", 0.0, 0.0, 1.0, "Lambertian ground albedo seen by Ψ_ms (0: the thesis has "
+          "no ground reflection)", step=0.01, section=f"{s} §5.5 eq. 6"),
+        p("skyview_width", 192, 8, 2048, "sky-view LUT width (azimuth; paper 192)",
+          kind="int", unit="px", section=f"{s} §5.3"),
+        p("skyview_height", 108, 4, 2048, "sky-view LUT height (latitude, even; paper 108)",
+          kind="int", step=2, unit="px", section=f"{s} §5.3"),
+        p("skyview_steps", 30, 2, 2000, "samples per sky-view texel (paper 30)",
+          kind="int", section=f"{s} §5.3"),
+        p("ap_size", 32, 4, 512, "aerial-perspective volume width and height (froxels; paper 32)",
+          kind="int", unit="px", section=f"{s} §5.4"),
+        p("ap_slices", 32, 2, 512, "aerial-perspective depth slices (paper 32)",
+          kind="int", section=f"{s} §5.4"),
+        p("ap_range", 128_000.0, 1000.0, 2_000_000.0, "distance of the last slice; slices are "
+          "quadratic in distance, the lookup marches past it", step=1000.0, unit="m", section=f"{s} §5.4"),
+        p("ap_substeps", 2, 1, 64, "samples per aerial-perspective slice", kind="int", section=f"{s} §5.4"),
+        p("march_steps", 32, 2, 2000, "samples of the per-pixel march used from space and past "
+          "the volume's range", kind="int", section=f"{s} §6"),
+    ]
+
+
+DEFAULTS = {prm.short: prm.default for prm in params()}
+
+
+@dataclass
+class CameraFrame:
+    """The camera the per-frame LUTs are built for (glsl/common/camera.glsl conventions):
+    world-axis basis vectors, tan of half the vertical field of view, width / height, and
+    optionally the exact altitude above the bottom sphere (else uCameraRadius − uBottomRadius,
+    in double precision)."""
+
+    right: tuple
+    up: tuple
+    forward: tuple
+    tan_half_fov: float
+    aspect: float
+    height: float | None = None
+
+    @classmethod
+    def from_camera(cls, camera, aspect: float, height: float | None = None) -> "CameraFrame":
+        """From an :class:`app.sim.camera.Camera` (basis() and fov in degrees)."""
+        r, u, f = camera.basis()
+        return cls(tuple(r), tuple(u), tuple(f), math.tan(math.radians(camera.fov) / 2.0), float(aspect), height)
+
+    @classmethod
+    def from_uniforms(cls, values: Mapping[str, Any], height: float | None = None) -> "CameraFrame":
+        """From camera.glsl uniform values (uCamRight, uCamUp, uCamForward, uTanHalfFov, uAspect)."""
+        return cls(tuple(values["uCamRight"]), tuple(values["uCamUp"]), tuple(values["uCamForward"]),
+                   float(values["uTanHalfFov"]), float(values["uAspect"]), height)
+
+    def uniforms(self) -> dict[str, Any]:
+        return {"uCamRight": tuple(map(float, self.right)), "uCamUp": tuple(map(float, self.up)),
+                "uCamForward": tuple(map(float, self.forward)), "uTanHalfFov": float(self.tan_half_fov),
+                "uAspect": float(self.aspect), "uCameraPos": (0.0, 0.0, 0.0)}
+
+
+def model_uniforms(altitude: float = 2.0, sun_elevation_deg: float = 90.0, sun_azimuth_deg: float = 0.0,
+                   up=(0.0, 1.0, 0.0), **overrides) -> dict[str, Any]:
+    """model.glsl uniform values with the spec/002 §7 constants for a camera at ``altitude``
+    metres above the bottom sphere (the planet centre straight below along ``up``) and the sun
+    at the given elevation and azimuth (0° = −z, 90° = +x, as app.sim.camera's yaw).
+    ``overrides`` replace values by uniform name (e.g. ``uMieG=0.9``)."""
+    up = np.asarray(up, dtype=float)
+    up = up / np.linalg.norm(up)
+    top = overrides.get("uTopRadius", BOTTOM_RADIUS + ATMOSPHERE_HEIGHT)
+    bottom = overrides.get("uBottomRadius", BOTTOM_RADIUS)
+    radius = bottom + float(altitude)
+    el, az = math.radians(sun_elevation_deg), math.radians(sun_azimuth_deg)
+    # a horizontal frame around `up` (matches the world axes for up = +y)
+    ref = np.array([0.0, 0.0, -1.0]) if abs(up[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    north = ref - up * (ref @ up)
+    north /= np.linalg.norm(north)
+    east = np.cross(north, up)
+    sun = up * math.sin(el) + math.cos(el) * (north * math.cos(az) + east * math.sin(az))
+    beta_m = BETA_MIE_SCATTER
+    values = {
+        "uEarthCenter": tuple(float(v) for v in -up * radius),
+        "uCameraRadius": radius,
+        "uBottomRadius": bottom,
+        "uTopRadius": top,
+        "uBetaRayleigh": BETA_RAYLEIGH,
+        "uBetaMieScatter": (beta_m,) * 3,
+        "uBetaMieExt": (1.1 * beta_m,) * 3,
+        "uHRayleigh": H_RAYLEIGH,
+        "uHMie": H_MIE,
+        "uP0": 1.0,
+        "uMieG": 0.76,
+        "uSunIntensity": 30.0,
+        "uSunDir": tuple(float(v) for v in sun / np.linalg.norm(sun)),
+    }
+    values.update(overrides)
+    return values
+
+
+def _freeze(value: Any):
+    if isinstance(value, np.ndarray):
+        return tuple(float(v) for v in value.ravel())
+    if isinstance(value, (list, tuple)):
+        return tuple(float(v) for v in value)
+    return float(value)
+
+
+class HillaireLuts:
+    """The four LUTs of method 4, their passes, and how a composite program reads them.
+
+    ``params``: anything indexable by ``"hillaire.<name>"`` (a ParamSet, a dict); missing names
+    take the defaults of :func:`params`. ``use_compute``: the compute path for the volume
+    (default: when the context has GL ≥ 4.3), else fragment slices copied on the GPU.
+    ``measure``: time each build with ``ctx.finish()`` on both sides (into ``timings``, seconds).
+    """
+
+    programs = PROGRAMS
+    group = GROUP
+
+    @staticmethod
+    def python_params() -> list[Param]:
+        return params()
+
+    def __init__(self, gpu, owner: str, params: Mapping[str, Any] | None = None,
+                 use_compute: bool | None = None, measure: bool = False):
+        self.gpu = gpu
+        self.ctx: moderngl.Context = gpu.ctx
+        self.owner = owner
+        self.params = params
+        self.use_compute = gpu.caps.compute if use_compute is None else bool(use_compute)
+        self.measure = measure
+        self.builds = {"transmittance": 0, "multiscattering": 0, "skyview": 0, "aerial_perspective": 0}
+        self.timings: dict[str, float] = {}
+        self._textures: dict[str, Any] = {}
+        self._fbos: dict[str, Any] = {}
+        self._static_key = None
+        self._uniforms: dict[str, Any] = {}
+        self._camera: CameraFrame | None = None
+        self._height = 0.0
+        self._space_weight = 0.0
+        self._pbo = None
+
+    # -- parameters ----------------------------------------------------------------------------
+    def value(self, name: str):
+        key = f"{GROUP}.{name}"
+        if self.params is not None and key in self.params:
+            return self.params[key]
+        return DEFAULTS[name]
+
+    def sizes(self) -> dict[str, tuple[int, ...]]:
+        v = self.value
+        sky_h = int(v("skyview_height"))
+        sky_h += sky_h % 2  # each half of the sky-view LUT needs the same number of rows
+        return {
+            "transmittance": (int(v("transmittance_width")), int(v("transmittance_height"))),
+            "multiscattering": (int(v("ms_size")), int(v("ms_size"))),
+            "skyview": (int(v("skyview_width")), max(sky_h, 4)),
+            "aerial_perspective": (int(v("ap_size")), int(v("ap_size")), int(v("ap_slices"))),
+        }
+
+    def ms_directions(self) -> int:
+        """N of the N × N direction grid of the Ψ_ms integral."""
+        return max(1, int(math.isqrt(int(self.value("ms_directions")))))
+
+    # -- resources -----------------------------------------------------------------------------
+    def _texture(self, name: str, size: tuple[int, ...]):
+        tex = self._textures.get(name)
+        if tex is not None and tuple(tex.size) == tuple(size):
+            return tex
+        if tex is not None:
+            self.gpu.free(tex)
+        if len(size) == 3:
+            tex = self.gpu.texture3d(self.owner, f"hillaire {name}", size, 4, dtype="f4", repeat=False)
+        else:
+            tex = self.gpu.texture(self.owner, f"hillaire {name}", size, 4, dtype="f4")
+        self._textures[name] = tex
+        return tex
+
+    def _framebuffer(self, name: str, textures: list):
+        fbo = self._fbos.get(name)
+        if fbo is not None and [a.glo for a in fbo.color_attachments] == [t.glo for t in textures]:
+            return fbo
+        if fbo is not None:
+            fbo.release()
+        fbo = self.ctx.framebuffer(color_attachments=textures)
+        self._fbos[name] = fbo
+        return fbo
+
+    def texture(self, name: str):
+        """The LUT texture ``transmittance``, ``multiscattering``, ``skyview0``/``skyview1``
+        or ``ap0``/``ap1`` (None before it is first built)."""
+        return self._textures.get(name)
+
+    @property
+    def space_weight(self) -> float:
+        """0 inside the atmosphere (LUT lookups) … 1 above the blend band (per-pixel march)."""
+        return self._space_weight
+
+    # -- passes --------------------------------------------------------------------------------
+    def _program(self, spec: ProgramSpec):
+        return self.gpu.program(self.owner, spec.name, dict(spec.defines), **spec.stages())
+
+    def _common_uniforms(self, prog) -> None:
+        prog.set_many(self._uniforms)
+        prog.set("uHillaireCameraHeight", float(self._height))
+        prog.set("uHillaireMsScale", 1.0 if self.value("multiple_scattering") else 0.0)
+
+    def _bind_static(self, prog, unit: int = 0) -> None:
+        self._textures["transmittance"].use(unit)
+        prog.set("uHillaireTransmittanceLut", unit)
+        ms = self._textures.get("multiscattering")
+        if ms is not None:
+            ms.use(unit + 1)
+            prog.set("uHillaireMultiScatteringLut", unit + 1)
+
+    def _draw(self, prog, fbo, size) -> None:
+        with self.ctx.scope(fbo, enable_only=moderngl.NOTHING):
+            fbo.viewport = (0, 0, int(size[0]), int(size[1]))
+            prog.vao().render(moderngl.TRIANGLES, vertices=3)
+
+    def _timed(self, name: str, fn) -> None:
+        if self.measure:
+            self.ctx.finish()
+            t0 = time.perf_counter()
+            fn()
+            self.ctx.finish()
+            self.timings[name] = time.perf_counter() - t0
+        else:
+            fn()
+        self.builds[name] += 1
+
+    def build_transmittance(self) -> None:
+        size = self.sizes()["transmittance"]
+        tex = self._texture("transmittance", size)
+        fbo = self._framebuffer("transmittance", [tex])
+        prog = self._program(TRANSMITTANCE)
+
+        def run():
+            self._common_uniforms(prog)
+            prog.set("uHillaireTargetSize", tuple(float(s) for s in size))
+            prog.set("uHillaireTransmittanceSteps", int(self.value("transmittance_steps")))
+            self._draw(prog, fbo, size)
+
+        self._timed("transmittance", run)
+
+    def build_multiscattering(self) -> None:
+        size = self.sizes()["multiscattering"]
+        tex = self._texture("multiscattering", size)
+        fbo = self._framebuffer("multiscattering", [tex])
+        prog = self._program(MULTISCATTERING)
+
+        def run():
+            self._common_uniforms(prog)
+            self._textures["transmittance"].use(0)
+            prog.set("uHillaireTransmittanceLut", 0)
+            prog.set("uHillaireTargetSize", tuple(float(s) for s in size))
+            prog.set("uHillaireMsDirections", self.ms_directions())
+            prog.set("uHillaireMsSteps", int(self.value("ms_steps")))
+            prog.set("uHillaireGroundAlbedo", float(self.value("ground_albedo")))
+            prog.set("uHillaireMsInfinite", 1.0 if self.value("ms_infinite") else 0.0)
+            self._draw(prog, fbo, size)
+
+        self._timed("multiscattering", run)
+
+    def build_skyview(self) -> None:
+        size = self.sizes()["skyview"]
+        t0 = self._texture("skyview0", size)
+        t1 = self._texture("skyview1", size)
+        fbo = self._framebuffer("skyview", [t0, t1])
+        prog = self._program(SKYVIEW)
+
+        def run():
+            self._common_uniforms(prog)
+            self._bind_static(prog)
+            prog.set("uHillaireTargetSize", tuple(float(s) for s in size))
+            prog.set("uHillaireSkyViewSteps", int(self.value("skyview_steps")))
+            self._draw(prog, fbo, size)
+
+        self._timed("skyview", run)
+
+    def _ap_uniforms(self, prog, size) -> None:
+        self._common_uniforms(prog)
+        prog.set_many(self._camera.uniforms())
+        self._bind_static(prog)
+        prog.set("uHillaireApSize", tuple(int(s) for s in size))
+        prog.set("uHillaireApRange", float(self.value("ap_range")))
+        prog.set("uHillaireApSubsteps", int(self.value("ap_substeps")))
+
+    def build_aerial_perspective(self) -> None:
+        size = self.sizes()["aerial_perspective"]
+        v0 = self._texture("ap0", size)
+        v1 = self._texture("ap1", size)
+        if self.use_compute:
+            prog = self._program(AERIAL_COMPUTE)
+
+            def run():
+                self._ap_uniforms(prog, size)
+                v0.bind_to_image(0, read=False, write=True)
+                v1.bind_to_image(1, read=False, write=True)
+                prog.program.run((size[0] + 7) // 8, (size[1] + 7) // 8, 1)
+                self.ctx.memory_barrier()
+        else:
+            w, h, d = size
+            flat = (w, h * d)
+            s0 = self._texture("ap_slices0", flat)
+            s1 = self._texture("ap_slices1", flat)
+            fbo = self._framebuffer("ap", [s0, s1])
+            prog = self._program(AERIAL_FRAGMENT)
+            nbytes = w * h * d * 16
+            if self._pbo is None or self._pbo.size != nbytes:
+                if self._pbo is not None:
+                    self.gpu.free(self._pbo)
+                self._pbo = self.gpu.buffer(self.owner, "hillaire ap copy", bytes(nbytes))
+
+            def run():
+                self._ap_uniforms(prog, size)
+                self._draw(prog, fbo, flat)
+                for attachment, volume in ((0, v0), (1, v1)):
+                    fbo.read_into(self._pbo, components=4, attachment=attachment, dtype="f4")
+                    volume.write(self._pbo)
+
+        self._timed("aerial_perspective", run)
+
+    # -- per frame -----------------------------------------------------------------------------
+    def _static(self) -> tuple:
+        u = self._uniforms
+        missing = [k for k in STATIC_UNIFORMS if k not in u]
+        if missing:
+            raise KeyError(f"HillaireLuts.update: model uniforms missing: {', '.join(missing)}")
+        v = self.value
+        return (tuple(_freeze(u[k]) for k in STATIC_UNIFORMS), self.sizes()["transmittance"],
+                self.sizes()["multiscattering"], int(v("transmittance_steps")), self.ms_directions(),
+                int(v("ms_steps")), float(v("ground_albedo")), bool(v("ms_infinite")))
+
+    def update(self, uniforms: Mapping[str, Any], camera_frame: CameraFrame | Mapping[str, Any]) -> None:
+        """Bring the LUTs up to date for this frame: the transmittance and multiple-scattering
+        LUTs when the model changed, the sky-view LUT and the volume always (unless the camera
+        is so far above the atmosphere that the lookups only march).
+
+        ``uniforms``: model.glsl uniform values (see the module doc). ``camera_frame``: a
+        :class:`CameraFrame`, or a mapping of camera.glsl uniform values."""
+        self._uniforms = {k: v for k, v in uniforms.items()}
+        frame = camera_frame if isinstance(camera_frame, CameraFrame) else CameraFrame.from_uniforms(camera_frame)
+        self._camera = frame
+        bottom = float(self._uniforms["uBottomRadius"])
+        top = float(self._uniforms["uTopRadius"])
+        if frame.height is not None:
+            self._height = float(frame.height)
+        else:
+            self._height = float(self._uniforms["uCameraRadius"]) - bottom
+        atm = top - bottom
+        self._space_weight = min(max((self._height - atm) / (SPACE_BLEND * atm), 0.0), 1.0)
+        key = self._static()
+        if key != self._static_key:
+            self.build_transmittance()
+            self.build_multiscattering()
+            self._static_key = key
+        if self._space_weight < 1.0:
+            self.build_skyview()
+            self.build_aerial_perspective()
+        else:  # the lookups only march; keep valid (empty) textures bound
+            for name, size in (("skyview0", self.sizes()["skyview"]), ("skyview1", self.sizes()["skyview"]),
+                               ("ap0", self.sizes()["aerial_perspective"]),
+                               ("ap1", self.sizes()["aerial_perspective"])):
+                self._texture(name, size)
+
+    def invalidate(self) -> None:
+        """Force the transmittance and multiple-scattering LUTs to rebuild on the next update."""
+        self._static_key = None
+
+    def bind(self, prog, first_unit: int = 0) -> int:
+        """Bind the six LUT textures to units first_unit … first_unit + 5, set their samplers
+        and every uHillaire* uniform hillaire_lookup.glsl reads. Returns the next free unit."""
+        if self._camera is None:
+            raise RuntimeError("HillaireLuts.bind before update(): no LUTs yet")
+        names = ("transmittance", "multiscattering", "skyview0", "skyview1", "ap0", "ap1")
+        for i, (name, sampler) in enumerate(zip(names, SAMPLERS)):
+            self._textures[name].use(first_unit + i)
+            prog.set(sampler, first_unit + i)
+        prog.set("uHillaireCameraHeight", float(self._height))
+        prog.set("uHillaireMsScale", 1.0 if self.value("multiple_scattering") else 0.0)
+        prog.set("uHillaireApRange", float(self.value("ap_range")))
+        prog.set("uHillaireSpaceWeight", float(self._space_weight))
+        prog.set("uHillaireMarchSteps", int(self.value("march_steps")))
+        return first_unit + len(names)
+
+    def read(self, name: str) -> np.ndarray:
+        """A LUT as float32 numpy: (h, w, 4) for 2D (row 0 = texel row 0), (d, h, w, 4) for 3D."""
+        tex = self._textures[name]
+        data = np.frombuffer(tex.read(), dtype=np.float32)
+        return data.reshape(*tuple(reversed(tex.size)), 4)
+
+    def release(self) -> None:
+        for fbo in self._fbos.values():
+            fbo.release()
+        self._fbos.clear()
+        for tex in self._textures.values():
+            self.gpu.free(tex)
+        self._textures.clear()
+        if self._pbo is not None:
+            self.gpu.free(self._pbo)
+            self._pbo = None
+        self._static_key = None

@@ -1,0 +1,98 @@
+"""The noise lab: every noise function and every cloud bake on the screen, tiled so seams show.
+
+Bakes come from :mod:`app.bakes` (cached on disk); a bake reports its progress through
+``gpu.progress`` (the window draws a progress bar there while it runs). Changing a ``bake_*``
+parameter re-bakes (or loads the matching cache file).
+"""
+
+from __future__ import annotations
+
+import moderngl
+
+from .. import bakes
+from ..params import Param
+from .base import Effect, fullscreen
+
+VIEWS = ("shape", "detail", "weather", "perlin", "worley_f1", "worley_f2_f1", "fbm", "turbulence",
+         "perlin_worley", "value")
+CHANNELS = ("r", "g", "b", "a", "rgb")
+NOISE_VIEW = fullscreen("noise/noise_view")
+
+
+class NoiseLab(Effect):
+    name = "noise"
+    title = "Noise lab"
+    spec = "spec/001"
+    programs = (NOISE_VIEW,) + tuple(spec for p in bakes.PROGRAMS.values() for spec in (p.compute, p.fragment))
+    extra_groups = ("bake_shape", "bake_detail", "bake_weather")
+
+    @classmethod
+    def python_params(cls) -> list[Param]:
+        return [
+            Param("noise.view", "shape", doc="what to show: a bake (shape, detail, weather) or a live function",
+                  kind="choice", choices=VIEWS, section="spec/001 §1.1"),
+            Param("noise.channel", "r", doc="channel of a bake (rgb: all three)", kind="choice", choices=CHANNELS),
+            Param("noise.slice", 0.0, 0.0, 1.0, "z of the slice through a volume or a live 3D function"),
+            Param("noise.animate", False, doc="move the slice through the volume", kind="bool"),
+            Param("noise.tiles", 2.0, 1.0, 8.0, "repeats across the screen height (seams would show here)"),
+            Param("noise.scale", 4.0, 1.0, 32.0, "lattice cells per tile of the live functions", step=1.0),
+            Param("noise.octaves", 4, 1, 8, "octaves of the live fractal sums", kind="int"),
+        ] + bakes.bake_params()
+
+    def __init__(self, gpu, params, scene=None):
+        super().__init__(gpu, params, scene)
+        self._baked: dict[str, tuple] = {}  # kind → (spec, Baked, texture)
+        self.last_bake = None
+
+    def texture_for(self, kind: str):
+        cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake, "weather": bakes.WeatherBake}[kind]
+        spec = cls.from_values(self.params.values(cls.group))
+        held = self._baked.get(kind)
+        if held is None or held[0] != spec:
+            if held is not None:
+                self.gpu.free(held[2])
+            hook = getattr(self.gpu, "progress", None)
+            label = f"baking {kind} {spec.size}{'²' if kind == 'weather' else '³'}"
+            result = bakes.bake(self.gpu, spec, progress=(lambda f: hook(label, f)) if hook else None)
+            self.last_bake = result
+            self._baked[kind] = (spec, result, result.texture(self.gpu, self.name))
+        return self._baked[kind][2]
+
+    def update(self, frame, dt: float) -> None:
+        if self.params["noise.animate"] and dt > 0:
+            self.params.set("noise.slice", (self.params["noise.slice"] + 0.05 * dt) % 1.0)
+
+    def render(self, frame, target) -> None:
+        p = self.params
+        view = p["noise.view"]
+        prog = self.program(NOISE_VIEW)
+        if view in ("shape", "detail"):
+            self.texture_for(view).use(0)
+        elif view == "weather":
+            self.texture_for(view).use(1)
+        if view == "value":
+            from ..noise.value import random_texture
+
+            if "value" not in self._baked:
+                tex = self.gpu.texture(self.name, "value noise source", (256, 256), 4, random_texture(1).tobytes(),
+                                       dtype="f1", filter=(moderngl.NEAREST, moderngl.NEAREST), repeat=True)
+                self._baked["value"] = (None, None, tex)
+            self._baked["value"][2].use(2)
+            prog.set("uValueNoiseTex", 2)
+            prog.set("uValueNoiseWrap", (256.0, 256.0, 256.0))
+        if view in ("perlin", "fbm", "turbulence", "perlin_worley"):
+            from ..noise.gpu import GradientNoiseTextures
+
+            if "gradient" not in self._baked:
+                self._baked["gradient"] = (None, None, GradientNoiseTextures(self.gpu, self.name))
+            self._baked["gradient"][2].bind(prog, None, 3)
+        prog.set_many({
+            "uView": VIEWS.index(view), "uChannel": CHANNELS.index(p["noise.channel"]), "uSlice": p["noise.slice"],
+            "uTiles": p["noise.tiles"], "uAspect": frame.aspect, "uScale": p["noise.scale"],
+            "uOctaves": p["noise.octaves"],
+            # every sampler on its own unit, bound or not: two sampler types on one unit fail the draw
+            "uVolume": 0, "uMap": 1, "uValueNoiseTex": 2, "uPerlinPermutation": 3,
+        })
+        target.use()
+        self.gpu.ctx.disable(moderngl.DEPTH_TEST)
+        prog.vao().render(moderngl.TRIANGLES, vertices=3)

@@ -1,0 +1,378 @@
+"""The `planet` scene's effect: atmospheric scattering from the ground to space
+(spec/002-atmosphere.md), in the thesis's three approximations plus Hillaire 2020.
+
+Per frame:
+
+1. shadow map from the sun — only when the sun direction (or the map size) changed (§3.1, §4.2);
+2. surfaces (mountains, city block) into a G-buffer: colour and camera-relative position;
+3. one full-screen scattering pass that finds what each pixel sees (G-buffer, the analytic Earth,
+   or space) and applies the chosen method (``glsl/planet/composite.frag``).
+
+Coordinates: the scene's local frame has its origin on the sea surface, y up, the planet centre
+at (0, −R, 0). The camera position is kept in double precision here; the GPU only ever sees
+camera-relative vectors (float32 breaks at planet scale otherwise).
+"""
+
+from __future__ import annotations
+
+import math
+
+import moderngl
+import numpy as np
+
+from ..params import Param
+from ..sim import atmosphere as atm
+from . import atmosphere_hillaire as hillaire
+from .base import Effect, Pass, ProgramSpec
+from .planet_geometry import albedo_texture, boxes, mountains, normal_texture
+
+METHODS = ("brute_force", "lut", "shadowed", "hillaire")
+DEBUG_VIEWS = ("final", "in_scatter", "out_scatter")
+SURFACES = ("by_method", "texture", "phong")
+
+COMPOSITE = {m: ProgramSpec("planet/composite", vert="common/fullscreen.vert", frag="planet/composite.frag",
+                            defines=(("METHOD", i + 1),)) for i, m in enumerate(METHODS)}
+SURFACE = ProgramSpec("planet/surface")
+SHADOW_DEPTH = ProgramSpec("planet/shadow_depth")
+
+SHADOW_CENTRE = np.array([0.0, 800.0, -9000.0])
+SHADOW_HALF = 17000.0
+
+
+def sun_direction(elevation_deg: float, azimuth_deg: float) -> np.ndarray:
+    """Toward the sun; azimuth 0 = north (−z), 90 = east (+x), as the camera's yaw."""
+    e, a = math.radians(elevation_deg), math.radians(azimuth_deg)
+    return np.array([math.sin(a) * math.cos(e), math.sin(e), -math.cos(a) * math.cos(e)])
+
+
+def pupil(cos_gamma: float) -> float:
+    """The thesis's variable exposure (spec/002 §1.6): clamp(1 − cos γ / 4, 0, 1)."""
+    return float(np.clip(1.0 - cos_gamma / 4.0, 0.0, 1.0))
+
+
+def look_at(eye, target, up) -> np.ndarray:
+    f = np.asarray(target, float) - np.asarray(eye, float)
+    f /= np.linalg.norm(f)
+    r = np.cross(f, up)
+    if np.linalg.norm(r) < 1e-6:
+        r = np.cross(f, [1.0, 0.0, 0.0])
+    r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    m = np.identity(4)
+    m[0, :3], m[1, :3], m[2, :3] = r, u, -f
+    m[:3, 3] = -m[:3, :3] @ np.asarray(eye, float)
+    return m
+
+
+def ortho(half: float, near: float, far: float) -> np.ndarray:
+    m = np.identity(4)
+    m[0, 0] = m[1, 1] = 1.0 / half
+    m[2, 2] = -2.0 / (far - near)
+    m[2, 3] = -(far + near) / (far - near)
+    return m
+
+
+def light_view_proj(sun_dir: np.ndarray) -> np.ndarray:
+    """Orthographic projection along the sun over the mountains and the city (§3.1)."""
+    eye = SHADOW_CENTRE + sun_dir * 30000.0
+    return ortho(SHADOW_HALF, 1.0, 60000.0) @ look_at(eye, SHADOW_CENTRE, np.array([0.0, 1.0, 0.0]))
+
+
+class Planet(Effect):
+    name = "planet"
+    title = "Atmospheric scattering"
+    spec = "spec/002"
+    programs = tuple(COMPOSITE.values()) + (SURFACE, SHADOW_DEPTH) + tuple(hillaire.HillaireLuts.programs)
+    extra_groups = ("atmosphere", "hillaire")
+
+    @classmethod
+    def python_params(cls) -> list[Param]:
+        s = "spec/002"
+        return atm.params_list() + hillaire.params() + [
+            Param("planet.method", "shadowed", doc="1 brute force · 2 optical-depth LUT · 3 LUT + shadows "
+                  "(light shafts) · 4 Hillaire 2020 multiple scattering", kind="choice", choices=METHODS,
+                  section=f"{s} §2"),
+            Param("planet.n_steps", 30, 1, 512, "N_STEPS of the view-ray midpoint sum (methods 1–3)", kind="int",
+                  section=f"{s} §1.7"),
+            Param("planet.inner_steps", 30, 1, 512, "steps of the brute-force sun integral (method 1)", kind="int",
+                  section=f"{s} §2.3"),
+            Param("planet.lut_height", 256, 8, 2048, "optical-depth LUT rows (height)", kind="int", section=f"{s} §1.8"),
+            Param("planet.lut_angle", 256, 8, 2048, "optical-depth LUT columns (cos Φ)", kind="int", section=f"{s} §1.8"),
+            Param("planet.shadow_map_size", 2048, 64, 8192, "shadow-map resolution (texels per side)", kind="int",
+                  section=f"{s} §3.1"),
+            Param("planet.shadow_filter", True, doc="Gaussian-weighted bilinear neighbourhood filter (off: nearest, "
+                  "unfiltered)", kind="bool", section=f"{s} §3.2"),
+            Param("planet.shadow_bias", 0.0004, 0.0, 0.01, "depth bias of the shadow comparison", step=0.0001,
+                  section=f"{s} §3.1"),
+            Param("planet.surface", "by_method", doc="surface shading: by_method (texture for methods 1–2 as the "
+                  "thesis, Phong for 3–4), texture, or phong", kind="choice", choices=SURFACES, section=f"{s} §3.3"),
+            Param("planet.normal_mapping", True, doc="normal maps in Phong shading", kind="bool", section=f"{s} §3.3"),
+            Param("planet.ka", 0.25, 0.0, 1.0, "Phong ambient factor (times the texture colour)", section=f"{s} §3.3"),
+            Param("planet.kd", 1.0, 0.0, 2.0, "Phong diffuse factor", section=f"{s} §3.3"),
+            Param("planet.ks", 0.15, 0.0, 1.0, "Phong specular factor", section=f"{s} §3.3"),
+            Param("planet.shininess", 24.0, 1.0, 256.0, "Phong exponent", section=f"{s} §3.3"),
+            Param("planet.sun_elevation", 35.0, -90.0, 90.0, "sun elevation (Up/Down keys)", unit="deg",
+                  section=f"{s} §4"),
+            Param("planet.sun_azimuth", 180.0, 0.0, 360.0, "sun azimuth (0 north, 90 east)", unit="deg"),
+            Param("planet.auto_sun", False, doc="move the sun automatically (M key)", kind="bool", section=f"{s} §4"),
+            Param("planet.sun_speed", 3.0, 0.0, 90.0, "automatic sun speed", unit="deg/s"),
+            Param("planet.pupil", True, doc="variable exposure: darker looking at the sun", kind="bool",
+                  section=f"{s} §1.6"),
+            Param("planet.debug_view", "final", doc="final image, in-scattering on black, or out-scattering on white",
+                  kind="choice", choices=DEBUG_VIEWS, section=f"{s} §1.4–1.5"),
+            Param("planet.sun_disk", True, doc="draw the sun's disk (beyond the thesis, which shows only the Mie halo)",
+                  kind="bool"),
+            Param("planet.star_intensity", 0.08, 0.0, 5.0, "brightness of the stars on the universe sphere"),
+            Param("planet.universe_radius", 1.0e7, 1.0e5, 1.0e9, "radius of the universe sphere method 1 "
+                  "integrates to", unit="m", section=f"{s} §2.4"),
+        ]
+
+    def __init__(self, gpu, params, scene=None):
+        super().__init__(gpu, params, scene)
+        self.shadow_passes = 0
+        self.lut_builds = 0
+        self._shadow_key = None
+        self._shadow_tex = None
+        self._shadow_fbo = None
+        self._lut = None
+        self._lut_key = None
+        self._meshes = None
+        self._textures = None
+        self._gbuffer = None
+        self._hillaire = None
+        self._gradient = None
+        self._stars = None
+        self.sun_dir = sun_direction(params["planet.sun_elevation"], params["planet.sun_azimuth"])
+
+    # -- model ----------------------------------------------------------------------------
+    def model(self) -> "atm.AtmosphereParams":
+        return atm.from_params(self.params)
+
+    def camera_local(self, frame) -> np.ndarray:
+        return np.asarray(frame.camera.position, dtype=np.float64)
+
+    def model_uniforms(self, frame) -> dict:
+        m = self.model()
+        cam = self.camera_local(frame)
+        centre = np.array([0.0, -m.bottom_radius, 0.0])
+        return {
+            **m.uniforms(),
+            "uEarthCenter": tuple((centre - cam).astype(np.float32)),
+            "uCameraRadius": float(np.linalg.norm(cam - centre)),
+            "uCameraLocal": tuple(cam.astype(np.float32)),
+            "uSunDir": tuple(self.sun_dir),
+        }
+
+    def method(self) -> str:
+        return self.params["planet.method"]
+
+    def shading(self) -> int:
+        s = self.params["planet.surface"]
+        if s == "by_method":
+            return 1 if self.method() in ("shadowed", "hillaire") else 0
+        return 1 if s == "phong" else 0
+
+    def uses_shadows(self) -> bool:
+        return self.method() == "shadowed" or self.shading() == 1
+
+    # -- update ---------------------------------------------------------------------------
+    def update(self, frame, dt: float) -> None:
+        p = self.params
+        if p["planet.auto_sun"] and dt > 0:
+            e = p["planet.sun_elevation"] + p["planet.sun_speed"] * dt
+            if e > 90.0:  # over the top: continue down the other side
+                e = 180.0 - e
+                p.set("planet.sun_azimuth", (p["planet.sun_azimuth"] + 180.0) % 360.0)
+                p.set("planet.sun_speed", p["planet.sun_speed"])
+            p.set("planet.sun_elevation", max(-90.0, min(90.0, e)))
+        self.sun_dir = sun_direction(p["planet.sun_elevation"], p["planet.sun_azimuth"])
+        if p["planet.pupil"]:
+            frame.exposure *= pupil(float(np.dot(frame.camera.forward(), self.sun_dir)))
+
+    # -- resources --------------------------------------------------------------------------
+    def _ensure_geometry(self) -> None:
+        if self._meshes is not None:
+            return
+        r = self.model().bottom_radius
+        self._meshes = []
+        for name, (verts, idx) in (("mountains", mountains(r)), ("city", boxes(r))):
+            vbo = self.gpu.buffer(self.name, f"{name} vertices", verts.tobytes())
+            ibo = self.gpu.buffer(self.name, f"{name} indices", idx.tobytes())
+            self._meshes.append((name, vbo, ibo))
+        self._textures = (
+            self.gpu.texture(self.name, "albedo", (256, 256), 4, albedo_texture().tobytes(), dtype="f1", repeat=True),
+            self.gpu.texture(self.name, "normal map", (256, 256), 4, normal_texture().tobytes(), dtype="f1",
+                             repeat=True),
+        )
+        for tex in self._textures:
+            tex.build_mipmaps()
+            tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+            tex.anisotropy = 8.0
+        from .sky import star_field
+
+        stars = star_field(7)
+        self._stars = self.gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1, stars.tobytes(),
+                                       repeat=True)
+
+    def _draw_meshes(self, prog, depth_only: bool = False) -> None:
+        layout = ("3f 32x", "in_position") if depth_only else \
+            ("3f 3f 3f 2f", "in_position", "in_normal", "in_tangent", "in_uv")
+        for _, vbo, ibo in self._meshes:
+            prog.vao([(vbo, *layout)], index_buffer=ibo).render()
+
+    def optical_depth_lut(self):
+        """The thesis's "Chapman function" table, rebuilt when the model or its size changes."""
+        m = self.model()
+        size = (self.params["planet.lut_angle"], self.params["planet.lut_height"])
+        key = m.lut_key() + size
+        if self._lut is None or key != self._lut_key:
+            if self._lut is not None:
+                self.gpu.free(self._lut)
+            data = atm.OpticalDepthLut(m, n_height=size[1], n_angle=size[0]).table
+            self._lut = self.gpu.texture(self.name, "optical depth LUT", size, 2, data.astype("f4").tobytes(), dtype="f4")
+            self._lut.repeat_x = self._lut.repeat_y = False
+            self._lut_key = key
+            self.lut_builds += 1
+        return self._lut
+
+    def shadow_map(self):
+        """Depth from the sun; re-rendered only when the sun direction or the size changed."""
+        size = self.params["planet.shadow_map_size"]
+        key = (tuple(np.round(self.sun_dir, 9)), size)
+        if self._shadow_tex is not None and self._shadow_tex.size[0] != size:
+            self.gpu.free(self._shadow_fbo)
+            self.gpu.free(self._shadow_tex)
+            self._shadow_tex = None
+        if self._shadow_tex is None:
+            self._shadow_tex = self.gpu.depth_texture(self.name, "shadow map", (size, size))
+            self._shadow_fbo = self.gpu.framebuffer(self.name, "shadow map", [], self._shadow_tex)
+            self._shadow_key = None
+        if key != self._shadow_key:
+            self._render_shadow_map()
+            self._shadow_key = key
+        return self._shadow_tex
+
+    def _render_shadow_map(self) -> None:
+        ctx = self.gpu.ctx
+        self._ensure_geometry()
+        prog = self.program(SHADOW_DEPTH)
+        prog.set("uLightViewProj", light_view_proj(self.sun_dir))
+        self._shadow_fbo.use()
+        self._shadow_fbo.clear(depth=1.0)
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.disable(moderngl.CULL_FACE)
+        self._draw_meshes(prog, depth_only=True)
+        self.shadow_passes += 1
+
+    def _gbuffer_for(self, size):
+        if self._gbuffer is None or self._gbuffer[0].size != tuple(size):
+            if self._gbuffer is not None:
+                for obj in self._gbuffer:
+                    self.gpu.free(obj)
+            colour = self.gpu.texture(self.name, "gbuffer colour", size, 4, dtype="f4")
+            position = self.gpu.texture(self.name, "gbuffer position", size, 4, dtype="f4")
+            depth = self.gpu.depth_texture(self.name, "gbuffer depth", size)
+            fbo = self.gpu.framebuffer(self.name, "gbuffer", [colour, position], depth)
+            self._gbuffer = (colour, position, depth, fbo)
+        return self._gbuffer
+
+    # -- passes -----------------------------------------------------------------------------
+    def _shared(self, prog, frame) -> None:
+        prog.set_many(self.model_uniforms(frame))
+        p = self.params
+        prog.set_many({
+            "uShadowFiltered": p["planet.shadow_filter"],
+            "uShadowBias": p["planet.shadow_bias"],
+            "uShadowsEnabled": self.uses_shadows(),
+            "uLightViewProj": light_view_proj(self.sun_dir),
+            "uKa": p["planet.ka"],
+            "uKd": p["planet.kd"],
+        })
+        lut = self.optical_depth_lut()
+        lut.use(1)
+        prog.set("uOpticalDepthLut", 1)
+        if self.uses_shadows():
+            self.shadow_map().use(2)
+            prog.set("uShadowMap", 2)
+
+    def projection(self, frame) -> np.ndarray:
+        altitude = max(frame.camera.position[1], 0.0)
+        near = float(np.clip(altitude * 1e-3, 0.1, 2000.0))
+        cam = frame.camera
+        from pyrr import matrix44
+
+        proj = matrix44.create_perspective_projection(cam.fov, frame.aspect, near, 5.0e7, dtype=np.float64).T
+        view = cam.view_matrix()
+        view[:3, 3] = 0.0  # rotation only: positions are camera-relative
+        return proj @ view
+
+    def render_surfaces(self, frame, size) -> None:
+        ctx = self.gpu.ctx
+        self._ensure_geometry()
+        colour, position, depth, fbo = self._gbuffer_for(size)
+        fbo.use()
+        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        prog = self.program(SURFACE)
+        self._shared(prog, frame)
+        p = self.params
+        self._textures[0].use(3)
+        self._textures[1].use(4)
+        prog.set_many({
+            "uAlbedo": 3, "uNormalMap": 4, "uTextureTile": 40.0, "uShading": self.shading(),
+            "uNormalMapping": p["planet.normal_mapping"], "uKs": p["planet.ks"], "uShininess": p["planet.shininess"],
+            "uViewProj": self.projection(frame),
+        })
+        ctx.enable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+        self._draw_meshes(prog)
+        ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+
+    def render_composite(self, frame, target) -> None:
+        method = self.method()
+        prog = self.program(COMPOSITE[method])
+        self._shared(prog, frame)
+        p = self.params
+        colour, position, _, _ = self._gbuffer_for(target.size)
+        colour.use(5)
+        position.use(6)
+        self._stars.use(7)
+        prog.set_many(frame.camera_uniforms())
+        prog.set_many({
+            "uGColor": 5, "uGPosition": 6, "uStarTex": 7, "uStarIntensity": p["planet.star_intensity"],
+            "uSunDisk": p["planet.sun_disk"], "uSunDiskCos": math.cos(math.radians(0.27)),
+            "uSunDiskRadiance": 100.0 * self.model().sun_intensity,
+            "uUniverseRadius": p["planet.universe_radius"],
+            "uDebugView": DEBUG_VIEWS.index(p["planet.debug_view"]),
+            "uGroundShading": self.shading(),
+            "uSteps": p["planet.n_steps"], "uInnerSteps": p["planet.inner_steps"],
+        })
+        if self._gradient is None:
+            from ..noise.gpu import GradientNoiseTextures
+
+            self._gradient = GradientNoiseTextures(self.gpu, self.name)
+        self._gradient.bind(prog, None, 8)
+        if method == "hillaire":
+            self.hillaire().update(self.model_uniforms(frame), frame.camera_uniforms())
+            self.hillaire().bind(prog, 9)
+        target.use()
+        self.gpu.ctx.disable(moderngl.DEPTH_TEST)
+        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+
+    def hillaire(self) -> "hillaire.HillaireLuts":
+        if self._hillaire is None:
+            self._hillaire = hillaire.HillaireLuts(self.gpu, self.name, self.params)
+        return self._hillaire
+
+    def render(self, frame, target) -> None:
+        self._ensure_geometry()
+        if self.uses_shadows():
+            self.shadow_map()
+        self.render_surfaces(frame, target.size)
+        self.render_composite(frame, target)
+
+    def passes(self, frame, target) -> list[Pass]:
+        out = []
+        if self.uses_shadows():
+            out.append(Pass("planet.shadow_map", self._render_shadow_map))
+        out.append(Pass("planet.surfaces", lambda: self.render_surfaces(frame, target.size)))
+        out.append(Pass(f"planet.scattering[{self.method()}]", lambda: self.render_composite(frame, target)))
+        return out

@@ -1,0 +1,40 @@
+#version 330 core
+// =============================================================================================
+// Method 4, pass 3 — the sky-view LUT, every frame (Hillaire 2020 §5.3). For each (θ, φ) texel
+// (skyview.glsl), integrate the view ray from the camera (or from the atmosphere's entry point
+// when the camera is above the top, §6) to the top or the ground:
+//
+//   L = E_sun ∫ T_view [ T_sun (σ_R P_R(ν) + σ_M P_M(ν)) + σ_s Ψ_ms ] dt     (eqs. 1, 11)
+//
+// Target 0: rgb = P_R(ν) ∫T T_sun σ_R + ∫T σ_s Ψ_ms (per unit E_sun), a = mean T_view;
+// target 1: rgb = ∫T T_sun σ_M (no phase) — the lookup multiplies by P_M(ν) of the pixel, so
+// the Mie halo stays as sharp as G makes it. Sun disk not included (the scene adds it).
+// uHillaireSkyViewSteps samples, dense at low altitudes (hillaire_common.glsl).
+//
+// Failure cases: rays that miss the atmosphere from space (0, T = 1); the sun at the zenith
+// (φ meaningless: every column is the same); ground rays from h = 0 (empty segment).
+// =============================================================================================
+#include "hillaire_common.glsl"
+#include "skyview.glsl"
+
+in vec2 vUV;
+layout(location = 0) out vec4 outRayleighMultiple;
+layout(location = 1) out vec4 outMie;
+uniform vec2 uHillaireTargetSize;
+uniform int uHillaireSkyViewSteps;
+
+void main() {
+    float h0 = uHillaireCameraHeight;
+    vec2 angles = HillaireSkyViewAngles(ivec2(gl_FragCoord.xy), ivec2(uHillaireTargetSize), h0);
+    float mu = cos(angles.x);
+    float sinT = sin(angles.x);
+    vec3 up = CameraUp();
+    float muS = ClampCosine(dot(uSunDir, up));
+    float nu = ClampCosine(mu * muS + sinT * SafeSqrt(1.0 - muS * muS) * cos(angles.y));
+    vec2 seg = HillaireRaySegment(h0, mu, HILLAIRE_INFINITY);
+    HillaireInScatter acc = HillaireIntegrateSegment(h0, mu, muS, nu, max(seg.x, 0.0), seg.y,
+                                                     uHillaireSkyViewSteps, true);
+    outRayleighMultiple = vec4(PhaseRayleigh(nu) * acc.rayleigh + acc.multiple,
+                               HillaireMean(exp(-acc.opticalDepth)));
+    outMie = vec4(acc.mie, 0.0);
+}

@@ -1,0 +1,127 @@
+#version 330 core
+// =============================================================================================
+// The planet scene's scattering pass: for each pixel, the surface it sees (a mesh from the
+// G-buffer, the analytic Earth sphere, or space with stars) and the light the atmosphere
+// removes and adds on the way to the camera (spec/002):
+//   METHOD 1  first approximation: nested midpoint sums over the whole camera→object segment,
+//             unclipped, as the thesis did (its black horizon band comes from here) (§2.3)
+//   METHOD 2  second: optical-depth LUT for the sun integral, segment clipped to the atmosphere (§2.4)
+//   METHOD 3  final: method 2 + shadow-map visibility V(P) in the integral (light shafts) (§2.5)
+//   METHOD 4  beyond the thesis: Hillaire 2020 transmittance / multiple-scattering / sky-view /
+//             aerial-perspective lookups with the same constants
+// Output is linear radiance Color_out + Color_in; the thesis's exposure 1 − e^(−pupil·x) (§1.6)
+// is applied by the output tone map with the pupil factor computed per frame on the CPU.
+// Debug views (the thesis's figures): 1 = in-scattering on black, 2 = out-scattering on white.
+// =============================================================================================
+#include "atmosphere/model.glsl"
+#include "camera.glsl"
+#include "noise_perlin.glsl"
+
+#if METHOD >= 2 && METHOD <= 3
+#define SUN_DEPTH_LUT
+#endif
+#if METHOD == 3
+#define SHADOWED_INSCATTER
+#endif
+
+uniform vec3 uCameraLocal;   // camera in the local frame at the scene origin (m)
+
+#include "atmosphere/optical_depth_lut.glsl"
+#include "shadow.glsl"
+#include "atmosphere/inscatter.glsl"
+#if METHOD == 4
+#include "atmosphere/hillaire/hillaire_lookup.glsl"
+#endif
+
+in vec2 vUV;
+out vec4 fragColor;
+
+uniform sampler2D uGColor;
+uniform sampler2D uGPosition;
+uniform sampler2D uStarTex;
+uniform float uStarIntensity;
+uniform bool uSunDisk;
+uniform float uSunDiskCos;        // cos of the sun's angular radius
+uniform float uSunDiskRadiance;
+uniform float uUniverseRadius;    // method 1 integrates to this sphere for rays into space
+uniform int uDebugView;           // 0 final, 1 in-scattering on black, 2 out-scattering on white
+uniform int uGroundShading;       // 0 texture only, 1 Lambert + shadows + sun transmittance
+uniform float uKa;
+uniform float uKd;
+
+vec3 Background(vec3 dir) {
+    vec2 uv = vec2(atan(dir.x, dir.z) / TWO_PI, asin(ClampCosine(dir.y)) / HALF_PI);
+    float s = texture(uStarTex, uv * 2.0).r;
+    vec3 c = vec3(saturate(s * s * s * 3.0) * uStarIntensity);
+    if (uSunDisk && dot(dir, uSunDir) > uSunDiskCos) c += vec3(uSunDiskRadiance);
+    return c;
+}
+
+// The analytic Earth: land and sea from gradient fBm over the sphere, the scene origin on land.
+vec3 GroundColor(vec3 rel) {
+    vec3 n = normalize(rel - uEarthCenter);
+    vec3 local = rel + uCameraLocal;
+    float nearOrigin = exp(-dot(local.xz, local.xz) / (2.0 * 16000.0 * 16000.0));
+    float f = 0.0, amp = 0.5;
+    vec3 q = n * 40.0 + vec3(1.7, 9.2, 3.3);
+    for (int i = 0; i < 5; ++i) { f += amp * PerlinNoise3(q); q *= 2.03; amp *= 0.5; }
+    float land = smoothstep(-0.02, 0.02, f + 0.6 * nearOrigin - 0.05);
+    vec3 albedo = mix(vec3(0.02, 0.05, 0.09), vec3(0.2, 0.24, 0.11), land);
+    if (uGroundShading == 0) return albedo;
+    float nl = max(dot(n, uSunDir), 0.0);
+    float diffuse = min(ShadowVisibility(local, uShadowBias * 2.0), nl);
+    return albedo * (uKa + uKd * diffuse * SunTransmittanceAt(rel));
+}
+
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    vec4 gpos = texelFetch(uGPosition, px, 0);
+    vec3 dir = CameraRayDirection(vUV);
+    vec3 surface;
+    float dist;
+    bool space = false;
+    if (gpos.w > 0.5) {
+        dist = length(gpos.xyz);
+        dir = gpos.xyz / dist;
+        surface = texelFetch(uGColor, px, 0).rgb;
+    } else {
+        dist = GroundDistance(dir);
+        if (dist < 1.0e29) {
+            surface = GroundColor(dir * dist);
+        } else {
+            space = true;
+            surface = Background(dir);
+        }
+    }
+    if (uDebugView == 1) surface = vec3(0.0);
+    if (uDebugView == 2) surface = vec3(1.0);
+
+    vec3 inscatter;
+    vec3 transmittance;
+#if METHOD == 4
+    if (space) {
+        inscatter = HillaireSkyRadiance(dir);
+        vec2 seg = AtmosphereSegment(dir, 1.0e30);
+        transmittance = seg.y > seg.x ? HillaireTransmittance(seg.y, dir) : vec3(1.0);
+    } else {
+        inscatter = HillaireAerialPerspectiveAlongRay(vUV, dir, dist).rgb;
+        transmittance = HillaireTransmittance(dist, dir);
+    }
+#else
+    float t0, t1;
+#if METHOD == 1
+    t0 = 0.0;
+    t1 = space ? uUniverseRadius : dist;
+#else
+    vec2 seg = AtmosphereSegment(dir, space ? 1.0e30 : dist);
+    t0 = seg.x;
+    t1 = seg.y;
+#endif
+    vec2 depthPC = vec2(0.0);
+    bool crosses = t1 > t0 && t0 >= 0.0;
+    inscatter = crosses ? InScatter(dir, t0, t1, depthPC) : vec3(0.0);
+    transmittance = crosses ? TransmittanceFromDepths(depthPC) : vec3(1.0);
+#endif
+    if (uDebugView == 2) inscatter = vec3(0.0);
+    fragColor = vec4(surface * transmittance + inscatter, 1.0);
+}

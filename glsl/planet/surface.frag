@@ -1,0 +1,56 @@
+#version 330 core
+// =============================================================================================
+// Surfaces of the planet scene into the G-buffer: Color_original(O) and the camera-relative
+// position of O (spec/002 §1.4: the colour that the out-scattering attenuates).
+//   texture only (methods 1–2, as the thesis's first versions did)  or
+//   Phong (§3.3): ambient = k_a · texture colour (the thesis's modification), diffuse from the
+//   normal map, specular (N·H)^n; shadows enter as diffuse = min(shadow, diffuse) (§3.4).
+// Beyond the thesis: sunlight reaching the surface is attenuated by the transmittance toward
+// the sun (from the optical-depth LUT), so surfaces redden at sunset like the sky does.
+// =============================================================================================
+#include "atmosphere/model.glsl"
+#include "atmosphere/optical_depth_lut.glsl"
+#include "shadow.glsl"
+
+in vec3 vRel;
+in vec3 vLocal;
+in vec3 vNormal;
+in vec3 vTangent;
+in vec2 vUv;
+
+layout(location = 0) out vec4 outColor;
+layout(location = 1) out vec4 outPosition;
+
+uniform sampler2D uAlbedo;
+uniform sampler2D uNormalMap;
+uniform float uTextureTile;     // metres per texture repeat
+uniform int uShading;           // 0 texture only, 1 Phong
+uniform bool uNormalMapping;
+uniform float uKa;
+uniform float uKd;
+uniform float uKs;
+uniform float uShininess;
+
+void main() {
+    vec3 albedo = texture(uAlbedo, vUv / uTextureTile).rgb;
+    vec3 color = albedo;
+    if (uShading == 1) {
+        vec3 n = normalize(vNormal);
+        if (uNormalMapping) {
+            vec3 t = normalize(vTangent - n * dot(n, vTangent));
+            vec3 b = cross(n, t);
+            vec3 m = texture(uNormalMap, vUv / uTextureTile).xyz * 2.0 - 1.0;
+            n = normalize(mat3(t, b, n) * m);
+        }
+        vec3 l = uSunDir;
+        vec3 v = normalize(-vRel);
+        float nl = max(dot(n, l), 0.0);
+        float shadow = ShadowVisibility(vLocal, uShadowBias * (1.0 + 4.0 * (1.0 - nl)));
+        float diffuse = min(shadow, nl);
+        float spec = nl > 0.0 ? pow(max(dot(n, normalize(l + v)), 0.0), uShininess) * shadow : 0.0;
+        vec3 sunlight = SunTransmittanceAt(vRel);
+        color = albedo * uKa + (albedo * uKd * diffuse + uKs * spec) * sunlight;
+    }
+    outColor = vec4(color, 1.0);
+    outPosition = vec4(vRel, 1.0);
+}

@@ -1,0 +1,26 @@
+#version 330 core
+// Meshes of the planet scene (mountains, city block) in the local tangent frame at the scene
+// origin; positions are made camera-relative here (spec/002 §2.1: `obj` = model-space position,
+// here relative to the camera so float32 holds up from the ground to space).
+in vec3 in_position;
+in vec3 in_normal;
+in vec3 in_tangent;
+in vec2 in_uv;
+
+uniform vec3 uCameraLocal;  // camera position in the local frame (m)
+uniform mat4 uViewProj;     // rotation-only view × projection
+
+out vec3 vRel;
+out vec3 vLocal;
+out vec3 vNormal;
+out vec3 vTangent;
+out vec2 vUv;
+
+void main() {
+    vLocal = in_position;
+    vRel = in_position - uCameraLocal;
+    vNormal = in_normal;
+    vTangent = in_tangent;
+    vUv = in_uv;
+    gl_Position = uViewProj * vec4(vRel, 1.0);
+}
