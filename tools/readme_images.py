@@ -1,6 +1,7 @@
 """Regenerate the README's pictures, rendered headless exactly as `natura render` does:
-docs/sky.png (the `sky` scene at four hours) and docs/materials.png (wood, marble and granite
-with the thesis's value noise and with Perlin's gradient noise).
+docs/sky.png (the `sky` scene at four hours), docs/materials.png (wood, marble and granite
+with the thesis's value noise and with Perlin's gradient noise) and docs/planet.png (the
+atmosphere from the ground and from space).
 
     python tools/readme_images.py [--force]
 """
@@ -27,9 +28,11 @@ def main(argv=None) -> int:
     w, h = (int(v) for v in args.size.split("x"))
     from PIL import Image
 
-    def shot(scene, sets, size):
+    def shot(scene, sets, size, camera=None):
         params = scene_params(scene, sets=sets)
         session = open_session(scene, params)
+        if camera:
+            session.scene.camera.set(**camera)
         image = next(render_frames(session, size))
         exposure = session.scene.exposure()
         session.release()
@@ -42,6 +45,15 @@ def main(argv=None) -> int:
             np.concatenate([shot("materials", [f"material={m}", f"noise={n}"], (w, w * 2 // 5)) for n in ("value", "gradient")],
                            axis=1) for m in ("wood", "marble", "granite")], axis=0),
     }
+    planet = [
+        shot("planet", ["planet.method=shadowed"], (w, h)),
+        shot("planet", ["planet.method=hillaire", "planet.sun_elevation=3", "planet.sun_azimuth=0"], (w, h)),
+        shot("planet", ["planet.method=brute_force", "planet.sun_elevation=12", "planet.sun_azimuth=20"], (w, h)),
+        shot("planet", ["planet.method=hillaire", "planet.sun_elevation=20", "planet.sun_azimuth=90"], (w, h),
+             {"position": (0.0, 400000.0, 60.0), "pitch": -35.0}),
+    ]
+    grids["planet.png"] = np.concatenate([np.concatenate(planet[:2], axis=1), np.concatenate(planet[2:], axis=1)],
+                                         axis=0)
     for name, grid in grids.items():
         out = PROJECT_ROOT / "docs" / name
         if out.exists() and not args.force:

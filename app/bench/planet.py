@@ -135,6 +135,11 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
             measure("brute_force", "n_steps", n)
             measure("lut", "n_steps", n)
             measure("shadowed", "n_steps", n)
+        p.set("planet.pc_rule", "thesis")  # the thesis's τ(PC) rule, for comparison
+        for n in steps_list:
+            p.set("planet.n_steps", n)
+            measure("lut", "n_steps, thesis τ(PC) rule", n)
+        p.set("planet.pc_rule", "midpoint")
         p.set("planet.n_steps", saved["planet.n_steps"])
         p.set("planet.inner_steps", saved["planet.inner_steps"])
         for size_ in lut_sizes:
@@ -152,31 +157,32 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
             p.set("planet.shadow_map_size", s)
             measure("shadowed", "shadow_map_size (vs 8192²)", s, best)
         p.set("planet.shadow_map_size", saved["planet.shadow_map_size"])
-        if not hillaire:
-            pass
-        elif any(q.group == "hillaire" for q in p):
+        if hillaire:
             for scale in hillaire_scales:
                 _scale_hillaire(p, scale)
                 measure("hillaire", "lut scale", scale)
             _scale_hillaire(p, 1.0)
-        else:
-            measure("hillaire", "defaults", 1)
+            p.set("hillaire.multiple_scattering", False)  # single scattering only: the reference's physics
+            measure("hillaire", "single scattering only", 1.0)
+            p.set("hillaire.multiple_scattering", True)
     finally:
         for k, v in saved.items():
             p.set(k, v)
     return {"size": list(size), "time_size": list(time_size), "reference_steps": ref_steps, "rows": rows}
 
 
-_HILLAIRE_DEFAULTS: dict = {}
+#: Hillaire LUT resolutions scaled together by the "lut scale" knob (defaults × scale)
+HILLAIRE_SIZES = ("hillaire.transmittance_width", "hillaire.transmittance_height", "hillaire.ms_size",
+                  "hillaire.skyview_width", "hillaire.skyview_height", "hillaire.ap_size", "hillaire.ap_slices")
 
 
 def _scale_hillaire(params, scale: float) -> None:
-    """Scale every integer size parameter of the ``hillaire`` group (LUT resolutions)."""
-    for q in params:
-        if q.group == "hillaire" and q.kind == "int" and "size" in q.short or q.group == "hillaire" and \
-                q.kind == "int" and any(s in q.short for s in ("width", "height", "depth", "slices")):
-            base = _HILLAIRE_DEFAULTS.setdefault(q.name, params[q.name])
-            params.set(q.name, int(min(q.hi, max(q.lo, round(base * scale)))))
+    for name in HILLAIRE_SIZES:
+        q = params.spec(name)
+        value = int(min(q.hi, max(q.lo, round(q.default * scale))))
+        if name == "hillaire.skyview_height":
+            value += value % 2
+        params.set(name, value)
 
 
 def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None) -> dict:

@@ -96,6 +96,9 @@ class Planet(Effect):
                   section=f"{s} §1.7"),
             Param("planet.inner_steps", 30, 1, 512, "steps of the brute-force sun integral (method 1)", kind="int",
                   section=f"{s} §2.3"),
+            Param("planet.pc_rule", "midpoint", doc="depth from the camera to each sample: midpoint (half the "
+                  "current step) or thesis (the whole step, as its code: ~50 % error on the horizon at N = 30)",
+                  kind="choice", choices=("midpoint", "thesis"), section=f"{s} §2.3"),
             Param("planet.lut_height", 256, 8, 2048, "optical-depth LUT rows (height)", kind="int", section=f"{s} §1.8"),
             Param("planet.lut_angle", 256, 8, 2048, "optical-depth LUT columns (cos Φ)", kind="int", section=f"{s} §1.8"),
             Param("planet.shadow_map_size", 2048, 64, 8192, "shadow-map resolution (texels per side)", kind="int",
@@ -344,6 +347,7 @@ class Planet(Effect):
             "uDebugView": DEBUG_VIEWS.index(p["planet.debug_view"]),
             "uGroundShading": self.shading(),
             "uSteps": p["planet.n_steps"], "uInnerSteps": p["planet.inner_steps"],
+            "uThesisPcRule": p["planet.pc_rule"] == "thesis",
         })
         if self._gradient is None:
             from ..noise.gpu import GradientNoiseTextures

@@ -26,7 +26,7 @@ class Model:
     p0: float = 1.0
 
     @classmethod
-    def from_uniforms(cls, u) -> "Model":
+    def from_uniforms(cls, u) -> Model:
         return cls(float(u["uBottomRadius"]), float(u["uTopRadius"]), tuple(u["uBetaRayleigh"]),
                    tuple(u["uBetaMieScatter"]), tuple(u["uBetaMieExt"]), float(u["uHRayleigh"]),
                    float(u["uHMie"]), float(u["uP0"]))
@@ -125,7 +125,7 @@ def integrate_ray(m: Model, h0: float, mu: float, mu_s: float, nu: float, steps:
     seg = _segment(m, h0, mu)
     zero = np.zeros(3)
     if seg is None or min(seg[1], max_dist) <= seg[0]:
-        return dict(rayleigh=zero, mie=zero, multiple=zero, transfer=zero, transmittance=np.ones(3))
+        return {"rayleigh": zero, "mie": zero, "multiple": zero, "transfer": zero, "transmittance": np.ones(3)}
     t0, t1 = seg[0], min(seg[1], max_dist)
     dt = (t1 - t0) / steps
     t = t0 + (np.arange(steps) + 0.5) * dt
@@ -139,13 +139,13 @@ def integrate_ray(m: Model, h0: float, mu: float, mu_s: float, nu: float, steps:
     view_t = np.exp(-tau)
     mu_s_t = np.clip((r0 * mu_s + t * nu) / (m.bottom + h), -1, 1)
     sun_t = sun_transmittance(m, h, mu_s_t, 200)
-    out = dict(
-        rayleigh=(view_t * sun_t * scat_r).sum(0) * dt,
-        mie=(view_t * sun_t * scat_m).sum(0) * dt,
-        transfer=(view_t * (scat_r + scat_m)).sum(0) * dt,
-        transmittance=np.exp(-(ext * dt).sum(0)),
-        multiple=zero,
-    )
+    out = {
+        "rayleigh": (view_t * sun_t * scat_r).sum(0) * dt,
+        "mie": (view_t * sun_t * scat_m).sum(0) * dt,
+        "transfer": (view_t * (scat_r + scat_m)).sum(0) * dt,
+        "transmittance": np.exp(-(ext * dt).sum(0)),
+        "multiple": zero,
+    }
     if ms_lut is not None:
         out["multiple"] = (view_t * (scat_r + scat_m) * ms_lut(h, mu_s_t)).sum(0) * dt
     return out

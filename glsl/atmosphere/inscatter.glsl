@@ -2,7 +2,8 @@
 // Single scattering along a view segment — the thesis's in-scattering integral (spec/002 §1.5)
 //   Color_in = ∫ I_sun · e^(−τ(AP)) · e^(−τ(PC)) · V(P) · (β_R ρ_R(h) P_R(θ) + β_M ρ_M(h) P_M(θ)) ds
 // as a midpoint Riemann sum over N_STEPS (§1.7: s = 0.5 … N − 0.5), with τ(PC) accumulated along
-// the outer loop (the current sample included, as the thesis's code does) and τ(AP), the depth
+// the outer loop (to the sample's midpoint; the thesis's code adds the whole current step — a
+// switch, uThesisPcRule, keeps that rule for comparison) and τ(AP), the depth
 // toward the sun, from one of:
 //   SUN_DEPTH_BRUTE_FORCE  a nested midpoint sum to the top of the atmosphere (first approximation)
 //   SUN_DEPTH_LUT          the optical-depth ("Chapman") lookup table (second approximation)
@@ -14,6 +15,7 @@
 // =============================================================================================
 
 uniform int uSteps;        // N_STEPS (30 in the thesis)
+uniform bool uThesisPcRule;   // τ(PC) includes the whole current step (the thesis's code) instead of half
 uniform int uInnerSteps;   // inner steps of the brute-force sun integral
 
 // Density integral from P (camera-relative) toward the sun to the top of the atmosphere, by a
@@ -61,8 +63,11 @@ vec3 InScatter(vec3 dir, float t0, float t1, out vec2 depthPC) {
         // only the unclipped method 1 has such samples, which otherwise add a glow beyond the limb.
         vec2 rho = h > uTopRadius - uBottomRadius ? vec2(0.0) : DensityRM(h);
         vec2 depthAP = SunDepth(P, h);
+        // τ(PC) to the sample: the thesis adds the whole current step first, which overstates it by
+        // half a step (≈ 50 % error on the horizon at N = 30); the midpoint rule adds half of it.
+        vec2 toSample = depthPC + rho * ds * (uThesisPcRule ? 1.0 : 0.5);
         depthPC += rho * ds;
-        vec3 ext = TransmittanceFromDepths(depthAP + depthPC);
+        vec3 ext = TransmittanceFromDepths(depthAP + toSample);
         float visibility = 1.0;
 #ifdef SHADOWED_INSCATTER
         visibility = ShadowVisibilityPoint(P + uCameraLocal);
