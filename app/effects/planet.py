@@ -101,7 +101,7 @@ class Planet(Effect):
                   kind="choice", choices=("midpoint", "thesis"), section=f"{s} §2.3"),
             Param("planet.lut_height", 256, 8, 2048, "optical-depth LUT rows (height)", kind="int", section=f"{s} §1.8"),
             Param("planet.lut_angle", 256, 8, 2048, "optical-depth LUT columns (cos Φ)", kind="int", section=f"{s} §1.8"),
-            Param("planet.shadow_map_size", 2048, 64, 8192, "shadow-map resolution (texels per side)", kind="int",
+            Param("planet.shadow_map_size", 4096, 64, 8192, "shadow-map resolution (texels per side)", kind="int",
                   section=f"{s} §3.1"),
             Param("planet.shadow_filter", True, doc="Gaussian-weighted bilinear neighbourhood filter (off: nearest, "
                   "unfiltered)", kind="bool", section=f"{s} §3.2"),

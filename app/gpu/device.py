@@ -83,8 +83,20 @@ class Gpu:
         for a in list(self.allocations):
             if a.obj is obj:
                 self.allocations.remove(a)
+        if isinstance(obj, (RenderTarget, moderngl.Framebuffer)):
+            self._park()
         if not isinstance(obj, Program):  # programs are shared through the library
             obj.release()
+
+    def _park(self) -> None:
+        """Bind a 1×1 framebuffer of our own before a framebuffer is deleted: deleting the bound
+        one leaves GL (and moderngl's record of the binding) pointing at a dead object, and the
+        next framebuffer creation fails with GL_INVALID_OPERATION."""
+        extra = self.ctx.extra if isinstance(self.ctx.extra, dict) else {}
+        self.ctx.extra = extra
+        if "natura.parking" not in extra:  # one per context, kept as long as the context
+            extra["natura.parking"] = self.ctx.framebuffer([self.ctx.texture((1, 1), 4)])
+        extra["natura.parking"].use()
 
     def release_owner(self, owner: str) -> None:
         for a in self.owned_by(owner):

@@ -49,6 +49,11 @@ void main() {
         float diffuse = min(shadow, nl);
         float spec = nl > 0.0 ? pow(max(dot(n, normalize(l + v)), 0.0), uShininess) * shadow : 0.0;
         vec3 sunlight = SunTransmittanceAt(vRel);
+        // The planet hides a sun below this point's horizon even with no air (β = 0 makes the
+        // LUT's "ground" depth transmit, exp(−0 · 1e12) = 1): walls facing it stay unlit.
+        vec3 fromCentre = vRel - uEarthCenter;
+        float r = length(fromCentre);
+        if (SunRayHitsGround(r - uBottomRadius, dot(fromCentre / r, uSunDir))) sunlight = vec3(0.0);
         color = albedo * uKa + (albedo * uKd * diffuse + uKs * spec) * sunlight;
     }
     outColor = vec4(color, 1.0);
