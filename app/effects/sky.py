@@ -14,7 +14,6 @@ of this module are the twins the tests compare the shader with.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import moderngl
 import numpy as np
@@ -203,9 +202,6 @@ class Sky(Effect):
             out.append(Pass("sky.cubemap", lambda: self.environment(frame, force=True)))
         return out
 
-    def save_keyframes_text(self) -> str:
-        return self.keyframes.to_toml()
-
 
 # ---- procedural textures ---------------------------------------------------------------------
 
@@ -309,7 +305,3 @@ def elevation_u(directions: np.ndarray) -> np.ndarray:
 def hour_label(hour: float) -> str:
     minutes = int(round(wrap_hour(hour) * 60.0)) % 1440
     return f"{minutes // 60:02d}:{minutes % 60:02d}"
-
-
-def keyframes_path(path: str | Path | None) -> Path:
-    return Path(path) if path else DEFAULT_KEYFRAMES

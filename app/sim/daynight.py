@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -70,9 +70,8 @@ def world_to_moon(moon_dir: np.ndarray, ecliptic) -> np.ndarray:
 
 
 def light_fade(sin_elevation: float) -> float:
-    """Main-light strength near the horizon: 0 below −2° and 1 above ~4.6°, a hand-written
-    smooth ramp (GLSL's smoothstep is undefined for reversed edges; this one is not reversed
-    but is kept beside the shader's twin for clarity)."""
+    """Main-light strength near the horizon: a smooth ramp from 0 (sun 2° below the horizon)
+    to 1 (4.6° above), so the switch between sun and moon never pops."""
     t = min(1.0, max(0.0, (sin_elevation + 0.035) / 0.115))
     return t * t * (3.0 - 2.0 * t)
 
@@ -263,7 +262,6 @@ class DayNight:
     sun_color: tuple[float, float, float] = (1.0, 1.0, 1.0)
     moon_color: tuple[float, float, float] = (1.0, 1.0, 1.0)
     moon_light: float = 0.08
-    history: list = field(default_factory=list, repr=False)
 
     def advance(self, dt: float) -> None:
         if self.playing:
