@@ -33,13 +33,17 @@ def _set_view(session, view: str) -> None:
     session.scene.camera.set(position=v["position"], yaw=v["yaw"], pitch=v["pitch"], fov=v["fov"])
 
 
-def _frame_ms(session, size, warmup, repeat) -> float:
+def _frame_ms(session, size, warmup, repeat, scattering_only: bool = False) -> float:
+    """Median ms of a whole frame, or of the scattering pass alone (the part the methods change)."""
     gpu = session.gpu
+    eff = session.scene.effect("planet")
     target = gpu.target("bench", "planet frame", size)
     try:
         frame = session.scene.frame(size)
         session.scene.render(frame, target)  # builds LUTs, shadow map, G-buffer at this size
-        return time_call(gpu.ctx, "frame", lambda: session.scene.render(frame, target), warmup, repeat).median_ms
+        run = (lambda: eff.render_composite(frame, target)) if scattering_only else \
+            (lambda: session.scene.render(frame, target))
+        return time_call(gpu.ctx, "frame", run, warmup, repeat).median_ms
     finally:
         gpu.free(target)
 
@@ -50,14 +54,17 @@ def thesis_table(session, sizes=DEFAULT_SIZES, warmup: int = 2, repeat: int = 5,
     for view in VIEWS:
         _set_view(session, view)
         for size in sizes:
-            cell = {}
+            cell, scatter = {}, {}
             for method in methods:
                 p.set("planet.method", method)
                 cell[method] = _frame_ms(session, tuple(size), warmup, repeat)
-            base = cell["brute_force"]
+                scatter[method] = _frame_ms(session, tuple(size), warmup, repeat, scattering_only=True)
+            base, base_s = cell["brute_force"], scatter["brute_force"]
             for method in methods:
                 rows.append({"view": view, "size": list(size), "method": method, "ms": cell[method],
-                             "fps": 1000.0 / cell[method], "ratio_fps_to_method_1": base / cell[method]})
+                             "fps": 1000.0 / cell[method], "ratio_fps_to_method_1": base / cell[method],
+                             "scattering_ms": scatter[method],
+                             "scattering_ratio_to_method_1": base_s / scatter[method]})
     return {"rows": rows, "n_steps": p["planet.n_steps"]}
 
 
@@ -235,10 +242,11 @@ def chart(report: dict, path) -> None:
 
 def summary(report: dict) -> str:
     s = report["sweep"]
-    lines = ["view    size        method        ms      fps   ×method 1 (fps)"]
+    lines = ["view    size        method        frame ms   fps   ×method 1 (fps)   scattering pass ms   ×method 1"]
     for r in s["table"]["rows"]:
         lines.append(f"{r['view']:7s} {r['size'][0]}x{r['size'][1]:<6d} {r['method']:12s} {r['ms']:8.2f} "
-                     f"{r['fps']:7.1f}   {r['ratio_fps_to_method_1']:.2f}")
+                     f"{r['fps']:7.1f}   {r['ratio_fps_to_method_1']:5.2f}             {r['scattering_ms']:8.2f}"
+                     f"           {r['scattering_ratio_to_method_1']:5.2f}")
     lines.append("method       knob                         value      ms   in-scatter err mean / p99   "
                  "transmittance err mean / p99")
     for r in s["accuracy"]["rows"]:
