@@ -647,69 +647,18 @@ def _atmosphere_exit(h, mu, params: AtmosphereParams):
 # 8-bit fractional weights (up to ~1/512 of the difference of neighbouring texels); the numpy
 # lookup here uses exact weights.
 
-GLSL_LUT_UNIFORMS = """\
-uniform sampler2D uOpticalDepthLut;   // RG32F, LINEAR, CLAMP_TO_EDGE: Chapman ratios (C_R, C_M)
-"""
+def _glsl_lut_source() -> str:
+    """The GPU side of the table, ``glsl/atmosphere/optical_depth_lut.glsl`` (one source: the
+    scene's shaders include that file; tests compile it and compare it with this module)."""
+    from .. import DEFAULT_SHADER_ROOT
 
-GLSL_LUT_FUNCTIONS = """\
-// ---- Optical-depth LUT ("Chapman function", spec/002 §1.8) — twin of app/sim/atmosphere.py --
-// Needs uBottomRadius, uTopRadius, uHRayleigh, uHMie, uP0 (model.glsl) and uOpticalDepthLut.
-// Texel = density integral to the top / (H · exp(−h_low / H)), h_low = lowest altitude on the
-// ray. Rows = height (v): x_h = ρ / H_top; columns = cos Φ (u): x_Φ = (d_max − d)/(d_max − d_min)
-// (Bruneton 2017 with u reversed); both mapped to texel centres. Only rays that miss the ground.
-const float OPTICAL_DEPTH_GROUND = 1.0e12;   // density integral for sun rays that hit the planet
+    return (DEFAULT_SHADER_ROOT / "atmosphere" / "optical_depth_lut.glsl").read_text(encoding="utf-8")
 
-// True where the ray from height h at cos Φ to the local vertical hits the planet (tangent
-// included): cos Φ < 0 and r² cos²Φ ≥ r² − R² = h (2R + h).
-bool SunRayHitsGround(float h, float cosPhi) {
-    h = max(h, 0.0);
-    float r = uBottomRadius + h;
-    return cosPhi < 0.0 && r * r * cosPhi * cosPhi >= h * (2.0 * uBottomRadius + h);
-}
 
-vec2 OpticalDepthLutUv(float h, float cosPhi) {
-    float R = uBottomRadius;
-    float top = uTopRadius - uBottomRadius;
-    h = clamp(h, 0.0, top);
-    float mu = clamp(cosPhi, -1.0, 1.0);
-    float r = R + h;
-    float Htop = sqrt(top * (2.0 * R + top));           // sea-level horizontal ray to the top
-    float rho = sqrt(h * (2.0 * R + h));                // distance to the horizon
-    float k = (top - h) * (2.0 * R + top + h);          // R_top² − r²
-    float sq = sqrt(r * r * mu * mu + k);
-    float d = mu > 0.0 ? k / (r * mu + sq) : sq - r * mu;   // distance to the top along the ray
-    float dMin = top - h;
-    float dMax = rho + Htop;
-    float xPhi = clamp((dMax - d) / (dMax - dMin), 0.0, 1.0);
-    float xH = clamp(rho / Htop, 0.0, 1.0);
-    vec2 size = vec2(textureSize(uOpticalDepthLut, 0));
-    return (0.5 + vec2(xPhi, xH) * (size - 1.0)) / size;
-}
-
-// Lowest altitude between the point and the top: h looking up, the perigee altitude looking down.
-float OpticalDepthLowestHeight(float h, float cosPhi) {
-    h = clamp(h, 0.0, uTopRadius - uBottomRadius);
-    if (cosPhi >= 0.0) return h;
-    float R = uBottomRadius;
-    float r = R + h;
-    float k = max(h * (2.0 * R + h) - r * r * cosPhi * cosPhi, 0.0);   // r_p² − R²
-    return k / (sqrt(R * R + k) + R);
-}
-
-// P0-scaled density integrals (P0·D_R, P0·D_M) in m from height h toward the sun at cos Φ to the
-// top of the atmosphere, ready for exp(−(β^ext_R x + β^ext_M y)); OPTICAL_DEPTH_GROUND (no P0)
-// when the planet hides the sun.
-vec2 OpticalDepthToSun(float h, float cosPhi) {
-    if (SunRayHitsGround(h, cosPhi)) return vec2(OPTICAL_DEPTH_GROUND);
-    vec2 H = vec2(uHRayleigh, uHMie);
-    vec2 column = H * exp(-OpticalDepthLowestHeight(h, cosPhi) / H);
-    return uP0 * column * texture(uOpticalDepthLut, OpticalDepthLutUv(h, cosPhi)).rg;
-}
-"""
-
-#: Everything the GPU needs: the sampler declaration and the functions (the model's uniforms
-#: uBottomRadius, uTopRadius, uHRayleigh, uHMie and uP0 come from ``glsl/atmosphere/model.glsl``).
-GLSL_LUT_UV = GLSL_LUT_UNIFORMS + "\n" + GLSL_LUT_FUNCTIONS
+#: The GLSL of the table: the sampler declaration and ``SunRayHitsGround``, ``OpticalDepthLutUv``,
+#: ``OpticalDepthLowestHeight``, ``OpticalDepthToSun`` (they use the model's uniforms uBottomRadius,
+#: uTopRadius, uHRayleigh, uHMie and uP0 from ``glsl/atmosphere/model.glsl``).
+GLSL_LUT_UV = _glsl_lut_source()
 
 
 def lut_coordinates(h, cos_phi, params: AtmosphereParams):

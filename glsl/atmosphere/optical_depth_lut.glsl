@@ -1,6 +1,6 @@
-// The optical-depth lookup table, GPU side — generated from app/sim/atmosphere.py
-// (GLSL_LUT_UV; tests/test_planet.py checks this file still carries it verbatim), plus the
-// sun's transmittance at a point, used to light surfaces.
+// The optical-depth lookup table, GPU side. Its numpy twin is app/sim/atmosphere.py
+// (OpticalDepthLut, lut_uv), where the parametrisation is explained; tests compile this file
+// and compare it with the twin.
 uniform sampler2D uOpticalDepthLut;   // RG32F, LINEAR, CLAMP_TO_EDGE: Chapman ratios (C_R, C_M)
 
 // ---- Optical-depth LUT ("Chapman function", spec/002 §1.8) — twin of app/sim/atmosphere.py --
@@ -57,9 +57,3 @@ vec2 OpticalDepthToSun(float h, float cosPhi) {
     return uP0 * column * texture(uOpticalDepthLut, OpticalDepthLutUv(h, cosPhi)).rg;
 }
 
-// Transmittance from a camera-relative point to the sun (0 where the planet hides the sun).
-vec3 SunTransmittanceAt(vec3 rel) {
-    vec3 fromCentre = rel - uEarthCenter;
-    float r = length(fromCentre);
-    return TransmittanceFromDepths(OpticalDepthToSun(r - uBottomRadius, dot(fromCentre / r, uSunDir)));
-}

@@ -27,6 +27,7 @@
 uniform vec3 uCameraLocal;   // camera in the local frame at the scene origin (m)
 
 #include "atmosphere/optical_depth_lut.glsl"
+#include "atmosphere/sun_transmittance.glsl"
 #include "shadow.glsl"
 #include "atmosphere/inscatter.glsl"
 #if METHOD == 4

@@ -10,6 +10,7 @@
 // =============================================================================================
 #include "atmosphere/model.glsl"
 #include "atmosphere/optical_depth_lut.glsl"
+#include "atmosphere/sun_transmittance.glsl"
 #include "shadow.glsl"
 
 in vec3 vRel;
