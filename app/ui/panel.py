@@ -69,13 +69,19 @@ def param_widget(params: ParamSet, p: Param) -> bool:
     return changed
 
 
-def params_panel(params: ParamSet, titles: dict[str, str], skip: set[str] = frozenset()) -> None:
-    for group, items in params.groups().items():
-        shown = [p for p in items if p.name not in skip]
+def params_panel(params: ParamSet, titles: dict[str, str], skip: set[str] = frozenset(),
+                 open_groups: set[str] = frozenset()) -> None:
+    """One collapsing header per group, the groups in ``open_groups`` open at first; groups
+    with a title (the scene's effects, Time, Output) come first."""
+    groups = params.groups()
+    order = [g for g in titles if g in groups] + [g for g in groups if g not in titles]
+    for group in order:
+        shown = [p for p in groups[group] if p.name not in skip]
         if not shown:
             continue
         title = titles.get(group, group)
-        if imgui.collapsing_header(f"{title}##{group}", imgui.TreeNodeFlags_.default_open):
+        flags = imgui.TreeNodeFlags_.default_open if group in open_groups else 0
+        if imgui.collapsing_header(f"{title}##{group}", flags):
             for p in shown:
                 param_widget(params, p)
 

@@ -61,6 +61,23 @@ def _key_names(keys) -> dict:
     return names
 
 
+#: Unicode blocks the panel's text uses (thesis sections §, units m², Greek β θ Φ, − · → ≤ …).
+GLYPH_RANGES = [0x0020, 0x00FF, 0x0370, 0x03FF, 0x2000, 0x206F, 0x2070, 0x209F, 0x2190, 0x21FF, 0x2200, 0x22FF, 0]
+
+
+def _load_font(imgui) -> None:
+    """ImGui's built-in font is ASCII only: load imgui-bundle's DroidSans with the ranges above
+    (before the renderer builds the font texture). Without the file, the default font stays."""
+    try:
+        import imgui_bundle
+
+        path = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "DroidSans.ttf"
+        if path.is_file():
+            imgui.get_io().fonts.add_font_from_file_ttf(str(path), 15.0, None, GLYPH_RANGES)
+    except Exception:  # a font problem must not keep the window from opening
+        pass
+
+
 def display_available() -> bool:
     """True when a window can be opened (an X display answers). pyglet 2.1 needs X11."""
     if sys.platform.startswith("linux"):
@@ -112,6 +129,7 @@ class NaturaWindow:
         self.home = Camera(**{k: getattr(camera, k) for k in ("position", "yaw", "pitch", "fov")})
         imgui.create_context()
         imgui.get_io().set_ini_filename("")  # no imgui.ini in the user's folder
+        _load_font(imgui)
         self.ui = ModernglWindowRenderer(self.wnd)
         w = self.wnd
         w.key_event_func = self.on_key
@@ -319,7 +337,7 @@ class NaturaWindow:
         imgui = self.imgui
         imgui.set_next_window_pos((10, 10), imgui.Cond_.first_use_ever)
         imgui.set_next_window_size((380, 620), imgui.Cond_.first_use_ever)
-        imgui.begin(f"Natura — {self.scene.title}")
+        imgui.begin(f"Natura — {self.scene.title}###natura-panel")
         gpu = self.session.gpu
         imgui.text(f"{gpu.caps.describe()}")
         ms = np.array(self.frame_ms, dtype=np.float32)
@@ -357,7 +375,7 @@ class NaturaWindow:
             self.params.reset()
         titles = {e.name: e.title for e in self.scene.instances}
         titles.update({"time": "Time", "output": "Output"})
-        panel.params_panel(self.params, titles, skip={"time.hour"})
+        panel.params_panel(self.params, titles, skip={"time.hour"}, open_groups=set(titles))
         if self.scene.has_effect("sky") and imgui.collapsing_header("Sky keyframes (every 3 h)"):
             panel.keyframes_panel(self.scene.effect("sky").keyframes)
             if imgui.button("Save keyframes"):
