@@ -28,6 +28,7 @@ class FrameContext:
     main_light: Light | None = None
     wind: np.ndarray = field(default_factory=lambda: np.zeros(2))
     exposure: float = 1.0  # multiplies output.exposure (e.g. the atmosphere thesis's "pupil")
+    interactive: bool = False  # rendered in the window (frames follow each other)
     extra: dict[str, Any] = field(default_factory=dict)
 
     @property

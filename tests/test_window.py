@@ -56,7 +56,7 @@ def test_window_driven_like_a_user(tmp_path):
     assert r["escape_closes"]
 
 
-@pytest.mark.parametrize("scene", ["probe", "materials", "planet", "noise"])
+@pytest.mark.parametrize("scene", ["probe", "materials", "planet", "noise", "clouds"])
 def test_natura_window_runs_frames_and_exits(tmp_path, scene):
     proc = _under_xvfb([sys.executable, "-m", "app.cli", "window", scene, "--frames", "10", "--size", "320x180"],
                        cwd=tmp_path)

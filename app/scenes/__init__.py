@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+from ..effects.clouds import Clouds
+from ..effects.clouds_maritime import CloudsMaritime
 from ..effects.materials import Materials
 from ..effects.noiselab import NoiseLab
 from ..effects.planet import Planet
 from ..ui.keymap import ATMOSPHERE_THESIS
+from ..effects.preetham import Preetham
 from ..effects.probe import MirrorBall
 from ..effects.sky import Sky
 from ..errors import UsageError
@@ -57,8 +60,24 @@ class NoiseScene(Scene):
     effects = (NoiseLab,)
 
 
+class CloudsScene(Scene):
+    name = "clouds"
+    title = "Volumetric clouds"
+    description = ("model A: the cloud thesis's weather map, density gradients, ray and cone light march, Beer, "
+                   "powder and two-lobe HG with the silver lobe (spec/001); model B: the maritime thesis's "
+                   "clouds (spec/000 §1.6); over the day–night or the Preetham sky")
+    effects = (Sky, Preetham, Clouds, CloudsMaritime)
+    selectors = {
+        "scene.sky": ("day_night", {"day_night": "sky", "preetham": "preetham"},
+                      "background: the maritime thesis's day–night sky or Preetham's analytic sky (spec/001 §1.8)"),
+        "scene.model": ("a", {"a": "clouds", "b": "clouds_b"},
+                        "cloud model: a = the cloud thesis (spec/001), b = the maritime thesis (spec/000 §1.6)"),
+    }
+    camera = {"position": (0.0, 300.0, 0.0), "yaw": 30.0, "pitch": 25.0, "fov": 70.0, "far": 200000.0}
+
+
 SCENES: dict[str, type[Scene]] = {cls.name: cls for cls in (SkyScene, ProbeScene, MaterialsScene, PlanetScene,
-                                                            NoiseScene)}
+                                                            NoiseScene, CloudsScene)}
 
 
 def get_scene(name: str) -> type[Scene]:
@@ -66,3 +85,5 @@ def get_scene(name: str) -> type[Scene]:
         return SCENES[name]
     except KeyError:
         raise UsageError(f"unknown scene {name!r}: allowed {', '.join(SCENES)}") from None
+
+

@@ -37,10 +37,15 @@ class Scene:
     camera: ClassVar[dict] = {}
     background: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)  # linear radiance behind everything
     keymap: ClassVar = FLY  # the window's key bindings (app/ui/keymap.py)
+    #: switches between effects of the scene: parameter → (default, {choice: effect name}, doc).
+    #: An effect that is not chosen is skipped entirely, so it creates no GL resources.
+    selectors: ClassVar[dict] = {}
 
     @classmethod
     def declare_params(cls, library: ShaderLibrary) -> ParamSet:
         params = ParamSet(output_params())
+        for name, (default, choices, doc) in cls.selectors.items():
+            params.add(Param(name, default, doc=doc, kind="choice", choices=tuple(choices)))
         for effect in cls.effects:
             for p in effect.declare(library):
                 params.add(p)
@@ -57,6 +62,17 @@ class Scene:
         self.index = 0
         self.instances: list[Effect] = [cls(gpu, params, self) for cls in self.effects]
         self.last_frame: FrameContext | None = None
+        self.interactive = False  # the window sets it (e.g. clouds reproject only there)
+
+    def active(self, effect: Effect) -> bool:
+        """Whether an effect is chosen by the scene's selectors (always, when none names it)."""
+        for name, (_, choices, _) in self.selectors.items():
+            if effect.name in choices.values():
+                return choices[self.params[name]] == effect.name
+        return True
+
+    def active_instances(self) -> list[Effect]:
+        return [e for e in self.instances if self.active(e)]
 
     def effect(self, name: str) -> Effect:
         for e in self.instances:
@@ -70,9 +86,10 @@ class Scene:
     def frame(self, size: tuple[int, int], dt: float = 0.0) -> FrameContext:
         """Advance the simulation by ``dt`` seconds and return this frame's context."""
         self.time += dt
-        frame = FrameContext(size=tuple(size), camera=self.camera, time=self.time, dt=dt, index=self.index)
+        frame = FrameContext(size=tuple(size), camera=self.camera, time=self.time, dt=dt, index=self.index,
+                             interactive=self.interactive)
         self.index += 1
-        for effect in self.instances:
+        for effect in self.active_instances():
             effect.update(frame, dt)
         self.last_frame = frame
         return frame
@@ -85,12 +102,12 @@ class Scene:
     def render(self, frame: FrameContext, target) -> None:
         target.use()
         target.clear((*self.background, 1.0))
-        for effect in self.instances:
+        for effect in self.active_instances():
             effect.render(frame, target)
 
     def passes(self, frame: FrameContext, target) -> list[Pass]:
         out = []
-        for effect in self.instances:
+        for effect in self.active_instances():
             out.extend(effect.passes(frame, target))
         return out
 

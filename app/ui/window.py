@@ -125,6 +125,7 @@ class NaturaWindow:
         self.ctx = self.wnd.ctx
         self.session = open_session(scene_name, params, shader_root, ctx=self.ctx, camera=camera)
         self.scene = self.session.scene
+        self.scene.interactive = True
         self.params = params
         self.home = Camera(**{k: getattr(camera, k) for k in ("position", "yaw", "pitch", "fov")})
         imgui.create_context()

@@ -1,0 +1,413 @@
+"""Volumetric clouds, model A: the cloud thesis (spec/001, after Häggström 2018 / Schneider 2015).
+
+GPU side: ``glsl/clouds/cloud_model.glsl`` (density eqs. 4.4–4.16 with the errata of §1.10
+fixed, lighting eqs. 4.18–4.23, ray–box and ray–sphere), ``cloud_march.frag`` (view march,
+light march, the speed options; its header has the whole per-pixel algorithm) and
+``cloud_composite.frag``. Most tunables are ``// @param`` uniforms of ``cloud_march.frag``
+(``clouds.coverage``, ``clouds.steps``, ...); the ones that need the CPU are declared here.
+
+Per frame:
+
+* the shape, detail and weather textures come from :mod:`app.bakes` (cached on disk), created
+  on the first render under the owner ``clouds`` from the ``bake_*`` parameters, with bake
+  progress reported through ``gpu.progress`` like the noise lab;
+* the light: ``frame.main_light`` when a sky effect earlier in the scene set it (sun by day,
+  moon by night) and ``clouds.sun_from_sky`` is on, else ``clouds.sun_direction`` /
+  ``sun_color`` / ``sun_intensity``;
+* wind: the density field is translated rigidly by ``wind_speed · time · (wind_dir_x,
+  wind_dir_y)`` metres along world (x, z) — weather map and both noises alike, each offset
+  wrapped by its own tile on the CPU in float64 (so float32 never loses the fraction and
+  rendering at time T equals rendering at 0 with the field moved); speed 0 gives identical
+  frames (nothing else depends on time: the jitter is static per pixel);
+* pass 1 marches into the effect's own layer target (RGBA32F: premultiplied radiance,
+  transmittance), clipping each ray at the scene depth (``target.depth``), so clouds behind
+  opaque geometry drawn before this effect are hidden; pass 2 blends the layer over
+  ``target`` (``out = rgb + T · scene``; a missed pixel keeps the scene's value exactly).
+
+Presets (spec/001 §2, Ch. 6): ``resources/presets/clouds-<name>.toml`` for cumulus,
+stratocumulus, stratus and the lighting preset. Two ways to use them:
+
+* ``natura render clouds --preset resources/presets/clouds-stratus.toml`` (the generic
+  mechanism: the file's values, then ``--set``);
+* ``--set clouds.preset=stratus`` (or the panel's choice): the effect applies the file when the
+  choice changes. On the first frame, parameters that already differ from their defaults
+  (given with ``--set`` or a preset file) are kept, so ``--set clouds.preset=stratus --set
+  clouds.coverage=0.9`` keeps 0.9; a later change of the choice (in the window) applies the
+  whole file. ``custom`` applies nothing. Groups of the file that the scene does not have
+  (``[time]`` without a sky) are skipped. The default is ``cumulus``: the thesis paints its
+  weather maps by hand (white blobs on black, Figs. 6.1/6.4), and the cumulus file raises the
+  baked map's contrast (``bake_weather.contrast``) to get there; stratus uses a soft map.
+
+The thesis's "save image" control is the window's screenshot key (P / F12) and ``natura
+render``; its "resolution" is the window size or ``--size``.
+
+The numpy twins at the end of the module are what tests/test_clouds_a.py compares the shader
+helpers with.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+import moderngl
+import numpy as np
+
+from .. import RESOURCES, bakes
+from ..errors import ParamError
+from ..params import Param
+from .clouds_reprojection import REPROJECT, TemporalReprojection
+from .base import Effect, Pass, fullscreen
+
+CLOUD_MARCH = fullscreen("clouds/cloud_march")
+CLOUD_COMPOSITE = fullscreen("clouds/cloud_composite")
+REPROJECTION_MODES = ("window", "on", "off")
+
+PRESET_DIR = RESOURCES / "presets"
+PRESETS = ("custom", "cumulus", "stratocumulus", "stratus", "lighting")
+CONTAINERS = ("box", "spheres")
+SPEC = "spec/001"
+
+
+def preset_path(name: str) -> Path:
+    """``resources/presets/clouds-<name>.toml``."""
+    return PRESET_DIR / f"clouds-{name}.toml"
+
+
+class Clouds(Effect):
+    name = "clouds"
+    title = "Volumetric clouds (model A)"
+    spec = SPEC
+    programs = (CLOUD_MARCH, CLOUD_COMPOSITE, REPROJECT)
+    extra_groups = ("bake_shape", "bake_detail", "bake_weather")
+
+    @classmethod
+    def python_params(cls) -> list[Param]:
+        s = SPEC
+        return [
+            Param("clouds.preset", "cumulus", doc="apply resources/presets/clouds-<name>.toml when chosen "
+                  "(custom: nothing; the weather map's contrast is part of each preset)", kind="choice", choices=PRESETS, section=f"{s} §2"),
+            Param("clouds.reprojection", "window", doc="temporal reprojection: march 1 pixel of each 4×4 block per "
+                  "frame, reproject the rest (window = in the interactive window only; single renders are "
+                  "always full)", kind="choice", choices=REPROJECTION_MODES, section="issue 5 item 5"),
+            Param("clouds.container", "box", doc="Cubo o esfera: an axis-aligned box or the shell between two "
+                  "spheres", kind="choice", choices=CONTAINERS, section=f"{s} §1.5"),
+            Param("clouds.sun_from_sky", True, doc="take the light from the frame (a sky's main light) when there "
+                  "is one; off: clouds.sun_direction/colour/intensity", kind="bool", section=f"{s} §1.8"),
+            Param("clouds.sun_direction", (0.0, 0.5, -1.0), -1.0, 1.0, "direction toward the light when not "
+                  "from the sky (normalised; the zero vector is refused)", kind="vec3", step=0.01,
+                  section=f"{s} §1.8"),
+            Param("clouds.sun_color", (1.0, 0.96, 0.9), 0.0, 1.0, "light colour when not from the sky",
+                  kind="color", section=f"{s} §1.8"),
+            Param("clouds.sun_intensity", 1.0, 0.0, 100.0, "light intensity when not from the sky", step=0.05,
+                  section=f"{s} §1.8"),
+            Param("clouds.wind_speed", 10.0, 0.0, 500.0, "Velocidad: wind speed (0: identical frames)", step=0.5,
+                  unit="m/s", section=f"{s} §2"),
+            Param("clouds.wind_dir_x", 1.0, -1.0, 1.0, "Dirección eje X: wind direction along world x",
+                  step=0.01, section=f"{s} §2"),
+            Param("clouds.wind_dir_y", 0.0, -1.0, 1.0, "Dirección eje Y: wind direction along world z",
+                  step=0.01, section=f"{s} §2"),
+        ] + bakes.bake_params()
+
+    def __init__(self, gpu, params, scene=None):
+        super().__init__(gpu, params, scene)
+        self._baked: dict[str, tuple] = {}  # kind → (spec, Baked, texture)
+        self._layer = None
+        self._reprojection = None
+        self._old_compare = None
+        self._applied_preset: str | None = None
+        self.light_dir = np.array([0.0, 1.0, 0.0])
+        self.light_radiance = np.ones(3)
+        self.last_bakes: list = []
+
+    # -- presets ---------------------------------------------------------------------------
+    def apply_preset(self, name: str, keep_changed: bool = False) -> list[str]:
+        """Set the values of ``clouds-<name>.toml``; return the names set. ``keep_changed``:
+        leave parameters whose value differs from their default alone."""
+        if name == "custom":
+            return []
+        path = preset_path(name)
+        try:
+            data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise ParamError(f"clouds.preset={name!r}: {path} is missing: allowed {', '.join(PRESETS)}") from None
+        done = []
+        for group, table in data.items():
+            if not isinstance(table, dict):
+                raise ParamError(f"preset {str(path)!r}: {group!r} must be a table like [{group}]")
+            for key, value in table.items():
+                full = f"{group}.{key}"
+                if full not in self.params or full == "clouds.preset":
+                    continue
+                spec = self.params.spec(full)
+                if keep_changed and self.params[full] != spec.default:
+                    continue
+                self.params.set(full, value)
+                done.append(full)
+        return done
+
+    # -- CPU -------------------------------------------------------------------------------
+    def update(self, frame, dt: float) -> None:
+        chosen = self.params["clouds.preset"]
+        if chosen != self._applied_preset:
+            self.apply_preset(chosen, keep_changed=self._applied_preset is None)
+            self._applied_preset = chosen
+        p = self.params
+        light = getattr(frame, "main_light", None)
+        if p["clouds.sun_from_sky"] and light is not None:
+            direction = np.asarray(light.direction, dtype=np.float64)
+            radiance = np.asarray(light.radiance, dtype=np.float64)
+        else:
+            direction = np.asarray(p["clouds.sun_direction"], dtype=np.float64)
+            radiance = np.asarray(p["clouds.sun_color"], dtype=np.float64) * p["clouds.sun_intensity"]
+        norm = float(np.linalg.norm(direction))
+        if not math.isfinite(norm) or norm < 1e-9:
+            raise ParamError(f"clouds.sun_direction={tuple(direction)!r} is the zero vector: allowed any non-zero "
+                             "direction")
+        self.light_dir = direction / norm
+        self.light_radiance = radiance
+
+    def wind_offset_m(self, time: float) -> np.ndarray:
+        """How far the clouds have moved at ``time``, metres along world (x, z)."""
+        p = self.params
+        return p["clouds.wind_speed"] * float(time) * np.array([p["clouds.wind_dir_x"], p["clouds.wind_dir_y"]])
+
+    def uniforms(self, frame) -> dict:
+        """Everything the march needs besides the ``@param`` uniforms."""
+        p = self.params
+        base, top = p["clouds.base_height"], p["clouds.max_height"]
+        if top - base < 1.0:
+            raise ParamError(f"clouds.max_height={top:g} is not above clouds.base_height={base:g} by at least 1 m: "
+                             "allowed max_height ≥ base_height + 1")
+        wind = self.wind_offset_m(frame.time)
+        cam = frame.camera
+        return {
+            "uLightDir": tuple(float(v) for v in self.light_dir),
+            "uLightRadiance": tuple(float(v) for v in self.light_radiance),
+            "uDensityLength": density_length(base, top),
+            "uWeatherOffset": tuple(np.mod(wind / p["clouds.weather_scale"], 1.0)),
+            "uShapeOffset": tuple(np.mod(wind / p["clouds.shape_scale"], 1.0)),
+            "uDetailOffset": tuple(np.mod(wind / p["clouds.detail_scale"], 1.0)),
+            "uContainer": CONTAINERS.index(p["clouds.container"]),
+            "uCamNear": float(cam.near), "uCamFar": float(cam.far),
+        }
+
+    # -- textures --------------------------------------------------------------------------
+    def texture_for(self, kind: str):
+        cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake, "weather": bakes.WeatherBake}[kind]
+        spec = cls.from_values(self.params.values(cls.group))
+        held = self._baked.get(kind)
+        if held is None or held[0] != spec:
+            if held is not None:
+                self.gpu.free(held[2])
+            hook = getattr(self.gpu, "progress", None)
+            label = f"baking {kind} {spec.size}{'²' if kind == 'weather' else '³'}"
+            result = bakes.bake(self.gpu, spec, progress=(lambda f: hook(label, f)) if hook else None)
+            self.last_bakes.append(result)
+            self._baked[kind] = (spec, result, result.texture(self.gpu, self.name))
+        return self._baked[kind][2]
+
+    def layer_for(self, size):
+        """The cloud layer target (RGBA32F, no depth): rgb premultiplied radiance, a = T."""
+        size = tuple(int(v) for v in size)
+        if self._layer is None or self._layer.size != size:
+            if self._layer is not None:
+                self.gpu.free(self._layer)
+            self._layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4", depth=False)
+        return self._layer
+
+    @property
+    def layer(self):
+        """The last cloud layer (None before the first render)."""
+        return self._layer
+
+    # -- passes ----------------------------------------------------------------------------
+    def render_layer(self, frame, target) -> None:
+        mode = self.params["clouds.reprojection"]
+        if mode == "on" or (mode == "window" and frame.interactive):
+            if self._reprojection is None:
+                self._reprojection = TemporalReprojection(self.gpu, self.name)
+            p = self.params
+            resolve = {"uContainer": CONTAINERS.index(p["clouds.container"]), "uBaseHeight": p["clouds.base_height"],
+                       "uPlanetRadius": p["clouds.planet_radius"], "uCamNear": float(frame.camera.near),
+                       "uCamFar": float(frame.camera.far)}
+            depth = getattr(target, "depth", None)
+            self._layer = self._reprojection.step(frame, target.size, lambda t, sub: self.march(frame, target, t, sub),
+                                                  resolve, self._read_depth(depth))
+            self._restore_depth(depth)
+        else:
+            self.march(frame, target, self.layer_for(target.size), (-1, -1))
+
+    def _read_depth(self, depth):
+        if depth is not None:
+            self._old_compare = depth.compare_func
+            depth.compare_func = ""  # read depth values, not comparisons
+        return depth
+
+    def _restore_depth(self, depth):
+        if depth is not None:
+            depth.compare_func = self._old_compare
+
+    def march(self, frame, target, layer, block_sub) -> None:
+        """The view march into ``layer``: full size, or one pixel of each 4×4 block."""
+        ctx = self.gpu.ctx
+        prog = self.program(CLOUD_MARCH)
+        # all bakes first, then the bindings: a bake run now uses texture units of its own
+        textures = [self.texture_for(kind) for kind in ("weather", "shape", "detail")]
+        for unit, tex in enumerate(textures):
+            tex.use(unit)
+        depth = self._read_depth(getattr(target, "depth", None))
+        if depth is not None:
+            depth.use(3)
+        self.apply_params(prog)
+        prog.set_many(frame.camera_uniforms())
+        prog.set_many(self.uniforms(frame))
+        prog.set_many({"uWeather": 0, "uShape": 1, "uDetail": 2, "uSceneDepth": 3,
+                       "uHasSceneDepth": depth is not None, "uBlockSub": tuple(block_sub),
+                       "uFullSize": tuple(float(v) for v in target.size)})
+        layer.use()
+        ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+        try:
+            prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        finally:
+            self._restore_depth(depth)
+
+    def composite(self, target) -> None:
+        ctx = self.gpu.ctx
+        prog = self.program(CLOUD_COMPOSITE)
+        self._layer.color.use(4)
+        prog.set("uCloudLayer", 4)
+        target.use()  # depth test off and no depth writes: the depth stays the opaque scene's
+        ctx.disable(moderngl.DEPTH_TEST)
+        ctx.enable(moderngl.BLEND)
+        ctx.blend_func = (moderngl.ONE, moderngl.SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
+        try:
+            prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        finally:
+            ctx.blend_func = moderngl.DEFAULT_BLENDING
+            ctx.disable(moderngl.BLEND)
+
+    def render(self, frame, target) -> None:
+        self.render_layer(frame, target)
+        self.composite(target)
+
+    def passes(self, frame, target) -> list[Pass]:
+        return [Pass("clouds.march", lambda: self.render_layer(frame, target)),
+                Pass("clouds.composite", lambda: self.composite(target))]
+
+
+def density_length(base_height: float, max_height: float) -> float:
+    """L_ref, metres per unit of accumulated density: the thesis's light step 0.5 · thickness / 6."""
+    return 0.5 * (max_height - base_height) / 6.0
+
+
+# ---- numpy twins (tests/test_clouds_a.py compares the shader with these) ---------------------
+
+def sat(v):
+    return np.clip(v, 0.0, 1.0)
+
+
+def remap(v, ia, fa, in_, fn):
+    """(4.1)"""
+    return in_ + (np.asarray(v, dtype=np.float64) - ia) * (fn - in_) / (fa - ia)
+
+
+def height_fraction(h, base, top):
+    """(4.4)"""
+    return sat((np.asarray(h, dtype=np.float64) - base) / max(top - base, 1e-3))
+
+
+def round_bottom(pa):
+    """(4.6)"""
+    return sat(remap(pa, 0.0, 0.07, 0.0, 1.0))
+
+
+def round_top(pa, mca):
+    """(4.7), 0 where mc_a = 0."""
+    pa, mca = np.broadcast_arrays(np.asarray(pa, dtype=np.float64), np.asarray(mca, dtype=np.float64))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = sat(remap(pa, 0.2 * mca, mca, 1.0, 0.0))
+    return np.where(mca > 0.0, out, 0.0)
+
+
+def density_bottom(pa):
+    """(4.9)"""
+    return np.asarray(pa, dtype=np.float64) * sat(remap(pa, 0.0, 0.15, 0.0, 1.0))
+
+
+def density_top(pa):
+    """(4.10)"""
+    return sat(remap(pa, 0.9, 1.0, 1.0, 0.0))
+
+
+def height_density(pa, global_density, mcd):
+    """(4.11)"""
+    return global_density * density_bottom(pa) * density_top(pa) * mcd * 2.0
+
+
+def cloud_density(weather, shape, detail, pa, coverage, global_density, with_detail=True):
+    """(4.5)–(4.16) on arrays: weather (..., 4), shape (..., 4), detail (..., 3), pa (...)."""
+    w, s, d = (np.asarray(a, dtype=np.float64) for a in (weather, shape, detail))
+    pa = np.asarray(pa, dtype=np.float64)
+    nub = w[..., 0] + (w[..., 1] - w[..., 0]) * coverage  # (4.5)
+    altura = round_bottom(pa) * round_top(pa, w[..., 2])  # (4.8)
+    dns = height_density(pa, global_density, w[..., 3])  # (4.11)
+    worley = 0.625 * s[..., 1] + 0.25 * s[..., 2] + 0.125 * s[..., 3]
+    base = remap(s[..., 0], worley - 1.0, 1.0, 0.0, 1.0)  # (4.12)
+    c = coverage * nub
+    with np.errstate(divide="ignore", invalid="ignore"):
+        forma = np.where(c > 0.0, sat(remap(base * altura, 1.0 - c, 1.0, 0.0, 1.0)), 0.0)  # (4.13)
+    if not with_detail:
+        return forma * dns
+    db = 0.625 * d[..., 0] + 0.25 * d[..., 1] + 0.125 * d[..., 2]  # (4.14)
+    det = 0.35 * np.exp(-coverage * 0.75) * (db + ((1.0 - db) - db) * sat(pa * 5.0))  # (4.15), sign fixed
+    return np.where(forma > 0.0, sat(remap(forma, det, 1.0, 0.0, 1.0)), 0.0) * dns  # (4.16)
+
+
+def beer(b, ds):
+    """(4.18)"""
+    return np.exp(-np.asarray(b, dtype=np.float64) * ds)
+
+
+def henyey_greenstein(cos_theta, g):
+    """(4.19), 1/sr."""
+    c = np.clip(np.asarray(cos_theta, dtype=np.float64), -1.0, 1.0)
+    denom = np.maximum(1.0 + g * g - 2.0 * g * c, 1e-6)
+    return (1.0 - g * g) / (4.0 * math.pi * denom**1.5)
+
+
+def silver_lobe(cos_theta, intensity, exponent):
+    """(4.20) with Sat(cos θ)."""
+    return intensity * sat(np.asarray(cos_theta, dtype=np.float64)) ** exponent
+
+
+def in_out_scatter(cos_theta, in_s=0.2, out_s=0.1, ivo=0.5, cs_i=3.0, cs_e=2.0):
+    """(4.21); the defaults are the lighting preset of spec/001 §2."""
+    fwd = np.maximum(henyey_greenstein(cos_theta, in_s), silver_lobe(cos_theta, cs_i, cs_e))
+    return fwd + (henyey_greenstein(cos_theta, -out_s) - fwd) * ivo
+
+
+def powder(b, ds):
+    """(4.22)"""
+    return 2.0 * beer(b, ds) * (1.0 - beer(b, 2.0 * np.asarray(ds, dtype=np.float64)))
+
+
+def ray_box(origin, direction, box_min, box_max):
+    """Slab method (t_near, t_far), unclamped; hit when t_far ≥ max(t_near, 0)."""
+    o, d = np.asarray(origin, float), np.asarray(direction, float)
+    d = np.where(np.abs(d) < 1e-20, 1e-20, d)
+    t0, t1 = (np.asarray(box_min, float) - o) / d, (np.asarray(box_max, float) - o) / d
+    return float(np.minimum(t0, t1).max()), float(np.maximum(t0, t1).min())
+
+
+def ray_sphere(origin, direction, centre, radius):
+    """(t0, t1) with t0 ≤ t1, or None on a miss (unit direction)."""
+    oc = np.asarray(origin, float) - np.asarray(centre, float)
+    b = float(np.dot(oc, direction))
+    c = float(np.dot(oc, oc)) - radius * radius
+    disc = b * b - c
+    if disc < 0.0:
+        return None
+    s = math.sqrt(disc)
+    return -b - s, -b + s

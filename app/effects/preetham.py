@@ -1,0 +1,98 @@
+"""The Preetham analytic sky (spec/001 §1.8; Preetham, Shirley & Smits 1999) as a background.
+
+GPU side: ``glsl/preetham/preetham.glsl`` (the model and its ``@param`` uniforms: turbidity,
+exposure, sun disk) and ``sky.frag`` (one full-screen pass). CPU side: the numpy twin
+``app.sim.preetham`` (every GLSL function has a namesake there; the tests compare them per
+pixel).
+
+How a scene composes it — it is a drop-in alternative to the day–night :class:`~app.effects.sky.Sky`:
+
+* **order**: first among the effects that draw (it overwrites every pixel of the target);
+  after a ``Sky`` if the scene has one (then Preetham only replaces the picture, see below);
+  before anything that reads the background or the lights (clouds, water, fog);
+* **update()** reads ``frame.sun``: when an earlier effect (a day–night ``Sky``) already set it,
+  that sun is used and the frame is left as it is; otherwise the sun comes from this effect's
+  ``preetham.sun_elevation`` / ``preetham.sun_azimuth`` and ``update()`` fills ``frame.sun`` and
+  ``frame.main_light`` (colour = the sun's transmittance through the atmosphere, paper appendix
+  A.1 — yellow-white at noon, dim red at sunset; intensity = ``preetham.sun_intensity`` times the day–night sky's horizon fade,
+  so the light goes out smoothly 2° below the horizon) — the same interface as ``Sky``;
+* **render()** draws the sky into the target (linear radiance, alpha 1) with the depth test
+  off; it reads nothing from the target. A later cloud pass composites over this picture.
+
+Exposure: the model's luminance is in kcd/m²; the picture is ``preetham.exposure`` times the
+linear sRGB of it (see app/sim/preetham.py). The default 0.05 puts a clear noon zenith near the
+day–night sky's brightness.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import moderngl
+
+from ..params import Param
+from ..sim import preetham as model
+from ..sim.daynight import Light, light_fade
+from .base import Effect, fullscreen
+
+PREETHAM_SKY = fullscreen("preetham/sky")
+
+
+class Preetham(Effect):
+    name = "preetham"
+    title = "Preetham analytic sky"
+    spec = "spec/001"
+    programs = (PREETHAM_SKY,)
+
+    @classmethod
+    def python_params(cls) -> list[Param]:
+        s = "spec/001 §1.8"
+        return [
+            Param("preetham.sun_elevation", 45.0, -90.0, 90.0,
+                  "sun elevation when no day–night sky runs before this effect (Sky.js 'inclination')",
+                  step=0.1, unit="°", section=s),
+            Param("preetham.sun_azimuth", 180.0, 0.0, 360.0,
+                  "sun azimuth, 0 = north (−z), 90 = east (+x), when no day–night sky sets the sun",
+                  step=0.5, unit="°", section=s),
+            Param("preetham.sun_intensity", 1.0, 0.0, 20.0,
+                  "main-light intensity of the sun when this effect sets the lights", step=0.05, section=s),
+        ]
+
+    def __init__(self, gpu, params, scene=None):
+        super().__init__(gpu, params, scene)
+        self.sun_direction = model.sun_direction(45.0, 180.0)
+        self.owns_sun = True
+
+    # -- CPU -------------------------------------------------------------------------------
+    def own_sun_direction(self) -> np.ndarray:
+        return model.sun_direction(self.params["preetham.sun_elevation"], self.params["preetham.sun_azimuth"])
+
+    def update(self, frame, dt: float) -> None:
+        if frame.sun is not None:  # a day–night sky ran first: follow its sun
+            self.owns_sun = False
+            self.sun_direction = np.asarray(frame.sun.direction, dtype=np.float64)
+            return
+        self.owns_sun = True
+        sun = self.own_sun_direction()
+        self.sun_direction = sun
+        colour = tuple(float(c) for c in model.sun_transmittance(model.model_sun_zenith(sun),
+                                                                    self.params["preetham.turbidity"]))
+        light = Light("sun", sun, colour, self.params["preetham.sun_intensity"] * light_fade(sun[1]))
+        frame.sun = light
+        frame.main_light = light
+
+    # -- passes ----------------------------------------------------------------------------
+    def render(self, frame, target) -> None:
+        prog = self.program(PREETHAM_SKY)
+        self.apply_params(prog)
+        prog.set_many(frame.camera_uniforms())
+        prog.set("uSunDir", tuple(float(v) for v in self.sun_direction))
+        target.use()
+        self.gpu.ctx.disable(moderngl.DEPTH_TEST)
+        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+
+    def radiance_numpy(self, directions) -> np.ndarray:
+        """The twin of what :meth:`render` draws toward ``directions`` (…, 3)."""
+        p = self.params
+        return model.sky_radiance(directions, self.sun_direction, p["preetham.turbidity"], p["preetham.exposure"],
+                                  p["preetham.sun_disk"], p["preetham.sun_disk_radius"],
+                                  p["preetham.sun_disk_intensity"])

@@ -1,0 +1,71 @@
+#version 330 core
+// =============================================================================================
+// Cloud Model B, view march (spec/000 §1.6; thesis annex A.7/A.8, the fragment program of
+// "Clouds.shader"). The model (density, phase, light march) and its header are in
+// clouds_b_model.glsl.
+//
+// Output: rgb = lightEnergy · SunColor (the in-scattered light), a = transmittance. The effect
+// composites it over the scene with blending, out = background·a + rgb — the thesis's
+//   (A.8)  return float4(background·transmittance + lightEnergy·_SunColor, 1)
+// without reading the target it writes (see clouds_b_composite.frag).
+//
+// Depth: the thesis's depth = LinearEyeDepth(depth)·|viewVector| with viewVector.z = −1, i.e.
+// distance along the ray = eye depth / dot(rayDir, cameraForward). A depth of 1 (cleared) is the
+// far plane. Failure cases: rays that miss the box (dstInside = 0) and pixels whose geometry is
+// nearer than the box return (0, 1) exactly; the loop stops at uMaxSteps.
+// =============================================================================================
+#include "camera.glsl"
+#include "clouds_b_model.glsl"
+
+uniform sampler2D uSceneDepth;  // window-space depth of the opaque scene ([0, 1], 1 = far)
+uniform bool uHasDepth;         // false: the target has no depth buffer (everything is far)
+uniform float uCameraNear;
+uniform float uCameraFar;
+uniform vec3 uLightDir;         // unit vector toward the sun (the main light)
+uniform vec3 uLightColor;       // _SunColor: the main light's radiance
+
+in vec2 vUV;
+out vec4 fragColor;
+
+// Distance along the unit view ray to the opaque scene.
+float SceneDistance(vec3 rayDir) {
+    if (!uHasDepth) return 3.0e38;
+    float depth = texelFetch(uSceneDepth, ivec2(gl_FragCoord.xy), 0).r;
+    float zNdc = depth * 2.0 - 1.0;
+    float eyeDepth = 2.0 * uCameraNear * uCameraFar / (uCameraFar + uCameraNear - zNdc * (uCameraFar - uCameraNear));
+    return eyeDepth / max(dot(rayDir, uCamForward), 1.0e-6);
+}
+
+void main() {
+    vec3 rayOrigin = uCameraPos;
+    vec3 rayDir = CameraRayDirection(vUV);
+    float sceneDistance = SceneDistance(rayDir);
+
+    vec2 hit = CloudsBRayBoxDistance(uBoundsMin, uBoundsMax, rayOrigin, rayDir);
+    float dstToBox = hit.x;
+    float dstInsideBox = hit.y;
+    vec3 entryPoint = rayOrigin + rayDir * dstToBox;
+
+    float cosAngle = dot(rayDir, uLightDir);
+    float phaseValue = CloudsBPhase(cosAngle);
+
+    float stepSize = uFixedStepSize;
+    float dstLimit = min(sceneDistance - dstToBox, dstInsideBox);
+    float dstTravelled = 0.0;
+    float transmittance = 1.0;
+    float lightEnergy = 0.0;
+    for (int i = 0; i < uMaxSteps; i++) {
+        if (dstTravelled >= dstLimit) break;
+        vec3 rayPos = entryPoint + rayDir * dstTravelled;
+        float density = CloudsBSampleDensity(rayPos);
+        if (density > 0.0) {
+            float lightTransmittance = CloudsBLightAtPos(rayPos, uLightDir);
+            lightEnergy += density * stepSize * transmittance * lightTransmittance * phaseValue
+                         * CloudsBPowder(density);
+            transmittance *= CloudsBBeer(density * stepSize * uLightAbsortionCloud);
+            if (transmittance < 0.01) break;  // early exit (A.7)
+        }
+        dstTravelled += stepSize;
+    }
+    fragColor = vec4(lightEnergy * uLightColor, transmittance);
+}
