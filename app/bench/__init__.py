@@ -86,6 +86,10 @@ def scene_sweeps(scene: str):
         from . import planet
 
         return planet
+    if scene == "clouds":
+        from . import clouds
+
+        return clouds
     return None
 
 

@@ -113,7 +113,8 @@ class Clouds(Effect):
     def __init__(self, gpu, params, scene=None):
         super().__init__(gpu, params, scene)
         self._baked: dict[str, tuple] = {}  # kind → (spec, Baked, texture)
-        self._layer = None
+        self._layer = None  # what the composite reads: the marched target or the resolved history
+        self._own_layer = None  # the full-size march target (without reprojection)
         self._reprojection = None
         self._old_compare = None
         self._applied_preset: str | None = None
@@ -211,11 +212,11 @@ class Clouds(Effect):
     def layer_for(self, size):
         """The cloud layer target (RGBA32F, no depth): rgb premultiplied radiance, a = T."""
         size = tuple(int(v) for v in size)
-        if self._layer is None or self._layer.size != size:
-            if self._layer is not None:
-                self.gpu.free(self._layer)
-            self._layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4", depth=False)
-        return self._layer
+        if self._own_layer is None or self._own_layer.size != size:
+            if self._own_layer is not None:
+                self.gpu.free(self._own_layer)
+            self._own_layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4", depth=False)
+        return self._own_layer
 
     @property
     def layer(self):
@@ -234,10 +235,11 @@ class Clouds(Effect):
                        "uCamFar": float(frame.camera.far)}
             depth = getattr(target, "depth", None)
             self._layer = self._reprojection.step(frame, target.size, lambda t, sub: self.march(frame, target, t, sub),
-                                                  resolve, self._read_depth(depth))
+                                                  resolve, self._read_depth(depth), moving=p["clouds.wind_speed"] > 0)
             self._restore_depth(depth)
         else:
-            self.march(frame, target, self.layer_for(target.size), (-1, -1))
+            self._layer = self.layer_for(target.size)
+            self.march(frame, target, self._layer, (-1, -1))
 
     def _read_depth(self, depth):
         if depth is not None:

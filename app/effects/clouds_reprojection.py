@@ -64,10 +64,11 @@ class TemporalReprojection:
             self._low = self.gpu.target(self.owner, "cloud quarter march", low, dtype="f4", depth=False)
             self._prev_view_proj = None
 
-    def step(self, frame, size, march, resolve_uniforms: dict, scene_depth=None):
+    def step(self, frame, size, march, resolve_uniforms: dict, scene_depth=None, moving: bool = False):
         """One frame. ``march(target, block_sub)`` draws the cloud layer into ``target`` —
         ``block_sub`` (-1, -1) for a full-size march, else the 4×4-block pixel to march.
-        Returns the resolved full-size layer (an object with ``.color``)."""
+        ``moving``: the clouds themselves move (wind): clamp the history even if the camera is
+        still. Returns the resolved full-size layer (an object with ``.color``)."""
         self._ensure(size)
         cam = frame.camera
         view_proj = cam.projection_matrix(frame.aspect) @ cam.view_matrix()
@@ -97,6 +98,8 @@ class TemporalReprojection:
             "uFresh": 0, "uHistory": 1, "uHistoryDist": 2, "uSceneDepth": 3,
             "uHasSceneDepth": scene_depth is not None, "uSub": sub, "uFullFresh": not have_history,
             "uPrevViewProj": self._prev_view_proj if have_history else np.identity(4),
+            "uClampHistory": bool(moving or not have_history
+                                  or not np.allclose(view_proj, self._prev_view_proj, rtol=0.0, atol=1e-9)),
         })
         dst.fbo.use()
         import moderngl

@@ -9,8 +9,9 @@
 //     history is read there;
 //   * rejection: X behind the previous camera or off its screen, or the opaque scene's distance
 //     changed there (disocclusion) → the fresh 4×4-block sample, bilinearly upsampled;
-//   * the history is clamped to the range of the fresh 3×3 block neighbourhood, which bounds
-//     ghosting when clouds move or the light changes.
+//   * when the camera moved or the wind blows, the history is clamped to the range of the fresh
+//     3×3 block neighbourhood, which bounds ghosting; with everything still it is exact already,
+//     and clamping would only blur it (the clamp is measured by the bench).
 // Without a history (first frame, resize) the caller marches at full resolution instead.
 // =============================================================================================
 #include "camera.glsl"
@@ -28,6 +29,7 @@ uniform float uCamNear;
 uniform float uCamFar;
 uniform ivec2 uSub;               // the pixel of each block marched this frame
 uniform bool uFullFresh;          // uFresh is a full-size march (no history yet): copy it
+uniform bool uClampHistory;       // the camera moved or the clouds move: clamp the history
 uniform mat4 uPrevViewProj;       // previous frame: projection × view (world space)
 uniform int uContainer;           // 0 box, 1 spherical shell
 uniform float uBaseHeight;
@@ -88,6 +90,10 @@ void main() {
         return;
     }
     vec4 history = texture(uHistory, uvPrev);
+    if (!uClampHistory) {
+        outLayer = history;
+        return;
+    }
     ivec2 size = textureSize(uFresh, 0);
     vec4 lo = vec4(1.0e30), hi = vec4(-1.0e30);
     for (int y = -1; y <= 1; ++y) {

@@ -1,0 +1,186 @@
+"""Speed against accuracy for the volumetric clouds (issue 5, item 6).
+
+* **Table 6.1 of the cloud thesis** (spec/001 §3): the three presets × 256², 512², 800² and
+  1920×1080 (``--sizes`` scales it for slow renderers), ms per frame for the thesis's marcher
+  (uniform 64 steps, 6 light samples, naive sum, no reprojection) and for the speed work
+  (adaptive steps, energy-conserving steps, temporal reprojection in steady state — distance-
+  dependent steps are measured alone: they cost more error than they save), with the speed-up,
+  and which preset is slowest.
+* **Time against error**: the cloud layer (premultiplied radiance and transmittance) against
+  the same model at 512 steps without jitter or reprojection, for the view steps, the light
+  samples, each speed option alone, and their combination; "equal error" compares the cheapest
+  configuration whose error is at most the thesis marcher's with the thesis marcher.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..gpu.timing import time_call
+
+PRESETS = ("cumulus", "stratocumulus", "stratus")
+DEFAULT_SIZES = ((256, 256), (512, 512), (800, 800), (1920, 1080))
+THESIS = {"clouds.steps": 64, "clouds.light_steps": 6, "clouds.energy_conserving": False,
+          "clouds.adaptive_steps": False, "clouds.distance_steps": False, "clouds.reprojection": "off",
+          "clouds.jitter": True}
+SPEED = {"clouds.adaptive_steps": True, "clouds.energy_conserving": True, "clouds.reprojection": "on"}
+REFERENCE = {"clouds.steps": 512, "clouds.jitter": False, "clouds.reprojection": "off",
+             "clouds.adaptive_steps": False, "clouds.distance_steps": False, "clouds.energy_conserving": True}
+
+
+def _apply(params, values: dict) -> None:
+    for k, v in values.items():
+        params.set(k, v)
+
+
+def _layer(session, size) -> np.ndarray:
+    eff = session.scene.effect("clouds")
+    w, h = size
+    return np.frombuffer(eff._layer.color.read(), dtype="f4").reshape(h, w, 4).astype(np.float64)
+
+
+def _steady_frame_ms(session, size, warmup: int, repeat: int) -> tuple[float, np.ndarray]:
+    """ms per frame once reprojection (if on) has a full history; and the layer after it."""
+    gpu = session.gpu
+    target = gpu.target("bench", "clouds frame", size)
+    try:
+        frame = session.scene.frame(size)
+        for _ in range(17 if session.params["clouds.reprojection"] != "off" else 1):
+            session.scene.render(frame, target)  # fill the history (static camera, wind 0)
+        ms = time_call(gpu.ctx, "frame", lambda: session.scene.render(frame, target), warmup, repeat).median_ms
+        return ms, _layer(session, size)
+    finally:
+        gpu.free(target)
+
+
+def table(session, sizes=DEFAULT_SIZES, warmup: int = 1, repeat: int = 3) -> dict:
+    p = session.params
+    session.scene.interactive = True
+    rows = []
+    for preset in PRESETS:
+        p.set("clouds.preset", preset)
+        for size in sizes:
+            _apply(p, THESIS)
+            thesis_ms, _ = _steady_frame_ms(session, tuple(size), warmup, repeat)
+            _apply(p, SPEED)
+            fast_ms, _ = _steady_frame_ms(session, tuple(size), warmup, repeat)
+            rows.append({"preset": preset, "size": list(size), "thesis_ms": thesis_ms, "speed_work_ms": fast_ms,
+                         "speedup": thesis_ms / fast_ms})
+    slowest = {}
+    for size in sizes:
+        cell = [r for r in rows if r["size"] == list(size)]
+        slowest[f"{size[0]}x{size[1]}"] = {
+            "thesis": max(cell, key=lambda r: r["thesis_ms"])["preset"],
+            "speed_work": max(cell, key=lambda r: r["speed_work_ms"])["preset"],
+        }
+    return {"rows": rows, "slowest": slowest}
+
+
+def accuracy(session, size=(160, 90), warmup: int = 1, repeat: int = 3, preset: str = "cumulus") -> dict:
+    p = session.params
+    session.scene.interactive = True
+    p.set("clouds.preset", preset)
+    p.set("clouds.wind_speed", 0.0)
+    _apply(p, REFERENCE)
+    _, ref = _steady_frame_ms(session, size, 0, 1)
+    rows = []
+
+    def measure(label, values):
+        _apply(p, THESIS)
+        _apply(p, values)
+        ms, layer = _steady_frame_ms(session, size, warmup, repeat)
+        d = np.abs(layer - ref).max(axis=-1)
+        rows.append({"config": label, "ms": ms, "mean": float(d.mean()), "p99": float(np.percentile(d, 99)),
+                     **{k.split(".")[1]: v for k, v in values.items()}})
+
+    for n in (16, 32, 64, 128, 256):
+        measure(f"uniform {n} steps (thesis marcher)", {"clouds.steps": n})
+    for n in (2, 4, 6, 10):
+        measure(f"light samples {n}", {"clouds.light_steps": n})
+    measure("energy-conserving", {"clouds.energy_conserving": True})
+    measure("distance steps", {"clouds.distance_steps": True})
+    measure("adaptive steps", {"clouds.adaptive_steps": True})
+    measure("reprojection", {"clouds.reprojection": "on"})
+    for n in (24, 32, 40, 48, 64, 96, 128):
+        measure(f"all speed work, {n} steps", {**SPEED, "clouds.steps": n})
+    thesis = next(r for r in rows if r["config"] == "uniform 64 steps (thesis marcher)")
+    candidates = [r for r in rows if r["config"].startswith("all speed work") and r["mean"] <= thesis["mean"]]
+    best = min(candidates, key=lambda r: r["ms"]) if candidates else None
+    return {"size": list(size), "preset": preset, "rows": rows,
+            "equal_error": {"thesis": thesis["config"], "thesis_ms": thesis["ms"], "thesis_mean": thesis["mean"],
+                            "best": best["config"] if best else None,
+                            "best_ms": best["ms"] if best else None,
+                            "speedup": (thesis["ms"] / best["ms"]) if best else None}}
+
+
+def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None) -> dict:
+    saved = session.params.values()
+    try:
+        out = {"accuracy": accuracy(session, warmup=warmup, repeat=repeat),
+               "table": table(session, sizes or DEFAULT_SIZES, warmup, repeat)}
+    finally:
+        for k, v in saved.items():
+            session.params.set(k, v)
+        session.scene.interactive = False
+    return out
+
+
+def chart(report: dict, path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    s = report["sweep"]
+    fig, axes = plt.subplots(1, 2, figsize=(14, 5))
+    ax = axes[0]
+    groups = {"uniform": "o-", "light samples": "s-", "all speed work": "D-"}
+    for prefix, style in groups.items():
+        rows = [r for r in s["accuracy"]["rows"] if r["config"].startswith(prefix)]
+        ax.plot([r["ms"] for r in rows], [max(r["mean"], 1e-6) for r in rows], style, label=prefix)
+        for r in rows:
+            ax.annotate(r["config"].split(",")[-1].replace("steps (thesis marcher)", "").strip(),
+                        (r["ms"], max(r["mean"], 1e-6)), fontsize=7, textcoords="offset points", xytext=(3, 3))
+    for r in s["accuracy"]["rows"]:
+        if not any(r["config"].startswith(p) for p in groups):
+            ax.plot([r["ms"]], [max(r["mean"], 1e-6)], "^", label=r["config"])
+    ax.set_yscale("log")
+    ax.set_xlabel(f"ms per frame at {s['accuracy']['size'][0]}×{s['accuracy']['size'][1]}")
+    ax.set_ylabel("mean |layer − 512-step reference|")
+    eq = s["accuracy"]["equal_error"]
+    ax.set_title(f"time against error (equal-error speed-up ×{eq['speedup']:.1f})" if eq["speedup"] else
+                 "time against error")
+    ax.legend(fontsize=7)
+    ax = axes[1]
+    rows = s["table"]["rows"]
+    labels = [f"{r['preset']}\n{r['size'][0]}×{r['size'][1]}" for r in rows]
+    x = np.arange(len(rows))
+    ax.bar(x - 0.2, [r["thesis_ms"] for r in rows], 0.4, label="thesis marcher (64 uniform steps)")
+    ax.bar(x + 0.2, [r["speed_work_ms"] for r in rows], 0.4, label="speed work")
+    ax.set_xticks(x, labels, fontsize=6, rotation=60)
+    ax.set_ylabel("ms per frame")
+    ax.set_yscale("log")
+    ax.set_title("the cloud thesis's Table 6.1 layout")
+    ax.legend(fontsize=8)
+    fig.suptitle(f"natura bench clouds — {report['renderer']}", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def summary(report: dict) -> str:
+    s = report["sweep"]
+    lines = ["preset         size        thesis ms   speed-work ms   speed-up"]
+    for r in s["table"]["rows"]:
+        lines.append(f"{r['preset']:14s} {r['size'][0]}x{r['size'][1]:<7d} {r['thesis_ms']:9.1f} "
+                     f"{r['speed_work_ms']:14.1f}   ×{r['speedup']:.2f}")
+    for size, who in s["table"]["slowest"].items():
+        lines.append(f"slowest at {size}: {who['thesis']} (thesis marcher), {who['speed_work']} (speed work)")
+    lines.append("config                                   ms     error mean / p99")
+    for r in s["accuracy"]["rows"]:
+        lines.append(f"{r['config']:38s} {r['ms']:8.2f}   {r['mean']:.2e} / {r['p99']:.2e}")
+    eq = s["accuracy"]["equal_error"]
+    lines.append(f"equal error: {eq['thesis']} {eq['thesis_ms']:.2f} ms (mean {eq['thesis_mean']:.2e}) vs "
+                 f"{eq['best']} {eq['best_ms'] if eq['best_ms'] is None else round(eq['best_ms'], 2)} ms → "
+                 f"speed-up {eq['speedup'] if eq['speedup'] is None else round(eq['speedup'], 2)}")
+    return "\n".join(lines)
