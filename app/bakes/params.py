@@ -113,7 +113,8 @@ class _BakeSpec:
         return out
 
     def uniforms(self) -> dict[str, Any]:
-        raise NotImplementedError
+        """The bake shader's uniforms (each kind defines its own)."""
+        raise TypeError(f"{type(self).__name__} is abstract: use ShapeBake, DetailBake or WeatherBake")
 
 
 @dataclass(frozen=True)
