@@ -107,6 +107,9 @@ def _session_inputs(args, scene_name: str):
     cls = get_scene(scene_name)
     params = scene_params(scene_name, args.shaders, args.sets, args.preset)
     if args.time is not None:
+        if "time.hour" not in params:
+            raise UsageError(f"--time: scene {scene_name!r} has no time of day: allowed with the scenes that have a "
+                             "day–night sky (see natura scenes)")
         if not 0.0 <= args.time <= 24.0:
             raise UsageError(f"--time {args.time:g} is out of range: allowed hours in [0, 24]")
         params.set("time.hour", args.time % 24.0)

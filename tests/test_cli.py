@@ -272,3 +272,10 @@ def test_bench_writes_json(tmp_path):
     line = usage_error(run("bench", "sky", "--size", SMALL, "--out", "b.json", cwd=tmp_path))
     assert "b.json" in line and "--force" in line
     assert (tmp_path / "b.json").read_bytes() == before
+
+
+def test_time_on_a_scene_without_a_sky_is_refused(tmp_path):
+    proc = run("render", "planet", "--time", "5", "--size", "32x18", "--out", str(tmp_path / "p.png"), cwd=tmp_path)
+    assert proc.returncode == 2
+    assert len(proc.stderr.strip().splitlines()) == 1 and "--time" in proc.stderr and "planet" in proc.stderr
+    assert not (tmp_path / "p.png").exists()
