@@ -1,7 +1,8 @@
 """Regenerate the README's pictures, rendered headless exactly as `natura render` does:
 docs/sky.png (the `sky` scene at four hours), docs/materials.png (wood, marble and granite
 with the thesis's value noise and with Perlin's gradient noise) and docs/planet.png (the
-atmosphere from the ground and from space).
+atmosphere from the ground and from space) and docs/clouds.png (the three cloud presets and the
+maritime model over the Preetham sky).
 
     python tools/readme_images.py [--force]
 """
@@ -53,6 +54,11 @@ def main(argv=None) -> int:
              {"position": (0.0, 400000.0, 60.0), "pitch": -35.0}),
     ]
     grids["planet.png"] = np.concatenate([np.concatenate(planet[:2], axis=1), np.concatenate(planet[2:], axis=1)],
+                                         axis=0)
+    clouds = [shot("clouds", ["time.hour=10", f"clouds.preset={preset}"], (w, h))
+              for preset in ("cumulus", "stratocumulus", "stratus")]
+    clouds.append(shot("clouds", ["scene.model=b", "scene.sky=preetham"], (w, h)))
+    grids["clouds.png"] = np.concatenate([np.concatenate(clouds[:2], axis=1), np.concatenate(clouds[2:], axis=1)],
                                          axis=0)
     for name, grid in grids.items():
         out = PROJECT_ROOT / "docs" / name
