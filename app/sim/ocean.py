@@ -1,0 +1,645 @@
+"""Ocean waves on the CPU — the numpy reference of spec/000-maritime.md §1.1–1.3 (thesis chapter 2
+and §3 buoyancy queries; FFT ocean after Tessendorf 2001 and Horvath 2015, as in gasgiant's
+FFT-Ocean which the thesis adopted).
+
+Frame: right-handed, y up; the sea surface is the (x, z) plane.  Grids are indexed ``[iz, ix]``
+with sample j at ``j·L/N`` (periodic, period L).  Units: metres, seconds, radians; wavenumbers in
+rad/m, angular frequencies in rad/s; ``g`` = 9.81 m/s².
+
+What each function implements
+-----------------------------
+* ``sine_wave_height`` / ``sine_wave_normal`` — eqs. 2.1–2.4: P = (x, A·sin(kx + ωt), z),
+  T = (1, kA·cos(kx+ωt), 0), B = ẑ, N = (−kA·cos(kx+ωt), 1, 0) normalised.
+* ``gerstner`` — eqs. 2.5–2.8 summed over waves: A = s/k, f = k·(D·(x,z)) − ω·t (+ phase);
+  P = (x + Σ D_x·A·cos f, Σ A·sin f, z + Σ D_z·A·cos f); T (2.7), B (2.8); the normal is
+  **B × T** (eq. 2.4 prints T × B, which points down in a right-handed y-up frame — erratum);
+  the horizontal Jacobian det ∂(X,Z)/∂(x,z) (= 1 − s·sin f for one wave: loops where < 0).
+  ``check_gerstner_steepness`` enforces 0 ≤ s ≤ 1 per wave (the thesis's bound; for several
+  waves loops are only excluded when Σ s ≤ 1 — the Jacobian shows it).
+* ``dispersion_omega`` — ω² = g·k·tanh(k·d) (the thesis prints *tan*: erratum), deep-water
+  limit ω² = g·k for d = ∞; ``dispersion_domega_dk`` (group speed), ``phase_speed`` = ω/k.
+* Frequency spectra S(ω) [m²·s/rad]: ``pierson_moskowitz`` (α = 8.1e-3, ω_p = 0.877·g/U, U at
+  19.5 m: Hs = 0.209·U²/g), ``jonswap`` (Hasselmann et al. 1973 with fetch:
+  α = 0.076·(U²/(F·g))^0.22, ω_p = 22·(g²/(U·F))^(1/3), σ = 0.07/0.09, peak enhancement γ),
+  ``tma_correction`` (Kitaigorodskii depth factor in Thompson & Vincent's piecewise form, as
+  Horvath 2015 and gasgiant's FFT-Ocean use it; applied to JONSWAP and PM alike).
+* Directional spreading D(θ, ω), ∫D dθ = 1 over (−π, π]: ``spreading_hasselmann`` — the
+  documented choice: Longuet-Higgins cos^{2s}(θ/2) with Hasselmann et al. 1980's s(ω/ω_p)
+  (s ≈ 7–10 at the peak, falling above it: long waves follow the wind, short ones spread, as the
+  thesis says).  ``spreading_cos2s`` is the same with a fixed s.
+* ``phillips`` — Tessendorf's Phillips spectrum as a wavenumber spectrum, scaled physically:
+  Ψ(k) = ½·α·k⁻⁴·exp(−1/(k·L_w)²)·cos²θ·(1 or ``against_wind`` behind the wind)/norm,
+  L_w = U²/g (its k⁻³ tail then equals Pierson–Moskowitz's).
+* ``directional_spectrum`` — any of the three as a wavenumber spectrum Ψ(k_x, k_z) [m⁴],
+  ∫Ψ d²k = variance of η: Ψ = S(ω(k))·D(θ, ω)·(dω/dk)/k (the Jacobian factor of eq. 2.10,
+  with the finite-depth dispersion), times TMA when ``depth`` is finite, times the short-wave
+  fade exp(−(k·ℓ)²) (Tessendorf's small-wave suppression; ℓ = ``short_wave_fade``, 0 = off).
+* ``initial_amplitudes`` — eq. 2.10, seeded: h₀(k) = (ξ₁ + iξ₂)/√2 · sqrt(½·Ψ(−k)·Δk²).
+  Two deliberate differences from the printed eq. 2.10: (1) the factor is ½, not 2 — with the
+  Hermitian pair below, var η = Σ(|h₀(k)|² + |h₀(−k)|²) must equal ∫Ψ d²k; with the printed 2
+  Hs would come out twice too large (the Hs test checks this); (2) Ψ is sampled at −k because
+  with η = Σ h·e^{ik·x} the term h₀(k)·e^{iωt} travels towards −k̂ — so the energy travels
+  down-wind.  The k = 0 mode and the Nyquist row/column are zero (so i·k·h stays Hermitian).
+* ``evolve_amplitudes`` — eq. 2.11 with the conjugate the thesis dropped:
+  h(k,t) = h₀(k)·e^{iωt} + conj(h₀(−k))·e^{−iωt} (Tessendorf eq. 26): the field is real.
+* ``synthesize`` — inverse FFT (numpy.fft, η = N²·ifft2(h)) of the height, the choppy
+  displacement D = Σ i·(k/|k|)·h·e^{ik·x} (thesis §1.1(d), displaced point x + λ·D — crests
+  sharpen), the slopes ∂η/∂x = Σ i·k_x·h·e^{ik·x} (spectral derivatives), ∂D_x/∂x, ∂D_z/∂z,
+  ∂D_x/∂z, and the Jacobian J = (1 + λ·D_x,x)(1 + λ·D_z,z) − λ²·D_x,z² that drives foam.
+* ``surface_normals`` — the thesis's slope formula s = (η_,x/(1 + λD_x,x), η_,z/(1 + λD_z,z)),
+  n = (−s_x, 1, −s_z)/‖·‖.  Guard: the denominators are clamped to ≥ 1e-3 (they reach 0 where
+  the surface folds, J ≤ 0; the normal is then steep but finite and still has n.y > 0).
+* ``foam_step`` — foam accumulates where J < threshold and decays exponentially elsewhere.
+* ``cascade_bands`` / ``FFTOcean`` — 1–4 cascades (defaults N = 256, L = 250 / 17 / 5 m, the
+  upstream's).  Band split: cascade i keeps |k| ∈ [k_i, k_{i+1}) with k_0 = 0,
+  k_i = ``boundary_factor``·2π/L_i (default 6: the finest waves a cascade leaves to the next
+  one are six of that cascade's fundamentals, so its tiling needs six wavelengths to repeat)
+  and the last upper edge the last cascade's Nyquist π·N/L.  Every edge must lie inside the
+  range the cascade can represent (ParamError otherwise), so bands never overlap and never
+  leave a gap.  Defaults: [0, 2.218), [2.218, 7.540), [7.540, 160.8] rad/m.
+* ``sample_periodic_bilinear`` — bilinear lookup of periodic grids at world points.
+* ``invert_horizontal_displacement`` — spec/000 §1.3 / fig. 3.2 (gasgiant's GetWaterHeight):
+  x₀ ← x_q − D_xz(x₀), starting from x₀ = x_q; 3 corrections plus a final read by default;
+  returns the residual |x_q − (x₀ + D_xz(x₀))| after each step.  ``FFTOcean.water_height``
+  gives height, displacement and normal at world points.
+* ``floating_points_pose`` — fig. 3.1 read as edge vectors on the displaced surface (spec
+  inference): Nᵢ = (P(pᵢ+ẑ) − P(pᵢ)) × (P(pᵢ+x̂) − P(pᵢ)) (upward), averaged and normalised;
+  displacement averaged over the points.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from app.errors import ParamError
+
+G = 9.81  # m/s²
+SPECTRA = ("phillips", "pierson_moskowitz", "jonswap")
+
+
+# ---------------------------------------------------------------------------------------------
+# Sine wave (eqs. 2.1–2.4)
+# ---------------------------------------------------------------------------------------------
+
+
+def sine_wave_height(x, t: float, amplitude: float, wavenumber: float, omega: float):
+    """Eq. 2.1: y = A·sin(kx + ωt) [m] at x [m], time t [s]."""
+    return amplitude * np.sin(wavenumber * np.asarray(x, dtype=float) + omega * t)
+
+
+def sine_wave_normal(x, t: float, amplitude: float, wavenumber: float, omega: float):
+    """Eq. 2.2–2.4: unit normal (−kA·cos(kx+ωt), 1, 0)/‖·‖, shape (..., 3)."""
+    x = np.asarray(x, dtype=float)
+    sx = amplitude * wavenumber * np.cos(wavenumber * x + omega * t)
+    n = np.stack([-sx, np.ones_like(sx), np.zeros_like(sx)], axis=-1)
+    return n / np.linalg.norm(n, axis=-1, keepdims=True)
+
+
+# ---------------------------------------------------------------------------------------------
+# Dispersion
+# ---------------------------------------------------------------------------------------------
+
+
+def _tanh_kd(k, depth):
+    if math.isinf(depth):
+        return np.ones_like(k)
+    if depth <= 0:
+        raise ParamError(f"ocean.depth: {depth} m is outside the allowed range (0, inf]")
+    return np.tanh(k * depth)
+
+
+def dispersion_omega(k, depth: float = math.inf, g: float = G):
+    """ω(k) = sqrt(g·k·tanh(k·d)) [rad/s] (tanh, not the thesis's tan); d = inf → sqrt(g·k)."""
+    k = np.abs(np.asarray(k, dtype=float))
+    return np.sqrt(g * k * _tanh_kd(k, depth))
+
+
+def dispersion_domega_dk(k, depth: float = math.inf, g: float = G):
+    """Group speed dω/dk [m/s] = g·(tanh(kd) + kd·sech²(kd))/(2ω); at k = 0: sqrt(g·d) or inf."""
+    k = np.abs(np.asarray(k, dtype=float))
+    th = _tanh_kd(k, depth)
+    kd_sech2 = np.zeros_like(k) if math.isinf(depth) else k * depth * (1.0 - th * th)
+    w = np.sqrt(g * k * th)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cg = g * (th + kd_sech2) / (2.0 * w)
+    k0 = math.inf if math.isinf(depth) else math.sqrt(g * depth)
+    return np.where(k > 0, cg, k0)
+
+
+def phase_speed(k, depth: float = math.inf, g: float = G):
+    """Phase speed c = ω/k [m/s]: sqrt(g/k) in deep water, sqrt(g/k·tanh(kd)) in general."""
+    k = np.abs(np.asarray(k, dtype=float))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = dispersion_omega(k, depth, g) / k
+    k0 = math.inf if math.isinf(depth) else math.sqrt(g * depth)
+    return np.where(k > 0, c, k0)
+
+
+# ---------------------------------------------------------------------------------------------
+# Gerstner waves (eqs. 2.5–2.8)
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class GerstnerWave:
+    """One Gerstner wave: ``direction`` (D_x, D_z) (normalised on use), ``wavelength`` λ [m] > 0,
+    ``steepness`` s = k·A in [0, 1], ``phase`` [rad]."""
+
+    direction: tuple[float, float]
+    wavelength: float
+    steepness: float
+    phase: float = 0.0
+
+
+@dataclass
+class GerstnerSurface:
+    position: np.ndarray  # (..., 3) displaced point, eq. 2.5
+    tangent: np.ndarray  # (..., 3) ∂P/∂x, eq. 2.7
+    binormal: np.ndarray  # (..., 3) ∂P/∂z, eq. 2.8
+    normal: np.ndarray  # (..., 3) unit B × T (upward)
+    jacobian: np.ndarray  # (...,) det ∂(X, Z)/∂(x, z); < 0 → loops
+
+
+def check_gerstner_steepness(waves: Sequence[GerstnerWave]) -> None:
+    """Raise a one-line ParamError for the first wave outside 0 ≤ s ≤ 1 or with λ ≤ 0, D = 0."""
+    for i, w in enumerate(waves):
+        if not (0.0 <= w.steepness <= 1.0):
+            raise ParamError(
+                f"ocean.gerstner wave {i}: steepness {w.steepness:g} is outside the allowed "
+                "range [0, 1] (s > 1 makes loops at the crests)"
+            )
+        if not w.wavelength > 0:
+            raise ParamError(
+                f"ocean.gerstner wave {i}: wavelength {w.wavelength:g} m is outside the allowed "
+                "range (0, inf)"
+            )
+        if math.hypot(*w.direction) == 0:
+            raise ParamError(f"ocean.gerstner wave {i}: direction must be a non-zero 2-vector")
+
+
+def gerstner(x, z, t: float, waves: Sequence[GerstnerWave], *, depth: float = math.inf,
+             g: float = G, check: bool = True) -> GerstnerSurface:
+    """Sum of Gerstner waves at rest positions (x, z) [m], time t [s] (eqs. 2.5, 2.7, 2.8).
+
+    ω comes from ``dispersion_omega`` (deep water: c = sqrt(g/k), as the thesis).  ``check=False``
+    skips the steepness bound — only for tests and stability sweeps that need loops (s > 1).
+    """
+    if check:
+        check_gerstner_steepness(waves)
+    x = np.asarray(x, dtype=float)
+    z = np.asarray(z, dtype=float)
+    d = np.array([w.direction for w in waves], dtype=float).reshape(-1, 2)
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    k = 2.0 * np.pi / np.array([w.wavelength for w in waves], dtype=float)
+    s = np.array([w.steepness for w in waves], dtype=float)
+    ph = np.array([w.phase for w in waves], dtype=float)
+    a = s / k
+    om = dispersion_omega(k, depth, g)
+    dx, dz = d[:, 0], d[:, 1]
+    f = k * (dx * x[..., None] + dz * z[..., None]) - om * t + ph
+    sf, cf = np.sin(f), np.cos(f)
+    px = x + np.sum(dx * a * cf, axis=-1)
+    py = np.sum(a * sf, axis=-1)
+    pz = z + np.sum(dz * a * cf, axis=-1)
+    txx = 1.0 - np.sum(dx * dx * s * sf, axis=-1)
+    txy = np.sum(dx * s * cf, axis=-1)
+    xz = -np.sum(dx * dz * s * sf, axis=-1)
+    bzy = np.sum(dz * s * cf, axis=-1)
+    bzz = 1.0 - np.sum(dz * dz * s * sf, axis=-1)
+    tangent = np.stack([txx, txy, xz], axis=-1)
+    binormal = np.stack([xz, bzy, bzz], axis=-1)
+    n = np.cross(binormal, tangent)
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    jac = txx * bzz - xz * xz
+    return GerstnerSurface(np.stack([px, py, pz], axis=-1), tangent, binormal, n, jac)
+
+
+# ---------------------------------------------------------------------------------------------
+# Spectra
+# ---------------------------------------------------------------------------------------------
+
+
+def pierson_moskowitz_peak(wind_speed: float, g: float = G) -> float:
+    """ω_p = 0.877·g/U [rad/s] (= (0.74·4/5)^¼·g/U, U at 19.5 m)."""
+    return (0.74 * 0.8) ** 0.25 * g / wind_speed
+
+
+def pierson_moskowitz(omega, wind_speed: float, g: float = G):
+    """S(ω) = α·g²·ω⁻⁵·exp(−5/4·(ω_p/ω)⁴), α = 8.1e-3 [m²·s/rad]; U ≤ 0 → 0."""
+    omega = np.asarray(omega, dtype=float)
+    if wind_speed <= 0:
+        return np.zeros_like(omega)
+    wp = pierson_moskowitz_peak(wind_speed, g)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        s = 8.1e-3 * g * g / omega**5 * np.exp(-1.25 * (wp / omega) ** 4)
+    return np.where(omega > 0, s, 0.0)
+
+
+def jonswap_peak(wind_speed: float, fetch: float, g: float = G) -> float:
+    """ω_p = 22·(g²/(U·F))^(1/3) [rad/s], fetch F [m]."""
+    return 22.0 * (g * g / (wind_speed * fetch)) ** (1.0 / 3.0)
+
+
+def jonswap(omega, wind_speed: float, fetch: float, gamma: float = 3.3, g: float = G):
+    """JONSWAP S(ω) = α·g²·ω⁻⁵·exp(−5/4·(ω_p/ω)⁴)·γ^r, r = exp(−(ω−ω_p)²/(2σ²ω_p²)),
+    σ = 0.07 (ω ≤ ω_p) / 0.09, α = 0.076·(U²/(F·g))^0.22 [m²·s/rad]; U ≤ 0 → 0."""
+    omega = np.asarray(omega, dtype=float)
+    if fetch <= 0:
+        raise ParamError(f"ocean.fetch: {fetch} m is outside the allowed range (0, inf)")
+    if gamma < 1:
+        raise ParamError(f"ocean.gamma: {gamma} is outside the allowed range [1, inf)")
+    if wind_speed <= 0:
+        return np.zeros_like(omega)
+    wp = jonswap_peak(wind_speed, fetch, g)
+    alpha = 0.076 * (wind_speed**2 / (fetch * g)) ** 0.22
+    sigma = np.where(omega <= wp, 0.07, 0.09)
+    r = np.exp(-((omega - wp) ** 2) / (2.0 * sigma**2 * wp**2))
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        s = alpha * g * g / omega**5 * np.exp(-1.25 * (wp / omega) ** 4) * gamma**r
+    return np.where(omega > 0, s, 0.0)
+
+
+def tma_correction(omega, depth: float, g: float = G):
+    """Kitaigorodskii depth factor Φ(ω_h), ω_h = ω·sqrt(d/g): ½ω_h² (ω_h ≤ 1),
+    1 − ½(2 − ω_h)² (ω_h < 2), 1 beyond; 1 for d = inf."""
+    omega = np.asarray(omega, dtype=float)
+    if math.isinf(depth):
+        return np.ones_like(omega)
+    wh = omega * math.sqrt(depth / g)
+    return np.where(wh <= 1.0, 0.5 * wh * wh, np.where(wh < 2.0, 1.0 - 0.5 * (2.0 - wh) ** 2, 1.0))
+
+
+_lgamma = np.vectorize(math.lgamma, otypes=[float])
+
+
+def spreading_cos2s(theta, s):
+    """Longuet-Higgins D(θ) = Q(s)·cos^{2s}(θ/2), Q = Γ(s+1)/(2·sqrt(π)·Γ(s+½)); θ from the wind."""
+    theta = np.asarray(theta, dtype=float)
+    s = np.broadcast_to(np.asarray(s, dtype=float), theta.shape)
+    q = np.exp(_lgamma(s + 1.0) - _lgamma(s + 0.5)) / (2.0 * math.sqrt(math.pi))
+    c = np.abs(np.cos(0.5 * theta))
+    return q * c ** (2.0 * s)
+
+
+def hasselmann_s(omega, omega_peak: float, wind_speed: float, g: float = G):
+    """Hasselmann et al. 1980: s = 6.97·(ω/ω_p)^4.06 (ω ≤ ω_p),
+    9.77·(ω/ω_p)^(−2.33 − 1.45·(U·ω_p/g − 1.17)) above."""
+    r = np.asarray(omega, dtype=float) / omega_peak
+    mu = -2.33 - 1.45 * (wind_speed * omega_peak / g - 1.17)
+    with np.errstate(divide="ignore"):
+        return np.where(r <= 1.0, 6.97 * r**4.06, 9.77 * r**mu)
+
+
+def spreading_hasselmann(theta, omega, omega_peak: float, wind_speed: float, g: float = G):
+    """D(θ, ω) = cos^{2s}(θ/2) spreading with Hasselmann's s(ω) (s clipped to [0, 100])."""
+    s = np.clip(hasselmann_s(omega, omega_peak, wind_speed, g), 0.0, 100.0)
+    return spreading_cos2s(theta, s)
+
+
+def phillips(kx, kz, wind_speed: float, wind_direction: float, *, alpha: float = 8.1e-3,
+             against_wind: float = 0.0, g: float = G):
+    """Tessendorf's Phillips spectrum Ψ(k) [m⁴] = ½α·k⁻⁴·e^{−1/(k·L_w)²}·cos²θ·w/(π/2·(1+w_b)),
+    L_w = U²/g, θ from the wind; w = 1 down-wind, ``against_wind`` (w_b) up-wind."""
+    kx = np.asarray(kx, dtype=float)
+    kz = np.asarray(kz, dtype=float)
+    if wind_speed <= 0:
+        return np.zeros(np.broadcast(kx, kz).shape)
+    k = np.hypot(kx, kz)
+    lw = wind_speed**2 / g
+    cos_t = np.where(k > 0, (kx * math.cos(wind_direction) + kz * math.sin(wind_direction))
+                     / np.where(k > 0, k, 1.0), 0.0)
+    w = np.where(cos_t >= 0, 1.0, against_wind)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        psi = 0.5 * alpha / k**4 * np.exp(-1.0 / (k * lw) ** 2) * cos_t**2 * w
+    return np.where(k > 0, psi / (0.5 * math.pi * (1.0 + against_wind)), 0.0)
+
+
+@dataclass(frozen=True)
+class SpectrumParams:
+    """Sea state: ``kind`` one of SPECTRA; wind speed U [m/s] (19.5 m), wind direction [rad]
+    from +x towards +z, fetch [m] (JONSWAP), γ (JONSWAP), depth [m] (inf = deep), short-wave
+    fade ℓ [m] (0 = off)."""
+
+    kind: str = "jonswap"
+    wind_speed: float = 10.0
+    wind_direction: float = 0.0
+    fetch: float = 100_000.0
+    gamma: float = 3.3
+    depth: float = math.inf
+    short_wave_fade: float = 0.0
+    phillips_against_wind: float = 0.0
+    g: float = G
+
+    def validate(self) -> None:
+        if self.kind not in SPECTRA:
+            raise ParamError(f"ocean.spectrum: {self.kind!r} is not one of {', '.join(SPECTRA)}")
+        if not 0.0 <= self.wind_speed <= 60.0:
+            raise ParamError(
+                f"ocean.wind: {self.wind_speed} m/s is outside the allowed range [0, 60]")
+        if not self.depth > 0:
+            raise ParamError(f"ocean.depth: {self.depth} m is outside the allowed range (0, inf]")
+        if self.short_wave_fade < 0:
+            raise ParamError(
+                f"ocean.short_wave_fade: {self.short_wave_fade} m is outside [0, inf)")
+
+    def peak_omega(self) -> float:
+        if self.kind == "jonswap":
+            return jonswap_peak(self.wind_speed, self.fetch, self.g)
+        return pierson_moskowitz_peak(self.wind_speed, self.g)
+
+
+def directional_spectrum(kx, kz, p: SpectrumParams):
+    """Wavenumber spectrum Ψ(k_x, k_z) [m⁴] of waves *travelling* along k, ∫Ψ d²k = var η."""
+    p.validate()
+    kx = np.asarray(kx, dtype=float)
+    kz = np.asarray(kz, dtype=float)
+    k = np.hypot(kx, kz)
+    if p.wind_speed <= 0:
+        return np.zeros_like(k)
+    if p.kind == "phillips":
+        psi = phillips(kx, kz, p.wind_speed, p.wind_direction,
+                       against_wind=p.phillips_against_wind, g=p.g)
+    else:
+        w = dispersion_omega(k, p.depth, p.g)
+        if p.kind == "pierson_moskowitz":
+            s = pierson_moskowitz(w, p.wind_speed, p.g)
+        else:
+            s = jonswap(w, p.wind_speed, p.fetch, p.gamma, p.g)
+        s = s * tma_correction(w, p.depth, p.g)
+        theta = np.arctan2(kz, kx) - p.wind_direction
+        theta = np.angle(np.exp(1j * theta))
+        d = spreading_hasselmann(theta, w, p.peak_omega(), p.wind_speed, p.g)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            psi = np.where(k > 0, s * d * dispersion_domega_dk(k, p.depth, p.g) / k, 0.0)
+    if p.short_wave_fade > 0:
+        psi = psi * np.exp(-((k * p.short_wave_fade) ** 2))
+    return psi
+
+
+# ---------------------------------------------------------------------------------------------
+# Tessendorf FFT ocean
+# ---------------------------------------------------------------------------------------------
+
+
+def wavenumber_grid(n: int, patch_size: float):
+    """(k_x, k_z) [rad/m], each (N, N) in numpy FFT order, indexed [iz, ix]; Δk = 2π/L."""
+    k1 = 2.0 * np.pi * np.fft.fftfreq(n, d=patch_size / n)
+    kz, kx = np.meshgrid(k1, k1, indexing="ij")
+    return kx, kz
+
+
+def _negate_index(a):
+    """a(−k) on an FFT-ordered grid: index j → (N − j) mod N on the last two axes."""
+    return np.roll(np.flip(a, axis=(-2, -1)), 1, axis=(-2, -1))
+
+
+def initial_amplitudes(n: int, patch_size: float, params: SpectrumParams, *, seed: int = 0,
+                       band: tuple[float, float] = (0.0, math.inf)):
+    """Eq. 2.10 (corrected): h₀(k) = (ξ₁+iξ₂)/√2·sqrt(½·Ψ(−k)·Δk²), |k| ∈ [band); complex (N, N).
+
+    k = 0 and the Nyquist row and column are zero.  Seeded with numpy's default_rng(seed)."""
+    if n < 4 or n & (n - 1):
+        raise ParamError(f"ocean.fft_size: {n} is not a power of two ≥ 4")
+    if not patch_size > 0:
+        raise ParamError(f"ocean.patch_size: {patch_size} m is outside the allowed range (0, inf)")
+    kx, kz = wavenumber_grid(n, patch_size)
+    dk = 2.0 * np.pi / patch_size
+    psi = directional_spectrum(-kx, -kz, params)
+    k = np.hypot(kx, kz)
+    keep = (k >= band[0]) & (k < band[1]) & (k > 0)
+    keep[n // 2, :] = False
+    keep[:, n // 2] = False
+    rng = np.random.default_rng(seed)
+    xi = rng.standard_normal((2, n, n))
+    amp = np.sqrt(0.5 * psi * dk * dk) * keep
+    return (xi[0] + 1j * xi[1]) / math.sqrt(2.0) * amp
+
+
+def evolve_amplitudes(h0, omega, t: float):
+    """Eq. 2.11 with the conjugate: h(k,t) = h₀(k)·e^{iωt} + conj(h₀(−k))·e^{−iωt}."""
+    e = np.exp(1j * omega * t)
+    return h0 * e + np.conj(_negate_index(h0)) * np.conj(e)
+
+
+@dataclass
+class OceanFields:
+    """Real (N, N) fields of one cascade at one time; displacements already times λ."""
+
+    height: np.ndarray  # η [m]
+    disp_x: np.ndarray  # λ·D_x [m]
+    disp_z: np.ndarray  # λ·D_z [m]
+    slope_x: np.ndarray  # ∂η/∂x
+    slope_z: np.ndarray  # ∂η/∂z
+    ddx_dx: np.ndarray  # λ·∂D_x/∂x
+    ddz_dz: np.ndarray  # λ·∂D_z/∂z
+    ddx_dz: np.ndarray  # λ·∂D_x/∂z (= λ·∂D_z/∂x)
+    jacobian: np.ndarray  # (1 + λD_x,x)(1 + λD_z,z) − (λD_x,z)²
+    max_imag_ratio: float  # max|Im|/max|Re| of the inverse FFTs (0 for a Hermitian h)
+
+
+def synthesize(h, kx, kz, choppiness: float = 1.0) -> OceanFields:
+    """Inverse FFTs of h(k,t) (η = N²·ifft2(h)): height, λ·choppy displacement, spectral slopes
+    (i·k·h), displacement derivatives and Jacobian."""
+    n = h.shape[-1]
+    k = np.hypot(kx, kz)
+    inv_k = np.where(k > 0, 1.0 / np.where(k > 0, k, 1.0), 0.0)
+    lam = choppiness
+    spectra = np.stack([
+        h,
+        1j * kx * inv_k * h * lam,
+        1j * kz * inv_k * h * lam,
+        1j * kx * h,
+        1j * kz * h,
+        -kx * kx * inv_k * h * lam,
+        -kz * kz * inv_k * h * lam,
+        -kx * kz * inv_k * h * lam,
+    ])
+    out = np.fft.ifft2(spectra, axes=(-2, -1)) * (n * n)
+    re, im = out.real, out.imag
+    max_re = float(np.max(np.abs(re)))
+    ratio = float(np.max(np.abs(im)) / max_re) if max_re > 0 else 0.0
+    jac = (1.0 + re[5]) * (1.0 + re[6]) - re[7] ** 2
+    return OceanFields(re[0], re[1], re[2], re[3], re[4], re[5], re[6], re[7], jac, ratio)
+
+
+def surface_normals(slope_x, slope_z, ddx_dx, ddz_dz):
+    """Thesis's formula: s = (η_,x/(1+λD_x,x), η_,z/(1+λD_z,z)), n = (−s_x, 1, −s_z)/‖·‖.
+    Denominators clamped to ≥ 1e-3 (folds).  Shape (..., 3)."""
+    sx = slope_x / np.maximum(1.0 + ddx_dx, 1e-3)
+    sz = slope_z / np.maximum(1.0 + ddz_dz, 1e-3)
+    n = np.stack([-sx, np.ones_like(sx), -sz], axis=-1)
+    return n / np.linalg.norm(n, axis=-1, keepdims=True)
+
+
+def foam_step(foam, jacobian, dt: float, *, threshold: float = 0.5, decay_time: float = 2.0):
+    """Foam in [0, 1]: decays as e^{−dt/τ} and is raised to clip((threshold − J)/threshold)
+    where the Jacobian says the surface is compressed (J < threshold)."""
+    source = np.clip((threshold - jacobian) / threshold, 0.0, 1.0)
+    return np.maximum(np.asarray(foam) * math.exp(-dt / decay_time), source)
+
+
+def sample_periodic_bilinear(grid, patch_size: float, x, z):
+    """Bilinear lookup of a periodic grid (N, N) or (N, N, C) indexed [iz, ix], sample j at j·L/N,
+    at world points (x, z) [m] of any shape."""
+    grid = np.asarray(grid)
+    n = grid.shape[0]
+    u = np.asarray(x, dtype=float) / patch_size * n
+    v = np.asarray(z, dtype=float) / patch_size * n
+    i0 = np.floor(u)
+    j0 = np.floor(v)
+    fu = u - i0
+    fv = v - j0
+    i0 = i0.astype(np.int64) % n
+    j0 = j0.astype(np.int64) % n
+    i1 = (i0 + 1) % n
+    j1 = (j0 + 1) % n
+    if grid.ndim == 3:
+        fu = fu[..., None]
+        fv = fv[..., None]
+    return ((1 - fv) * ((1 - fu) * grid[j0, i0] + fu * grid[j0, i1])
+            + fv * ((1 - fu) * grid[j1, i0] + fu * grid[j1, i1]))
+
+
+# ---------------------------------------------------------------------------------------------
+# Cascades
+# ---------------------------------------------------------------------------------------------
+
+
+def cascade_bands(n: int, patch_sizes: Sequence[float], boundary_factor: float = 6.0):
+    """Non-overlapping |k| bands [lo, hi) [rad/m], one per cascade (see the module docstring)."""
+    sizes = [float(s) for s in patch_sizes]
+    if not 1 <= len(sizes) <= 4:
+        raise ParamError(f"ocean.cascades: {len(sizes)} is outside the allowed range [1, 4]")
+    if any(b >= a for a, b in zip(sizes, sizes[1:])) or sizes[-1] <= 0:
+        raise ParamError(f"ocean.patch_sizes: {sizes} must be positive and strictly decreasing")
+    edges = [0.0] + [boundary_factor * 2.0 * math.pi / s for s in sizes[1:]]
+    edges.append(math.pi * n / sizes[-1])
+    for i, s in enumerate(sizes):
+        lo, hi = edges[i], edges[i + 1]
+        nyq = math.pi * n / s
+        fundamental = 2.0 * math.pi / s
+        if not (lo < hi <= nyq * (1 + 1e-12)) or (i > 0 and lo < fundamental):
+            raise ParamError(
+                f"ocean.patch_sizes: cascade {i} (L = {s:g} m) cannot hold the band "
+                f"[{lo:.4g}, {hi:.4g}) rad/m: it resolves [{fundamental:.4g}, {nyq:.4g}]"
+            )
+    return [(edges[i], edges[i + 1]) for i in range(len(sizes))]
+
+
+@dataclass
+class WaterQuery:
+    height: np.ndarray  # (...,) water surface height [m] above the world points
+    displacement: np.ndarray  # (..., 3) displacement of the surface point found
+    normal: np.ndarray  # (..., 3) unit normal there
+    rest_x: np.ndarray  # (...,) rest position x₀ whose displaced point lands on the query
+    rest_z: np.ndarray
+    residuals: list = field(default_factory=list)  # |x_q − (x₀ + D_xz(x₀))| per step
+
+
+def invert_horizontal_displacement(displacement_fn: Callable, xq, zq, iterations: int = 3):
+    """Spec/000 §1.3: find x₀ with x₀ + D_xz(x₀) = x_q by x₀ ← x_q − D_xz(x₀) (x₀ = x_q first).
+
+    ``displacement_fn(x, z)`` → (..., 3) displacement (D_x, η, D_z).  Returns (x₀, z₀, D(x₀),
+    residuals) with ``iterations + 1`` residual arrays (before any correction, after each)."""
+    xq = np.asarray(xq, dtype=float)
+    zq = np.asarray(zq, dtype=float)
+    x0, z0 = xq, zq
+    d = displacement_fn(x0, z0)
+    residuals = [np.hypot(x0 + d[..., 0] - xq, z0 + d[..., 2] - zq)]
+    for _ in range(iterations):
+        x0 = xq - d[..., 0]
+        z0 = zq - d[..., 2]
+        d = displacement_fn(x0, z0)
+        residuals.append(np.hypot(x0 + d[..., 0] - xq, z0 + d[..., 2] - zq))
+    return x0, z0, d, residuals
+
+
+@dataclass
+class Cascade:
+    patch_size: float
+    band: tuple[float, float]
+    kx: np.ndarray
+    kz: np.ndarray
+    omega: np.ndarray
+    h0: np.ndarray
+    fields: OceanFields | None = None
+
+
+class FFTOcean:
+    """Numpy reference of the cascaded Tessendorf ocean.
+
+    ``FFTOcean(params, n=256, patch_sizes=(250, 17, 5), choppiness=1.0, seed=0)``;
+    ``update(t)`` synthesises every cascade at time t [s]; ``displacement(x, z)`` → (..., 3)
+    summed (λD_x, η, λD_z) at rest points; ``normal(x, z)`` → thesis-formula normals from the
+    summed derivatives; ``water_height(x, z, iterations=3)`` → WaterQuery at world points.
+    """
+
+    def __init__(self, params: SpectrumParams | None = None, *, n: int = 256,
+                 patch_sizes: Sequence[float] = (250.0, 17.0, 5.0), choppiness: float = 1.0,
+                 seed: int = 0, boundary_factor: float = 6.0):
+        self.params = params or SpectrumParams()
+        self.params.validate()
+        if not 0.0 <= choppiness <= 4.0:
+            raise ParamError(f"ocean.choppiness: {choppiness} is outside the allowed range [0, 4]")
+        self.n = n
+        self.choppiness = choppiness
+        self.cascades: list[Cascade] = []
+        for i, (size, band) in enumerate(zip(patch_sizes, cascade_bands(n, patch_sizes,
+                                                                       boundary_factor))):
+            kx, kz = wavenumber_grid(n, size)
+            om = dispersion_omega(np.hypot(kx, kz), self.params.depth, self.params.g)
+            h0 = initial_amplitudes(n, size, self.params, seed=seed + 7919 * i, band=band)
+            self.cascades.append(Cascade(float(size), band, kx, kz, om, h0))
+        self.time = None
+
+    def update(self, t: float) -> None:
+        for c in self.cascades:
+            c.fields = synthesize(evolve_amplitudes(c.h0, c.omega, t), c.kx, c.kz,
+                                  self.choppiness)
+        self.time = t
+
+    def _sum(self, names, x, z):
+        if self.time is None:
+            raise RuntimeError("FFTOcean.update(t) must be called before sampling")
+        total = 0.0
+        for c in self.cascades:
+            grid = np.stack([getattr(c.fields, nm) for nm in names], axis=-1)
+            total = total + sample_periodic_bilinear(grid, c.patch_size, x, z)
+        return total
+
+    def displacement(self, x, z):
+        """Summed (λD_x, η, λD_z) [m] at rest points (x, z), shape (..., 3)."""
+        return self._sum(("disp_x", "height", "disp_z"), x, z)
+
+    def normal(self, x, z):
+        """Unit normals at rest points from the summed slopes (thesis formula), (..., 3)."""
+        d = self._sum(("slope_x", "slope_z", "ddx_dx", "ddz_dz"), x, z)
+        return surface_normals(d[..., 0], d[..., 1], d[..., 2], d[..., 3])
+
+    def water_height(self, x, z, iterations: int = 3) -> WaterQuery:
+        """Height, displacement and normal of the water above world points (x, z)."""
+        x0, z0, d, res = invert_horizontal_displacement(self.displacement, x, z, iterations)
+        return WaterQuery(d[..., 1], d, self.normal(x0, z0), x0, z0, res)
+
+
+def floating_points_pose(query: Callable, points_x, points_z, probe_distance: float = 1.0):
+    """Fig. 3.1: averaged unit normal and displacement over floating points.
+
+    ``query(x, z)`` → WaterQuery at world points.  For each point, the surface points P(p),
+    P(p + x̂·δ), P(p + ẑ·δ) give Nᵢ = (P_z − P) × (P_x − P) (upward); returns
+    (normal (3,), displacement (3,))."""
+    px = np.asarray(points_x, dtype=float)
+    pz = np.asarray(points_z, dtype=float)
+    q0 = query(px, pz)
+    hx = query(px + probe_distance, pz).height
+    hz = query(px, pz + probe_distance).height
+    ex = np.stack([np.full_like(px, probe_distance), hx - q0.height, np.zeros_like(px)], -1)
+    ez = np.stack([np.zeros_like(px), hz - q0.height, np.full_like(px, probe_distance)], -1)
+    ni = np.cross(ez, ex)
+    ni /= np.linalg.norm(ni, axis=-1, keepdims=True)
+    nm = ni.reshape(-1, 3).mean(axis=0)
+    return nm / np.linalg.norm(nm), q0.displacement.reshape(-1, 3).mean(axis=0)
