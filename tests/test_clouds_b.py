@@ -226,7 +226,7 @@ def test_profile_bottom_heavy(rig):
     rig.reset()
     # the twin's height profile averaged over the baked coverage map (GradientSimulator, R)
     rig.render(Camera(position=(0, 2, 0)), (8, 8))  # bakes what is missing
-    cov = rig.fx._textures["weather"][1].data[..., 0].ravel() / 255.0
+    cov = rig.fx.bakes.baked("weather").data[..., 0].ravel() / 255.0
     h = np.linspace(0.0, 1.0, 101)
     prof = twin.ModelB.height_gradient(h[:, None], cov[None, :]).mean(axis=1)
     assert prof[h < 0.25].mean() > prof[h > 0.75].mean()

@@ -3,7 +3,7 @@
 GPU side: ``glsl/clouds/cloud_model.glsl`` (density eqs. 4.4–4.16 with the errata of §1.10
 fixed, lighting eqs. 4.18–4.23, ray–box and ray–sphere), ``cloud_march.frag`` (view march,
 light march, the speed options; its header has the whole per-pixel algorithm) and
-``cloud_composite.frag``. Most tunables are ``// @param`` uniforms of ``cloud_march.frag``
+``glsl/common/layer_composite.frag`` (app/effects/layer.py). Most tunables are ``// @param`` uniforms of ``cloud_march.frag``
 (``clouds.coverage``, ``clouds.steps``, ...); the ones that need the CPU are declared here.
 
 Per frame:
@@ -55,13 +55,14 @@ import moderngl
 import numpy as np
 
 from .. import RESOURCES, bakes
+from ..bakes.textures import BakedTextures
 from ..errors import ParamError
 from ..params import Param
 from .clouds_reprojection import REPROJECT, TemporalReprojection
+from .layer import LAYER_COMPOSITE, composite_layer
 from .base import Effect, Pass, fullscreen
 
 CLOUD_MARCH = fullscreen("clouds/cloud_march")
-CLOUD_COMPOSITE = fullscreen("clouds/cloud_composite")
 REPROJECTION_MODES = ("window", "on", "off")
 
 PRESET_DIR = RESOURCES / "presets"
@@ -79,7 +80,7 @@ class Clouds(Effect):
     name = "clouds"
     title = "Volumetric clouds (model A)"
     spec = SPEC
-    programs = (CLOUD_MARCH, CLOUD_COMPOSITE, REPROJECT)
+    programs = (CLOUD_MARCH, LAYER_COMPOSITE, REPROJECT)
     extra_groups = ("bake_shape", "bake_detail", "bake_weather")
 
     @classmethod
@@ -112,7 +113,7 @@ class Clouds(Effect):
 
     def __init__(self, gpu, params, scene=None):
         super().__init__(gpu, params, scene)
-        self._baked: dict[str, tuple] = {}  # kind → (spec, Baked, texture)
+        self.bakes = BakedTextures(gpu, self.name)
         self._layer = None  # what the composite reads: the marched target or the resolved history
         self._own_layer = None  # the full-size march target (without reprojection)
         self._reprojection = None
@@ -197,17 +198,11 @@ class Clouds(Effect):
     # -- textures --------------------------------------------------------------------------
     def texture_for(self, kind: str):
         cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake, "weather": bakes.WeatherBake}[kind]
-        spec = cls.from_values(self.params.values(cls.group))
-        held = self._baked.get(kind)
-        if held is None or held[0] != spec:
-            if held is not None:
-                self.gpu.free(held[2])
-            hook = getattr(self.gpu, "progress", None)
-            label = f"baking {kind} {spec.size}{'²' if kind == 'weather' else '³'}"
-            result = bakes.bake(self.gpu, spec, progress=(lambda f: hook(label, f)) if hook else None)
-            self.last_bakes.append(result)
-            self._baked[kind] = (spec, result, result.texture(self.gpu, self.name))
-        return self._baked[kind][2]
+        before = self.bakes.last
+        texture = self.bakes.get(cls.from_values(self.params.values(cls.group)))
+        if self.bakes.last is not before:
+            self.last_bakes.append(self.bakes.last)
+        return texture
 
     def layer_for(self, size):
         """The cloud layer target (RGBA32F, no depth): rgb premultiplied radiance, a = T."""
@@ -276,19 +271,7 @@ class Clouds(Effect):
             self._restore_depth(depth)
 
     def composite(self, target) -> None:
-        ctx = self.gpu.ctx
-        prog = self.program(CLOUD_COMPOSITE)
-        self._layer.color.use(4)
-        prog.set("uCloudLayer", 4)
-        target.use()  # depth test off and no depth writes: the depth stays the opaque scene's
-        ctx.disable(moderngl.DEPTH_TEST)
-        ctx.enable(moderngl.BLEND)
-        ctx.blend_func = (moderngl.ONE, moderngl.SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
-        try:
-            prog.vao().render(moderngl.TRIANGLES, vertices=3)
-        finally:
-            ctx.blend_func = moderngl.DEFAULT_BLENDING
-            ctx.disable(moderngl.BLEND)
+        composite_layer(self, self._layer.color, target)
 
     def render(self, frame, target) -> None:
         self.render_layer(frame, target)

@@ -41,19 +41,20 @@ import moderngl
 import numpy as np
 
 from .. import bakes
+from ..bakes.textures import BakedTextures
 from ..params import Param
 from ..sim import clouds_maritime as twin
 from .base import Effect, Pass, fullscreen
+from .layer import LAYER_COMPOSITE, composite_layer
 
 CLOUDS_B = fullscreen("clouds_b/clouds_b")
-CLOUDS_B_COMPOSITE = fullscreen("clouds_b/clouds_b_composite")
 
 
 class CloudsMaritime(Effect):
     name = "clouds_b"
     title = "Volumetric clouds, model B (maritime thesis)"
     spec = "spec/000"
-    programs = (CLOUDS_B, CLOUDS_B_COMPOSITE)
+    programs = (CLOUDS_B, LAYER_COMPOSITE)
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -81,7 +82,7 @@ class CloudsMaritime(Effect):
 
     def __init__(self, gpu, params, scene=None):
         super().__init__(gpu, params, scene)
-        self._textures: dict[str, tuple] = {}  # kind → (spec, Baked, texture)
+        self.bakes = BakedTextures(gpu, self.name)
         self._layer = None
         self.cloud_offset = np.zeros(3)
         self.coverage_shift = np.zeros(2)  # metres the coverage map has drifted (x, z)
@@ -126,16 +127,7 @@ class CloudsMaritime(Effect):
                 "weather": bakes.WeatherBake(size=p["clouds_b.gradient_resolution"])}
 
     def texture(self, kind: str):
-        spec = self.bake_specs()[kind]
-        held = self._textures.get(kind)
-        if held is None or held[0] != spec:
-            if held is not None:
-                self.gpu.free(held[2])
-            hook = getattr(self.gpu, "progress", None)
-            label = f"baking {kind} {spec.size}"
-            result = bakes.bake(self.gpu, spec, progress=(lambda f: hook(label, f)) if hook else None)
-            self._textures[kind] = (spec, result, result.texture(self.gpu, self.name))
-        return self._textures[kind][2]
+        return self.bakes.get(self.bake_specs()[kind])
 
     def layer(self, size):
         """The cloud layer target (rgb in-scattered light, a transmittance) of the last render."""
@@ -180,19 +172,7 @@ class CloudsMaritime(Effect):
 
     def composite(self, frame, target) -> None:
         """Pass 2: target = target·transmittance + in-scattered light (alpha kept)."""
-        ctx = self.gpu.ctx
-        prog = self.program(CLOUDS_B_COMPOSITE)
-        self.layer(target.size).color.use(0)
-        prog.set("uCloudLayer", 0)
-        target.use()
-        ctx.disable(moderngl.DEPTH_TEST)
-        ctx.enable(moderngl.BLEND)
-        ctx.blend_func = (moderngl.ONE, moderngl.SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
-        try:
-            prog.vao().render(moderngl.TRIANGLES, vertices=3)
-        finally:
-            ctx.blend_func = moderngl.DEFAULT_BLENDING
-            ctx.disable(moderngl.BLEND)
+        composite_layer(self, self.layer(target.size).color, target, unit=0)
 
     def render(self, frame, target) -> None:
         self.march(frame, target)

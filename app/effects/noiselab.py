@@ -10,6 +10,7 @@ from __future__ import annotations
 import moderngl
 
 from .. import bakes
+from ..bakes.textures import BakedTextures
 from ..params import Param
 from .base import Effect, fullscreen
 
@@ -41,22 +42,16 @@ class NoiseLab(Effect):
 
     def __init__(self, gpu, params, scene=None):
         super().__init__(gpu, params, scene)
-        self._baked: dict[str, tuple] = {}  # kind → (spec, Baked, texture)
-        self.last_bake = None
+        self.bakes = BakedTextures(gpu, self.name)
+        self._extra: dict[str, object] = {}  # value-noise table, permutation textures
 
     def texture_for(self, kind: str):
         cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake, "weather": bakes.WeatherBake}[kind]
-        spec = cls.from_values(self.params.values(cls.group))
-        held = self._baked.get(kind)
-        if held is None or held[0] != spec:
-            if held is not None:
-                self.gpu.free(held[2])
-            hook = getattr(self.gpu, "progress", None)
-            label = f"baking {kind} {spec.size}{'²' if kind == 'weather' else '³'}"
-            result = bakes.bake(self.gpu, spec, progress=(lambda f: hook(label, f)) if hook else None)
-            self.last_bake = result
-            self._baked[kind] = (spec, result, result.texture(self.gpu, self.name))
-        return self._baked[kind][2]
+        return self.bakes.get(cls.from_values(self.params.values(cls.group)))
+
+    @property
+    def last_bake(self):
+        return self.bakes.last
 
     def update(self, frame, dt: float) -> None:
         if self.params["noise.animate"] and dt > 0:
@@ -73,19 +68,19 @@ class NoiseLab(Effect):
         if view == "value":
             from ..noise.value import random_texture
 
-            if "value" not in self._baked:
-                tex = self.gpu.texture(self.name, "value noise source", (256, 256), 4, random_texture(1).tobytes(),
-                                       dtype="f1", filter=(moderngl.NEAREST, moderngl.NEAREST), repeat=True)
-                self._baked["value"] = (None, None, tex)
-            self._baked["value"][2].use(2)
+            if "value" not in self._extra:
+                self._extra["value"] = self.gpu.texture(self.name, "value noise source", (256, 256), 4,
+                                                        random_texture(1).tobytes(), dtype="f1",
+                                                        filter=(moderngl.NEAREST, moderngl.NEAREST), repeat=True)
+            self._extra["value"].use(2)
             prog.set("uValueNoiseTex", 2)
             prog.set("uValueNoiseWrap", (256.0, 256.0, 256.0))
         if view in ("perlin", "fbm", "turbulence", "perlin_worley"):
             from ..noise.gpu import GradientNoiseTextures
 
-            if "gradient" not in self._baked:
-                self._baked["gradient"] = (None, None, GradientNoiseTextures(self.gpu, self.name))
-            self._baked["gradient"][2].bind(prog, None, 3)
+            if "gradient" not in self._extra:
+                self._extra["gradient"] = GradientNoiseTextures(self.gpu, self.name)
+            self._extra["gradient"].bind(prog, None, 3)
         prog.set_many({
             "uView": VIEWS.index(view), "uChannel": CHANNELS.index(p["noise.channel"]), "uSlice": p["noise.slice"],
             "uTiles": p["noise.tiles"], "uAspect": frame.aspect, "uScale": p["noise.scale"],

@@ -4,7 +4,7 @@
 // the speed and light options the thesis left undone (issue 5 item 5).
 //
 // Output: the cloud layer, RGBA = (in-scattered radiance, premultiplied; view transmittance T).
-// glsl/clouds/cloud_composite.frag lays it over whatever the scene drew: out = rgb + T · scene,
+// glsl/common/layer_composite.frag lays it over whatever the scene drew: out = rgb + T · scene,
 // so a pixel the clouds miss (rgb = 0, T = 1) keeps the scene's value bit for bit.
 //
 // Per pixel

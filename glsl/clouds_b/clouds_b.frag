@@ -7,7 +7,7 @@
 // Output: rgb = lightEnergy · SunColor (the in-scattered light), a = transmittance. The effect
 // composites it over the scene with blending, out = background·a + rgb — the thesis's
 //   (A.8)  return float4(background·transmittance + lightEnergy·_SunColor, 1)
-// without reading the target it writes (see clouds_b_composite.frag).
+// without reading the target it writes (see glsl/common/layer_composite.frag).
 //
 // Depth: the thesis's depth = LinearEyeDepth(depth)·|viewVector| with viewVector.z = −1, i.e.
 // distance along the ray = eye depth / dot(rayDir, cameraForward). A depth of 1 (cleared) is the

@@ -1,0 +1,27 @@
+"""Compositing a premultiplied layer (in-scattered light, transmittance) over a scene target:
+out = layer.rgb + layer.a · scene (``glsl/common/layer_composite.frag``). Both cloud models use it."""
+
+from __future__ import annotations
+
+import moderngl
+
+from .base import fullscreen
+
+LAYER_COMPOSITE = fullscreen("common/layer_composite")
+
+
+def composite_layer(effect, layer_texture, target, unit: int = 4) -> None:
+    """Blend ``layer_texture`` over ``target`` (its depth untouched)."""
+    ctx = effect.gpu.ctx
+    prog = effect.program(LAYER_COMPOSITE)
+    layer_texture.use(unit)
+    prog.set("uCloudLayer", unit)
+    target.use()
+    ctx.disable(moderngl.DEPTH_TEST)
+    ctx.enable(moderngl.BLEND)
+    ctx.blend_func = (moderngl.ONE, moderngl.SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
+    try:
+        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+    finally:
+        ctx.blend_func = moderngl.DEFAULT_BLENDING
+        ctx.disable(moderngl.BLEND)
