@@ -75,3 +75,15 @@ def test_turning_camera_stays_close_to_the_full_march(clouds):
     err = np.abs(img - want).max(axis=-1)
     assert np.isfinite(img).all()
     assert err.mean() < 4.0, err.mean()
+
+
+@pytest.mark.parametrize("mode", ["on", "off"])
+def test_scene_depth_compare_mode_is_restored(clouds, mode):
+    s = clouds(f"clouds.reprojection={mode}")
+    target = s.gpu.target("test", "t", SIZE)
+    target.depth.compare_func = "<="
+    frame = s.scene.frame(SIZE)
+    for _ in range(2):  # the second frame reprojects when on
+        s.scene.render(frame, target)
+    assert target.depth.compare_func == "<="
+    s.gpu.free(target)

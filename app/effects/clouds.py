@@ -47,6 +47,7 @@ helpers with.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import tomllib
 from pathlib import Path
@@ -117,7 +118,6 @@ class Clouds(Effect):
         self._layer = None  # what the composite reads: the marched target or the resolved history
         self._own_layer = None  # the full-size march target (without reprojection)
         self._reprojection = None
-        self._old_compare = None
         self._applied_preset: str | None = None
         self.light_dir = np.array([0.0, 1.0, 0.0])
         self.light_radiance = np.ones(3)
@@ -220,41 +220,33 @@ class Clouds(Effect):
 
     # -- passes ----------------------------------------------------------------------------
     def render_layer(self, frame, target) -> None:
-        mode = self.params["clouds.reprojection"]
-        if mode == "on" or (mode == "window" and frame.interactive):
-            if self._reprojection is None:
-                self._reprojection = TemporalReprojection(self.gpu, self.name)
-            p = self.params
-            resolve = {"uContainer": CONTAINERS.index(p["clouds.container"]), "uBaseHeight": p["clouds.base_height"],
-                       "uPlanetRadius": p["clouds.planet_radius"], "uCamNear": float(frame.camera.near),
-                       "uCamFar": float(frame.camera.far)}
-            depth = getattr(target, "depth", None)
-            self._layer = self._reprojection.step(frame, target.size, lambda t, sub: self.march(frame, target, t, sub),
-                                                  resolve, self._read_depth(depth), moving=p["clouds.wind_speed"] > 0)
-            self._restore_depth(depth)
-        else:
-            self._layer = self.layer_for(target.size)
-            self.march(frame, target, self._layer, (-1, -1))
-
-    def _read_depth(self, depth):
-        if depth is not None:
-            self._old_compare = depth.compare_func
-            depth.compare_func = ""  # read depth values, not comparisons
-        return depth
-
-    def _restore_depth(self, depth):
-        if depth is not None:
-            depth.compare_func = self._old_compare
+        depth = getattr(target, "depth", None)
+        with _depth_values(depth):  # the march and the resolve read depth values, not comparisons
+            mode = self.params["clouds.reprojection"]
+            if mode == "on" or (mode == "window" and frame.interactive):
+                if self._reprojection is None:
+                    self._reprojection = TemporalReprojection(self.gpu, self.name)
+                p = self.params
+                resolve = {"uContainer": CONTAINERS.index(p["clouds.container"]),
+                           "uBaseHeight": p["clouds.base_height"], "uPlanetRadius": p["clouds.planet_radius"],
+                           "uCamNear": float(frame.camera.near), "uCamFar": float(frame.camera.far)}
+                self._layer = self._reprojection.step(frame, target.size,
+                                                      lambda t, sub: self.march(frame, target, t, sub),
+                                                      resolve, depth, moving=p["clouds.wind_speed"] > 0)
+            else:
+                self._layer = self.layer_for(target.size)
+                self.march(frame, target, self._layer, (-1, -1))
 
     def march(self, frame, target, layer, block_sub) -> None:
-        """The view march into ``layer``: full size, or one pixel of each 4×4 block."""
+        """The view march into ``layer``: full size, or one pixel of each 4×4 block. The target's
+        depth texture must be readable as values (``render_layer`` sees to it)."""
         ctx = self.gpu.ctx
         prog = self.program(CLOUD_MARCH)
         # all bakes first, then the bindings: a bake run now uses texture units of its own
         textures = [self.texture_for(kind) for kind in ("weather", "shape", "detail")]
         for unit, tex in enumerate(textures):
             tex.use(unit)
-        depth = self._read_depth(getattr(target, "depth", None))
+        depth = getattr(target, "depth", None)
         if depth is not None:
             depth.use(3)
         self.apply_params(prog)
@@ -265,10 +257,7 @@ class Clouds(Effect):
                        "uFullSize": tuple(float(v) for v in target.size)})
         layer.use()
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
-        try:
-            prog.vao().render(moderngl.TRIANGLES, vertices=3)
-        finally:
-            self._restore_depth(depth)
+        prog.vao().render(moderngl.TRIANGLES, vertices=3)
 
     def composite(self, target) -> None:
         composite_layer(self, self._layer.color, target)
@@ -280,6 +269,20 @@ class Clouds(Effect):
     def passes(self, frame, target) -> list[Pass]:
         return [Pass("clouds.march", lambda: self.render_layer(frame, target)),
                 Pass("clouds.composite", lambda: self.composite(target))]
+
+
+@contextlib.contextmanager
+def _depth_values(depth):
+    """Read a depth texture as values (compare mode off) for the duration, then restore it."""
+    if depth is None:
+        yield
+        return
+    old = depth.compare_func
+    depth.compare_func = ""
+    try:
+        yield
+    finally:
+        depth.compare_func = old
 
 
 def density_length(base_height: float, max_height: float) -> float:

@@ -7,6 +7,7 @@ camera — the layer is marched at full size and becomes the history.
 
 from __future__ import annotations
 
+import moderngl
 import numpy as np
 
 from .base import fullscreen
@@ -102,8 +103,6 @@ class TemporalReprojection:
                                   or not np.allclose(view_proj, self._prev_view_proj, rtol=0.0, atol=1e-9)),
         })
         dst.fbo.use()
-        import moderngl
-
         self.gpu.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         prog.vao().render(moderngl.TRIANGLES, vertices=3)
         if not have_history:

@@ -15,7 +15,8 @@ import moderngl
 import numpy as np
 
 from ..imageio import srgb_to_linear
-from ..noise.value import ValueNoise, ease_in, random_texture
+from ..noise.gpu import value_noise_texture
+from ..noise.value import ValueNoise, ease_in
 from ..params import Param
 from .base import Effect, ProgramSpec
 from .meshes import Mesh, cube, slice_quad, torus, uv_sphere
@@ -144,9 +145,7 @@ class Materials(Effect):
             if self._value_tex is None or self._value_seed != seed:
                 if self._value_tex is not None:
                     self.gpu.free(self._value_tex)
-                self._value_tex = self.gpu.texture(self.name, "value noise source", (256, 256), 4,
-                                                   random_texture(seed).tobytes(), dtype="f1",
-                                                   filter=(moderngl.NEAREST, moderngl.NEAREST), repeat=True)
+                self._value_tex = value_noise_texture(self.gpu, self.name, seed)
                 self._value_seed = seed
             self._value_tex.use(4)
             prog.set("uValueNoiseTex", 4)

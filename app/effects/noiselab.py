@@ -66,12 +66,10 @@ class NoiseLab(Effect):
         elif view == "weather":
             self.texture_for(view).use(1)
         if view == "value":
-            from ..noise.value import random_texture
+            from ..noise.gpu import value_noise_texture
 
             if "value" not in self._extra:
-                self._extra["value"] = self.gpu.texture(self.name, "value noise source", (256, 256), 4,
-                                                        random_texture(1).tobytes(), dtype="f1",
-                                                        filter=(moderngl.NEAREST, moderngl.NEAREST), repeat=True)
+                self._extra["value"] = value_noise_texture(self.gpu, self.name, 1)
             self._extra["value"].use(2)
             prog.set("uValueNoiseTex", 2)
             prog.set("uValueNoiseWrap", (256.0, 256.0, 256.0))

@@ -39,15 +39,10 @@ SHADOW_CENTRE = np.array([0.0, 800.0, -9000.0])
 SHADOW_HALF = 17000.0
 
 
-def sun_direction(elevation_deg: float, azimuth_deg: float) -> np.ndarray:
-    """Toward the sun; azimuth 0 = north (−z), 90 = east (+x), as the camera's yaw."""
-    e, a = math.radians(elevation_deg), math.radians(azimuth_deg)
-    return np.array([math.sin(a) * math.cos(e), math.sin(e), -math.cos(a) * math.cos(e)])
-
-
-def pupil(cos_gamma: float) -> float:
-    """The thesis's variable exposure (spec/002 §1.6): clamp(1 − cos γ / 4, 0, 1)."""
-    return float(np.clip(1.0 - cos_gamma / 4.0, 0.0, 1.0))
+#: toward the sun from elevation and azimuth (0 north, 90 east) — the numpy model's function
+sun_direction = atm.direction
+#: the thesis's variable exposure clamp(1 − cos γ / 4, 0, 1) (spec/002 §1.6)
+pupil = atm.pupil
 
 
 def look_at(eye, target, up) -> np.ndarray:
@@ -188,11 +183,10 @@ class Planet(Effect):
             if e > 90.0:  # over the top: continue down the other side
                 e = 180.0 - e
                 p.set("planet.sun_azimuth", (p["planet.sun_azimuth"] + 180.0) % 360.0)
-                p.set("planet.sun_speed", p["planet.sun_speed"])
             p.set("planet.sun_elevation", max(-90.0, min(90.0, e)))
         self.sun_dir = sun_direction(p["planet.sun_elevation"], p["planet.sun_azimuth"])
         if p["planet.pupil"]:
-            frame.exposure *= pupil(float(np.dot(frame.camera.forward(), self.sun_dir)))
+            frame.exposure *= float(pupil(float(np.dot(frame.camera.forward(), self.sun_dir))))
 
     # -- resources --------------------------------------------------------------------------
     def _ensure_geometry(self) -> None:

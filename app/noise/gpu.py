@@ -47,6 +47,15 @@ def _set_uniform(prog: Any, name: str, value: Any) -> None:
         prog[name].value = value
 
 
+def value_noise_texture(gpu: "Gpu", owner: str, seed: int) -> moderngl.Texture:
+    """The wood thesis's random source (256×256 RGBA8, NEAREST, repeat) for
+    ``glsl/common/noise_value.glsl`` (read with texelFetch), allocated under ``owner``."""
+    from .value import random_texture
+
+    return gpu.texture(owner, "value noise source", (256, 256), 4, random_texture(seed).tobytes(), dtype="f1",
+                       filter=(moderngl.NEAREST, moderngl.NEAREST), repeat=True)
+
+
 class GradientNoiseTextures:
     """Perlin permutation textures for one owner (effect or scene), one per seed.
 
