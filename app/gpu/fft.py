@@ -1,0 +1,174 @@
+"""Inverse 2D FFT on the GPU for the Tessendorf ocean (spec/000 §1.1(d); ``app/sim/ocean.py``
+is its numpy twin).
+
+``GpuFFT(gpu, owner, n, count=2)`` owns ``count`` N×N RGBA32F textures (``textures``); each
+texel holds two complex numbers (re0, im0, re1, im1) in numpy FFT order, indexed [iz, ix]
+(texel x = ix, texel y = iz).  :meth:`GpuFFT.inverse` replaces their contents with
+
+    out[m_z, m_x] = Σ_{k_z, k_x} in[k_z, k_x]·e^{+2πi·(k_x·m_x + k_z·m_z)/N}
+
+which is ``N²·numpy.fft.ifft2`` of each complex channel pair — rows (along x) first, then
+columns.  N is a power of two in [4, 1024].
+
+Two paths, picked by ``use_compute`` (``None`` → ``gpu.caps.compute``):
+
+* **compute** (GL ≥ 4.3, ``glsl/ocean/fft_radix2.comp``): one dispatch per axis and texture;
+  a work group of N/2 invocations transforms one whole row in shared memory (radix-2
+  decimation in time, in place after a bit-reversed load, one barrier per stage).  The
+  transform is in place in the textures.
+* **fragment** (GL 3.3, ``glsl/ocean/fft_stage.frag``): one full-screen pass per radix-2
+  Stockham stage, all ``count`` textures at once through MRT, ping-ponging with scratch
+  textures; 2·log2 N passes — an even number, so the result is back in ``textures``.
+
+Twiddles e^{+2πi·m/N} (m < N/2) are computed in float64 on the CPU from the integer m and
+stored in an N/2 × 1 RG32F texture: no sin/cos of a large float32 angle anywhere.  Rounding
+grows like log2 N·ε_f32·rms (about 1e-7 relative at N = 256; see tests/test_ocean_gpu.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import moderngl
+import numpy as np
+
+from ..errors import ParamError
+
+MIN_N = 4
+MAX_N = 1024
+MAX_COUNT = 8  # MRT attachments every GL 3.3 implementation offers
+
+FFT_COMPUTE = "ocean/fft_radix2"
+FFT_STAGE = "ocean/fft_stage"
+
+
+def check_fft_size(n, what: str = "ocean.fft_size") -> int:
+    """``n`` as an int if it is a power of two in [4, 1024]; a one-line ParamError otherwise."""
+    ok = isinstance(n, (int, np.integer)) and not isinstance(n, bool)
+    if not ok or not (MIN_N <= int(n) <= MAX_N) or int(n) & (int(n) - 1):
+        raise ParamError(f"{what}: {n!r} is not allowed: a power of two in [{MIN_N}, {MAX_N}]")
+    return int(n)
+
+
+def twiddle_table(n: int, length: int | None = None) -> np.ndarray:
+    """(length, 2) float32 table of e^{+2πi·m/N}, m = 0 … length−1 (default N/2), built in float64."""
+    m = np.arange(n // 2 if length is None else length, dtype=np.float64)
+    angle = 2.0 * np.pi * m / n
+    return np.stack([np.cos(angle), np.sin(angle)], axis=-1).astype(np.float32)
+
+
+class GpuFFT:
+    """In-place inverse 2D FFT of ``count`` N×N RGBA32F textures (two complex numbers a texel)."""
+
+    def __init__(self, gpu, owner: str, n: int, count: int = 2, use_compute: bool | None = None):
+        self.n = check_fft_size(n)
+        if not isinstance(count, (int, np.integer)) or not 1 <= int(count) <= MAX_COUNT:
+            raise ParamError(f"fft.count: {count!r} is outside the allowed range [1, {MAX_COUNT}]")
+        self.count = int(count)
+        self.gpu = gpu
+        self.owner = owner
+        self.use_compute = gpu.caps.compute if use_compute is None else bool(use_compute)
+        if self.use_compute and not gpu.caps.compute:
+            raise ParamError(f"fft.use_compute: compute shaders need GL ≥ 4.3, this context is "
+                             f"{gpu.caps.describe()}")
+        self.log2n = int(math.log2(self.n))
+        self._objects: list = []
+        self._programs: list = []
+        nearest = (moderngl.NEAREST, moderngl.NEAREST)
+        size = (self.n, self.n)
+        self.textures = [self._own(gpu.texture(owner, f"fft data {i}", size, 4, dtype="f4", filter=nearest))
+                         for i in range(self.count)]
+        self.twiddles = self._own(gpu.texture(owner, "fft twiddles", (self.n // 2, 1), 2,
+                                              data=twiddle_table(self.n).tobytes(), dtype="f4", filter=nearest))
+        if self.use_compute:
+            self._prog = gpu.program(owner, FFT_COMPUTE, {"FFT_N": self.n, "FFT_HALF_N": self.n // 2,
+                                                   "FFT_LOG2N": self.log2n},
+                                     comp=f"{FFT_COMPUTE}.comp")
+            self._scratch = []
+            self._fbos = []
+        else:
+            self._prog = gpu.program(owner, FFT_STAGE, {"FFT_COUNT": self.count},
+                                     vert="common/fullscreen.vert", frag=f"{FFT_STAGE}.frag")
+            self._scratch = [self._own(gpu.texture(owner, f"fft scratch {i}", size, 4, dtype="f4", filter=nearest))
+                             for i in range(self.count)]
+            self._fbos = [self._own(gpu.framebuffer(owner, "fft data", self.textures)),
+                          self._own(gpu.framebuffer(owner, "fft scratch", self._scratch))]
+        self._programs.append(self._prog)
+
+    def _own(self, obj):
+        self._objects.append(obj)
+        return obj
+
+    @property
+    def path(self) -> str:
+        return "compute" if self.use_compute else "fragment"
+
+    # -- data ------------------------------------------------------------------------------
+    def upload(self, index: int, data) -> None:
+        """Write texture ``index``: an (N, N, 4) float array, or a pair of complex (N, N) arrays."""
+        if isinstance(data, (tuple, list)):
+            a, b = (np.asarray(x) for x in data)
+            data = np.stack([a.real, a.imag, b.real, b.imag], axis=-1)
+        arr = np.ascontiguousarray(data, dtype=np.float32)
+        if arr.shape != (self.n, self.n, 4):
+            raise ParamError(f"fft.upload: shape {arr.shape} is not ({self.n}, {self.n}, 4)")
+        self.textures[index].write(arr.tobytes())
+
+    def read(self, index: int) -> np.ndarray:
+        """(N, N, 4) float32 contents of texture ``index``, indexed [iz, ix]."""
+        raw = self.textures[index].read()
+        return np.frombuffer(raw, dtype=np.float32).reshape(self.n, self.n, 4).copy()
+
+    # -- the transform ---------------------------------------------------------------------
+    def inverse(self) -> None:
+        """Replace every texture by its unnormalised inverse 2D FFT (N²·ifft2)."""
+        if self.use_compute:
+            self._inverse_compute()
+        else:
+            self._inverse_fragment()
+
+    def _inverse_compute(self) -> None:
+        ctx = self.gpu.ctx
+        prog = self._prog
+        self.twiddles.use(0)
+        prog.set("uTwiddle", 0)
+        for axis in (0, 1):
+            prog.set("uAxis", axis)
+            for tex in self.textures:
+                tex.bind_to_image(0, read=True, write=True)
+                prog.program.run(self.n, 1, 1)
+            ctx.memory_barrier()
+
+    def _inverse_fragment(self) -> None:
+        ctx = self.gpu.ctx
+        prog = self._prog
+        sets = [self.textures, self._scratch]
+        src = 0
+        with ctx.scope(self._fbos[1], enable_only=moderngl.NOTHING):
+            self.twiddles.use(self.count)
+            prog.set("uTwiddle", self.count)
+            prog.set("uN", self.n)
+            for i in range(self.count):
+                prog.set(f"uSrc{i}", i)
+            vao = prog.vao()
+            for axis in (0, 1):
+                prog.set("uAxis", axis)
+                for stage in range(self.log2n):
+                    dst = 1 - src
+                    self._fbos[dst].use()
+                    for i, tex in enumerate(sets[src]):
+                        tex.use(i)
+                    prog.set("uSpan", 1 << stage)
+                    vao.render(moderngl.TRIANGLES, vertices=3)
+                    src = dst
+        assert src == 0  # 2·log2 N passes: the result is back in self.textures
+
+    def release(self) -> None:
+        for obj in reversed(self._objects):
+            self.gpu.free(obj)
+        self._objects.clear()
+        for prog in self._programs:
+            if any(a.obj is prog and a.owner == self.owner for a in self.gpu.allocations):
+                self.gpu.free(prog)  # forgets the record; programs stay in the shared library
+        self._programs.clear()
+        self.textures = []
