@@ -53,6 +53,10 @@ class Sky(Effect):
                   kind="vec3", step=0.01, section=s),
             Param("sky.moon_light", 0.08, 0.0, 1.0, "main-light intensity of the moon relative to the sun",
                   step=0.01, section=s),
+            Param("sky.sun_extinction", (0.0, 0.0, 0.0), 0.0, 2.0,
+                  "beyond the thesis: zenith optical depth per channel (R, G, B) that reddens the sun and the main "
+                  "light toward the horizon (Kasten–Young air mass, relative to the zenith); 0 = the thesis's "
+                  "constant colour", kind="vec3", step=0.01, section=s),
             Param("sky.star_seed", 7, 0, 2**31 - 1, "seed of the procedural star field", kind="int", section=s),
             Param("sky.cubemap_size", 128, 8, 2048, "environment cubemap face size (reflection probe)",
                   kind="int", step=8, unit="px", section=s),
@@ -69,7 +73,8 @@ class Sky(Effect):
         self._stars_seed = None
         self._moon = None
         self._cube = None
-        self._cube_key = None
+        self._cube_nosun = None
+        self._cube_keys: dict = {}
 
     # -- CPU -------------------------------------------------------------------------------
     def daynight(self) -> DayNight:
@@ -83,6 +88,7 @@ class Sky(Effect):
             sun_color=p["sky.sun_color"],
             moon_color=p["sky.moon_color"],
             moon_light=p["sky.moon_light"],
+            sun_extinction=p["sky.sun_extinction"],
         )
 
     def update(self, frame, dt: float) -> None:
@@ -138,6 +144,7 @@ class Sky(Effect):
             "uWorldToMoon": st.world_to_moon,
         })
         self.apply_params(prog)
+        prog.set("uSunColor", tuple(st.sun.color))  # reddened by sky.sun_extinction (no-op at 0)
 
     # -- passes ----------------------------------------------------------------------------
     def render(self, frame, target) -> None:
@@ -151,24 +158,31 @@ class Sky(Effect):
     def environment_key(self) -> tuple:
         return (round(self.state.hour, 6), self.params.version("sky"), self.keyframes.version)
 
-    def environment(self, frame=None, force: bool = False):
-        """The sky as a cubemap for reflections; re-rendered only when it changed."""
-        size = self.params["sky.cubemap_size"]
-        if self._cube is not None and self._cube.size[0] != size:
-            self.gpu.free(self._cube)
-            self._cube = None
-        if self._cube is None:
-            self._cube = self.gpu.texture_cube(self.name, "environment", size)
-            self._cube.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-            self._cube_key = None
-        key = self.environment_key()
-        if force or key != self._cube_key:
-            self._render_cubemap(self._cube)
-            self._cube_key = key
-            self.environment_renders += 1
-        return self._cube
+    def environment(self, frame=None, force: bool = False, sun: bool = True):
+        """The sky as a cubemap for reflections; re-rendered only when it changed.
 
-    def _render_cubemap(self, cube, use_compute: bool | None = None) -> None:
+        ``sun=False`` gives a second cubemap without the sun disk, for surfaces that light the sun
+        analytically (the ocean's glitter): blurred mip levels of a map with a 400× sun smear it
+        over one cube face, which shows as bright wedges in rough reflections."""
+        size = self.params["sky.cubemap_size"]
+        attr = "_cube" if sun else "_cube_nosun"
+        cube = getattr(self, attr)
+        if cube is not None and cube.size[0] != size:
+            self.gpu.free(cube)
+            cube = None
+        if cube is None:
+            cube = self.gpu.texture_cube(self.name, "environment" if sun else "environment without the sun", size)
+            cube.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+            self._cube_keys[attr] = None
+            setattr(self, attr, cube)
+        key = self.environment_key()
+        if force or key != self._cube_keys.get(attr):
+            self._render_cubemap(cube, sun=sun)
+            self._cube_keys[attr] = key
+            self.environment_renders += 1
+        return cube
+
+    def _render_cubemap(self, cube, use_compute: bool | None = None, sun: bool = True) -> None:
         size = cube.size[0]
         ctx = self.gpu.ctx
         if use_compute is None:
@@ -176,6 +190,8 @@ class Sky(Effect):
         if use_compute:
             prog = self.program(SKY_CUBEMAP)
             self._bind(prog)
+            if not sun:
+                prog.set("uSunIntensity", 0.0)
             prog.set("uFaceSize", size)
             cube.bind_to_image(0, read=False, write=True)
             groups = (size + 7) // 8
@@ -184,6 +200,8 @@ class Sky(Effect):
         else:
             prog = self.program(SKY_FACE)
             self._bind(prog)
+            if not sun:
+                prog.set("uSunIntensity", 0.0)
             face_target = self.gpu.target(self.name, "cubemap face", (size, size), dtype="f4", depth=False)
             try:
                 for face in range(6):
@@ -200,6 +218,8 @@ class Sky(Effect):
         out = [Pass("sky", lambda: self.render(frame, target))]
         if self._cube is not None:
             out.append(Pass("sky.cubemap", lambda: self.environment(frame, force=True)))
+        if self._cube_nosun is not None:
+            out.append(Pass("sky.cubemap (no sun)", lambda: self.environment(frame, force=True, sun=False)))
         return out
 
 

@@ -27,6 +27,12 @@ class Gpu:
     def __init__(self, ctx: moderngl.Context | None = None, shader_root: Path | None = None):
         self.ctx = ctx or create_headless_context()
         self.caps: Caps = caps_of(self.ctx)
+        # Seamless cubemap filtering (core since GL 3.2, off by default): without it the blurred
+        # mip levels of the sky's environment cubemap show the face edges as lines in reflections.
+        try:
+            self.ctx.enable_direct(0x884F)  # GL_TEXTURE_CUBE_MAP_SEAMLESS
+        except Exception:  # pragma: no cover - a context without it still renders
+            pass
         self.shaders = ShaderLibrary(self.ctx, shader_root)
         self.allocations: list[Allocation] = []
         #: progress(label, fraction) for long GPU jobs such as bakes; the window draws a bar

@@ -38,7 +38,7 @@ class RenderTarget:
 
     def read_depth(self) -> np.ndarray:
         w, h = self.size
-        data = np.frombuffer(self.fbo.read(attachment=-1, dtype="f4"), dtype=np.float32)
+        data = np.frombuffer(self.fbo.read(attachment=-1, components=1, dtype="f4"), dtype=np.float32)
         return data.reshape(h, w)[::-1].copy()
 
     def release(self) -> None:

@@ -262,6 +262,17 @@ class DayNight:
     sun_color: tuple[float, float, float] = (1.0, 1.0, 1.0)
     moon_color: tuple[float, float, float] = (1.0, 1.0, 1.0)
     moon_light: float = 0.08
+    sun_extinction: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def sun_transmittance(self, sin_elevation: float) -> np.ndarray:
+        """exp(−τ·(m − 1)) per channel: the sun's colour through m air masses (Kasten & Young
+        1989, elevation clamped at −1°), relative to the zenith, for zenith optical depths τ."""
+        tau = np.asarray(self.sun_extinction, dtype=float)
+        if not np.any(tau):
+            return np.ones(3)
+        h = max(math.degrees(math.asin(max(-1.0, min(1.0, sin_elevation)))), -1.0)
+        m = 1.0 / (math.sin(math.radians(h)) + 0.50572 * (h + 6.07995) ** -1.6364)
+        return np.exp(-tau * (m - 1.0))
 
     def advance(self, dt: float) -> None:
         if self.playing:
@@ -272,7 +283,8 @@ class DayNight:
     def state(self) -> DayNightState:
         sun = sun_direction(self.hour, self.ecliptic)
         moon = -sun  # opposite the sun, as in the thesis
-        sun_light = Light("sun", sun, self.sun_color, light_fade(sun[1]))
+        sun_color = tuple(float(c) for c in np.asarray(self.sun_color) * self.sun_transmittance(sun[1]))
+        sun_light = Light("sun", sun, sun_color, light_fade(sun[1]))
         moon_light = Light("moon", moon, self.moon_color, self.moon_light * light_fade(moon[1]))
         main = sun_light if sun[1] >= moon[1] else moon_light
         return DayNightState(
