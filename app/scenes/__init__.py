@@ -6,8 +6,9 @@ from ..effects.clouds import Clouds
 from ..effects.clouds_maritime import CloudsMaritime
 from ..effects.materials import Materials
 from ..effects.noiselab import NoiseLab
+from ..effects.ocean import Ocean
 from ..effects.planet import Planet
-from ..ui.keymap import ATMOSPHERE_THESIS
+from ..ui.keymap import ATMOSPHERE_THESIS, OCEAN
 from ..effects.preetham import Preetham
 from ..effects.probe import MirrorBall
 from ..effects.sky import Sky
@@ -76,8 +77,24 @@ class CloudsScene(Scene):
     camera = {"position": (0.0, 300.0, 0.0), "yaw": 30.0, "pitch": 25.0, "fov": 70.0, "far": 200000.0}
 
 
+class OceanScene(Scene):
+    name = "ocean"
+    title = "Open sea"
+    description = ("sine, Gerstner and FFT waves (Phillips, Pierson–Moskowitz, JONSWAP/TMA, cascades, foam) under "
+                   "the day–night sky, with its reflection probe, an underwater view and the maritime thesis's "
+                   "clouds (spec/000 §1.1–1.3)")
+    effects = (Sky, Clouds, CloudsMaritime, Ocean)
+    selectors = {
+        "scene.clouds": ("off", {"off": "", "a": "clouds", "b": "clouds_b"},
+                         "clouds over the sea: off, a = the cloud thesis (spec/001), b = the maritime thesis "
+                         "(spec/000 §1.6)"),
+    }
+    camera = {"position": (0.0, 4.0, 0.0), "yaw": 262.0, "pitch": -2.0, "fov": 60.0, "far": 200000.0}
+    keymap = OCEAN
+
+
 SCENES: dict[str, type[Scene]] = {cls.name: cls for cls in (SkyScene, ProbeScene, MaterialsScene, PlanetScene,
-                                                            NoiseScene, CloudsScene)}
+                                                            NoiseScene, CloudsScene, OceanScene)}
 
 
 def get_scene(name: str) -> type[Scene]:

@@ -52,8 +52,9 @@ What each function implements
 * ``foam_step`` — foam accumulates where J < threshold and decays exponentially elsewhere.
 * ``cascade_bands`` / ``FFTOcean`` — 1–4 cascades (defaults N = 256, L = 250 / 17 / 5 m, the
   upstream's).  Band split: cascade i keeps |k| ∈ [k_i, k_{i+1}) with k_0 = 0,
-  k_i = ``boundary_factor``·2π/L_i (default 6: the finest waves a cascade leaves to the next
-  one are six of that cascade's fundamentals, so its tiling needs six wavelengths to repeat)
+  k_i = min(``boundary_factor``·2π/L_i, π·N/L_{i−1}) (default factor 6: the finest waves a
+  cascade leaves to the next one are six of that cascade's fundamentals, so its tiling needs six
+  wavelengths to repeat; the min hands over at the coarser cascade's Nyquist when N is small)
   and the last upper edge the last cascade's Nyquist π·N/L.  Every edge must lie inside the
   range the cascade can represent (ParamError otherwise), so bands never overlap and never
   leave a gap.  Defaults: [0, 2.218), [2.218, 7.540), [7.540, 160.8] rad/m.
@@ -516,7 +517,10 @@ def cascade_bands(n: int, patch_sizes: Sequence[float], boundary_factor: float =
         raise ParamError(f"ocean.cascades: {len(sizes)} is outside the allowed range [1, 4]")
     if any(b >= a for a, b in zip(sizes, sizes[1:])) or sizes[-1] <= 0:
         raise ParamError(f"ocean.patch_sizes: {sizes} must be positive and strictly decreasing")
-    edges = [0.0] + [boundary_factor * 2.0 * math.pi / s for s in sizes[1:]]
+    # A boundary never lies beyond the coarser cascade's Nyquist (small N: the coarse cascade hands
+    # over earlier, so its band stays inside what it can represent).
+    edges = [0.0] + [min(boundary_factor * 2.0 * math.pi / s, math.pi * n / prev)
+                     for prev, s in zip(sizes, sizes[1:])]
     edges.append(math.pi * n / sizes[-1])
     for i, s in enumerate(sizes):
         lo, hi = edges[i], edges[i + 1]
@@ -643,3 +647,98 @@ def floating_points_pose(query: Callable, points_x, points_z, probe_distance: fl
     ni /= np.linalg.norm(ni, axis=-1, keepdims=True)
     nm = ni.reshape(-1, 3).mean(axis=0)
     return nm / np.linalg.norm(nm), q0.displacement.reshape(-1, 3).mean(axis=0)
+
+
+# ---------------------------------------------------------------------------------------------
+# Spectrum statistics and Gerstner wave sets drawn from a spectrum
+# ---------------------------------------------------------------------------------------------
+
+
+def _polar_spectrum(p: SpectrumParams, k_lo: float, k_hi: float, nk: int = 1200, nth: int = 360):
+    """Ψ on a polar grid: (k (nk,), θ (nth,), Ψ (nk, nth), Δk (nk,), Δθ), k log-spaced."""
+    edges = np.geomspace(k_lo, k_hi, nk + 1)
+    k = np.sqrt(edges[:-1] * edges[1:])
+    dk = np.diff(edges)
+    th = (np.arange(nth) + 0.5) / nth * 2.0 * np.pi - np.pi
+    kk, tt = np.meshgrid(k, th + p.wind_direction, indexing="ij")
+    psi = directional_spectrum(kk * np.cos(tt), kk * np.sin(tt), p)
+    return k, th, psi, dk, 2.0 * np.pi / nth
+
+
+def spectrum_moments(p: SpectrumParams, k_max: float = 1.0e3, k_min: float = 1.0e-4) -> dict:
+    """Numerical moments of Ψ over k_min ≤ |k| ≤ k_max: variance m0 [m²], Hs = 4·sqrt(m0) [m],
+    mean-square slope mss = ∫k²Ψ d²k, and the peak wavenumber of the omnidirectional E(k)."""
+    k, _, psi, dk, dth = _polar_spectrum(p, k_min, k_max)
+    e_k = psi.sum(axis=1) * k * dth  # omnidirectional E(k) [m³]
+    m0 = float(np.sum(e_k * dk))
+    mss = float(np.sum(e_k * k * k * dk))
+    kp = float(k[int(np.argmax(e_k))]) if m0 > 0 else float("nan")
+    return {"m0": m0, "hs": 4.0 * math.sqrt(m0), "mss": mss, "k_peak": kp}
+
+
+def wavenumber_from_omega(omega, depth: float = math.inf, g: float = G):
+    """Inverse dispersion: k with ω(k) = ω (Newton on ω² = g·k·tanh(k·d); deep: ω²/g)."""
+    w = np.asarray(omega, dtype=float)
+    k = w * w / g
+    if math.isinf(depth):
+        return k
+    k = np.maximum(k, w / math.sqrt(g * depth))  # shallow-water start, above the root
+    for _ in range(50):
+        th = np.tanh(k * depth)
+        f = g * k * th - w * w
+        df = g * th + g * k * depth * (1.0 - th * th)
+        k = np.maximum(k - f / df, 1e-12)
+    return k
+
+
+def gerstner_waves_from_spectrum(p: SpectrumParams, count: int, *, seed: int = 0,
+                                 steepness_scale: float = 1.0,
+                                 energy_range: tuple[float, float] = (0.005, 0.995)):
+    """``count`` Gerstner waves with the spectrum's variance (so the same Hs) and peak period.
+
+    The omnidirectional spectrum is split into ``count`` log-spaced wavenumber bins between the
+    given energy quantiles; each wave gets its bin's share of the *whole* variance (the tails are
+    folded in, so Σ A²/2 = m0 exactly), a wavenumber jittered inside its bin (no exact
+    harmonics), a direction drawn from the spectrum's own directional distribution at that
+    wavenumber, and a random phase.  Steepness s = k·A times ``steepness_scale`` (which scales
+    the amplitudes: Hs scales with it).  Seeded; returns a list of GerstnerWave."""
+    if not 1 <= count <= 64:
+        raise ParamError(f"ocean.gerstner_waves: {count} is outside the allowed range [1, 64]")
+    p.validate()
+    rng = np.random.default_rng(seed)
+    if p.wind_speed <= 0:
+        return [GerstnerWave((math.cos(p.wind_direction), math.sin(p.wind_direction)), 10.0, 0.0)
+                for _ in range(count)]
+    k, th, psi, dk, dth = _polar_spectrum(p, 1e-4, 1e3)
+    e_k = psi.sum(axis=1) * k * dth * dk
+    m0 = float(e_k.sum())
+    cdf = np.cumsum(e_k) / m0
+    k_lo = float(np.interp(energy_range[0], cdf, k))
+    k_hi = float(np.interp(energy_range[1], cdf, k))
+    edges = np.geomspace(k_lo, k_hi, count + 1)
+    # each bin's energy (tails folded into the end bins), then normalised to m0
+    idx = np.clip(np.searchsorted(edges, k) - 1, 0, count - 1)
+    bin_e = np.bincount(idx, weights=e_k, minlength=count)
+    bin_e *= m0 / bin_e.sum()
+    waves = []
+    for i in range(count):
+        kw = float(np.exp(rng.uniform(np.log(edges[i]), np.log(edges[i + 1]))))
+        row = psi[min(int(np.searchsorted(k, kw)), len(k) - 1)]
+        wsum = row.sum()
+        if wsum > 0:
+            cdf_t = np.cumsum(row) / wsum
+            theta = float(np.interp(rng.uniform(), cdf_t, th)) + p.wind_direction
+        else:
+            theta = p.wind_direction
+        amp = math.sqrt(2.0 * bin_e[i]) * steepness_scale
+        waves.append(GerstnerWave((math.cos(theta), math.sin(theta)), 2.0 * math.pi / kw, kw * amp,
+                                  float(rng.uniform(0.0, 2.0 * math.pi))))
+    return waves
+
+
+def gerstner_moments(waves: Sequence[GerstnerWave]) -> dict:
+    """Variance m0 = ΣA²/2, Hs = 4·sqrt(m0), mss = Σ(kA)²/2 = Σs²/2 of a Gerstner wave set."""
+    a = np.array([w.steepness * w.wavelength / (2.0 * math.pi) for w in waves])
+    s = np.array([w.steepness for w in waves])
+    m0 = float(np.sum(a * a) / 2.0)
+    return {"m0": m0, "hs": 4.0 * math.sqrt(m0), "mss": float(np.sum(s * s) / 2.0)}

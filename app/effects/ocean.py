@@ -1,0 +1,537 @@
+"""The open sea of the maritime thesis (spec/000 §1.1–1.3): three wave models switchable live —
+sine (eqs. 2.1–2.4), a sum of Gerstner waves (eqs. 2.5–2.8) and the cascaded FFT ocean
+(Tessendorf; §1.1(d)–(e)) — rendered with the sky's reflection probe, the main light's glitter,
+foam, an underwater view, and water-height queries for floating objects.
+
+What lives where
+* numpy reference and oceanography: ``app/sim/ocean.py`` (spectra, dispersion, Gerstner,
+  synthesis, inversion); the GPU simulation (evolve, FFT, finalize, foam, readback):
+  ``app/effects/ocean_fft.py``; GLSL: ``glsl/ocean/`` (waves.glsl = the three models,
+  shading.glsl = Fresnel, glitter, foam, underwater light).
+* Level of detail: a polar grid centred under the camera whose rings grow geometrically (cells
+  about square, one connected mesh: no seams), displacement faded to flat water toward
+  ``ocean.mesh_extent``, then an analytic plane to the horizon (``far.frag``).
+* Water-height queries (:meth:`Ocean.water`): sine and Gerstner are evaluated exactly in numpy;
+  the FFT reads back the displacement textures asynchronously — the answer describes the sea
+  **one frame earlier** (the frame before the last ``update``), never stalls the GPU, and its
+  time is ``Ocean.query_time``. Heights come from the iterative inversion of the horizontal
+  displacement (spec/000 §1.3, 3 corrections + a final read).
+"""
+
+from __future__ import annotations
+
+import math
+
+import moderngl
+import numpy as np
+
+from ..errors import ParamError
+from ..params import Param
+from ..sim import ocean as oc
+from .base import Effect, Pass, ProgramSpec, fullscreen
+
+MODELS = ("sine", "gerstner", "fft")
+FFT_SIZES = ("64", "128", "256", "512")
+
+SURFACE = ProgramSpec("ocean/surface")
+FAR = fullscreen("ocean/far")
+UNDERWATER = fullscreen("ocean/underwater")
+
+
+def wind_vector(direction_deg: float) -> np.ndarray:
+    """Unit (x, z) vector the wind blows toward: 0° = north (−z), 90° = east (+x)."""
+    a = math.radians(direction_deg)
+    return np.array([math.sin(a), -math.cos(a)])
+
+
+def polar_grid(segments: int, inner: float, extent: float):
+    """Rest-point mesh around the camera: a centre vertex, then rings r₀ = inner,
+    r_{i+1} = r_i·(1 + 2π/segments) up to ``extent`` (cells about square).
+
+    Returns (vertices (V, 3) float32 = (radius, angle, spacing), indices (M,) uint32), triangles
+    counter-clockwise seen from above (front faces are the top of the sea)."""
+    growth = 1.0 + 2.0 * math.pi / segments
+    radii = [0.0, inner]
+    while radii[-1] < extent:
+        radii.append(min(radii[-1] * growth, extent) if radii[-1] * growth < extent * 1.0001 else extent)
+        if radii[-1] >= extent:
+            break
+    radii = np.array(radii)
+    theta = np.arange(segments) * (2.0 * math.pi / segments)
+    spacing = np.maximum(radii * (2.0 * math.pi / segments), inner * 2.0 * math.pi / segments)
+    verts = [np.array([[0.0, 0.0, spacing[1]]])]
+    for r, s in zip(radii[1:], spacing[1:]):
+        verts.append(np.stack([np.full(segments, r), theta, np.full(segments, s)], axis=1))
+    vertices = np.concatenate(verts).astype("f4")
+    seg = np.arange(segments)
+    nxt = (seg + 1) % segments
+    idx = [np.stack([np.zeros(segments, int), 1 + nxt, 1 + seg], axis=1)]  # centre fan
+    for ring in range(1, len(radii) - 1):
+        a = 1 + (ring - 1) * segments
+        b = a + segments
+        idx.append(np.stack([a + seg, a + nxt, b + nxt], axis=1))
+        idx.append(np.stack([a + seg, b + nxt, b + seg], axis=1))
+    indices = np.concatenate(idx)
+    # orient: the face normal of the first fan triangle must point up (+y)
+    p = np.stack([vertices[:, 0] * np.cos(vertices[:, 1]), np.zeros(len(vertices)),
+                  vertices[:, 0] * np.sin(vertices[:, 1])], axis=1)
+    t = indices[len(seg) + 0] if len(indices) > segments else indices[0]
+    ny = np.cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]])[1]
+    if ny < 0:
+        indices = indices[:, ::-1]
+    return vertices, indices.astype("u4").ravel()
+
+
+class Ocean(Effect):
+    name = "ocean"
+    title = "Ocean"
+    spec = "spec/000"
+    programs = (SURFACE, FAR, UNDERWATER)
+
+    @classmethod
+    def python_params(cls) -> list[Param]:
+        s1, s2, s3 = "spec/000 §1.1", "spec/000 §1.2", "spec/000 §1.3"
+        return [
+            Param("ocean.model", "fft", doc="wave model: sine (eqs. 2.1–2.4), gerstner (eqs. 2.5–2.8) or fft "
+                  "(Tessendorf cascades)", kind="choice", choices=MODELS, section=s1),
+            Param("ocean.spectrum", "jonswap", doc="sea spectrum for the FFT and the Gerstner set: Phillips, "
+                  "Pierson–Moskowitz or JONSWAP (with TMA in finite depth)", kind="choice", choices=oc.SPECTRA,
+                  section=s1 + "(d)"),
+            Param("ocean.wind", 10.0, 0.0, 40.0, "wind speed at 19.5 m (10 m for Phillips)", step=0.1, unit="m/s",
+                  section=s1 + "(d)"),
+            Param("ocean.wind_direction", 90.0, 0.0, 360.0, "direction the wind blows toward: 0 = north (−z), "
+                  "90 = east (+x)", step=1.0, unit="°", section=s1 + "(d)"),
+            Param("ocean.fetch", 100.0, 1.0, 2000.0, "JONSWAP fetch: distance the wind has blown over water",
+                  step=1.0, unit="km", section=s1 + "(d)"),
+            Param("ocean.gamma", 3.3, 1.0, 7.0, "JONSWAP peak enhancement γ", step=0.1, section=s1 + "(d)"),
+            Param("ocean.depth", 1000.0, 1.0, 10000.0, "water depth d: dispersion ω² = g·k·tanh(k·d) and the TMA "
+                  "correction", step=1.0, unit="m", section=s1 + "(d)"),
+            Param("ocean.short_wave_fade", 0.01, 0.0, 1.0, "Tessendorf's small-wave suppression length ℓ: "
+                  "spectrum × exp(−(k·ℓ)²)", step=0.001, unit="m", section=s1 + "(d)"),
+            Param("ocean.choppiness", 1.0, 0.0, 4.0, "choppiness λ: horizontal displacement x + λ·D (crests "
+                  "sharpen; the surface folds where the Jacobian < 0)", step=0.05, section=s1 + "(d)"),
+            Param("ocean.fft_size", "256", doc="FFT grid N per cascade", kind="choice", choices=FFT_SIZES,
+                  section=s1 + "(e)"),
+            Param("ocean.cascades", 3, 1, 4, "number of cascades (non-overlapping wavenumber bands)", kind="int",
+                  section=s1 + "(e)"),
+            Param("ocean.patch_sizes", (250.0, 17.0, 5.0, 1.5), 0.1, 5000.0, "tile size L of each cascade, "
+                  "strictly decreasing (the upstream's 250 / 17 / 5 m)", kind="vec4", step=0.1, unit="m",
+                  section=s1 + "(e)"),
+            Param("ocean.seed", 0, 0, 1_000_000, "random seed of the wave amplitudes and phases", kind="int"),
+            Param("ocean.foam_threshold", 0.5, 0.0, 1.0, "foam appears where the Jacobian drops below this",
+                  step=0.01, section=s2),
+            Param("ocean.foam_decay", 2.0, 0.05, 30.0, "foam fades as e^(−t/τ): τ", step=0.05, unit="s",
+                  section=s2),
+            Param("ocean.foam_amount", 1.0, 0.0, 4.0, "foam strength", step=0.05, section=s2),
+            Param("ocean.sine_amplitude", 0.5, 0.0, 10.0, "sine wave amplitude A (eq. 2.1)", step=0.01, unit="m",
+                  section=s1 + "(a)"),
+            Param("ocean.sine_wavelength", 20.0, 0.1, 500.0, "sine wavelength 2π/k (ω from the dispersion "
+                  "relation)", step=0.1, unit="m", section=s1 + "(a)"),
+            Param("ocean.gerstner_waves", 16, 1, 64, "number of Gerstner waves, drawn from the spectrum (same Hs "
+                  "and peak period as the FFT sea)", kind="int", section=s1 + "(c)"),
+            Param("ocean.gerstner_steepness", 1.0, 0.0, 20.0, "scales every Gerstner wave's amplitude, so its "
+                  "steepness s = k·A; each wave must keep s ≤ 1", step=0.05, section=s1 + "(c)"),
+            Param("ocean.subgrid_slopes", True, doc="beyond the thesis: the glitter lobe gets the slope variance "
+                  "the grid cannot hold (Cox–Munk minus what is resolved)", kind="bool", section=s2),
+            Param("ocean.mesh_segments", 256, 32, 1024, "angular segments of the polar surface mesh (its density)",
+                  kind="int", section=s1),
+            Param("ocean.mesh_inner", 0.25, 0.01, 10.0, "radius of the mesh's first ring", step=0.01, unit="m",
+                  section=s1),
+            Param("ocean.mesh_extent", 3000.0, 50.0, 50000.0, "radius of the surface mesh; beyond it the sea is "
+                  "an analytic plane to the horizon", step=10.0, unit="m", section=s1),
+            Param("ocean.query_iterations", 3, 0, 10, "corrections of the water-height inversion (the "
+                  "upstream's 3)", kind="int", section=s3),
+        ]
+
+    # -- life ------------------------------------------------------------------------------
+    def __init__(self, gpu, params, scene=None):
+        super().__init__(gpu, params, scene)
+        self.sim = None  # GpuOceanSim, only for the FFT model
+        self._sim_key = None
+        self._fft_ref: oc.FFTOcean | None = None
+        self._waves: list[oc.GerstnerWave] = []
+        self._waves_key = None
+        self._mesh = None
+        self._mesh_key = None
+        self._scene_copy = None
+        self._color_copy = None
+        self._flat_env = None
+        self.time = 0.0
+        self.camera_pos = np.zeros(3)
+        self.query_time: float | None = None
+        self._readback = None
+        self.resolved_mss = 0.0
+        self.cascade_bands: list[tuple[float, float, float]] = []
+        self.underwater = False
+        self.camera_height_water = 0.0
+
+    # -- sea state -------------------------------------------------------------------------
+    def spectrum_params(self) -> oc.SpectrumParams:
+        p = self.params
+        d = wind_vector(p["ocean.wind_direction"])
+        return oc.SpectrumParams(kind=p["ocean.spectrum"], wind_speed=p["ocean.wind"],
+                                 wind_direction=math.atan2(d[1], d[0]), fetch=p["ocean.fetch"] * 1000.0,
+                                 gamma=p["ocean.gamma"], depth=p["ocean.depth"],
+                                 short_wave_fade=p["ocean.short_wave_fade"])
+
+    def patch_sizes(self) -> list[float]:
+        return [float(s) for s in self.params["ocean.patch_sizes"][: self.params["ocean.cascades"]]]
+
+    def fft_size(self) -> int:
+        return int(self.params["ocean.fft_size"])
+
+    def gerstner_waves(self) -> list[oc.GerstnerWave]:
+        p = self.params
+        key = (self.spectrum_params(), p["ocean.gerstner_waves"], p["ocean.gerstner_steepness"], p["ocean.seed"])
+        if key != self._waves_key:
+            waves = oc.gerstner_waves_from_spectrum(key[0], key[1], seed=key[3], steepness_scale=key[2])
+            worst = max(range(len(waves)), key=lambda i: waves[i].steepness)
+            if waves[worst].steepness > 1.0:
+                limit = key[2] / waves[worst].steepness
+                raise ParamError(
+                    f"ocean.gerstner_steepness={key[2]:g} makes wave {worst} ({waves[worst].wavelength:.3g} m) "
+                    f"reach steepness s = {waves[worst].steepness:.3g}: allowed 0 ≤ s ≤ 1 per wave "
+                    f"(loops at the crests), so at most {limit:.3g} for this sea")
+            oc.check_gerstner_steepness(waves)
+            self._waves, self._waves_key = waves, key
+        return self._waves
+
+    def sine_wave(self) -> tuple[float, float, float]:
+        """(amplitude, wavenumber, ω) of the sine model; ω from the dispersion relation."""
+        p = self.params
+        k = 2.0 * math.pi / p["ocean.sine_wavelength"]
+        return p["ocean.sine_amplitude"], k, float(oc.dispersion_omega(k, p["ocean.depth"]))
+
+    def significant_height(self) -> float:
+        """Hs of what is drawn (m)."""
+        model = self.params["ocean.model"]
+        if model == "sine":
+            return 2.0 * math.sqrt(2.0) * self.params["ocean.sine_amplitude"]
+        if model == "gerstner":
+            return oc.gerstner_moments(self.gerstner_waves())["hs"]
+        if self._fft_ref is None:
+            return 0.0
+        m0 = sum(float(np.sum(np.abs(c.h0) ** 2)) * 2.0 for c in self._fft_ref.cascades)
+        return 4.0 * math.sqrt(m0)
+
+    def _ensure_fft(self) -> None:
+        key = (self.spectrum_params(), self.fft_size(), tuple(self.patch_sizes()), self.params["ocean.seed"])
+        if key == self._sim_key:
+            return
+        ref = oc.FFTOcean(key[0], n=key[1], patch_sizes=key[2], choppiness=1.0, seed=key[3])
+        if self.sim is None:
+            from .ocean_fft import GpuOceanSim
+            self.sim = GpuOceanSim(self.gpu, self.name)
+        self.sim.set_spectrum(ref.cascades, key[1])
+        self._fft_ref = ref
+        self._sim_key = key
+        self._readback = None
+        # per-cascade band and slope variance Σk²(|h0(k)|² + |h0(−k)|²) for the glitter filter
+        self.cascade_bands = []
+        total = 0.0
+        for c in ref.cascades:
+            k2 = c.kx ** 2 + c.kz ** 2
+            mss = float(np.sum(k2 * np.abs(c.h0) ** 2)) * 2.0
+            lo = max(c.band[0], 2.0 * math.pi / c.patch_size)
+            self.cascade_bands.append((lo, min(c.band[1], math.pi * key[1] / c.patch_size), mss))
+            total += mss
+        self.resolved_mss = total
+
+    def _release_fft(self) -> None:
+        if self.sim is not None:
+            self.sim.release()
+            self.sim = None
+            self._sim_key = None
+            self._fft_ref = None
+            self._readback = None
+
+    # -- frame -----------------------------------------------------------------------------
+    def update(self, frame, dt: float) -> None:
+        p = self.params
+        self.time = frame.time
+        self.camera_pos = np.asarray(frame.camera.position, dtype=float)
+        model = p["ocean.model"]
+        if model == "fft":
+            self._ensure_fft()
+            self.sim.update(frame.time, p["ocean.choppiness"], dt, foam_threshold=p["ocean.foam_threshold"],
+                            foam_decay_time=p["ocean.foam_decay"])
+            self.sim.request_readback()
+            got = self.sim.poll_readback()  # the previous frame's request: no stall
+            if got is not None:
+                self._readback = got
+                self.query_time = got[0]
+        else:
+            self._release_fft()
+            self.query_time = frame.time
+            if model == "gerstner":
+                self.gerstner_waves()
+                self.resolved_mss = oc.gerstner_moments(self._waves)["mss"]
+            else:
+                a, k, _ = self.sine_wave()
+                self.resolved_mss = 0.5 * (k * a) ** 2
+        frame.wind = wind_vector(p["ocean.wind_direction"]) * p["ocean.wind"]
+        frame.extra["ocean"] = self
+        self.camera_height_water = float(self.water(self.camera_pos[0], self.camera_pos[2]).height)
+        self.underwater = bool(self.camera_pos[1] < self.camera_height_water)
+
+    # -- queries ---------------------------------------------------------------------------
+    def _fade(self, x, z):
+        extent = self.params["ocean.mesh_extent"]
+        r = np.hypot(np.asarray(x) - self.camera_pos[0], np.asarray(z) - self.camera_pos[2])
+        t = np.clip((r - 0.5 * extent) / (0.4 * extent), 0.0, 1.0)
+        return 1.0 - t * t * (3.0 - 2.0 * t)
+
+    def displacement(self, x, z) -> np.ndarray:
+        """(D_x, η, D_z) [m] of the rest points (x, z) as drawn (faded far from the camera)."""
+        x = np.asarray(x, dtype=float)
+        z = np.asarray(z, dtype=float)
+        model = self.params["ocean.model"]
+        if model == "sine":
+            a, k, w = self.sine_wave()
+            d = wind_vector(self.params["ocean.wind_direction"])
+            eta = a * np.sin(k * (d[0] * x + d[1] * z) - w * self.time)
+            out = np.stack([np.zeros_like(eta), eta, np.zeros_like(eta)], axis=-1)
+        elif model == "gerstner":
+            surf = oc.gerstner(x, z, self.time, self.gerstner_waves(), depth=self.params["ocean.depth"])
+            out = surf.position - np.stack([x, np.zeros_like(x), z], axis=-1)
+        else:
+            if self._readback is None:
+                out = np.zeros(x.shape + (3,))
+            else:
+                out = 0.0
+                for size, grid in zip(self.patch_sizes(), self._readback[1]):
+                    out = out + oc.sample_periodic_bilinear(grid[..., :3], size, x, z)
+                out = np.broadcast_to(out, x.shape + (3,)).copy()
+        return out * self._fade(x, z)[..., None]
+
+    def water(self, x, z, iterations: int | None = None) -> oc.WaterQuery:
+        """Height, displacement and unit normal of the water above world points (x, z).
+
+        Sine and Gerstner: exact at the current time. FFT: from the last completed readback (one
+        frame old, see the module docstring); flat water before the first one."""
+        if iterations is None:
+            iterations = self.params["ocean.query_iterations"]
+        x0, z0, d, res = oc.invert_horizontal_displacement(self.displacement, x, z, iterations)
+        # normal of the displaced surface by central differences around the rest point
+        e = 0.05
+        px1, px0 = self.displacement(x0 + e, z0), self.displacement(x0 - e, z0)
+        pz1, pz0 = self.displacement(x0, z0 + e), self.displacement(x0, z0 - e)
+        t = np.stack([2 * e + px1[..., 0] - px0[..., 0], px1[..., 1] - px0[..., 1], px1[..., 2] - px0[..., 2]], -1)
+        b = np.stack([pz1[..., 0] - pz0[..., 0], pz1[..., 1] - pz0[..., 1], 2 * e + pz1[..., 2] - pz0[..., 2]], -1)
+        n = np.cross(b, t)
+        n /= np.linalg.norm(n, axis=-1, keepdims=True)
+        return oc.WaterQuery(d[..., 1], d, n, x0, z0, res)
+
+    # -- uniforms --------------------------------------------------------------------------
+    def wave_uniforms(self, prog) -> None:
+        p = self.params
+        cam = self.camera_pos
+        model = MODELS.index(p["ocean.model"])
+        extent = p["ocean.mesh_extent"]
+        prog.set_many({"uWaveModel": model, "uTime": float(self.time), "uFadeStart": 0.5 * extent,
+                       "uFadeEnd": 0.9 * extent, "uFoamThreshold": p["ocean.foam_threshold"]})
+        d = wind_vector(p["ocean.wind_direction"])
+        if model == 0:
+            a, k, w = self.sine_wave()
+            phase = math.fmod(k * (d[0] * cam[0] + d[1] * cam[2]), 2.0 * math.pi)
+            prog.set("uSine", (float(d[0]), float(d[1]), k, a))
+            prog.set("uSinePhase", (-w, phase))
+        elif model == 1:
+            waves = self.gerstner_waves()
+            a_rows, b_rows = [], []
+            for wv in waves:
+                dx, dz = np.asarray(wv.direction) / math.hypot(*wv.direction)
+                k = 2.0 * math.pi / wv.wavelength
+                om = float(oc.dispersion_omega(k, p["ocean.depth"]))
+                ph = math.fmod(wv.phase + k * (dx * cam[0] + dz * cam[2]), 2.0 * math.pi)
+                a_rows.append((dx, dz, k, wv.steepness / k))
+                b_rows.append((om, ph, wv.steepness, 0.0))
+            prog.set("uGerstnerCount", len(waves))
+            self._set_array(prog, "uGerstnerA", a_rows)
+            self._set_array(prog, "uGerstnerB", b_rows)
+        else:
+            sizes = self.patch_sizes()
+            n = self.fft_size()
+            rows = []
+            for size in sizes + [1.0] * (4 - len(sizes)):
+                # sample j of the grid sits at j·L/N, i.e. at texel centre (j + ½)/N
+                uv = ((cam[0] / size + 0.5 / n) % 1.0, (cam[2] / size + 0.5 / n) % 1.0)
+                rows.append((uv[0], uv[1], 1.0 / size, n / size))
+            self._set_array(prog, "uCascadeUV", rows)
+            bands = self.cascade_bands + [(1.0, 2.0, 0.0)] * (4 - len(self.cascade_bands))
+            self._set_array(prog, "uCascadeBand", [(lo, hi, m, 0.0) for lo, hi, m in bands])
+            weight = p["ocean.foam_amount"]
+            prog.set("uFoamWeight", [weight] * 4)
+            prog.set("uCascades", len(sizes))
+            for i in range(4):
+                j = min(i, len(sizes) - 1)
+                self.sim.disp[j].use(4 + i)
+                self.sim.deriv[j].use(8 + i)
+                self.sim.foam[j].use(12 + i)
+                prog.set(f"uDisp{i}", 4 + i)
+                prog.set(f"uDeriv{i}", 8 + i)
+                prog.set(f"uFoam{i}", 12 + i)
+
+    @staticmethod
+    def _set_array(prog, name: str, rows) -> None:
+        if prog.program is None or name not in prog.program:
+            return
+        member = prog.program[name]
+        arr = np.zeros((member.array_length, member.dimension), dtype="f4")
+        rows = np.asarray(rows, dtype="f4").reshape(-1, member.dimension)[: member.array_length]
+        arr[: len(rows)] = rows
+        member.write(arr.tobytes())
+
+    def cox_munk_mss(self) -> float:
+        """Cox & Munk 1954 clean-surface mean-square slope 0.003 + 5.12e-3·U."""
+        return 0.003 + 5.12e-3 * self.params["ocean.wind"]
+
+    def shading_uniforms(self, prog, frame, env) -> None:
+        p = self.params
+        subgrid = max(self.cox_munk_mss() - self.resolved_mss, 0.0) if p["ocean.subgrid_slopes"] else 0.0
+        env.use(2)
+        prog.set_many({"uEnvironment": 2, "uEnvironmentLods": float(max(0, int(math.log2(env.size[0])))),
+                       "uSubgridMss": subgrid, "uSeaHs": max(self.significant_height(), 1e-3)})
+        if frame.main_light is not None:
+            prog.set_many(frame.light_uniforms())
+        else:
+            prog.set_many({"uMainLightDir": (0.0, 0.7071, 0.7071), "uMainLightRadiance": (1.0, 1.0, 1.0)})
+        self.apply_params(prog)
+
+    def environment(self, frame):
+        """The sky's environment cubemap (the reflection probe) without the sun disk — the main
+        light's specular lobe draws the sun — or a flat grey one without a sky."""
+        scene = self.scene
+        if scene is not None and scene.has_effect("sky"):
+            sky = scene.effect("sky")
+            if scene.active(sky):
+                return sky.environment(frame, sun=False)  # the sun is the analytic glitter
+        if self._flat_env is None:
+            self._flat_env = self.gpu.texture_cube(self.name, "flat environment", 1, dtype="f4")
+            for face in range(6):
+                self._flat_env.write(face, np.array([0.3, 0.35, 0.4, 1.0], dtype="f4").tobytes())
+        return self._flat_env
+
+    # -- passes ----------------------------------------------------------------------------
+    def mesh(self):
+        p = self.params
+        key = (p["ocean.mesh_segments"], p["ocean.mesh_inner"], p["ocean.mesh_extent"])
+        if key != self._mesh_key:
+            if self._mesh is not None:
+                for obj in self._mesh:
+                    self.gpu.free(obj)
+            verts, idx = polar_grid(*key)
+            self._mesh = (self.gpu.buffer(self.name, "mesh vertices", verts.tobytes()),
+                          self.gpu.buffer(self.name, "mesh indices", idx.tobytes()))
+            self._mesh_key = key
+            self.mesh_triangles = len(idx) // 3
+        return self._mesh
+
+    def _copy(self, attr: str, target) -> moderngl.Texture:
+        """Copy the target's colour into a float texture of ours (framebuffer to framebuffer:
+        moderngl's copy into a texture goes through 8 bits and would clamp the radiance)."""
+        held = getattr(self, attr)
+        if held is None or held[0].size != target.size:
+            if held is not None:
+                self.gpu.free(held[1])
+                self.gpu.free(held[0])
+            label = attr.strip("_").replace("_", " ")
+            tex = self.gpu.texture(self.name, label, target.size, 4, dtype="f4")
+            held = (tex, self.gpu.framebuffer(self.name, label, [tex]))
+            setattr(self, attr, held)
+        self.gpu.ctx.copy_framebuffer(held[1], target.fbo)
+        return held[0]
+
+    def view_proj_rel(self, frame) -> np.ndarray:
+        cam = frame.camera
+        view = cam.view_matrix().copy()
+        view[:3, 3] = 0.0  # camera-relative positions
+        return cam.projection_matrix(frame.aspect) @ view
+
+    def view_mode(self) -> int:
+        """0: the camera is clearly above the water, 1: clearly below, 2: within 0.5 m of it (the
+        near plane may straddle the surface: decided per pixel)."""
+        margin = 0.5
+        if self.camera_pos[1] > self.camera_height_water + margin:
+            return 0
+        if self.camera_pos[1] < self.camera_height_water - margin:
+            return 1
+        return 2
+
+    def may_be_underwater(self) -> bool:
+        """Whether any pixel can start under water: the camera within the waves' reach."""
+        return self.view_mode() != 0
+
+    def render(self, frame, target) -> None:
+        self.render_surface(frame, target)
+        if self.may_be_underwater():
+            self.render_underwater(frame, target)
+
+    def render_surface(self, frame, target) -> None:
+        ctx = self.gpu.ctx
+        env = self.environment(frame)
+        vp = self.view_proj_rel(frame)
+        near_surface = self.may_be_underwater()
+        scene_copy = self._copy("_scene_copy", target) if near_surface else None
+        target.use()
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.disable(moderngl.CULL_FACE)
+        prog = self.program(SURFACE)
+        self.wave_uniforms(prog)
+        self.shading_uniforms(prog, frame, env)
+        prog.set_many({"uViewProjRel": vp, "uCameraPos": tuple(frame.camera.position),
+                       "uViewport": tuple(float(s) for s in target.size), "uViewMode": self.view_mode(),
+                       "uInvViewProjRel": np.linalg.inv(vp)})
+        if scene_copy is not None:
+            scene_copy.use(1)
+            prog.set("uSceneCopy", 1)
+        vbo, ibo = self.mesh()
+        prog.vao([(vbo, "3f", "in_polar")], index_buffer=ibo).render(moderngl.TRIANGLES)
+        if frame.camera.position[1] > 0.0:
+            far = self.program(FAR)
+            self.wave_uniforms(far)
+            self.shading_uniforms(far, frame, env)
+            far.set_many(frame.camera_uniforms())
+            far.set_many({"uViewProjRel": vp, "uFarStart": 0.88 * self.params["ocean.mesh_extent"],
+                          "uViewport": tuple(float(s) for s in target.size)})
+            far.vao().render(moderngl.TRIANGLES, vertices=3)
+        ctx.disable(moderngl.DEPTH_TEST)
+
+    def render_underwater(self, frame, target) -> None:
+        ctx = self.gpu.ctx
+        color = self._copy("_color_copy", target)
+        env = self.environment(frame)
+        prog = self.program(UNDERWATER)
+        self.wave_uniforms(prog)
+        self.shading_uniforms(prog, frame, env)
+        prog.set_many(frame.camera_uniforms())
+        prog.set("uInvViewProjRel", np.linalg.inv(self.view_proj_rel(frame)))
+        color.use(0)
+        prog.set("uColor", 0)
+        depth = target.depth
+        old = depth.compare_func
+        depth.compare_func = ""
+        depth.use(1)
+        prog.set("uSceneDepth", 1)
+        target.use()
+        ctx.disable(moderngl.DEPTH_TEST)
+        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        depth.compare_func = old
+
+    def passes(self, frame, target) -> list[Pass]:
+        out = []
+        if self.sim is not None:
+            p = self.params
+            out.append(Pass("ocean.simulate", lambda: self.sim.update(
+                frame.time, p["ocean.choppiness"], frame.dt, foam_threshold=p["ocean.foam_threshold"],
+                foam_decay_time=p["ocean.foam_decay"])))
+        out.append(Pass("ocean.surface", lambda: self.render_surface(frame, target)))
+        if self.may_be_underwater():
+            out.append(Pass("ocean.underwater", lambda: self.render_underwater(frame, target)))
+        return out
+
+    def release(self) -> None:
+        self._release_fft()
+        super().release()
+        self._mesh = self._scene_copy = self._color_copy = self._flat_env = None
+        self._mesh_key = None

@@ -1,0 +1,49 @@
+#version 330 core
+// Ocean surface shading per pixel (spec/000 §1.1–1.2; see shading.glsl for the equations).
+// Normals come per pixel from the wave model at the interpolated rest point, filtered for the
+// pixel footprint. Seen from below (the camera under a wave), Snell's window shows the scene
+// behind (sky and clouds, a copy of the target) and total internal reflection the water.
+in vec2 vOff;
+in vec3 vRel;
+in float vHeight;
+
+uniform float uSeaHs;          // significant wave height (m), for the crest term
+uniform sampler2D uSceneCopy;  // the target before the ocean (sky, clouds), for the view from below
+uniform vec2 uViewport;
+uniform int uViewMode;         // 0 camera above the water, 1 below it, 2 near the surface: test per pixel
+uniform mat4 uInvViewProjRel;
+uniform float uCamNear;
+
+uniform vec3 uCameraPos;
+
+out vec4 fragColor;
+
+#include "ocean/waves.glsl"
+#include "ocean/shading.glsl"
+
+void main() {
+    float footprint = max(length(fwidth(vOff)), 1e-4);
+    vec3 n;
+    float foam, lost;
+    OceanSurface(vOff, footprint, n, foam, lost);
+    vec3 v = normalize(-vRel);
+    vec3 c;
+    // Seen from below only when the camera is under the water (a back face seen from above is a
+    // depth-test near-tie at grazing angles, not the underside). Near the surface, the pixel's ray
+    // starts on the near plane: below the water there → seen from below (the waterline).
+    bool below = uViewMode == 1;
+    if (uViewMode == 2) {
+        vec2 ndc = gl_FragCoord.xy / uViewport * 2.0 - 1.0;
+        vec4 q = uInvViewProjRel * vec4(ndc, -1.0, 1.0);
+        vec3 nearRel = q.xyz / q.w;
+        below = uCameraPos.y + nearRel.y < OceanWaterHeight(nearRel.xz, 0.05);
+    }
+    if (!below) {
+        c = OceanShadeAbove(vRel, n, v, foam, lost, vHeight / max(uSeaHs, 1e-3));
+    } else {
+        vec2 uv = gl_FragCoord.xy / uViewport + n.xz * 0.05;
+        vec3 behind = texture(uSceneCopy, clamp(uv, vec2(0.0), vec2(1.0))).rgb;
+        c = OceanShadeBelow(n, v, behind, UnderwaterLight());
+    }
+    fragColor = vec4(max(c, vec3(0.0)), 1.0);
+}

@@ -1,0 +1,26 @@
+#version 330 core
+// Ocean surface mesh (spec/000 §1.1–1.2): a polar grid centred under the camera, rings spaced
+// geometrically so cells stay about square and shrink on screen evenly with distance (level of
+// detail without seams or T-junctions: one connected mesh). Each vertex is a rest point; the wave
+// model displaces it (waves.glsl), with a texture mip level matched to the vertex spacing so the
+// geometry does not alias, fading to flat water at uFadeEnd where the analytic far plane
+// (far.frag) takes over to the horizon. Positions stay camera-relative (float32 at any distance).
+in vec3 in_polar;  // (radius m, angle rad, vertex spacing m)
+
+uniform mat4 uViewProjRel;   // view-projection of camera-relative positions
+uniform vec3 uCameraPos;
+
+out vec2 vOff;       // rest point − camera.xz
+out vec3 vRel;       // displaced point − camera
+out float vHeight;   // η at the vertex (m)
+
+#include "ocean/waves.glsl"
+
+void main() {
+    vec2 off = in_polar.x * vec2(cos(in_polar.y), sin(in_polar.y));
+    vec3 d = OceanDisplacement(off, in_polar.z);
+    vOff = off;
+    vHeight = d.y;
+    vRel = vec3(off.x + d.x, d.y - uCameraPos.y, off.y + d.z);
+    gl_Position = uViewProjRel * vec4(vRel, 1.0);
+}

@@ -1,0 +1,289 @@
+"""The `ocean` scene (issue 6; spec/000 §1.1–1.3 and §6 criteria 32–34): the three wave models on
+the GPU against the numpy reference (through the depth buffer), water-height queries, the polar
+mesh and the far plane, reflections of the sky, the main light, the underwater view, and
+stability sweeps (no NaN/Inf, no holes). Renders are small (≤ 160×90) to keep llvmpipe fast.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from app.effects.ocean import Ocean, polar_grid, wind_vector
+from app.errors import ParamError
+from app.runtime import open_session, scene_params
+from app.sim import ocean as oc
+from app.sim.camera import Camera
+
+FAST = ("ocean.fft_size=64", "ocean.mesh_segments=96", "scene.clouds=off")
+
+
+class Shot:
+    """An ocean session that keeps its target, so tests can read colour and depth."""
+
+    def __init__(self, ctx, sets=(), camera: Camera | None = None, size=(96, 54)):
+        params = scene_params("ocean", sets=list(FAST) + list(sets))
+        self.session = open_session("ocean", params, ctx=ctx, camera=camera)
+        self.scene = self.session.scene
+        self.ocean: Ocean = self.scene.effect("ocean")
+        self.size = size
+        self.target = self.session.gpu.target("test", "ocean shot", size)
+
+    def frame(self, dt: float = 0.0):
+        f = self.scene.frame(self.size, dt=dt)
+        self.scene.render(f, self.target)
+        return self.target.read()[..., :3], f
+
+    def distance(self) -> np.ndarray:
+        """Distance from the camera to what each pixel shows (inf where nothing was drawn)."""
+        cam = self.scene.camera
+        depth = self.target.read_depth()
+        w, h = self.size
+        ndc_z = depth * 2.0 - 1.0
+        n, f = cam.near, cam.far
+        z_eye = 2.0 * n * f / (f + n - ndc_z * (f - n))
+        dirs = cam.ray_directions(w, h)
+        cos = dirs @ cam.basis()[2]
+        dist = z_eye / cos
+        return np.where(depth >= 1.0, np.inf, dist)
+
+    def close(self):
+        if self.session is not None:
+            self.session.release()
+            self.session = None
+
+
+@pytest.fixture
+def shot(gl_ctx):
+    made = []
+
+    def _make(sets=(), camera=None, size=(96, 54)):
+        s = Shot(gl_ctx, sets, camera, size)
+        made.append(s)
+        return s
+
+    yield _make
+    for s in made:
+        s.close()
+
+
+# -- mesh ----------------------------------------------------------------------------------------
+
+def test_polar_grid_covers_the_disc_facing_up_without_degenerate_cells():
+    verts, idx = polar_grid(128, 0.25, 3000.0)
+    r, th = verts[:, 0].astype(float), verts[:, 1].astype(float)
+    p = np.stack([r * np.cos(th), np.zeros_like(r), r * np.sin(th)], axis=1)
+    tri = idx.reshape(-1, 3)
+    a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+    ny = np.cross(b - a, c - a)[:, 1]
+    assert np.all(ny > 0), "every triangle faces up (front faces are the top of the sea)"
+    area = 0.5 * ny.sum()
+    polygon = 0.5 * 128 * 3000.0**2 * math.sin(2 * math.pi / 128)  # the outer ring is a 128-gon
+    assert abs(area / polygon - 1.0) < 1e-6
+    assert r.max() == pytest.approx(3000.0)
+    # cells stay about square: radial step / tangential step within [0.5, 2] beyond the first ring
+    radii = np.unique(r)
+    ratio = np.diff(radii)[1:-1] / (radii[1:-2] * 2 * math.pi / 128)
+    assert ratio.min() > 0.5 and ratio.max() < 2.0
+
+
+# -- GPU geometry against numpy ------------------------------------------------------------------
+
+@pytest.mark.parametrize("model", ["sine", "gerstner", "fft"])
+def test_gpu_surface_height_matches_the_numpy_query(shot, model):
+    """Looking straight down from 30 m, the depth buffer's distance at the centre pixel is the
+    camera height minus the water height there: GPU displacement = numpy reference."""
+    cam = Camera(position=(3.0, 30.0, -7.0), yaw=0.0, pitch=-89.9, fov=10.0)
+    s = shot(("ocean.model=" + model, "ocean.wind=12", "ocean.sine_amplitude=1.5"), cam, size=(33, 33))
+    for _ in range(3):  # FFT queries lag one frame: let the readback catch up on a still sea
+        s.frame(dt=0.0)
+    dist = s.distance()[16, 16]
+    q = s.ocean.water(np.array(3.0), np.array(-7.0))
+    gpu_height = 30.0 - dist
+    assert abs(gpu_height - float(q.height)) < 0.05 + 0.02 * abs(float(q.height))
+    if model == "sine":
+        a, k, w = s.ocean.sine_wave()
+        d = wind_vector(s.ocean.params["ocean.wind_direction"])
+        assert float(q.height) == pytest.approx(a * math.sin(k * (3.0 * d[0] - 7.0 * d[1]) - w * s.ocean.time),
+                                                abs=1e-9)
+
+
+def test_gerstner_query_matches_the_numpy_inversion_and_normals_point_up(shot):
+    s = shot(("ocean.model=gerstner", "ocean.wind=15"))
+    s.frame()
+    rng = np.random.default_rng(3)
+    x, z = rng.uniform(-40, 40, 64), rng.uniform(-40, 40, 64)
+    q = s.ocean.water(x, z, iterations=6)
+    assert np.all(q.residuals[-1] < 1e-3)
+    surf = oc.gerstner(q.rest_x, q.rest_z, s.ocean.time, s.ocean.gerstner_waves())
+    np.testing.assert_allclose(surf.position[..., 1], q.height, atol=1e-9)
+    assert np.all(q.normal[..., 1] > 0)
+    np.testing.assert_allclose(np.einsum("...i,...i", q.normal, surf.normal), 1.0, atol=2e-3)
+
+
+def test_fft_query_lags_one_frame_and_matches_the_reference(shot):
+    s = shot(("ocean.model=fft", "ocean.wind=12", "ocean.cascades=2"))
+    s.frame(dt=0.0)
+    assert s.ocean.query_time is None  # nothing read back yet: flat water, documented
+    s.frame(dt=0.5)
+    assert s.ocean.query_time == pytest.approx(0.0)  # the sea of the previous frame
+    s.frame(dt=0.5)
+    assert s.ocean.query_time == pytest.approx(0.5)
+    ref = oc.FFTOcean(s.ocean.spectrum_params(), n=64, patch_sizes=s.ocean.patch_sizes(), choppiness=1.0,
+                      seed=s.ocean.params["ocean.seed"])
+    ref.update(0.5)
+    rng = np.random.default_rng(5)
+    x, z = rng.uniform(-30, 30, 50), rng.uniform(-30, 30, 50)
+    got = s.ocean.water(x, z)
+    want = ref.water_height(x, z)
+    scale = float(np.max(np.abs(want.height)))
+    assert np.max(np.abs(got.height - want.height)) < 2e-3 * scale + 1e-4
+
+
+# -- the scene -----------------------------------------------------------------------------------
+
+def test_sine_and_gerstner_allocate_nothing_of_the_fft(shot):
+    s = shot(("ocean.model=gerstner",))
+    s.frame()
+    names = [a.name for a in s.session.gpu.owned_by("ocean")]
+    assert s.ocean.sim is None
+    assert not any("fft" in n.lower() or "spectrum" in n.lower() for n in names), names
+    s.ocean.params.set("ocean.model", "fft")
+    s.frame()
+    assert s.ocean.sim is not None
+    s.ocean.params.set("ocean.model", "sine")
+    s.frame()
+    assert s.ocean.sim is None, "leaving the FFT frees its textures"
+
+
+def test_switching_models_live_changes_the_sea(shot):
+    cam = Camera(position=(0.0, 6.0, 0.0), yaw=90.0, pitch=-20.0, fov=60.0)
+    s = shot(("ocean.wind=12",), cam)
+    images = {}
+    for model in ("sine", "gerstner", "fft"):
+        s.ocean.params.set("ocean.model", model)
+        images[model] = s.frame()[0]
+    for a, b in (("sine", "gerstner"), ("gerstner", "fft"), ("sine", "fft")):
+        assert np.mean(np.abs(images[a] - images[b])) > 1e-3, (a, b)
+
+
+def test_gerstner_steepness_over_one_is_refused_with_the_limit(shot):
+    s = shot(("ocean.model=gerstner", "ocean.gerstner_steepness=20", "ocean.wind=20"))
+    with pytest.raises(ParamError, match=r"ocean.gerstner_steepness=20 .* allowed 0 ≤ s ≤ 1 per wave"):
+        s.frame()
+
+
+def test_far_plane_covers_the_sea_to_the_horizon_from_altitude(shot):
+    cam = Camera(position=(0.0, 400.0, 0.0), yaw=30.0, pitch=-10.0, fov=60.0, far=200000.0)
+    s = shot(("ocean.model=fft", "ocean.mesh_extent=600"), cam, size=(80, 45))
+    s.frame()
+    dist = s.distance()
+    dirs = cam.ray_directions(80, 45)
+    below = dirs[..., 1] < -0.003
+    assert below.sum() > 1000
+    assert np.all(np.isfinite(dist[below])), "every ray that meets the sea finds water (mesh or far plane)"
+    assert np.all(~np.isfinite(dist[dirs[..., 1] > 0.003])), "no water above the horizon"
+
+
+def test_ocean_reflects_the_sky_over_a_day_and_without_the_probe_it_changes(shot):
+    """Criterion 32: mean sea colour follows mean sky colour (Pearson r > 0.8); turning the
+    reflection cubemap off changes the sea measurably."""
+    cam = Camera(position=(0.0, 5.0, 0.0), yaw=45.0, pitch=0.0, fov=60.0, far=200000.0)
+    s = shot(("ocean.model=gerstner",), cam, size=(64, 36))
+    sky_means, sea_means = [], []
+    dirs = cam.ray_directions(64, 36)
+    for hour in np.arange(0.0, 24.0, 2.0):
+        s.ocean.params.set("time.hour", float(hour))
+        img, _ = s.frame()
+        sky = img[dirs[..., 1] > 0.05].mean()
+        sea = img[dirs[..., 1] < -0.05].mean()
+        sky_means.append(sky)
+        sea_means.append(sea)
+    r = np.corrcoef(sky_means, sea_means)[0, 1]
+    assert r > 0.8, r
+    s.ocean.params.set("time.hour", 12.0)
+    on = s.frame()[0][dirs[..., 1] < -0.05].mean(axis=0)
+    s.ocean.params.set("ocean.reflections", False)
+    off = s.frame()[0][dirs[..., 1] < -0.05].mean(axis=0)
+    assert np.max(np.abs(on - off) / np.maximum(on, 1e-6)) > 0.1
+
+
+def test_main_light_glitter_follows_the_moon_at_night_and_the_sun_by_day(shot):
+    """Criterion 34: one light: the brightest sea pixel lies toward the main light's azimuth."""
+    for hour in (16.0, 4.0):
+        s = shot(("ocean.model=fft", f"time.hour={hour}", "ocean.wind=6"), size=(96, 54))
+        s.frame()
+        light = s.scene.last_frame.main_light
+        cam = s.scene.camera
+        flat = np.array([light.direction[0], 0.0, light.direction[2]])
+        cam.look_at_direction(flat / np.linalg.norm(flat))
+        cam.set(pitch=-8.0)
+        img, frame = s.frame()
+        dirs = cam.ray_directions(96, 54)
+        sea = dirs[..., 1] < -0.01
+        lum = img.mean(-1)
+        lum[~sea] = -1
+        iy, ix = np.unravel_index(np.argmax(lum), lum.shape)
+        assert abs(ix - 48) < 12, (hour, ix)  # in the column of the light
+        assert frame.main_light.name == ("sun" if hour == 16.0 else "moon")
+
+
+def test_underwater_fog_pulls_toward_the_fog_colour_and_clouds_show_through(shot):
+    """Criterion 33."""
+    up = Camera(position=(0.0, -4.0, 0.0), yaw=0.0, pitch=60.0, fov=60.0, far=200000.0)
+    s = shot(("ocean.model=gerstner", "time.hour=12", "scene.clouds=b", "clouds_b.volume_resolution=32",
+              "clouds_b.detail_resolution=16", "clouds_b.gradient_resolution=64"), up, size=(64, 36))
+    assert s.ocean.params["scene.clouds"] == "b"
+    with_clouds, _ = s.frame()
+    assert s.ocean.underwater
+    s.ocean.params.set("scene.clouds", "off")
+    without, _ = s.frame()
+    assert np.mean(np.abs(with_clouds - without)) > 1e-3, "clouds seen through Snell's window"
+    # the open deep below is pure fog light: murky water pulls the view up toward it, clear
+    # water shows the sky through Snell's window
+    s.scene.camera.set(pitch=-80.0)
+    fog = s.frame()[0].reshape(-1, 3).mean(0)
+    s.scene.camera.set(pitch=60.0)
+    s.ocean.params.set("ocean.underwater_clarity", 1.0)
+    clear = s.frame()[0].reshape(-1, 3).mean(0)
+    s.ocean.params.set("ocean.underwater_clarity", 0.02)
+    murky = s.frame()[0].reshape(-1, 3).mean(0)
+    assert np.linalg.norm(murky - fog) < 0.5 * np.linalg.norm(clear - fog)
+    assert np.linalg.norm(murky - fog) < 0.5 * np.linalg.norm(fog)
+
+
+def test_camera_exactly_at_the_surface_shows_a_waterline(shot):
+    cam = Camera(position=(0.0, 0.0, 0.0), yaw=90.0, pitch=0.0, fov=70.0)
+    s = shot(("ocean.model=sine", "ocean.sine_amplitude=0.0"), cam, size=(64, 36))
+    img, _ = s.frame()
+    assert np.all(np.isfinite(img))
+    top, bottom = img[:14].mean(), img[22:].mean()
+    assert s.ocean.view_mode() == 2
+    assert top > 2.0 * bottom, "sky above the waterline, fogged water below"
+
+
+# -- stability -----------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("sets", [
+    ("ocean.wind=0",), ("ocean.wind=40",), ("ocean.wind=40", "ocean.choppiness=4"),
+    ("ocean.depth=1", "ocean.spectrum=jonswap"), ("ocean.depth=1", "ocean.spectrum=pierson_moskowitz"),
+    ("ocean.spectrum=phillips", "ocean.wind=25"), ("time.hour=23",), ("time.hour=18",),
+    ("ocean.model=gerstner", "ocean.wind=40", "ocean.gerstner_waves=64"),
+    ("ocean.model=sine", "ocean.sine_amplitude=10", "ocean.sine_wavelength=0.1"),
+    ("ocean.cascades=4", "ocean.fft_size=128"),
+])
+def test_stability_no_nan_or_holes(shot, sets):
+    for cam in (Camera(position=(0.0, 3.0, 0.0), yaw=100.0, pitch=-10.0, fov=70.0, far=200000.0),
+                Camera(position=(0.0, 0.0, 0.0), yaw=10.0, pitch=0.0, fov=70.0, far=200000.0),
+                Camera(position=(0.0, -2.0, 0.0), yaw=10.0, pitch=30.0, fov=70.0, far=200000.0)):
+        s = shot(sets, cam, size=(48, 27))
+        for _ in range(2):
+            img, _ = s.frame(dt=0.25)
+            assert np.all(np.isfinite(img)), (sets, cam.position)
+            assert np.all(img >= 0.0)
+        q = s.ocean.water(np.linspace(-50, 50, 9), np.linspace(-20, 20, 9))
+        assert np.all(np.isfinite(q.height)) and np.all(np.isfinite(q.normal))
+        assert np.all(q.normal[..., 1] > 0)
+        s.close()
