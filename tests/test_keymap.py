@@ -92,3 +92,15 @@ def test_release_of_unbound_key_and_unknown_key_are_harmless():
     assert c.press("NUMBER_7") is None
     c.release("NUMBER_7")
     assert c.held == set()
+
+
+def test_ocean_keys_pick_the_wave_model_and_keep_the_fly_keys():
+    from app.ui.keymap import FLY, OCEAN, Controller
+
+    c = Controller(OCEAN)
+    for key, model in (("NUMBER_1", "sine"), ("NUMBER_2", "gerstner"), ("NUMBER_3", "fft")):
+        c.press(key)
+        c.release(key)
+        assert c.take_events() == [(f"set:ocean.model={model}", None)]
+    assert all(OCEAN.action(k) == a for k, a in FLY.bindings.items())
+    assert any("Gerstner" in row[1] for row in OCEAN.help)

@@ -56,7 +56,7 @@ def test_window_driven_like_a_user(tmp_path):
     assert r["escape_closes"]
 
 
-@pytest.mark.parametrize("scene", ["probe", "materials", "planet", "noise", "clouds"])
+@pytest.mark.parametrize("scene", ["probe", "materials", "planet", "noise", "clouds", "ocean"])
 def test_natura_window_runs_frames_and_exits(tmp_path, scene):
     proc = _under_xvfb([sys.executable, "-m", "app.cli", "window", scene, "--frames", "10", "--size", "320x180"],
                        cwd=tmp_path)
@@ -69,3 +69,14 @@ def test_bake_progress_is_drawn_in_the_window(tmp_path):
     assert proc.returncode == 0 and lines, proc.stdout[-2000:] + proc.stderr[-2000:]
     r = json.loads(lines[-1][len("RESULT "):])
     assert r["cache"] in ("miss", "rebuilt") and r["progress_frames"] >= 2
+
+
+def test_ocean_models_switch_live_in_the_window(tmp_path):
+    """Issue 6: sine → Gerstner → FFT chosen in the window each draw their own sea."""
+    proc = _under_xvfb([sys.executable, str(DRIVER), str(tmp_path), "ocean-models"], cwd=tmp_path)
+    lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
+    assert proc.returncode == 0 and lines, proc.stdout[-2000:] + proc.stderr[-2000:]
+    r = json.loads(lines[-1][len("RESULT "):])
+    assert r["render_error"] == ""
+    assert r["diff_sine_gerstner"] > 1.0 and r["diff_gerstner_fft"] > 1.0
+    assert r["fft_sim"]

@@ -42,6 +42,10 @@ FLY = KeyMap("fly", {
     ("P or F12", "screenshot"), ("F1", "hide / show panel"), ("Esc", "quit"),
 ))
 
+OCEAN = KeyMap("ocean", {**FLY.bindings, "NUMBER_1": "set:ocean.model=sine", "NUMBER_2": "set:ocean.model=gerstner",
+                         "NUMBER_3": "set:ocean.model=fft"},
+               FLY.help[:-2] + (("1 / 2 / 3", "waves: sine / Gerstner / FFT"),) + FLY.help[-2:])
+
 ATMOSPHERE_THESIS = KeyMap("atmosphere-thesis", {
     "W": "forward", "S": "back", "A": "left", "D": "right", "SPACE": "up", "LEFT_CTRL": "down", "RIGHT_CTRL": "down",
     "Q": "turn_left", "E": "turn_right", "R": "pitch_up", "F": "pitch_down", "O": "toggle_mouse",

@@ -218,6 +218,11 @@ class NaturaWindow:
                           f"yaw {c.yaw:.1f} pitch {c.pitch:.1f}")
             elif action == "print":
                 self._say(arg)
+            elif action.startswith("set:"):  # a key bound to a parameter value (e.g. ocean 1/2/3)
+                name, _, value = action[4:].partition("=")
+                if name in p:
+                    p.set_from_string(f"{name}={value}")
+                    self._say(f"{name} = {value}")
 
     def _say(self, text: str) -> None:
         print(text)

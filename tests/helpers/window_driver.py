@@ -162,7 +162,42 @@ def bake_progress(work: str) -> int:
     return 0
 
 
+def ocean_models(work: str) -> int:
+    """Open the ocean and switch sine → Gerstner → FFT with the keys 1 / 2 / 3: each model must
+    draw a different sea, with no render error."""
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.sim.camera import Camera
+    from app.ui import window as W
+
+    params = scene_params("ocean", sets=["ocean.fft_size=64", "ocean.mesh_segments=96", "time.hour=17"])
+    win = W.NaturaWindow("ocean", params, Camera(**get_scene("ocean").camera), (320, 180))
+    w, h = win.wnd.buffer_size
+    win.show_panel = False
+    shots = {}
+    for key, model in (("NUMBER_1", "sine"), ("NUMBER_2", "gerstner"), ("NUMBER_3", "fft")):
+        win.controller.press(key)  # the key map turns 1/2/3 into ocean.model
+        win.controller.release(key)
+        win.run_events()
+        assert win.params["ocean.model"] == model
+        for _ in range(3):
+            win.wnd.clear()
+            win.frame(1 / 30)
+            win.wnd.swap_buffers()
+        data = win.ctx.screen.read(viewport=(0, 0, w, h), components=3)
+        shots[model] = np.frombuffer(data, dtype=np.uint8).reshape(h, w, 3).astype(int)
+    out = {"render_error": str(win.render_error or ""),
+           "diff_sine_gerstner": float(np.abs(shots["sine"] - shots["gerstner"]).mean()),
+           "diff_gerstner_fft": float(np.abs(shots["gerstner"] - shots["fft"]).mean()),
+           "fft_sim": win.scene.effect("ocean").sim is not None}
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
 if __name__ == "__main__":
     if len(sys.argv) > 2 and sys.argv[2] == "bake-progress":
         sys.exit(bake_progress(sys.argv[1]))
+    if len(sys.argv) > 2 and sys.argv[2] == "ocean-models":
+        sys.exit(ocean_models(sys.argv[1]))
     sys.exit(main(sys.argv[1]))
