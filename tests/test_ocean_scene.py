@@ -287,3 +287,26 @@ def test_stability_no_nan_or_holes(shot, sets):
         assert np.all(np.isfinite(q.height)) and np.all(np.isfinite(q.normal))
         assert np.all(q.normal[..., 1] > 0)
         s.close()
+
+
+def test_reflection_probe_is_rendered_only_when_the_sky_changes(shot):
+    s = shot(("ocean.model=sine",))
+    sky = s.scene.effect("sky")
+    for _ in range(4):
+        s.frame(dt=0.1)
+    assert sky.environment_renders == 1, "the ocean's probe renders once for a still sky"
+    s.ocean.params.set("time.hour", 15.0)
+    s.frame(dt=0.1)
+    assert sky.environment_renders == 2
+    assert sky._cube is None, "the sky's own cubemap (with the sun) is not made for the ocean"
+
+
+def test_foam_shows_where_the_fft_surface_is_compressed(shot):
+    cam = Camera(position=(0.0, 12.0, 0.0), yaw=90.0, pitch=-35.0, fov=60.0)
+    s = shot(("ocean.wind=25", "ocean.choppiness=2", "time.hour=12", "ocean.foam_amount=0"), cam)
+    no_foam = s.frame(dt=0.1)[0]
+    fields = s.ocean.sim.read_fields(0)
+    assert fields["foam"].max() > 0.5 and fields["jacobian"].min() < 0.5
+    s.ocean.params.set("ocean.foam_amount", 2.0)
+    foam = s.frame(dt=0.1)[0]
+    assert foam.mean() > no_foam.mean() * 1.02
