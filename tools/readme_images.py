@@ -1,8 +1,9 @@
 """Regenerate the README's pictures, rendered headless exactly as `natura render` does:
 docs/sky.png (the `sky` scene at four hours), docs/materials.png (wood, marble and granite
 with the thesis's value noise and with Perlin's gradient noise) and docs/planet.png (the
-atmosphere from the ground and from space) and docs/clouds.png (the three cloud presets and the
-maritime model over the Preetham sky).
+atmosphere from the ground and from space), docs/clouds.png (the three cloud presets and the
+maritime model over the Preetham sky) and docs/ocean.png (an evening FFT sea, the sine and Gerstner
+waves at noon, and the view from under the water).
 
     python tools/readme_images.py [--force]
 """
@@ -60,6 +61,17 @@ def main(argv=None) -> int:
     clouds.append(shot("clouds", ["scene.model=b", "scene.sky=preetham"], (w, h)))
     grids["clouds.png"] = np.concatenate([np.concatenate(clouds[:2], axis=1), np.concatenate(clouds[2:], axis=1)],
                                          axis=0)
+    ocean = [
+        shot("ocean", ["ocean.wind=12", "time.hour=17"], (w, h)),
+        shot("ocean", ["ocean.model=sine", "ocean.wind=12", "ocean.sine_amplitude=0.6", "time.hour=12"], (w, h),
+             {"position": (0.0, 6.0, 0.0), "yaw": 150.0, "pitch": -8.0}),
+        shot("ocean", ["ocean.model=gerstner", "ocean.wind=12", "time.hour=12"], (w, h),
+             {"position": (0.0, 6.0, 0.0), "yaw": 150.0, "pitch": -8.0}),
+        shot("ocean", ["ocean.wind=8", "scene.clouds=b", "time.hour=12"], (w, h),
+             {"position": (0.0, -3.0, 0.0), "yaw": 200.0, "pitch": 50.0}),
+    ]
+    grids["ocean.png"] = np.concatenate([np.concatenate(ocean[:2], axis=1), np.concatenate(ocean[2:], axis=1)],
+                                        axis=0)
     for name, grid in grids.items():
         out = PROJECT_ROOT / "docs" / name
         if out.exists() and not args.force:

@@ -36,6 +36,18 @@ FFT_SIZES = ("64", "128", "256", "512")
 SURFACE = ProgramSpec("ocean/surface")
 FAR = fullscreen("ocean/far")
 UNDERWATER = fullscreen("ocean/underwater")
+# the GPU simulation's programs (app/effects/ocean_fft.py, app/gpu/fft.py), listed so that
+# `natura shaders check` compiles them and their @param annotations are found
+SIMULATION = (
+    ProgramSpec("ocean/spectrum_evolve", comp="ocean/spectrum_evolve.comp", requires_compute=True),
+    ProgramSpec("ocean/ocean_finalize", comp="ocean/ocean_finalize.comp", requires_compute=True),
+    ProgramSpec("ocean/direct_sum", comp="ocean/direct_sum.comp", requires_compute=True),
+    ProgramSpec("ocean/fft_radix2", comp="ocean/fft_radix2.comp", requires_compute=True,
+                defines=(("FFT_N", 256), ("FFT_HALF_N", 128), ("FFT_LOG2N", 8))),
+    fullscreen("ocean/spectrum_evolve"), fullscreen("ocean/ocean_finalize"), fullscreen("ocean/direct_sum"),
+    ProgramSpec("ocean/fft_stage", vert="common/fullscreen.vert", frag="ocean/fft_stage.frag",
+                defines=(("FFT_COUNT", 2),)),
+)
 
 
 def wind_vector(direction_deg: float) -> np.ndarray:
@@ -86,7 +98,7 @@ class Ocean(Effect):
     name = "ocean"
     title = "Ocean"
     spec = "spec/000"
-    programs = (SURFACE, FAR, UNDERWATER)
+    programs = (SURFACE, FAR, UNDERWATER) + SIMULATION
 
     @classmethod
     def python_params(cls) -> list[Param]:
