@@ -310,3 +310,14 @@ def test_foam_shows_where_the_fft_surface_is_compressed(shot):
     s.ocean.params.set("ocean.foam_amount", 2.0)
     foam = s.frame(dt=0.1)[0]
     assert foam.mean() > no_foam.mean() * 1.02
+
+
+def test_fft_paths_draw_the_same_sea(shot):
+    cam = Camera(position=(0.0, 8.0, 0.0), yaw=60.0, pitch=-20.0, fov=60.0)
+    s = shot(("ocean.wind=12", "ocean.fft_path=compute"), cam)
+    a = s.frame()[0]
+    assert s.ocean.sim.path == "compute"
+    s.ocean.params.set("ocean.fft_path", "fragment")
+    b = s.frame()[0]
+    assert s.ocean.sim.path == "fragment"
+    assert np.max(np.abs(a - b)) < 1e-3 * max(float(a.max()), 1.0)

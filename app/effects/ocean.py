@@ -129,6 +129,9 @@ class Ocean(Effect):
             Param("ocean.patch_sizes", (250.0, 17.0, 5.0, 1.5), 0.1, 5000.0, "tile size L of each cascade, "
                   "strictly decreasing (the upstream's 250 / 17 / 5 m)", kind="vec4", step=0.1, unit="m",
                   section=s1 + "(e)"),
+            Param("ocean.fft_path", "auto", doc="GPU FFT path: compute shaders (GL 4.3), fragment passes (GL 3.3) "
+                  "or auto (compute when the context has it)", kind="choice", choices=("auto", "compute", "fragment"),
+                  section=s1 + "(d)"),
             Param("ocean.seed", 0, 0, 1_000_000, "random seed of the wave amplitudes and phases", kind="int"),
             Param("ocean.foam_threshold", 0.5, 0.0, 1.0, "foam appears where the Jacobian drops below this",
                   step=0.01, section=s2),
@@ -159,6 +162,7 @@ class Ocean(Effect):
     def __init__(self, gpu, params, scene=None):
         super().__init__(gpu, params, scene)
         self.sim = None  # GpuOceanSim, only for the FFT model
+        self._sim_path = None
         self._sim_key = None
         self._fft_ref: oc.FFTOcean | None = None
         self._waves: list[oc.GerstnerWave] = []
@@ -227,13 +231,20 @@ class Ocean(Effect):
         return 4.0 * math.sqrt(m0)
 
     def _ensure_fft(self) -> None:
+        path = self.params["ocean.fft_path"]
+        if path == "compute" and not self.gpu.caps.compute:
+            raise ParamError(f"ocean.fft_path=compute needs compute shaders (GL 4.3); this context has "
+                             f"{self.gpu.caps.describe()}: allowed auto or fragment")
         key = (self.spectrum_params(), self.fft_size(), tuple(self.patch_sizes()), self.params["ocean.seed"])
+        if self.sim is not None and self._sim_path != path:
+            self._release_fft()
         if key == self._sim_key:
             return
         ref = oc.FFTOcean(key[0], n=key[1], patch_sizes=key[2], choppiness=1.0, seed=key[3])
         if self.sim is None:
             from .ocean_fft import GpuOceanSim
-            self.sim = GpuOceanSim(self.gpu, self.name)
+            self.sim = GpuOceanSim(self.gpu, self.name, use_compute=None if path == "auto" else path == "compute")
+            self._sim_path = path
         self.sim.set_spectrum(ref.cascades, key[1])
         self._fft_ref = ref
         self._sim_key = key
