@@ -90,6 +90,10 @@ def scene_sweeps(scene: str):
         from . import clouds
 
         return clouds
+    if scene == "ocean":
+        from . import ocean
+
+        return ocean
     return None
 
 

@@ -61,7 +61,9 @@ def polar_grid(segments: int, inner: float, extent: float):
     r_{i+1} = r_i·(1 + 2π/segments) up to ``extent`` (cells about square).
 
     Returns (vertices (V, 3) float32 = (radius, angle, spacing), indices (M,) uint32), triangles
-    counter-clockwise seen from above (front faces are the top of the sea)."""
+    counter-clockwise seen from above (front faces are the top of the sea), ordered segment by
+    segment (all rings of wedge j, then wedge j + 1): a run of wedges is one contiguous range of
+    ``len(indices) // segments`` indices each, so the renderer draws only the wedges in view."""
     growth = 1.0 + 2.0 * math.pi / segments
     radii = [0.0, inner]
     while radii[-1] < extent:
@@ -71,27 +73,63 @@ def polar_grid(segments: int, inner: float, extent: float):
     radii = np.array(radii)
     theta = np.arange(segments) * (2.0 * math.pi / segments)
     spacing = np.maximum(radii * (2.0 * math.pi / segments), inner * 2.0 * math.pi / segments)
+    # vertices column by column (all rings at angle θ_j), so a run of wedges also reads one
+    # contiguous range of vertices: software rasterisers shade every vertex in the index range
+    nr = len(radii) - 1
+    col = np.stack([radii[1:], np.zeros(nr), spacing[1:]], axis=1)
     verts = [np.array([[0.0, 0.0, spacing[1]]])]
-    for r, s in zip(radii[1:], spacing[1:]):
-        verts.append(np.stack([np.full(segments, r), theta, np.full(segments, s)], axis=1))
+    for t in theta:
+        c = col.copy()
+        c[:, 1] = t
+        verts.append(c)
     vertices = np.concatenate(verts).astype("f4")
-    seg = np.arange(segments)
-    nxt = (seg + 1) % segments
-    idx = [np.stack([np.zeros(segments, int), 1 + nxt, 1 + seg], axis=1)]  # centre fan
-    for ring in range(1, len(radii) - 1):
-        a = 1 + (ring - 1) * segments
-        b = a + segments
-        idx.append(np.stack([a + seg, a + nxt, b + nxt], axis=1))
-        idx.append(np.stack([a + seg, b + nxt, b + seg], axis=1))
-    indices = np.concatenate(idx)
-    # orient: the face normal of the first fan triangle must point up (+y)
+    rings = np.arange(nr - 1)
+    wedges = []
+    for j in range(segments):
+        nj = (j + 1) % segments
+        a = 1 + j * nr + rings  # ring i at θ_j
+        b = 1 + nj * nr + rings  # ring i at θ_{j+1}
+        fan = np.array([[0, 1 + nj * nr, 1 + j * nr]])
+        quads = np.concatenate([np.stack([a, b, b + 1], axis=1)[:, None],
+                                np.stack([a, b + 1, a + 1], axis=1)[:, None]], axis=1).reshape(-1, 3)
+        wedges.append(np.concatenate([fan, quads]))
+    indices = np.concatenate(wedges)
+    # orient: the face normal of a ring triangle must point up (+y)
     p = np.stack([vertices[:, 0] * np.cos(vertices[:, 1]), np.zeros(len(vertices)),
                   vertices[:, 0] * np.sin(vertices[:, 1])], axis=1)
-    t = indices[len(seg) + 0] if len(indices) > segments else indices[0]
+    t = indices[1] if len(indices) > 1 else indices[0]
     ny = np.cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]])[1]
     if ny < 0:
         indices = indices[:, ::-1]
     return vertices, indices.astype("u4").ravel()
+
+
+def visible_wedges(camera, aspect: float, segments: int, margin: int = 2):
+    """Index ranges (first wedge, count) of the polar grid's wedges the camera can see, or None
+    for all of them. The grid's angle θ runs from +x toward +z; a wedge is visible when its
+    azimuth lies within the frustum's horizontal spread (from its corner rays) plus a margin —
+    unless a corner ray points down or up steeply enough to see past the camera's feet."""
+    r, u, f = camera.basis()
+    th = math.tan(math.radians(camera.fov) * 0.5)
+    corners = [f + sx * th * aspect * r + sy * th * u for sx in (-1, 1) for sy in (-1, 1)]
+    fh = np.array([f[0], 0.0, f[2]])
+    if np.linalg.norm(fh) < 1e-6:
+        return None
+    fh /= np.linalg.norm(fh)
+    rh = np.array([-fh[2], 0.0, fh[0]])
+    spread = 0.0
+    for d in corners:
+        ahead = float(d @ fh)
+        if ahead <= 1e-3:
+            return None
+        spread = max(spread, abs(math.atan2(float(d @ rh), ahead)))
+    step = 2.0 * math.pi / segments
+    centre = math.atan2(fh[2], fh[0]) % (2.0 * math.pi)
+    half = int(math.ceil(spread / step)) + margin
+    if 2 * half + 1 >= segments:
+        return None
+    first = int(math.floor(centre / step)) - half
+    return first % segments, 2 * half + 2
 
 
 class Ocean(Effect):
@@ -154,6 +192,8 @@ class Ocean(Effect):
                   section=s1),
             Param("ocean.mesh_extent", 3000.0, 50.0, 50000.0, "radius of the surface mesh; beyond it the sea is "
                   "an analytic plane to the horizon", step=10.0, unit="m", section=s1),
+            Param("ocean.mesh_cull", True, doc="draw only the wedges of the surface mesh the camera can see",
+                  kind="bool", section=s1),
             Param("ocean.query_iterations", 3, 0, 10, "corrections of the water-height inversion (the "
                   "upstream's 3)", kind="int", section=s3),
         ]
@@ -259,6 +299,11 @@ class Ocean(Effect):
             self.cascade_bands.append((lo, min(c.band[1], math.pi * key[1] / c.patch_size), mss))
             total += mss
         self.resolved_mss = total
+
+    @property
+    def reference(self) -> oc.FFTOcean | None:
+        """The numpy ocean whose amplitudes the GPU simulation holds (None unless the FFT runs)."""
+        return self._fft_ref
 
     def _release_fft(self) -> None:
         if self.sim is not None:
@@ -509,7 +554,20 @@ class Ocean(Effect):
             scene_copy.use(1)
             prog.set("uSceneCopy", 1)
         vbo, ibo = self.mesh()
-        prog.vao([(vbo, "3f", "in_polar")], index_buffer=ibo).render(moderngl.TRIANGLES)
+        vao = prog.vao([(vbo, "3f", "in_polar")], index_buffer=ibo)
+        segments = self._mesh_key[0]
+        per = 3 * self.mesh_triangles // segments  # indices per wedge
+        wedges = visible_wedges(frame.camera, frame.aspect, segments) if self.params["ocean.mesh_cull"] else None
+        if wedges is None:
+            vao.render(moderngl.TRIANGLES)
+            self.drawn_triangles = self.mesh_triangles
+        else:
+            first, count = wedges
+            head = min(count, segments - first)
+            vao.render(moderngl.TRIANGLES, vertices=head * per, first=first * per)
+            if count > head:
+                vao.render(moderngl.TRIANGLES, vertices=(count - head) * per, first=0)
+            self.drawn_triangles = count * per // 3
         if frame.camera.position[1] > 0.0:
             far = self.program(FAR)
             self.wave_uniforms(far)

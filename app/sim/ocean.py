@@ -696,12 +696,14 @@ def gerstner_waves_from_spectrum(p: SpectrumParams, count: int, *, seed: int = 0
                                  energy_range: tuple[float, float] = (0.005, 0.995)):
     """``count`` Gerstner waves with the spectrum's variance (so the same Hs) and peak period.
 
-    The omnidirectional spectrum is split into ``count`` log-spaced wavenumber bins between the
-    given energy quantiles; each wave gets its bin's share of the *whole* variance (the tails are
-    folded in, so Σ A²/2 = m0 exactly), a wavenumber jittered inside its bin (no exact
-    harmonics), a direction drawn from the spectrum's own directional distribution at that
-    wavenumber, and a random phase.  Steepness s = k·A times ``steepness_scale`` (which scales
-    the amplitudes: Hs scales with it).  Seeded; returns a list of GerstnerWave."""
+    Half the waves (rounded up) split the energy-carrying range — log-spaced wavenumber bins
+    between the given quantiles of the variance — and the rest continue, log-spaced, up to the
+    (1 − 1/count) quantile of the *slope* variance k²·E(k), where the short waves that make
+    the glitter live.  Each wave gets its bin's share of the whole variance (the tails are
+    folded into the end bins, so Σ A²/2 = m0 exactly), a wavenumber jittered inside its bin (no
+    exact harmonics), a direction drawn from the spectrum's own directional distribution at
+    that wavenumber, and a random phase.  Steepness s = k·A times ``steepness_scale`` (which
+    scales the amplitudes: Hs scales with it).  Seeded; returns a list of GerstnerWave."""
     if not 1 <= count <= 64:
         raise ParamError(f"ocean.gerstner_waves: {count} is outside the allowed range [1, 64]")
     p.validate()
@@ -715,7 +717,16 @@ def gerstner_waves_from_spectrum(p: SpectrumParams, count: int, *, seed: int = 0
     cdf = np.cumsum(e_k) / m0
     k_lo = float(np.interp(energy_range[0], cdf, k))
     k_hi = float(np.interp(energy_range[1], cdf, k))
-    edges = np.geomspace(k_lo, k_hi, count + 1)
+    n_energy = (count + 1) // 2
+    edges = np.geomspace(k_lo, k_hi, n_energy + 1)
+    if count > n_energy:
+        slope = e_k * k * k
+        cdf_s = np.cumsum(slope) / slope.sum()
+        k_slope = float(np.interp(1.0 - 1.0 / count, cdf_s, k))
+        if k_slope > k_hi * 1.01:
+            edges = np.concatenate([edges, np.geomspace(k_hi, k_slope, count - n_energy + 1)[1:]])
+        else:
+            edges = np.geomspace(k_lo, k_hi, count + 1)
     # each bin's energy (tails folded into the end bins), then normalised to m0
     idx = np.clip(np.searchsorted(edges, k) - 1, 0, count - 1)
     bin_e = np.bincount(idx, weights=e_k, minlength=count)

@@ -1,0 +1,589 @@
+"""Speed against accuracy for the ocean (issue 6, item 6).
+
+Three sweeps, run by ``natura bench ocean`` after the per-pass timings, all at the bench view
+size with the scene's camera and the session's sea state (wind, spectrum, patch sizes):
+
+1. **FFT size × cascades** — N ∈ {64, 128, 256, 512} (``fft_sizes``; ``--sizes NxN,...``
+   narrows it) × 1–4 cascades.  Time: ms per frame (median; ``scene.frame(size, dt=1/30)`` then
+   ``scene.render``, so the simulation update and every ocean pass, with the sky) and ms of the
+   simulation alone (``GpuOceanSim.update``).  Error: the mean-square slope and Hs carried by
+   the cascades' actual h₀ — mss = Σ_k k²(|h₀(k)|² + |h₀(−k)|²) = 2·Σk²|h₀|²,
+   Hs = 4·sqrt(2·Σ|h₀|²), summed over cascades — against ``spectrum_moments`` of the same
+   spectrum (same short-wave fade) up to k_ref = π·512/L_min, the Nyquist of the finest
+   configuration: the *mss deficit* 1 − mss/mss_ref and the *Hs error* |Hs − Hs_ref|/Hs_ref.
+   The actual h₀ is one random draw, so the same figures are also given for its expectation
+   (E|h₀|² = ½Ψ(−k)Δk²): ``*_expected`` is the deficit of the band limits alone, without the
+   sampling noise.  Combinations that ``cascade_bands`` refuses are reported as skipped with
+   its message.
+2. **Gerstner 8–64 waves vs the FFT** (N = 256, 3 cascades) at equal Hs and peak period: ms per
+   frame, Hs, peak period Tp = 2π/ω_p — for Gerstner the wave with the most energy (A²/2), for
+   the FFT the peak of its actual h₀'s S(ω) binned in rings 2π/L₀ wide, for the spectrum
+   ``SpectrumParams.peak_omega()`` (the E(k) peak for Phillips) — and the mss deficit against
+   the same reference; also the number of distinct wave directions (1° bins) and the length
+   over which the FFT repeats (its tile sizes).
+3. **GPU FFT against a direct sum of the same waves** — one cascade (L = the first patch size),
+   N ∈ {16, 32, 64}, plus 128 when its estimated cost stays under ``DIRECT_BUDGET_S`` (20 s):
+   ms of ``GpuOceanSim.update`` (evolve + FFT + finalize) against ``direct_sum`` (the same
+   fields summed mode by mode, then the same finalize), the speed-up measured in the same run,
+   and max|η_direct − η_FFT|/max|η_FFT|.
+4. **Oceanography** (``app.sim.ocean_validation``): Hs against 0.21·U²/g on numpy and on the GPU,
+   phase speed, wind alignment and drift, mean-square slope against Cox–Munk.
+
+All timings are wall time around ``ctx.finish()`` (``app.gpu.timing.time_call``): the figures
+are specific to the renderer that produced them (on llvmpipe the CPU does everything and the
+ocean surface pass, not the simulation, dominates a frame); compare ratios within one report.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..errors import NaturaError, ParamError, UsageError
+from ..gpu.timing import time_call
+from ..sim import ocean as oc
+from ..sim.ocean_validation import oceanography
+from ..sim.ocean_validation import summary as oceanography_summary
+
+FFT_SIZES = (64, 128, 256, 512)
+CASCADES = (1, 2, 3, 4)
+GERSTNER_COUNTS = (8, 16, 32, 64)
+FFT_COMPARE = (256, 3)
+DIRECT_SIZES = (16, 32, 64)
+DIRECT_EXTRA = 128
+DIRECT_BUDGET_S = 20.0
+DT = 1.0 / 30.0
+DIRECT_TIME = 3.0  # simulation time [s] of the direct-sum comparison
+
+TITLES = {"fft": "FFT size × cascades", "gerstner": "Gerstner waves vs FFT",
+          "direct_sum": "GPU FFT vs direct sum"}
+
+
+# ---- sea-state helpers -----------------------------------------------------------------------
+
+def _effect(session):
+    return session.scene.effect("ocean")
+
+
+def reference(session) -> dict:
+    """Moments of the session's spectrum up to the Nyquist of the finest configuration."""
+    eff = _effect(session)
+    sp = eff.spectrum_params()
+    sizes = [float(s) for s in session.params["ocean.patch_sizes"]]
+    k_ref = math.pi * max(FFT_SIZES) / min(sizes)
+    m = oc.spectrum_moments(sp, k_max=k_ref)
+    return {"k_ref": k_ref, "m0": m["m0"], "hs": m["hs"], "mss": m["mss"], "k_peak": m["k_peak"],
+            "tp_s": spectrum_peak_period(sp, m["k_peak"])}
+
+
+def spectrum_peak_period(sp: oc.SpectrumParams, k_peak: float) -> float | None:
+    """Tp = 2π/ω_p of the spectrum: S(ω)'s peak for JONSWAP and Pierson–Moskowitz, ω(k_peak)
+    of the omnidirectional E(k) for Phillips (which has no frequency form)."""
+    if sp.wind_speed <= 0:
+        return None
+    if sp.kind == "phillips":
+        w = float(oc.dispersion_omega(k_peak, sp.depth, sp.g))
+    else:
+        w = sp.peak_omega()
+    return 2.0 * math.pi / w
+
+
+def _ratio_errors(mss: float, hs: float, ref: dict) -> dict:
+    return {"mss_deficit": (1.0 - mss / ref["mss"]) if ref["mss"] > 0 else None,
+            "hs_error": (abs(hs - ref["hs"]) / ref["hs"]) if ref["hs"] > 0 else None}
+
+
+def cascade_moments(cascades, sp: oc.SpectrumParams) -> dict:
+    """mss and Hs of the cascades' actual h₀, and of its expectation ½Ψ(−k)Δk²."""
+    m0 = mss = m0_e = mss_e = 0.0
+    for c in cascades:
+        h2 = np.abs(np.asarray(c.h0)) ** 2
+        k2 = np.asarray(c.kx) ** 2 + np.asarray(c.kz) ** 2
+        m0 += 2.0 * float(h2.sum())
+        mss += 2.0 * float((k2 * h2).sum())
+        n = h2.shape[0]
+        dk = 2.0 * math.pi / c.patch_size
+        k = np.sqrt(k2)
+        keep = (k >= c.band[0]) & (k < c.band[1]) & (k > 0)
+        keep[n // 2, :] = False
+        keep[:, n // 2] = False
+        psi = oc.directional_spectrum(-np.asarray(c.kx), -np.asarray(c.kz), sp) * keep
+        m0_e += float(psi.sum()) * dk * dk  # Σ(E|h₀(k)|² + E|h₀(−k)|²) = ΣΨ(−k)Δk²
+        mss_e += float((k2 * psi).sum()) * dk * dk
+    return {"m0": m0, "hs": 4.0 * math.sqrt(m0), "mss": mss,
+            "hs_expected": 4.0 * math.sqrt(m0_e), "mss_expected": mss_e}
+
+
+def fft_peak_period(cascades, sp: oc.SpectrumParams) -> float | None:
+    """Tp of the FFT sea: the peak of S(ω) = ring energy / ring Δω of its actual h₀, rings
+    2π/L₀ wide (L₀ the coarsest tile)."""
+    ks, es = [], []
+    for c in cascades:
+        h2 = np.abs(np.asarray(c.h0)) ** 2
+        nz = h2 > 0
+        ks.append(np.hypot(c.kx, c.kz)[nz])
+        es.append(2.0 * h2[nz])
+    k = np.concatenate(ks)
+    e = np.concatenate(es)
+    if e.sum() <= 0:
+        return None
+    dk = 2.0 * math.pi / cascades[0].patch_size
+    ring = np.floor(k / dk + 0.5).astype(np.int64)  # ring j covers [(j − ½)Δk, (j + ½)Δk)
+    energy = np.bincount(ring, weights=e)
+    j = np.arange(len(energy))
+    lo = np.maximum(j - 0.5, 0.0) * dk
+    hi = (j + 0.5) * dk
+    dw = oc.dispersion_omega(hi, sp.depth, sp.g) - oc.dispersion_omega(lo, sp.depth, sp.g)
+    s = np.where(dw > 0, energy / np.where(dw > 0, dw, 1.0), 0.0)
+    jp = int(np.argmax(s))
+    return 2.0 * math.pi / float(oc.dispersion_omega(jp * dk, sp.depth, sp.g))
+
+
+def gerstner_peak_period(waves, depth: float) -> float:
+    """Tp = 2π/ω of the wave with the most energy A²/2."""
+    energy = [(w.steepness * w.wavelength / (2.0 * math.pi)) ** 2 for w in waves]
+    w = waves[int(np.argmax(energy))]
+    return 2.0 * math.pi / float(oc.dispersion_omega(2.0 * math.pi / w.wavelength, depth))
+
+
+# ---- timing ----------------------------------------------------------------------------------
+
+def _frame_ms(session, size, warmup: int, repeat: int) -> float:
+    """Median ms of ``scene.frame(size, dt=1/30)`` + ``scene.render``; one untimed frame first
+    (it builds what a configuration change made stale)."""
+    gpu = session.gpu
+    target = gpu.target("bench", "ocean frame", tuple(size))
+    try:
+        def one():
+            session.scene.render(session.scene.frame(tuple(size), DT), target)
+
+        one()
+        return time_call(gpu.ctx, "frame", one, warmup, repeat).median_ms
+    finally:
+        gpu.free(target)
+
+
+def _sim_ms(session, warmup: int, repeat: int) -> float:
+    eff = _effect(session)
+    p = session.params
+    t = session.scene.time
+    return time_call(session.gpu.ctx, "ocean.simulate",
+                     lambda: eff.sim.update(t, p["ocean.choppiness"], DT, foam_threshold=p["ocean.foam_threshold"],
+                                            foam_decay_time=p["ocean.foam_decay"]),
+                     warmup, repeat).median_ms
+
+
+def _cascades_of(eff, n: int, count: int):
+    ref = eff.reference  # what the effect uploaded to its GpuOceanSim
+    if ref is None or ref.n != n or len(ref.cascades) != count:
+        p = eff.params
+        ref = oc.FFTOcean(eff.spectrum_params(), n=n, patch_sizes=eff.patch_sizes(), seed=p["ocean.seed"])
+    return ref.cascades
+
+
+def _fft_sizes_from(sizes) -> tuple[int, ...]:
+    """``natura bench ocean --sizes 64x64,128x128``: square pairs name FFT sizes."""
+    out = sorted({int(w) for w, h in sizes if int(w) == int(h) and int(w) in FFT_SIZES})
+    if not out:
+        raise UsageError(f"natura bench ocean --sizes: {','.join(f'{w}x{h}' for w, h in sizes)} names no FFT "
+                         f"size: give NxN pairs with N in {', '.join(map(str, FFT_SIZES))}")
+    return tuple(out)
+
+
+SHAPE_BINS_PER_DECADE = 8
+SHAPE_DIRECTIONS = 16
+
+
+def _shape_bins(sp: oc.SpectrumParams, ref: dict):
+    """log-k edges (k_p/4 … k_ref, 8 per decade) and the reference's variance share per
+    (log k, direction) bin, directions measured from the wind (16 sectors)."""
+    k_lo = max(ref["k_peak"] / 4.0, 1e-4) if math.isfinite(ref["k_peak"]) else 1e-3
+    decades = math.log10(ref["k_ref"] / k_lo)
+    edges = np.geomspace(k_lo, ref["k_ref"], max(2, int(math.ceil(decades * SHAPE_BINS_PER_DECADE))) + 1)
+    k, th, psi, dk, dth = oc._polar_spectrum(sp, k_lo, ref["k_ref"], nk=800, nth=144)
+    e = psi * (k * dk)[:, None] * dth
+    kk = np.repeat(k[:, None], len(th), axis=1)
+    tt = np.repeat(th[None, :], len(k), axis=0)  # already relative to the wind
+    return edges, _histogram(kk.ravel(), tt.ravel(), e.ravel(), edges)
+
+
+def _histogram(k, theta_from_wind, energy, edges):
+    ik = np.searchsorted(edges, k) - 1
+    it = np.floor((np.angle(np.exp(1j * theta_from_wind)) + math.pi) / (2 * math.pi) * SHAPE_DIRECTIONS)
+    it = np.clip(it.astype(np.int64), 0, SHAPE_DIRECTIONS - 1)
+    ok = (ik >= 0) & (ik < len(edges) - 1)
+    hist = np.zeros((len(edges) - 1, SHAPE_DIRECTIONS))
+    np.add.at(hist, (ik[ok], it[ok]), energy[ok])
+    total = hist.sum()
+    return hist / total if total > 0 else hist
+
+
+def shape_distance(k, theta_travel, energy, sp: oc.SpectrumParams, bins) -> float:
+    """Half the L1 distance (0 = same shape, 1 = disjoint) between a sea's variance over
+    (log k, direction) bins and the spectrum's: how well a wave set fills the directional
+    spectrum, whatever its Hs and mss."""
+    edges, ref_hist = bins
+    hist = _histogram(np.asarray(k, float), np.asarray(theta_travel, float) - sp.wind_direction,
+                      np.asarray(energy, float), edges)
+    return 0.5 * float(np.abs(hist - ref_hist).sum())
+
+
+def fft_shape_distance(cascades, sp, bins) -> float:
+    """For the expectation of h₀ (½Ψ(−k)Δk² per mode, so the figure measures the grid and the
+    bands, not the luck of one draw): mode k carries a wave travelling toward −k."""
+    ks, ts, es = [], [], []
+    for c in cascades:
+        kx, kz = np.asarray(c.kx), np.asarray(c.kz)
+        n = kx.shape[0]
+        k = np.hypot(kx, kz)
+        keep = (k >= c.band[0]) & (k < c.band[1]) & (k > 0)
+        keep[n // 2, :] = False
+        keep[:, n // 2] = False
+        dk = 2.0 * math.pi / c.patch_size
+        psi = oc.directional_spectrum(-kx, -kz, sp) * keep * dk * dk
+        ks.append(k[keep])
+        ts.append(np.arctan2(-kz[keep], -kx[keep]))
+        es.append(psi[keep])
+    return shape_distance(np.concatenate(ks), np.concatenate(ts), np.concatenate(es), sp, bins)
+
+
+def gerstner_shape_distance(waves, sp, bins) -> float:
+    k = [2.0 * math.pi / w.wavelength for w in waves]
+    t = [math.atan2(w.direction[1], w.direction[0]) for w in waves]
+    e = [0.5 * (w.steepness / kk) ** 2 for w, kk in zip(waves, k)]
+    return shape_distance(k, t, e, sp, bins)
+
+
+# ---- sweep 1 ---------------------------------------------------------------------------------
+
+def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int = 2, repeat: int = 5,
+              ref: dict | None = None) -> dict:
+    p = session.params
+    eff = _effect(session)
+    ref = ref or reference(session)
+    sp = eff.spectrum_params()
+    p.set("ocean.model", "fft")
+    all_sizes = [float(s) for s in p["ocean.patch_sizes"]]
+    bins = _shape_bins(sp, ref)
+    rows = []
+    for n in fft_sizes:
+        for c in cascades:
+            row = {"fft_size": int(n), "cascades": int(c), "patch_sizes": all_sizes[:c]}
+            try:
+                row["bands"] = [list(b) for b in oc.cascade_bands(int(n), all_sizes[:c])]
+                p.set("ocean.fft_size", str(n))
+                p.set("ocean.cascades", int(c))
+                row["ms_frame"] = _frame_ms(session, size, warmup, repeat)
+                row["ms_sim"] = _sim_ms(session, warmup, repeat)
+            except ParamError as exc:
+                row["skipped"] = str(exc)
+                rows.append(row)
+                continue
+            casc = _cascades_of(eff, int(n), int(c))
+            m = cascade_moments(casc, sp)
+            row.update({"hs": m["hs"], "mss": m["mss"], **_ratio_errors(m["mss"], m["hs"], ref),
+                        "shape_distance": fft_shape_distance(casc, sp, bins)})
+            e = _ratio_errors(m["mss_expected"], m["hs_expected"], ref)
+            row.update({"mss_expected": m["mss_expected"], "hs_expected": m["hs_expected"],
+                        "mss_deficit_expected": e["mss_deficit"], "hs_error_expected": e["hs_error"]})
+            rows.append(row)
+    return {"fft_sizes": [int(n) for n in fft_sizes], "cascades": [int(c) for c in cascades], "rows": rows}
+
+
+# ---- sweep 2 ---------------------------------------------------------------------------------
+
+def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmup: int = 2, repeat: int = 5,
+                   ref: dict | None = None) -> dict:
+    p = session.params
+    eff = _effect(session)
+    ref = ref or reference(session)
+    sp = eff.spectrum_params()
+    rows = []
+    bins = _shape_bins(sp, ref)
+    p.set("ocean.model", "gerstner")
+    for count in counts:
+        row = {"model": "gerstner", "waves": int(count)}
+        try:
+            p.set("ocean.gerstner_waves", int(count))
+            waves = eff.gerstner_waves()
+            row["ms_frame"] = _frame_ms(session, size, warmup, repeat)
+        except ParamError as exc:
+            row["skipped"] = str(exc)
+            rows.append(row)
+            continue
+        m = oc.gerstner_moments(waves)
+        tp = gerstner_peak_period(waves, sp.depth)
+        angles = {round(math.degrees(math.atan2(w.direction[1], w.direction[0]))) % 360 for w in waves}
+        row.update({"hs": m["hs"], "mss": m["mss"], **_ratio_errors(m["mss"], m["hs"], ref), "tp_s": tp,
+                    "tp_error": (abs(tp - ref["tp_s"]) / ref["tp_s"]) if ref["tp_s"] else None,
+                    "distinct_directions": len(angles), "shape_distance": gerstner_shape_distance(waves, sp, bins),
+                    "shortest_wavelength_m": min(w.wavelength for w in waves),
+                    "longest_wavelength_m": max(w.wavelength for w in waves)})
+        rows.append(row)
+    n, c = fft
+    all_sizes = [float(s) for s in p["ocean.patch_sizes"]]
+    row = {"model": "fft", "fft_size": int(n), "cascades": int(c), "repeat_lengths_m": all_sizes[:c]}
+    try:
+        oc.cascade_bands(int(n), all_sizes[:c])
+        p.set("ocean.model", "fft")
+        p.set("ocean.fft_size", str(n))
+        p.set("ocean.cascades", int(c))
+        row["ms_frame"] = _frame_ms(session, size, warmup, repeat)
+    except ParamError as exc:
+        row["skipped"] = str(exc)
+    else:
+        casc = _cascades_of(eff, int(n), int(c))
+        m = cascade_moments(casc, sp)
+        tp = fft_peak_period(casc, sp)
+        row.update({"hs": m["hs"], "mss": m["mss"], **_ratio_errors(m["mss"], m["hs"], ref), "tp_s": tp,
+                    "tp_error": (abs(tp - ref["tp_s"]) / ref["tp_s"]) if (ref["tp_s"] and tp) else None,
+                    "modes": int(sum(int(np.count_nonzero(cc.h0)) for cc in casc)),
+                    "shape_distance": fft_shape_distance(casc, sp, bins)})
+    rows.append(row)
+    return {"counts": [int(k) for k in counts], "fft": [int(n), int(c)], "rows": rows,
+            "tp_definition": {"gerstner": "2π/ω of the wave with the largest A²/2",
+                              "fft": "peak of S(ω) of the actual h0, rings 2π/L0 wide",
+                              "spectrum": "SpectrumParams.peak_omega() (E(k) peak for phillips)"}}
+
+
+# ---- sweep 3 ---------------------------------------------------------------------------------
+
+def direct_sweep(session, sizes=DIRECT_SIZES, extra: int | None = DIRECT_EXTRA, budget_s: float = DIRECT_BUDGET_S,
+                 warmup: int = 2, repeat: int = 5) -> dict:
+    """One cascade: GpuOceanSim.update (FFT) against direct_sum, same waves, same run."""
+    from ..effects.ocean_fft import GpuOceanSim
+
+    p = session.params
+    eff = _effect(session)
+    sp = eff.spectrum_params()
+    patch = float(p["ocean.patch_sizes"][0])
+    lam = float(p["ocean.choppiness"])
+    direct_repeat = max(1, min(repeat, 3))  # the first (accuracy) run is its warm-up
+    rows, skipped = [], []
+
+    def measure(n: int) -> dict:
+        ocean = oc.FFTOcean(sp, n=n, patch_sizes=(patch,), seed=p["ocean.seed"])
+        sim = GpuOceanSim(session.gpu, "bench-ocean")
+        try:
+            sim.set_spectrum(ocean.cascades, n)
+            sim.update(DIRECT_TIME, lam, 0.0)
+            fft_eta = sim.read_fields(0)["height"].astype(np.float64)
+            t0 = time.perf_counter()
+            sim.direct_sum(DIRECT_TIME, lam)
+            first_s = time.perf_counter() - t0  # includes building the mode table
+            direct_eta = sim.read_fields(0)["height"].astype(np.float64)
+            scale = float(np.abs(fft_eta).max())
+            diff = float(np.abs(direct_eta - fft_eta).max())
+            ms_fft = time_call(session.gpu.ctx, "fft", lambda: sim.update(DIRECT_TIME, lam, 0.0),
+                               warmup, repeat).median_ms
+            direct = time_call(session.gpu.ctx, "direct", lambda: sim.direct_sum(DIRECT_TIME, lam), 0, direct_repeat)
+            ms_direct = direct.median_ms
+            return {"fft_size": n, "patch_size": patch, "modes": sim.mode_counts()[0], "path": sim.path,
+                    "ms_fft": ms_fft, "ms_direct": ms_direct, "speedup": ms_direct / ms_fft,
+                    "max_abs_diff": diff, "max_abs_eta": scale, "rel_diff": diff / scale if scale > 0 else diff,
+                    "min_ms_direct": min(direct.wall_ms), "first_direct_s": first_s,
+                    "direct_repeat": direct_repeat}
+        finally:
+            sim.release()
+
+    for n in sizes:
+        rows.append(measure(int(n)))
+    if extra and rows and extra > rows[-1]["fft_size"]:
+        last = rows[-1]
+        ext_modes = int(np.count_nonzero(oc.FFTOcean(sp, n=extra, patch_sizes=(patch,), seed=p["ocean.seed"])
+                                         .cascades[0].h0))
+        scale = (extra / last["fft_size"]) ** 2 * ext_modes / max(last["modes"], 1)
+        # O(N²·modes); from the fastest run (the least disturbed by other load), 1 + repeat runs
+        estimate = last["min_ms_direct"] * 1e-3 * scale * (1 + direct_repeat)
+        if estimate < budget_s:
+            rows.append({**measure(int(extra)), "estimated_s": estimate})
+        else:
+            skipped.append({"fft_size": extra, "reason": f"estimated {estimate:.0f} s of direct sums "
+                                                         f"(budget {budget_s:g} s)"})
+    return {"patch_size": patch, "time_s": DIRECT_TIME, "choppiness": lam, "rows": rows, "skipped": skipped}
+
+
+# ---- the whole sweep -------------------------------------------------------------------------
+
+def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None, fft_sizes=None,
+          cascades=CASCADES, gerstner_counts=GERSTNER_COUNTS, fft_compare=FFT_COMPARE,
+          direct_sizes=DIRECT_SIZES, direct_extra: int | None = DIRECT_EXTRA) -> dict:
+    """What ``natura bench ocean`` runs after the per-pass timings."""
+    if fft_sizes is None:
+        fft_sizes = _fft_sizes_from(sizes) if sizes else FFT_SIZES
+    saved = session.params.values()
+    eff = _effect(session)
+    t0 = time.perf_counter()
+    try:
+        ref = reference(session)
+        sp = eff.spectrum_params()
+        out = {
+            "renderer": session.gpu.caps.renderer,
+            "view_size": list(size),
+            "camera": {"position": [float(x) for x in session.scene.camera.position]},
+            "wind": session.params["ocean.wind"], "wind_direction": session.params["ocean.wind_direction"],
+            "spectrum": sp.kind, "fetch_km": session.params["ocean.fetch"], "depth": sp.depth,
+            "short_wave_fade": sp.short_wave_fade,
+            "patch_sizes": [float(s) for s in session.params["ocean.patch_sizes"]],
+            "warmup": warmup, "repeat": repeat,
+            "reference": ref,
+            "fft": fft_sweep(session, size, fft_sizes, cascades, warmup, repeat, ref),
+            "gerstner": gerstner_sweep(session, size, gerstner_counts, fft_compare, warmup, repeat, ref),
+            "direct_sum": direct_sweep(session, direct_sizes, direct_extra, DIRECT_BUDGET_S, warmup, repeat),
+            "oceanography": oceanography(session.gpu),
+        }
+    finally:
+        for k, v in saved.items():
+            try:
+                session.params.set(k, v)
+            except NaturaError:
+                pass
+    out["seconds"] = time.perf_counter() - t0
+    return out
+
+
+# ---- chart and summary -----------------------------------------------------------------------
+
+FLOOR = 1e-4
+SYMLOG_LINEAR = 1e-2
+
+
+def chart(report: dict, path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    s = report["sweep"]
+    fig, axes = plt.subplots(2, 2, figsize=(14, 10))
+    axes = axes.ravel()
+    ax = axes[0]
+    rows = [r for r in s["fft"]["rows"] if "skipped" not in r]
+    for n in s["fft"]["fft_sizes"]:
+        line = [r for r in rows if r["fft_size"] == n]
+        if not line:
+            continue
+        ys = [r["mss_deficit"] for r in line]
+        ax.plot([r["ms_frame"] for r in line], ys, "o-", label=f"FFT N = {n}")
+        for r, y in zip(line, ys):
+            ax.annotate(str(r["cascades"]), (r["ms_frame"], y), fontsize=8, textcoords="offset points",
+                        xytext=(3, 3))
+    g = [r for r in s["gerstner"]["rows"] if r["model"] == "gerstner" and "skipped" not in r]
+    if g:
+        ys = [r["mss_deficit"] for r in g]
+        ax.plot([r["ms_frame"] for r in g], ys, "s--", color="k", label="Gerstner (waves)")
+        for r, y in zip(g, ys):
+            ax.annotate(f"{r['waves']}w", (r["ms_frame"], y), fontsize=8, textcoords="offset points", xytext=(3, -9))
+    f = [r for r in s["gerstner"]["rows"] if r["model"] == "fft" and "skipped" not in r]
+    for r in f:
+        ax.plot([r["ms_frame"]], [r["mss_deficit"]], "*", ms=13, color="tab:red",
+                label=f"FFT {r['fft_size']}, {r['cascades']} cascades (Gerstner comparison)")
+    # symlog: a random draw of h0 can hold slightly more slope than the reference (deficit < 0)
+    ax.set_yscale("symlog", linthresh=SYMLOG_LINEAR)
+    ax.axhline(0.0, color="0.6", lw=0.5)
+    ax.set_xlabel(f"ms per frame at {s['view_size'][0]}×{s['view_size'][1]} (labels: cascades)")
+    ax.set_ylabel(f"mss deficit 1 − mss/mss_ref (symlog, linear below {SYMLOG_LINEAR:g})")
+    ax.set_title("(a) time against slope error")
+    ax.legend(fontsize=7)
+
+    ax = axes[1]
+    d = s["direct_sum"]["rows"]
+    ns = [r["fft_size"] for r in d]
+    ax.plot(ns, [r["ms_fft"] for r in d], "o-", label="GPU FFT (GpuOceanSim.update)")
+    ax.plot(ns, [r["ms_direct"] for r in d], "s-", label="direct sum (direct_sum)")
+    for r in d:
+        ax.annotate(f"×{r['speedup']:.0f}", (r["fft_size"], r["ms_direct"]), fontsize=8,
+                    textcoords="offset points", xytext=(4, -10))
+    ax.set_xscale("log", base=2)
+    ax.set_yscale("log")
+    ax.set_xlabel("N (one cascade)")
+    ax.set_ylabel("ms")
+    ax.set_title("(b) FFT against direct sum (labels: speed-up)")
+    ax.legend(fontsize=8)
+
+    ax = axes[2]
+    for n in s["fft"]["fft_sizes"]:
+        line = [r for r in rows if r["fft_size"] == n]
+        if line:
+            ax.plot([r["cascades"] for r in line], [max(r["hs_error"], FLOOR) for r in line], "o-",
+                    label=f"N = {n} (actual h0)")
+            ax.plot([r["cascades"] for r in line], [max(r["hs_error_expected"], FLOOR) for r in line], ":",
+                    color=ax.lines[-1].get_color())
+    for r in g:
+        ax.axhline(max(r["hs_error"], FLOOR), color="k", lw=0.5, ls="--")
+    ax.set_yscale("log")
+    ax.set_xticks(list(s["fft"]["cascades"]))
+    ax.set_xlabel("cascades (dotted: expectation of h0; dashed: Gerstner sets)")
+    ax.set_ylabel(f"Hs error |Hs − Hs_ref|/Hs_ref (floored at {FLOOR:g})")
+    ax.set_title("(c) Hs error")
+    ax.legend(fontsize=7)
+    ax = axes[3]
+    for n in s["fft"]["fft_sizes"]:
+        line = [r for r in rows if r["fft_size"] == n]
+        if line:
+            ax.plot([r["ms_frame"] for r in line], [r["shape_distance"] for r in line], "o-", label=f"FFT N = {n}")
+            for r in line:
+                ax.annotate(str(r["cascades"]), (r["ms_frame"], r["shape_distance"]), fontsize=8,
+                            textcoords="offset points", xytext=(3, 3))
+    if g:
+        ax.plot([r["ms_frame"] for r in g], [r["shape_distance"] for r in g], "s--", color="k",
+                label="Gerstner (waves)")
+        for r in g:
+            ax.annotate(f"{r['waves']}w", (r["ms_frame"], r["shape_distance"]), fontsize=8,
+                        textcoords="offset points", xytext=(3, -9))
+    ax.set_ylim(0.0, 1.0)
+    ax.set_xlabel(f"ms per frame at {s['view_size'][0]}×{s['view_size'][1]} (labels: cascades)")
+    ax.set_ylabel("spectrum shape distance (½ L1 over log k × direction bins)")
+    ax.set_title("(d) time against how well the waves fill the directional spectrum")
+    ax.legend(fontsize=7)
+    fig.suptitle(f"natura bench ocean — {report.get('renderer', s.get('renderer'))}, {s['spectrum']}, "
+                 f"U = {s['wind']:g} m/s", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def _pct(x) -> str:
+    return "   n/a" if x is None else f"{100.0 * x:6.2f}%"
+
+
+def summary(report: dict) -> str:
+    s = report["sweep"]
+    ref = s["reference"]
+    lines = [f"reference: {s['spectrum']}, U = {s['wind']:g} m/s, Hs = {ref['hs']:.3f} m, mss = {ref['mss']:.4g}, "
+             f"Tp = {ref['tp_s'] or float('nan'):.2f} s, k ≤ {ref['k_ref']:.0f} rad/m",
+             f"{TITLES['fft']} at {s['view_size'][0]}x{s['view_size'][1]}:",
+             "  N    casc   frame ms   sim ms   mss deficit (expected)    Hs error (expected)   shape"]
+    for r in s["fft"]["rows"]:
+        if "skipped" in r:
+            lines.append(f"  {r['fft_size']:<4d} {r['cascades']:4d}   skipped: {r['skipped']}")
+            continue
+        lines.append(f"  {r['fft_size']:<4d} {r['cascades']:4d} {r['ms_frame']:10.1f} {r['ms_sim']:8.1f}   "
+                     f"{_pct(r['mss_deficit'])} ({_pct(r['mss_deficit_expected'])})       "
+                     f"{_pct(r['hs_error'])} ({_pct(r['hs_error_expected'])})   {r['shape_distance']:.3f}")
+    lines.append(f"{TITLES['gerstner']} (equal Hs and peak period):")
+    lines.append("  model            frame ms   Hs m     Hs err    Tp s    Tp err   mss deficit  shape  directions")
+    for r in s["gerstner"]["rows"]:
+        label = f"gerstner {r['waves']}" if r["model"] == "gerstner" else f"fft {r['fft_size']}×{r['cascades']}"
+        if "skipped" in r:
+            lines.append(f"  {label:16s} skipped: {r['skipped']}")
+            continue
+        dirs = r.get("distinct_directions", "grid")
+        lines.append(f"  {label:16s} {r['ms_frame']:8.1f} {r['hs']:7.3f} {_pct(r['hs_error'])} "
+                     f"{r['tp_s'] or float('nan'):7.2f} {_pct(r['tp_error'])}  {_pct(r['mss_deficit'])}  "
+                     f"{r['shape_distance']:.3f}  {dirs}")
+    lines.append("  shape: half the L1 distance between the sea's variance over (log k, direction) bins and the "
+                 "spectrum's (0 = same shape, 1 = disjoint)")
+    lines.append(f"{TITLES['direct_sum']} (one cascade, L = {s['direct_sum']['patch_size']:g} m):")
+    lines.append("  N     modes    FFT ms   direct ms   speed-up   max|Δη|/max|η|")
+    for r in s["direct_sum"]["rows"]:
+        lines.append(f"  {r['fft_size']:<4d} {r['modes']:7d} {r['ms_fft']:9.2f} {r['ms_direct']:11.2f}   "
+                     f"×{r['speedup']:<8.1f} {r['rel_diff']:.2e}")
+    for sk in s["direct_sum"]["skipped"]:
+        lines.append(f"  {sk['fft_size']:<4d} skipped: {sk['reason']}")
+    if "oceanography" in s:
+        lines.append(oceanography_summary(s["oceanography"]))
+    lines.append(f"sweeps took {s.get('seconds', float('nan')):.0f} s; figures are specific to {s['renderer']}")
+    return "\n".join(lines)
