@@ -380,8 +380,9 @@ class Ocean(Effect):
         if iterations is None:
             iterations = self.params["ocean.query_iterations"]
         x0, z0, d, res = oc.invert_horizontal_displacement(self.displacement, x, z, iterations)
-        # normal of the displaced surface by central differences around the rest point
-        e = 0.05
+        # normal of the displaced surface by central differences around the rest point, with a
+        # step well inside the shortest wave (or the finest FFT texel)
+        e = self._difference_step()
         px1, px0 = self.displacement(x0 + e, z0), self.displacement(x0 - e, z0)
         pz1, pz0 = self.displacement(x0, z0 + e), self.displacement(x0, z0 - e)
         t = np.stack([2 * e + px1[..., 0] - px0[..., 0], px1[..., 1] - px0[..., 1], px1[..., 2] - px0[..., 2]], -1)
@@ -389,6 +390,14 @@ class Ocean(Effect):
         n = np.cross(b, t)
         n /= np.linalg.norm(n, axis=-1, keepdims=True)
         return oc.WaterQuery(d[..., 1], d, n, x0, z0, res)
+
+    def _difference_step(self) -> float:
+        model = self.params["ocean.model"]
+        if model == "sine":
+            return min(0.05, self.params["ocean.sine_wavelength"] / 50.0)
+        if model == "gerstner":
+            return min(0.05, min(w.wavelength for w in self.gerstner_waves()) / 50.0)
+        return min(0.05, 0.5 * min(self.patch_sizes()) / self.fft_size())
 
     # -- uniforms --------------------------------------------------------------------------
     def wave_uniforms(self, prog) -> None:
