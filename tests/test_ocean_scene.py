@@ -321,3 +321,26 @@ def test_fft_paths_draw_the_same_sea(shot):
     b = s.frame()[0]
     assert s.ocean.sim.path == "fragment"
     assert np.max(np.abs(a - b)) < 1e-3 * max(float(a.max()), 1.0)
+
+
+@pytest.mark.parametrize("yaw,pitch", [(0.0, -2.0), (93.0, -20.0), (181.0, 10.0), (359.5, -40.0), (270.0, -89.0)])
+def test_drawing_only_the_visible_wedges_changes_no_pixel(shot, yaw, pitch):
+    cam = Camera(position=(1.0, 5.0, 2.0), yaw=yaw, pitch=pitch, fov=60.0)
+    s = shot(("ocean.model=gerstner", "ocean.mesh_segments=128"), cam, size=(64, 36))
+    culled = s.frame()[0]
+    drawn = s.ocean.drawn_triangles
+    s.ocean.params.set("ocean.mesh_cull", False)
+    full = s.frame()[0]
+    assert np.array_equal(culled, full)
+    if pitch > -60:
+        assert drawn < 0.5 * s.ocean.mesh_triangles
+
+
+def test_panel_notes_name_the_lesson_and_the_live_figures(shot):
+    s = shot(("ocean.model=gerstner",))
+    s.frame()
+    notes = s.ocean.panel_notes()
+    assert "steepness" in notes[0] and any("Hs" in n and "Cox–Munk" in n for n in notes)
+    s.ocean.params.set("ocean.model", "fft")
+    s.frame()
+    assert any("queries lag one frame" in n for n in s.ocean.panel_notes())

@@ -126,6 +126,10 @@ class Effect(abc.ABC):
     def render(self, frame: "FrameContext", target: "RenderTarget") -> None:
         """Draw the effect's passes into ``target`` (linear radiance)."""
 
+    def panel_notes(self) -> list[str]:
+        """Lines the window's panel shows above this effect's widgets (live figures)."""
+        return []
+
     def passes(self, frame: "FrameContext", target: "RenderTarget") -> list[Pass]:
         return [Pass(self.name, lambda: self.render(frame, target))]
 

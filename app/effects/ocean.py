@@ -489,6 +489,28 @@ class Ocean(Effect):
                 self._flat_env.write(face, np.array([0.3, 0.35, 0.4, 1.0], dtype="f4").tobytes())
         return self._flat_env
 
+    LESSONS = {
+        "sine": "Sine (eqs. 2.1–2.4): one wave with analytic normals — cheap, but it repeats "
+                "every wavelength and a lone sine never looks like the sea.",
+        "gerstner": "Gerstner (eqs. 2.5–2.8): waves drawn from the spectrum, crests sharpened by "
+                    "horizontal motion; each wave's steepness s = k·A must stay ≤ 1 or the crests loop.",
+        "fft": "FFT (Tessendorf): every wave of the spectrum on a grid, per cascade; choppy "
+               "displacement, foam where the Jacobian folds; tiles repeat only at their size.",
+    }
+
+    def panel_notes(self) -> list[str]:
+        model = self.params["ocean.model"]
+        lines = [self.LESSONS[model]]
+        lines.append(f"Hs {self.significant_height():.2f} m · slope variance {self.resolved_mss:.4f} "
+                     f"(Cox–Munk {self.cox_munk_mss():.4f})")
+        if model == "fft" and self.sim is not None:
+            lines.append(f"N {self.fft_size()} × {len(self.patch_sizes())} cascades ({self.sim.path}); "
+                         f"queries lag one frame (t = {self.query_time if self.query_time is not None else '—'})")
+        if self._mesh is not None:
+            lines.append(f"mesh: {getattr(self, 'drawn_triangles', 0):,} of {self.mesh_triangles:,} triangles drawn"
+                         + ("; camera under water" if self.underwater else ""))
+        return lines
+
     # -- passes ----------------------------------------------------------------------------
     def mesh(self):
         p = self.params

@@ -70,9 +70,10 @@ def param_widget(params: ParamSet, p: Param) -> bool:
 
 
 def params_panel(params: ParamSet, titles: dict[str, str], skip: set[str] = frozenset(),
-                 open_groups: set[str] = frozenset()) -> None:
+                 open_groups: set[str] = frozenset(), notes: dict[str, list[str]] | None = None) -> None:
     """One collapsing header per group, the groups in ``open_groups`` open at first; groups
-    with a title (the scene's effects, Time, Output) come first."""
+    with a title (the scene's effects, Time, Output) come first. ``notes`` are lines an effect
+    shows above its widgets (live figures, what the current method teaches)."""
     groups = params.groups()
     order = [g for g in titles if g in groups] + [g for g in groups if g not in titles]
     for group in order:
@@ -82,6 +83,8 @@ def params_panel(params: ParamSet, titles: dict[str, str], skip: set[str] = froz
         title = titles.get(group, group)
         flags = imgui.TreeNodeFlags_.default_open if group in open_groups else 0
         if imgui.collapsing_header(f"{title}##{group}", flags):
+            for line in (notes or {}).get(group, ()):
+                imgui.text_wrapped(line)
             for p in shown:
                 param_widget(params, p)
 

@@ -381,7 +381,13 @@ class NaturaWindow:
             self.params.reset()
         titles = {e.name: e.title for e in self.scene.instances}
         titles.update({"time": "Time", "output": "Output"})
-        panel.params_panel(self.params, titles, skip={"time.hour"}, open_groups=set(titles))
+        notes = {}
+        for e in self.scene.active_instances():
+            try:
+                notes[e.name] = e.panel_notes()
+            except Exception as exc:  # a figure that cannot be computed must not close the panel
+                notes[e.name] = [f"({exc})"]
+        panel.params_panel(self.params, titles, skip={"time.hour"}, open_groups=set(titles), notes=notes)
         if self.scene.has_effect("sky") and imgui.collapsing_header("Sky keyframes (every 3 h)"):
             panel.keyframes_panel(self.scene.effect("sky").keyframes)
             if imgui.button("Save keyframes"):
