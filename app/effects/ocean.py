@@ -171,8 +171,12 @@ class Ocean(Effect):
                   "or auto (compute when the context has it)", kind="choice", choices=("auto", "compute", "fragment"),
                   section=s1 + "(d)"),
             Param("ocean.seed", 0, 0, 1_000_000, "random seed of the wave amplitudes and phases", kind="int"),
-            Param("ocean.foam_threshold", 0.5, 0.0, 1.0, "foam appears where the Jacobian drops below this",
-                  step=0.01, section=s2),
+            Param("ocean.foam_mode", "whitecaps", doc="whitecaps: foam thresholds set per cascade so foam covers "
+                  "Monahan & O'Muircheartaigh's fraction of the sea for the wind (beyond the thesis); jacobian: "
+                  "the upstream's fixed threshold (ocean.foam_threshold)", kind="choice",
+                  choices=("whitecaps", "jacobian"), section=s2),
+            Param("ocean.foam_threshold", 0.5, 0.01, 1.0, "jacobian mode: foam appears where the Jacobian drops "
+                  "below this", step=0.01, section=s2),
             Param("ocean.foam_decay", 2.0, 0.05, 30.0, "foam fades as e^(−t/τ): τ", step=0.05, unit="s",
                   section=s2),
             Param("ocean.foam_amount", 1.0, 0.0, 4.0, "foam strength", step=0.05, section=s2),
@@ -202,6 +206,8 @@ class Ocean(Effect):
     def __init__(self, gpu, params, scene=None):
         super().__init__(gpu, params, scene)
         self.sim = None  # GpuOceanSim, only for the FFT model
+        self._foam_key = None
+        self._foam: list[tuple[float, float]] = []
         self._sim_path = None
         self._sim_key = None
         self._fft_ref: oc.FFTOcean | None = None
@@ -305,6 +311,40 @@ class Ocean(Effect):
         """The numpy ocean whose amplitudes the GPU simulation holds (None unless the FFT runs)."""
         return self._fft_ref
 
+    def foam_thresholds(self) -> list[tuple[float, float]]:
+        """(threshold, ramp width) of the foam source per cascade (FFT) or for the wave set.
+
+        Whitecap mode calibrates them on the sea's own Jacobian (the FFT's λ = 1 derivative fields
+        at t = 0, rescaled for the choppiness; a grid of the Gerstner set), so that the foam covers
+        Monahan & O'Muircheartaigh's whitecap fraction for the wind."""
+        p = self.params
+        model = p["ocean.model"]
+        if p["ocean.foam_mode"] == "jacobian":
+            t = p["ocean.foam_threshold"]
+            return [(t, t)] * (len(self.cascade_bands) if model == "fft" and self.cascade_bands else 1)
+        key = (model, p["ocean.choppiness"], p["ocean.wind"], self._sim_key if model == "fft" else self._waves_key)
+        if key != self._foam_key:
+            coverage = oc.whitecap_coverage(p["ocean.wind"])
+            if model == "fft" and self._fft_ref is not None:
+                lam = p["ocean.choppiness"]
+                if self._fft_ref.time is None:
+                    self._fft_ref.update(0.0)
+                jacs = [(1 + lam * c.fields.ddx_dx) * (1 + lam * c.fields.ddz_dz) - (lam * c.fields.ddx_dz) ** 2
+                        for c in self._fft_ref.cascades]
+            elif model == "gerstner":
+                waves = self.gerstner_waves()
+                span = 2.0 * max(w.wavelength for w in waves)
+                g = np.linspace(0.0, span, 192)
+                x, z = np.meshgrid(g, g)
+                jacs = [oc.gerstner(x, z, 0.0, waves, check=False).jacobian]
+            else:
+                jacs = [np.ones(4)]  # the sine wave has no horizontal motion: no foam
+            # whitecaps break mostly on the long waves: each finer cascade gets half the foam of
+            # the one before (57 / 29 / 14 % of the coverage for three)
+            self._foam = oc.whitecap_thresholds(jacs, coverage, shares=[0.5**i for i in range(len(jacs))])
+            self._foam_key = key
+        return self._foam
+
     def _release_fft(self) -> None:
         if self.sim is not None:
             self.sim.release()
@@ -321,8 +361,9 @@ class Ocean(Effect):
         model = p["ocean.model"]
         if model == "fft":
             self._ensure_fft()
-            self.sim.update(frame.time, p["ocean.choppiness"], dt, foam_threshold=p["ocean.foam_threshold"],
-                            foam_decay_time=p["ocean.foam_decay"])
+            thresholds = self.foam_thresholds()
+            self.sim.update(frame.time, p["ocean.choppiness"], dt, foam_threshold=[t for t, _ in thresholds],
+                            foam_decay_time=p["ocean.foam_decay"], foam_width=[w for _, w in thresholds])
             self.sim.request_readback()
             got = self.sim.poll_readback()  # the previous frame's request: no stall
             if got is not None:
@@ -405,8 +446,9 @@ class Ocean(Effect):
         cam = self.camera_pos
         model = MODELS.index(p["ocean.model"])
         extent = p["ocean.mesh_extent"]
+        foam_t, foam_w = self.foam_thresholds()[0]
         prog.set_many({"uWaveModel": model, "uTime": float(self.time), "uFadeStart": 0.5 * extent,
-                       "uFadeEnd": 0.9 * extent, "uFoamThreshold": p["ocean.foam_threshold"]})
+                       "uFadeEnd": 0.9 * extent, "uFoamThreshold": foam_t, "uFoamWidth": foam_w})
         d = wind_vector(p["ocean.wind_direction"])
         if model == 0:
             a, k, w = self.sine_wave()
@@ -634,9 +676,10 @@ class Ocean(Effect):
         out = []
         if self.sim is not None:
             p = self.params
+            thresholds = self.foam_thresholds()
             out.append(Pass("ocean.simulate", lambda: self.sim.update(
-                frame.time, p["ocean.choppiness"], frame.dt, foam_threshold=p["ocean.foam_threshold"],
-                foam_decay_time=p["ocean.foam_decay"])))
+                frame.time, p["ocean.choppiness"], frame.dt, foam_threshold=[t for t, _ in thresholds],
+                foam_decay_time=p["ocean.foam_decay"], foam_width=[w for _, w in thresholds])))
         out.append(Pass("ocean.surface", lambda: self.render_surface(frame, target)))
         if self.may_be_underwater():
             out.append(Pass("ocean.underwater", lambda: self.render_underwater(frame, target)))

@@ -284,27 +284,35 @@ class GpuOceanSim:
         self._require()
         self._fft.inverse()
 
-    def finalize(self, dt: float = 0.0, foam_threshold: float = 0.5, foam_decay_time: float = 2.0,
-                 update_foam: bool = True) -> None:
+    def finalize(self, dt: float = 0.0, foam_threshold=0.5, foam_decay_time: float = 2.0,
+                 update_foam: bool = True, foam_width=None) -> None:
         """Stage 3: ``disp``, ``deriv`` (then their mipmaps) and foam from the fields.
 
-        Foam: e^{−dt/τ} decay, raised to clip((threshold − J)/threshold, 0, 1); dt ≤ 0 (or NaN)
+        Foam: e^{−dt/τ} decay, raised to clip((threshold − J)/width, 0, 1) (width = threshold
+        unless given); threshold and width may be one number or one per cascade. dt ≤ 0 (or NaN)
         neither decays nor grows it.  ``update_foam=False`` carries foam over unchanged."""
         self._require()
-        if not (math.isfinite(foam_threshold) and foam_threshold > 0):
-            raise ParamError(f"ocean.foam_threshold: {foam_threshold} is outside the allowed range (0, inf)")
+        thresholds = self._per_cascade(foam_threshold)
+        widths = thresholds if foam_width is None else self._per_cascade(foam_width)
+        for value in thresholds:
+            if not (math.isfinite(value) and value > 0):
+                raise ParamError(f"ocean.foam_threshold: {value} is outside the allowed range (0, inf)")
+        for value in widths:
+            if not (math.isfinite(value) and value > 0):
+                raise ParamError(f"ocean.foam_width: {value} is outside the allowed range (0, inf)")
         if not (foam_decay_time > 0):  # inf is allowed: foam never decays
             raise ParamError(f"ocean.foam_decay_time: {foam_decay_time} s is outside the allowed range (0, inf]")
         dt = float(dt) if (dt == dt and dt > 0) else 0.0
         decay = math.exp(-dt / foam_decay_time)
         prog = self._program(FINALIZE)
-        prog.set("uFoamThreshold", float(foam_threshold))
         prog.set("uFoamDecay", decay)
         prog.set("uFoamUpdate", 1 if update_foam else 0)
         prog.set("uN", self.n)
         ctx = self.gpu.ctx
         if self.use_compute:
             for i in range(self.cascade_count):
+                prog.set("uFoamThreshold", thresholds[i])
+                prog.set("uFoamWidth", widths[i])
                 fields = self._fft.textures[2 * i: 2 * i + 2]
                 fields[0].bind_to_image(0, read=True, write=False)
                 fields[1].bind_to_image(1, read=True, write=False)
@@ -317,6 +325,8 @@ class GpuOceanSim:
             src = self._foam_cur
             with ctx.scope(self._finalize_fbo[0][1 - src], enable_only=moderngl.NOTHING):
                 for i in range(self.cascade_count):
+                    prog.set("uFoamThreshold", thresholds[i])
+                    prog.set("uFoamWidth", widths[i])
                     self._finalize_fbo[i][1 - src].use()
                     fields = self._fft.textures[2 * i: 2 * i + 2]
                     for unit, (uniform, tex) in enumerate((("uFields0", fields[0]), ("uFields1", fields[1]),
@@ -328,12 +338,20 @@ class GpuOceanSim:
         for tex in self.disp + self.deriv:
             tex.build_mipmaps()
 
-    def update(self, t: float, choppiness: float, dt: float, foam_threshold: float = 0.5,
-               foam_decay_time: float = 2.0) -> None:
+    def update(self, t: float, choppiness: float, dt: float, foam_threshold=0.5,
+               foam_decay_time: float = 2.0, foam_width=None) -> None:
         """One frame at time t [s]: evolve, FFT, finalize (foam advanced by dt [s])."""
         self.evolve(t, choppiness)
         self.fft()
-        self.finalize(dt, foam_threshold, foam_decay_time)
+        self.finalize(dt, foam_threshold, foam_decay_time, foam_width=foam_width)
+
+    def _per_cascade(self, value) -> list[float]:
+        if isinstance(value, (int, float)):
+            return [float(value)] * self.cascade_count
+        values = [float(v) for v in value]
+        if len(values) != self.cascade_count:
+            raise ParamError(f"ocean.foam_threshold: {len(values)} values for {self.cascade_count} cascades")
+        return values
 
     def stages(self, t: float = 1.0, choppiness: float = 1.0, dt: float = 1.0 / 60.0) -> dict[str, Callable]:
         """Named callables of the three stages, for timing them separately."""

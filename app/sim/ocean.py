@@ -476,11 +476,41 @@ def surface_normals(slope_x, slope_z, ddx_dx, ddz_dz):
     return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
 
-def foam_step(foam, jacobian, dt: float, *, threshold: float = 0.5, decay_time: float = 2.0):
-    """Foam in [0, 1]: decays as e^{−dt/τ} and is raised to clip((threshold − J)/threshold)
-    where the Jacobian says the surface is compressed (J < threshold)."""
-    source = np.clip((threshold - jacobian) / threshold, 0.0, 1.0)
+def foam_step(foam, jacobian, dt: float, *, threshold: float = 0.5, decay_time: float = 2.0,
+              width: float | None = None):
+    """Foam in [0, 1]: decays as e^{−dt/τ} and is raised to clip((threshold − J)/width)
+    where the Jacobian says the surface is compressed (J < threshold); width = threshold by
+    default (the upstream's ramp from J = threshold to J = 0)."""
+    w = threshold if width is None else width
+    source = np.clip((threshold - jacobian) / w, 0.0, 1.0)
     return np.maximum(np.asarray(foam) * math.exp(-dt / decay_time), source)
+
+
+def whitecap_coverage(wind_speed: float) -> float:
+    """Monahan & O'Muircheartaigh 1980: fraction of the sea covered by whitecaps,
+    W = 3.84·10⁻⁶·U₁₀^3.41, with U₁₀ ≈ U₁₉.₅/1.075 (log wind profile); clipped to [0, 0.5]."""
+    u10 = max(wind_speed, 0.0) / 1.075
+    return min(3.84e-6 * u10 ** 3.41, 0.5)
+
+
+def whitecap_thresholds(jacobians: Sequence[np.ndarray], coverage: float, shares: Sequence[float] | None = None):
+    """Foam threshold and ramp width per cascade, calibrated on samples of each cascade's
+    Jacobian so that half-strength foam (J < T − w/2) covers its share of ``coverage``:
+    w = std(J), T = quantile(J, share·coverage) + w/2 (shares equal unless given; they are
+    normalised). A flat cascade (std ≈ 0) gets no foam."""
+    n = max(len(jacobians), 1)
+    shares = np.ones(n) if shares is None else np.asarray(shares, dtype=float)[:n]
+    shares = shares / shares.sum()
+    out = []
+    for jac, share in zip(jacobians, shares):
+        jac = np.asarray(jac, dtype=float).ravel()
+        w = float(jac.std()) if jac.size else 0.0
+        if w <= 1e-9 or coverage <= 0:
+            out.append((1e-3, 1.0))  # below any J a real sea reaches: no foam
+            continue
+        t = float(np.quantile(jac, min(coverage * share, 0.5))) + 0.5 * w
+        out.append((max(t, 1e-3), w))
+    return out
 
 
 def sample_periodic_bilinear(grid, patch_size: float, x, z):

@@ -4,7 +4,9 @@
 // foam rule of app/sim/ocean.py foam_step (its numpy twin):
 //
 //   J = (1 + λ∂D_x/∂x)(1 + λ∂D_z/∂z) − (λ∂D_x/∂z)²
-//   foam ← max(foam·e^{−dt/τ}, clamp((threshold − J)/threshold, 0, 1))
+//   foam ← max(foam·e^{−dt/τ}, clamp((threshold − J)/width, 0, 1))
+// (width = threshold: the upstream's ramp; the ocean's whitecap mode sets both per cascade so
+// the foam covers Monahan & O'Muircheartaigh's fraction of the sea, app/sim/ocean.py)
 //
 // Inputs after the inverse FFT (see spectrum_evolve.glsl):
 //   fields0 = (η, λD_x, λD_z, ∂η/∂x),  fields1 = (∂η/∂z, λ∂D_x/∂x, λ∂D_z/∂z, λ∂D_x/∂z).
@@ -16,6 +18,7 @@
 // checked on the CPU (ParamError).
 
 uniform float uFoamThreshold;  // J below this makes foam (> 0)
+uniform float uFoamWidth;      // J range over which the source ramps from 0 to 1 (> 0)
 uniform float uFoamDecay;      // e^{−max(dt,0)/τ}, in (0, 1]
 uniform int uFoamUpdate;       // 0: carry the foam over unchanged (direct-sum reference)
 
@@ -24,7 +27,7 @@ float OceanJacobian(vec4 fields1) {
 }
 
 float FoamSource(float jacobian) {
-    return clamp((uFoamThreshold - jacobian) / uFoamThreshold, 0.0, 1.0);
+    return clamp((uFoamThreshold - jacobian) / uFoamWidth, 0.0, 1.0);
 }
 
 void FinalizeOceanTexel(vec4 fields0, vec4 fields1, float foamBefore,

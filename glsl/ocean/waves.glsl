@@ -24,6 +24,7 @@ uniform float uTime;             // seconds
 uniform float uFadeStart;        // m: displacement starts fading to flat water here
 uniform float uFadeEnd;          // m: and is flat from here on
 uniform float uFoamThreshold;    // Jacobian below which the surface foams (Gerstner; the FFT bakes it)
+uniform float uFoamWidth;        // Jacobian range of the foam ramp
 
 uniform vec4 uSine;              // (D_x, D_z, k, A)
 uniform vec2 uSinePhase;         // (ω, φ + k·D·camera.xz mod 2π)
@@ -133,7 +134,7 @@ void OceanSurface(vec2 off, float footprint, out vec3 n, out float foam, out flo
         }
         n = normalize(cross(b, t));
         float jac = t.x * b.z - t.z * b.x;
-        foam = clamp((uFoamThreshold - jac) / max(uFoamThreshold, 1e-3), 0.0, 1.0);
+        foam = clamp((uFoamThreshold - jac) / max(uFoamWidth, 1e-3), 0.0, 1.0);
     } else {
         vec2 uv0 = CascadeUV(0, off);
         vec4 g = texture(uDeriv0, uv0);
