@@ -374,3 +374,18 @@ def test_whitecap_thresholds_are_calibrated_quantiles():
     assert t2 <= 1e-3, "a flat cascade makes no foam"
     assert oc.whitecap_coverage(0.0) == 0.0 and oc.whitecap_coverage(12.0) == pytest.approx(
         3.84e-6 * (12 / 1.075) ** 3.41)
+
+
+def test_clouds_below_the_camera_cover_the_sea(shot):
+    """Flying above the maritime thesis's cloud layer (1000–1400 m), the clouds hide the sea."""
+    cam = Camera(position=(0.0, 2500.0, 2600.0), yaw=0.0, pitch=-35.0, fov=60.0, far=200000.0)
+    small = ("clouds_b.volume_resolution=32", "clouds_b.detail_resolution=16", "clouds_b.gradient_resolution=64",
+             "ocean.model=sine", "time.hour=12")
+    s = shot(small + ("scene.clouds=b",), cam, size=(64, 36))
+    with_clouds, _ = s.frame()
+    assert [e.name for e in s.scene.active_instances()] == ["sky", "ocean", "clouds_b"]
+    s.ocean.params.set("scene.clouds", "off")
+    without, _ = s.frame()
+    dirs = cam.ray_directions(64, 36)
+    sea = dirs[..., 1] < -0.3
+    assert np.mean(np.abs(with_clouds[sea] - without[sea])) > 0.02

@@ -337,6 +337,9 @@ class GpuOceanSim:
             self._foam_cur = 1 - src
         for tex in self.disp + self.deriv:
             tex.build_mipmaps()
+        for tex in self.foam:  # mip-mapped too: seen from afar, foam must average, not sparkle
+            tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+            tex.build_mipmaps()
 
     def update(self, t: float, choppiness: float, dt: float, foam_threshold=0.5,
                foam_decay_time: float = 2.0, foam_width=None) -> None:
