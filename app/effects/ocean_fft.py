@@ -33,7 +33,7 @@ import moderngl
 import numpy as np
 
 from ..errors import ParamError
-from ..gpu.fft import GpuFFT, check_fft_size, twiddle_table
+from ..gpu.fft import GpuFFT, check_fft_size, resolve_compute, twiddle_table
 
 MAX_CASCADES = 4
 LOCAL = 8  # work group edge of the ocean compute shaders
@@ -78,10 +78,7 @@ class GpuOceanSim:
     def __init__(self, gpu, owner: str = "ocean", use_compute: bool | None = None):
         self.gpu = gpu
         self.owner = owner
-        self.use_compute = gpu.caps.compute if use_compute is None else bool(use_compute)
-        if self.use_compute and not gpu.caps.compute:
-            raise ParamError(f"ocean.use_compute: compute shaders need GL ≥ 4.3, this context is "
-                             f"{gpu.caps.describe()}")
+        self.use_compute = resolve_compute(gpu, use_compute, "ocean.use_compute")
         self.n: int | None = None
         self.patch_sizes: list[float] = []
         self.time: float | None = None

@@ -42,6 +42,15 @@ FFT_COMPUTE = "ocean/fft_radix2"
 FFT_STAGE = "ocean/fft_stage"
 
 
+def resolve_compute(gpu, use_compute: bool | None, what: str) -> bool:
+    """None → whether the context has compute shaders; True on a context without them → a
+    one-line ParamError naming ``what``."""
+    chosen = gpu.caps.compute if use_compute is None else bool(use_compute)
+    if chosen and not gpu.caps.compute:
+        raise ParamError(f"{what}: compute shaders need GL ≥ 4.3, this context is {gpu.caps.describe()}")
+    return chosen
+
+
 def check_fft_size(n, what: str = "ocean.fft_size") -> int:
     """``n`` as an int if it is a power of two in [4, 1024]; a one-line ParamError otherwise."""
     ok = isinstance(n, (int, np.integer)) and not isinstance(n, bool)
@@ -67,10 +76,7 @@ class GpuFFT:
         self.count = int(count)
         self.gpu = gpu
         self.owner = owner
-        self.use_compute = gpu.caps.compute if use_compute is None else bool(use_compute)
-        if self.use_compute and not gpu.caps.compute:
-            raise ParamError(f"fft.use_compute: compute shaders need GL ≥ 4.3, this context is "
-                             f"{gpu.caps.describe()}")
+        self.use_compute = resolve_compute(gpu, use_compute, "fft.use_compute")
         self.log2n = int(math.log2(self.n))
         self._objects: list = []
         self._programs: list = []
