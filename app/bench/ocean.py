@@ -99,19 +99,12 @@ def cascade_moments(cascades, sp: oc.SpectrumParams) -> dict:
     """mss and Hs of the cascades' actual h₀, and of its expectation ½Ψ(−k)Δk²."""
     m0 = mss = m0_e = mss_e = 0.0
     for c in cascades:
-        h2 = np.abs(np.asarray(c.h0)) ** 2
-        k2 = np.asarray(c.kx) ** 2 + np.asarray(c.kz) ** 2
-        m0 += 2.0 * float(h2.sum())
-        mss += 2.0 * float((k2 * h2).sum())
-        n = h2.shape[0]
-        dk = 2.0 * math.pi / c.patch_size
-        k = np.sqrt(k2)
-        keep = (k >= c.band[0]) & (k < c.band[1]) & (k > 0)
-        keep[n // 2, :] = False
-        keep[:, n // 2] = False
-        psi = oc.directional_spectrum(-np.asarray(c.kx), -np.asarray(c.kz), sp) * keep
-        m0_e += float(psi.sum()) * dk * dk  # Σ(E|h₀(k)|² + E|h₀(−k)|²) = ΣΨ(−k)Δk²
-        mss_e += float((k2 * psi).sum()) * dk * dk
+        m, s = c.moments()
+        m0 += m
+        mss += s
+        expected = c.expected_variance(sp)  # Σ(E|h₀(k)|² + E|h₀(−k)|²) = ΣΨ(−k)Δk²
+        m0_e += float(expected.sum())
+        mss_e += float(((c.kx**2 + c.kz**2) * expected).sum())
     return {"m0": m0, "hs": 4.0 * math.sqrt(m0), "mss": mss,
             "hs_expected": 4.0 * math.sqrt(m0_e), "mss_expected": mss_e}
 
@@ -202,7 +195,7 @@ def _shape_bins(sp: oc.SpectrumParams, ref: dict):
     k_lo = max(ref["k_peak"] / 4.0, 1e-4) if math.isfinite(ref["k_peak"]) else 1e-3
     decades = math.log10(ref["k_ref"] / k_lo)
     edges = np.geomspace(k_lo, ref["k_ref"], max(2, int(math.ceil(decades * SHAPE_BINS_PER_DECADE))) + 1)
-    k, th, psi, dk, dth = oc._polar_spectrum(sp, k_lo, ref["k_ref"], nk=800, nth=144)
+    k, th, psi, dk, dth = oc.polar_spectrum(sp, k_lo, ref["k_ref"], nk=800, nth=144)
     e = psi * (k * dk)[:, None] * dth
     kk = np.repeat(k[:, None], len(th), axis=1)
     tt = np.repeat(th[None, :], len(k), axis=0)  # already relative to the wind
@@ -235,17 +228,11 @@ def fft_shape_distance(cascades, sp, bins) -> float:
     bands, not the luck of one draw): mode k carries a wave travelling toward −k."""
     ks, ts, es = [], [], []
     for c in cascades:
-        kx, kz = np.asarray(c.kx), np.asarray(c.kz)
-        n = kx.shape[0]
-        k = np.hypot(kx, kz)
-        keep = (k >= c.band[0]) & (k < c.band[1]) & (k > 0)
-        keep[n // 2, :] = False
-        keep[:, n // 2] = False
-        dk = 2.0 * math.pi / c.patch_size
-        psi = oc.directional_spectrum(-kx, -kz, sp) * keep * dk * dk
-        ks.append(k[keep])
-        ts.append(np.arctan2(-kz[keep], -kx[keep]))
-        es.append(psi[keep])
+        expected = c.expected_variance(sp)
+        held = expected > 0
+        ks.append(np.hypot(c.kx, c.kz)[held])
+        ts.append(np.arctan2(-c.kz[held], -c.kx[held]))
+        es.append(expected[held])
     return shape_distance(np.concatenate(ks), np.concatenate(ts), np.concatenate(es), sp, bins)
 
 

@@ -67,9 +67,7 @@ def polar_grid(segments: int, inner: float, extent: float):
     growth = 1.0 + 2.0 * math.pi / segments
     radii = [0.0, inner]
     while radii[-1] < extent:
-        radii.append(min(radii[-1] * growth, extent) if radii[-1] * growth < extent * 1.0001 else extent)
-        if radii[-1] >= extent:
-            break
+        radii.append(min(radii[-1] * growth, extent))
     radii = np.array(radii)
     theta = np.arange(segments) * (2.0 * math.pi / segments)
     spacing = np.maximum(radii * (2.0 * math.pi / segments), inner * 2.0 * math.pi / segments)
@@ -93,15 +91,8 @@ def polar_grid(segments: int, inner: float, extent: float):
         quads = np.concatenate([np.stack([a, b, b + 1], axis=1)[:, None],
                                 np.stack([a, b + 1, a + 1], axis=1)[:, None]], axis=1).reshape(-1, 3)
         wedges.append(np.concatenate([fan, quads]))
-    indices = np.concatenate(wedges)
-    # orient: the face normal of a ring triangle must point up (+y)
-    p = np.stack([vertices[:, 0] * np.cos(vertices[:, 1]), np.zeros(len(vertices)),
-                  vertices[:, 0] * np.sin(vertices[:, 1])], axis=1)
-    t = indices[1] if len(indices) > 1 else indices[0]
-    ny = np.cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]])[1]
-    if ny < 0:
-        indices = indices[:, ::-1]
-    return vertices, indices.astype("u4").ravel()
+    # (θ grows from +x toward +z, so θ_j → θ_{j+1} → outward is counter-clockwise seen from +y)
+    return vertices, np.concatenate(wedges).astype("u4").ravel()
 
 
 def visible_wedges(camera, aspect: float, segments: int, margin: int = 2):
@@ -226,6 +217,9 @@ class Ocean(Effect):
         self.cascade_bands: list[tuple[float, float, float]] = []
         self.underwater = False
         self.camera_height_water = 0.0
+        self._fft_hs = 0.0
+        self.mesh_triangles = 0
+        self.drawn_triangles = 0
 
     # -- sea state -------------------------------------------------------------------------
     def spectrum_params(self) -> oc.SpectrumParams:
@@ -271,16 +265,10 @@ class Ocean(Effect):
             return 2.0 * math.sqrt(2.0) * self.params["ocean.sine_amplitude"]
         if model == "gerstner":
             return oc.gerstner_moments(self.gerstner_waves())["hs"]
-        if self._fft_ref is None:
-            return 0.0
-        m0 = sum(float(np.sum(np.abs(c.h0) ** 2)) * 2.0 for c in self._fft_ref.cascades)
-        return 4.0 * math.sqrt(m0)
+        return self._fft_hs
 
     def _ensure_fft(self) -> None:
         path = self.params["ocean.fft_path"]
-        if path == "compute" and not self.gpu.caps.compute:
-            raise ParamError(f"ocean.fft_path=compute needs compute shaders (GL 4.3); this context has "
-                             f"{self.gpu.caps.describe()}: allowed auto or fragment")
         key = (self.spectrum_params(), self.fft_size(), tuple(self.patch_sizes()), self.params["ocean.seed"])
         if self.sim is not None and self._sim_path != path:
             self._release_fft()
@@ -288,28 +276,30 @@ class Ocean(Effect):
             return
         ref = oc.FFTOcean(key[0], n=key[1], patch_sizes=key[2], choppiness=1.0, seed=key[3])
         if self.sim is None:
+            from ..gpu.fft import resolve_compute
             from .ocean_fft import GpuOceanSim
             if path == "auto":  # llvmpipe runs the fragment path faster (evolve and finalize
                 # as image stores cost it 2–3×: 79 against 98 ms per update at 256 × 3)
                 use_compute = self.gpu.caps.compute and not self.gpu.caps.software
             else:
-                use_compute = path == "compute"
+                use_compute = resolve_compute(self.gpu, path == "compute", "ocean.fft_path=compute")
             self.sim = GpuOceanSim(self.gpu, self.name, use_compute=use_compute)
             self._sim_path = path
         self.sim.set_spectrum(ref.cascades, key[1])
         self._fft_ref = ref
         self._sim_key = key
         self._readback = None
-        # per-cascade band and slope variance Σk²(|h0(k)|² + |h0(−k)|²) for the glitter filter
+        self.query_time = None  # flat water until the new sea is read back
+        # per-cascade band and slope variance for the glitter filter; Hs of the draw
         self.cascade_bands = []
-        total = 0.0
+        m0 = 0.0
         for c in ref.cascades:
-            k2 = c.kx ** 2 + c.kz ** 2
-            mss = float(np.sum(k2 * np.abs(c.h0) ** 2)) * 2.0
+            var, mss = c.moments()
             lo = max(c.band[0], 2.0 * math.pi / c.patch_size)
             self.cascade_bands.append((lo, min(c.band[1], math.pi * key[1] / c.patch_size), mss))
-            total += mss
-        self.resolved_mss = total
+            m0 += var
+        self.resolved_mss = sum(b[2] for b in self.cascade_bands)
+        self._fft_hs = 4.0 * math.sqrt(m0)
 
     @property
     def reference(self) -> oc.FFTOcean | None:
@@ -357,6 +347,7 @@ class Ocean(Effect):
             self._sim_key = None
             self._fft_ref = None
             self._readback = None
+            self._fft_hs = 0.0
 
     # -- frame -----------------------------------------------------------------------------
     def update(self, frame, dt: float) -> None:
@@ -385,14 +376,20 @@ class Ocean(Effect):
                 self.resolved_mss = 0.5 * (k * a) ** 2
         frame.wind = wind_vector(p["ocean.wind_direction"]) * p["ocean.wind"]
         frame.extra["ocean"] = self
-        self.camera_height_water = float(self.water(self.camera_pos[0], self.camera_pos[2]).height)
+        self.camera_height_water = float(self.height(self.camera_pos[0], self.camera_pos[2]))
         self.underwater = bool(self.camera_pos[1] < self.camera_height_water)
 
     # -- queries ---------------------------------------------------------------------------
-    def _fade(self, x, z):
+    def fade_range(self) -> tuple[float, float]:
+        """Distances from the camera [m] over which the displacement fades to flat water (the
+        shaders' uFadeStart/uFadeEnd and the queries alike)."""
         extent = self.params["ocean.mesh_extent"]
+        return 0.5 * extent, 0.9 * extent
+
+    def _fade(self, x, z):
+        start, end = self.fade_range()
         r = np.hypot(np.asarray(x) - self.camera_pos[0], np.asarray(z) - self.camera_pos[2])
-        t = np.clip((r - 0.5 * extent) / (0.4 * extent), 0.0, 1.0)
+        t = np.clip((r - start) / (end - start), 0.0, 1.0)
         return 1.0 - t * t * (3.0 - 2.0 * t)
 
     def displacement(self, x, z) -> np.ndarray:
@@ -417,6 +414,11 @@ class Ocean(Effect):
                     out = out + oc.sample_periodic_bilinear(grid[..., :3], size, x, z)
                 out = np.broadcast_to(out, x.shape + (3,)).copy()
         return out * self._fade(x, z)[..., None]
+
+    def height(self, x, z) -> np.ndarray:
+        """Water height [m] above world points (x, z): :meth:`water` without the normal."""
+        return oc.invert_horizontal_displacement(self.displacement, x, z,
+                                                 self.params["ocean.query_iterations"])[2][..., 1]
 
     def water(self, x, z, iterations: int | None = None) -> oc.WaterQuery:
         """Height, displacement and unit normal of the water above world points (x, z).
@@ -450,10 +452,10 @@ class Ocean(Effect):
         p = self.params
         cam = self.camera_pos
         model = MODELS.index(p["ocean.model"])
-        extent = p["ocean.mesh_extent"]
+        fade_start, fade_end = self.fade_range()
         foam_t, foam_w = self.foam_thresholds()[0]
-        prog.set_many({"uWaveModel": model, "uTime": float(self.time), "uFadeStart": 0.5 * extent,
-                       "uFadeEnd": 0.9 * extent, "uFoamThreshold": foam_t, "uFoamWidth": foam_w})
+        prog.set_many({"uWaveModel": model, "uTime": float(self.time), "uFadeStart": fade_start,
+                       "uFadeEnd": fade_end, "uFoamThreshold": foam_t, "uFoamWidth": foam_w})
         d = wind_vector(p["ocean.wind_direction"])
         if model == 0:
             a, k, w = self.sine_wave()
@@ -554,7 +556,7 @@ class Ocean(Effect):
             lines.append(f"N {self.fft_size()} × {len(self.patch_sizes())} cascades ({self.sim.path}); "
                          f"queries lag one frame (t = {self.query_time if self.query_time is not None else '—'})")
         if self._mesh is not None:
-            lines.append(f"mesh: {getattr(self, 'drawn_triangles', 0):,} of {self.mesh_triangles:,} triangles drawn"
+            lines.append(f"mesh: {self.drawn_triangles:,} of {self.mesh_triangles:,} triangles drawn"
                          + ("; camera under water" if self.underwater else ""))
         return lines
 

@@ -289,8 +289,8 @@ class GpuOceanSim:
         unless given); threshold and width may be one number or one per cascade. dt ≤ 0 (or NaN)
         neither decays nor grows it.  ``update_foam=False`` carries foam over unchanged."""
         self._require()
-        thresholds = self._per_cascade(foam_threshold)
-        widths = thresholds if foam_width is None else self._per_cascade(foam_width)
+        thresholds = self._per_cascade(foam_threshold, "ocean.foam_threshold")
+        widths = thresholds if foam_width is None else self._per_cascade(foam_width, "ocean.foam_width")
         for value in thresholds:
             if not (math.isfinite(value) and value > 0):
                 raise ParamError(f"ocean.foam_threshold: {value} is outside the allowed range (0, inf)")
@@ -345,12 +345,12 @@ class GpuOceanSim:
         self.fft()
         self.finalize(dt, foam_threshold, foam_decay_time, foam_width=foam_width)
 
-    def _per_cascade(self, value) -> list[float]:
+    def _per_cascade(self, value, what: str) -> list[float]:
         if isinstance(value, (int, float)):
             return [float(value)] * self.cascade_count
         values = [float(v) for v in value]
         if len(values) != self.cascade_count:
-            raise ParamError(f"ocean.foam_threshold: {len(values)} values for {self.cascade_count} cascades")
+            raise ParamError(f"{what}: {len(values)} values for {self.cascade_count} cascades")
         return values
 
     def stages(self, t: float = 1.0, choppiness: float = 1.0, dt: float = 1.0 / 60.0) -> dict[str, Callable]:

@@ -187,21 +187,17 @@ class Sky(Effect):
         ctx = self.gpu.ctx
         if use_compute is None:
             use_compute = self.gpu.caps.compute
+        prog = self.program(SKY_CUBEMAP if use_compute else SKY_FACE)
+        self._bind(prog)
+        if not sun:
+            prog.set("uSunIntensity", 0.0)
         if use_compute:
-            prog = self.program(SKY_CUBEMAP)
-            self._bind(prog)
-            if not sun:
-                prog.set("uSunIntensity", 0.0)
             prog.set("uFaceSize", size)
             cube.bind_to_image(0, read=False, write=True)
             groups = (size + 7) // 8
             prog.program.run(groups, groups, 6)
             ctx.memory_barrier()
         else:
-            prog = self.program(SKY_FACE)
-            self._bind(prog)
-            if not sun:
-                prog.set("uSunIntensity", 0.0)
             face_target = self.gpu.target(self.name, "cubemap face", (size, size), dtype="f4", depth=False)
             try:
                 for face in range(6):

@@ -100,9 +100,8 @@ class OceanScene(Scene):
         ocean = next((e for e in out if e.name == "ocean"), None)
         if ocean is None or ocean.view_mode() != 0:
             return out
-        rest = [e for e in out if e is not ocean]
-        sky = [e for e in rest if e.name in ("sky", "preetham")]
-        return sky + [ocean] + [e for e in rest if e not in sky]
+        sky = [e for e in out if e.name == "sky"]
+        return sky + [ocean] + [e for e in out if e is not ocean and e not in sky]
 
 
 SCENES: dict[str, type[Scene]] = {cls.name: cls for cls in (SkyScene, ProbeScene, MaterialsScene, PlanetScene,

@@ -398,6 +398,16 @@ def _negate_index(a):
     return np.roll(np.flip(a, axis=(-2, -1)), 1, axis=(-2, -1))
 
 
+def band_mask(kx, kz, band: tuple[float, float]):
+    """The modes a cascade holds: |k| in [band), k ≠ 0, and neither the Nyquist row nor column."""
+    n = kx.shape[-1]
+    k = np.hypot(kx, kz)
+    keep = (k >= band[0]) & (k < band[1]) & (k > 0)
+    keep[n // 2, :] = False
+    keep[:, n // 2] = False
+    return keep
+
+
 def initial_amplitudes(n: int, patch_size: float, params: SpectrumParams, *, seed: int = 0,
                        band: tuple[float, float] = (0.0, math.inf)):
     """Eq. 2.10 (corrected): h₀(k) = (ξ₁+iξ₂)/√2·sqrt(½·Ψ(−k)·Δk²), |k| ∈ [band); complex (N, N).
@@ -410,10 +420,7 @@ def initial_amplitudes(n: int, patch_size: float, params: SpectrumParams, *, see
     kx, kz = wavenumber_grid(n, patch_size)
     dk = 2.0 * np.pi / patch_size
     psi = directional_spectrum(-kx, -kz, params)
-    k = np.hypot(kx, kz)
-    keep = (k >= band[0]) & (k < band[1]) & (k > 0)
-    keep[n // 2, :] = False
-    keep[:, n // 2] = False
+    keep = band_mask(kx, kz, band)
     rng = np.random.default_rng(seed)
     xi = rng.standard_normal((2, n, n))
     amp = np.sqrt(0.5 * psi * dk * dk) * keep
@@ -602,6 +609,17 @@ class Cascade:
     h0: np.ndarray
     fields: OceanFields | None = None
 
+    def moments(self) -> tuple[float, float]:
+        """(variance m0 [m²], mean-square slope) of this draw of h₀: the Hermitian pair doubles
+        each mode, m0 = 2Σ|h₀|², mss = 2Σk²|h₀|²."""
+        h2 = np.abs(self.h0) ** 2
+        return 2.0 * float(h2.sum()), 2.0 * float(((self.kx**2 + self.kz**2) * h2).sum())
+
+    def expected_variance(self, params: "SpectrumParams") -> np.ndarray:
+        """Variance per mode expected of h₀ (both Hermitian halves): Ψ(−k)·Δk² where held, else 0."""
+        dk = 2.0 * math.pi / self.patch_size
+        return directional_spectrum(-self.kx, -self.kz, params) * band_mask(self.kx, self.kz, self.band) * dk * dk
+
 
 class FFTOcean:
     """Numpy reference of the cascaded Tessendorf ocean.
@@ -684,7 +702,7 @@ def floating_points_pose(query: Callable, points_x, points_z, probe_distance: fl
 # ---------------------------------------------------------------------------------------------
 
 
-def _polar_spectrum(p: SpectrumParams, k_lo: float, k_hi: float, nk: int = 1200, nth: int = 360):
+def polar_spectrum(p: SpectrumParams, k_lo: float, k_hi: float, nk: int = 1200, nth: int = 360):
     """Ψ on a polar grid: (k (nk,), θ (nth,), Ψ (nk, nth), Δk (nk,), Δθ), k log-spaced."""
     edges = np.geomspace(k_lo, k_hi, nk + 1)
     k = np.sqrt(edges[:-1] * edges[1:])
@@ -698,7 +716,7 @@ def _polar_spectrum(p: SpectrumParams, k_lo: float, k_hi: float, nk: int = 1200,
 def spectrum_moments(p: SpectrumParams, k_max: float = 1.0e3, k_min: float = 1.0e-4) -> dict:
     """Numerical moments of Ψ over k_min ≤ |k| ≤ k_max: variance m0 [m²], Hs = 4·sqrt(m0) [m],
     mean-square slope mss = ∫k²Ψ d²k, and the peak wavenumber of the omnidirectional E(k)."""
-    k, _, psi, dk, dth = _polar_spectrum(p, k_min, k_max)
+    k, _, psi, dk, dth = polar_spectrum(p, k_min, k_max)
     e_k = psi.sum(axis=1) * k * dth  # omnidirectional E(k) [m³]
     m0 = float(np.sum(e_k * dk))
     mss = float(np.sum(e_k * k * k * dk))
@@ -741,7 +759,7 @@ def gerstner_waves_from_spectrum(p: SpectrumParams, count: int, *, seed: int = 0
     if p.wind_speed <= 0:
         return [GerstnerWave((math.cos(p.wind_direction), math.sin(p.wind_direction)), 10.0, 0.0)
                 for _ in range(count)]
-    k, th, psi, dk, dth = _polar_spectrum(p, 1e-4, 1e3)
+    k, th, psi, dk, dth = polar_spectrum(p, 1e-4, 1e3)
     e_k = psi.sum(axis=1) * k * dth * dk
     m0 = float(e_k.sum())
     cdf = np.cumsum(e_k) / m0

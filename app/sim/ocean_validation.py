@@ -33,11 +33,13 @@ def pm_setup(wind: float, n: int = 256, direction: float = 0.0):
     return oc.SpectrumParams(kind="pierson_moskowitz", wind_speed=wind, wind_direction=direction), size
 
 
-def _fields(p, size, n=256, t=3.0, seed=0):
+def fields(p, size, n=256, t=3.0, lam=1.0, seed=0):
+    """One seeded sea on an N×N grid of side ``size`` at time t: (OceanFields, h(k, t), k_x, k_z)."""
     kx, kz = oc.wavenumber_grid(n, size)
     h0 = oc.initial_amplitudes(n, size, p, seed=seed)
     om = oc.dispersion_omega(np.hypot(kx, kz), p.depth)
-    return oc.synthesize(oc.evolve_amplitudes(h0, om, t), kx, kz, 1.0), h0, kx, kz
+    h = oc.evolve_amplitudes(h0, om, t)
+    return oc.synthesize(h, kx, kz, lam), h, kx, kz
 
 
 def phase_speed_error(depth: float, n: int = 64, size: float = 100.0, m: int = 3, dt: float = 0.8) -> float:
@@ -45,7 +47,7 @@ def phase_speed_error(depth: float, n: int = 64, size: float = 100.0, m: int = 3
     kx, kz = oc.wavenumber_grid(n, size)
     om = oc.dispersion_omega(np.hypot(kx, kz), depth)
     h0 = np.zeros((n, n), complex)
-    h0[0, n - m] = 0.5
+    h0[0, n - m] = 0.5  # h₀(k) travels toward −k̂: this mode goes +x
     k = 2 * math.pi * m / size
     coef = [np.fft.fft2(oc.synthesize(oc.evolve_amplitudes(h0, om, t), kx, kz).height)[0, m] for t in (0.0, dt)]
     c = -np.angle(coef[1] / coef[0]) / (k * dt)
@@ -58,7 +60,7 @@ def oceanography(gpu=None, seed: int = 0) -> dict:
         "deep": phase_speed_error(math.inf), "2 m": phase_speed_error(2.0)}}
     for wind in WINDS:
         p, size = pm_setup(wind)
-        f, h0, kx, kz = _fields(p, size, seed=seed + int(wind))
+        f, *_ = fields(p, size, seed=seed + int(wind))
         target = PM_HS_COEFF * wind * wind / oc.G
         row = {"wind": wind, "hs_target": target, "hs_numpy": 4 * float(f.height.std())}
         if gpu is not None:
@@ -76,8 +78,8 @@ def oceanography(gpu=None, seed: int = 0) -> dict:
     cos_t = np.where(k > 0, (kx * math.cos(wd) + kz * math.sin(wd)) / np.where(k > 0, k, 1), 0)
     out["alignment_ratio"] = float(e[np.abs(cos_t) > 0.7].sum() / e[(np.abs(cos_t) < 0.3) & (k > 0)].sum())
     p, size = pm_setup(10.0, direction=wd)
-    f0, *_ = _fields(p, size, t=0.0, seed=seed)
-    f1, *_ = _fields(p, size, t=2.0, seed=seed)
+    f0, *_ = fields(p, size, t=0.0, seed=seed)
+    f1, *_ = fields(p, size, t=2.0, seed=seed)
     corr = np.fft.ifft2(np.conj(np.fft.fft2(f0.height)) * np.fft.fft2(f1.height)).real
     iz, ix = np.unravel_index(np.argmax(corr), corr.shape)
     shift = ((np.array([ix, iz]) + 128) % 256 - 128) * size / 256

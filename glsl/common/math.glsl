@@ -12,6 +12,13 @@ float ClampCosine(float mu) { return clamp(mu, -1.0, 1.0); }
 
 float SafeSqrt(float x) { return sqrt(max(x, 0.0)); }
 
+// Schlick's Fresnel reflectance F = F0 + (1 − F0)(1 − cos θ)^5, cos θ clamped into [0, 1].
+float SchlickFresnel(float f0, float cosTheta) {
+    float m = 1.0 - clamp(cosTheta, 0.0, 1.0);
+    float m2 = m * m;
+    return f0 + (1.0 - f0) * m2 * m2 * m;
+}
+
 // GLSL's smoothstep(e0, e1, x) is undefined when e0 >= e1, so the reversed ramps HLSL code
 // writes as smoothstep(0.6, 0.0, x) are written out by hand:
 // SmoothStepDown(hi, lo, x) = 1 - smoothstep(lo, hi, x), i.e. 1 at x <= lo and 0 at x >= hi.

@@ -30,13 +30,7 @@ uniform float uHazeDistance;   // @param 12000 [100, 100000] step=100 unit=m dis
 const float WATER_IOR = 1.333;
 const float WATER_F0 = 0.0204;  // ((n − 1)/(n + 1))²
 
-float FresnelSchlick(float cosTheta) {
-    float m = 1.0 - clamp(cosTheta, 0.0, 1.0);
-    float m2 = m * m;
-    return WATER_F0 + (1.0 - WATER_F0) * m2 * m2 * m;
-}
-
-vec3 SkyRadiance(vec3 dir, float lod) {
+vec3 EnvironmentRadiance(vec3 dir, float lod) {
     if (!uReflections) return vec3(0.25, 0.3, 0.35) * max(uMainLightRadiance.g, 0.02);
     dir.y = abs(dir.y);
     return textureLod(uEnvironment, dir, clamp(lod, 0.0, uEnvironmentLods)).rgb;
@@ -55,14 +49,14 @@ float Beckmann(float nh, float mss) {
 vec3 OceanShadeAbove(vec3 p, vec3 n, vec3 v, float foam, float lostMss, float crest) {
     float mss = max(uMssFloor + uSubgridMss + lostMss, 1e-5);
     float nv = max(dot(n, v), 1e-3);
-    float F = FresnelSchlick(nv);
+    float F = SchlickFresnel(WATER_F0, nv);
     vec3 r = reflect(-v, n);
     float envLod = log2(max(sqrt(mss) * 128.0, 1.0));
-    vec3 reflected = SkyRadiance(r, envLod);
+    vec3 reflected = EnvironmentRadiance(r, envLod);
 
     vec3 l = uMainLightDir;
     vec3 E = uMainLightRadiance;
-    vec3 skyAmbient = SkyRadiance(vec3(0.0, 1.0, 0.0), uEnvironmentLods);
+    vec3 skyAmbient = EnvironmentRadiance(vec3(0.0, 1.0, 0.0), uEnvironmentLods);
     float nl = max(dot(n, l), 0.0);
     vec3 body = uScatterColor * (skyAmbient + E * max(l.y, 0.0) / PI);
     // light through thin crests, seen toward the light
@@ -72,14 +66,14 @@ vec3 OceanShadeAbove(vec3 p, vec3 n, vec3 v, float foam, float lostMss, float cr
     vec3 h = normalize(l + v);
     float nh = max(dot(n, h), 0.0);
     float G = min(1.0, min(2.0 * nh * nv / max(dot(v, h), 1e-3), 2.0 * nh * nl / max(dot(v, h), 1e-3)));
-    vec3 spec = E * FresnelSchlick(max(dot(v, h), 0.0)) * Beckmann(nh, mss) * G / (4.0 * nv) * step(0.0, l.y);
+    vec3 spec = E * SchlickFresnel(WATER_F0, dot(v, h)) * Beckmann(nh, mss) * G / (4.0 * nv) * step(0.0, l.y);
 
     vec3 water = mix(body, reflected, F) + spec;
     vec3 foamLit = uFoamColor * (skyAmbient + E * nl / PI);  // Lambert
     vec3 c = mix(water, foamLit, clamp(foam, 0.0, 1.0));
 
     float dist = length(p);
-    vec3 horizon = SkyRadiance(normalize(vec3(-v.x, 0.02, -v.z)), 2.0);
+    vec3 horizon = EnvironmentRadiance(normalize(vec3(-v.x, 0.02, -v.z)), 2.0);
     return mix(c, horizon, 1.0 - exp(-dist / uHazeDistance));
 }
 
@@ -92,7 +86,7 @@ vec3 OceanShadeBelow(vec3 n, vec3 v, vec3 transmitted, vec3 waterLight) {
     float sinT2 = WATER_IOR * WATER_IOR * (1.0 - cosI * cosI);
     if (sinT2 >= 1.0) return waterLight;           // total internal reflection (Snell's window edge)
     float cosT = sqrt(1.0 - sinT2);                // angle in air: Schlick on the air side
-    float F = FresnelSchlick(cosT);
+    float F = SchlickFresnel(WATER_F0, cosT);
     return mix(transmitted, waterLight, F);
 }
 
@@ -105,6 +99,6 @@ vec3 UnderwaterExtinction() {
 
 // Radiance the water scatters toward the eye (the fog colour): sky and main light from above.
 vec3 UnderwaterLight() {
-    vec3 skyAmbient = SkyRadiance(vec3(0.0, 1.0, 0.0), uEnvironmentLods);
+    vec3 skyAmbient = EnvironmentRadiance(vec3(0.0, 1.0, 0.0), uEnvironmentLods);
     return uUnderwaterColor * 0.1 * (skyAmbient + uMainLightRadiance * max(uMainLightDir.y, 0.0) / PI);
 }

@@ -11,7 +11,6 @@ uniform float uSeaHs;          // significant wave height (m), for the crest ter
 uniform sampler2D uSceneCopy;  // the target before the ocean (sky, clouds), for the view from below
 uniform vec2 uViewport;
 uniform int uViewMode;         // 0 camera above the water, 1 below it, 2 near the surface: test per pixel
-uniform mat4 uInvViewProjRel;
 uniform float uCamNear;
 
 uniform vec3 uCameraPos;
@@ -33,10 +32,7 @@ void main() {
     // starts on the near plane: below the water there → seen from below (the waterline).
     bool below = uViewMode == 1;
     if (uViewMode == 2) {
-        vec2 ndc = gl_FragCoord.xy / uViewport * 2.0 - 1.0;
-        vec4 q = uInvViewProjRel * vec4(ndc, -1.0, 1.0);
-        vec3 nearRel = q.xyz / q.w;
-        below = uCameraPos.y + nearRel.y < OceanWaterHeight(nearRel.xz, 0.05);
+        below = OceanPixelStartsUnderwater(gl_FragCoord.xy / uViewport * 2.0 - 1.0, uCameraPos.y);
     }
     if (!below) {
         c = OceanShadeAbove(vRel, n, v, foam, lost, vHeight / max(uSeaHs, 1e-3));

@@ -12,7 +12,6 @@ in vec2 vUV;
 
 uniform sampler2D uColor;       // the target so far (a copy)
 uniform sampler2D uSceneDepth;  // window depth in [0, 1], compare mode off
-uniform mat4 uInvViewProjRel;
 
 out vec4 fragColor;
 
@@ -21,11 +20,8 @@ out vec4 fragColor;
 #include "ocean/shading.glsl"
 
 void main() {
-    vec4 q = uInvViewProjRel * vec4(vUV * 2.0 - 1.0, -1.0, 1.0);
-    vec3 nearRel = q.xyz / q.w;
-    float h = OceanWaterHeight(nearRel.xz, 0.05);
     vec3 color = texture(uColor, vUV).rgb;
-    if (uCameraPos.y + nearRel.y > h) { fragColor = vec4(color, 1.0); return; }
+    if (!OceanPixelStartsUnderwater(vUV * 2.0 - 1.0, uCameraPos.y)) { fragColor = vec4(color, 1.0); return; }
     float depth = texture(uSceneDepth, vUV).r;
     vec3 trans = vec3(0.0);
     if (depth < 1.0) {

@@ -98,6 +98,15 @@ float OceanWaterHeight(vec2 off, float spacing) {
     return d.y;
 }
 
+// Whether a pixel looks out from under the water: its ray starts on the near plane (ndc.xy, z = −1),
+// below the water height there. A camera exactly at the surface shows the waterline this way.
+uniform mat4 uInvViewProjRel;    // inverse view-projection of camera-relative positions
+bool OceanPixelStartsUnderwater(vec2 ndc, float cameraY) {
+    vec4 q = uInvViewProjRel * vec4(ndc, -1.0, 1.0);
+    vec3 nearRel = q.xyz / q.w;
+    return cameraY + nearRel.y < OceanWaterHeight(nearRel.xz, 0.05);
+}
+
 // Normal and foam at the rest point camera.xz + off, filtered for a pixel footprint [m]: waves
 // shorter than about two footprints cannot be drawn, so their slopes are removed from the normal
 // and their slope variance is returned in lostMss (it widens the glitter instead of aliasing).

@@ -34,7 +34,7 @@ void main() {
     if (t <= 0.0) discard;
     vec3 n = normalize(oc + t * d);
     float cosTheta = saturate(dot(-d, n));
-    float fresnel = uFresnelF0 + (1.0 - uFresnelF0) * pow(1.0 - cosTheta, 5.0);
+    float fresnel = SchlickFresnel(uFresnelF0, cosTheta);
     vec3 r = reflect(d, n);
     vec3 env = uUseProbe ? textureLod(uEnvironment, r, uRoughness * uEnvironmentLods).rgb : vec3(0.0);
     vec3 diffuse = uBaseColor * uMainLightRadiance * saturate(dot(n, uMainLightDir));
