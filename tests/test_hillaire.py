@@ -66,7 +66,7 @@ class Rig:
         p = self.prog
         p.set_many(self.u)
         p.set_many(self.frame.uniforms())
-        self.luts.bind(p, 0)
+        self.luts.bind(p)
         p.set("uProbeMode", mode)
         p.set("uProbeDistance", float(distance))
         p.set("uProbeSteps", steps)

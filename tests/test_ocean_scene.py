@@ -298,7 +298,7 @@ def test_reflection_probe_is_rendered_only_when_the_sky_changes(shot):
     s.ocean.params.set("time.hour", 15.0)
     s.frame(dt=0.1)
     assert sky.environment_renders == 2
-    assert sky._cube is None, "the sky's own cubemap (with the sun) is not made for the ocean"
+    assert not sky.has_cubemap(sun=True), "the sky's own cubemap (with the sun) is not made for the ocean"
 
 
 def test_foam_shows_where_the_fft_surface_is_compressed(shot):

@@ -103,7 +103,7 @@ class PlanetHarness:
         session = Session(self.gpu, scene, self.params)
         image = next(render_frames(session, tuple(size)))
         effect = scene.effect("planet")
-        colour, position = effect._gbuffer[0], effect._gbuffer[1]
+        colour, position = effect.gbuffer[0], effect.gbuffer[1]
         w, h = size
         gcol = np.frombuffer(colour.read(), dtype=np.float32).reshape(h, w, 4)[::-1, :, :3].astype(np.float64)
         gpos = np.frombuffer(position.read(), dtype=np.float32).reshape(h, w, 4)[::-1].astype(np.float64)
@@ -216,7 +216,7 @@ def ground_view(cam: Camera, size, sun_dir, lo, hi):
 # ---- the shadow map, read back: twin of glsl/planet/shadow.glsl ----------------------------------
 
 def shadow_depths(effect) -> np.ndarray:
-    tex = effect._shadow_tex
+    tex = effect.shadow_texture
     n = tex.size[0]
     return np.frombuffer(tex.read(), dtype=np.float32).reshape(n, n).astype(np.float64)
 

@@ -25,7 +25,7 @@ from typing import Callable
 import moderngl
 import numpy as np
 
-from ..effects.base import ProgramSpec
+from ..gpu.programs import ProgramSpec
 from ..errors import GpuUnavailableError
 from ..gpu.bake import bake_volume, read_volume
 from ..gpu.shaders import ShaderLibrary
@@ -112,13 +112,13 @@ def bake_raw(gpu, spec, use_compute: bool | None = None, progress: Callable[[flo
         raise GpuUnavailableError(f"a compute bake needs GL 4.3; this context has {gpu.caps.describe()}: "
                                   "allowed use_compute=False or None (the fragment path)")
     chosen = progs.compute if use_compute else progs.fragment
-    gpu.program(owner, chosen.name, dict(chosen.defines), **chosen.stages())  # compile outside the timing
+    gpu.program(owner, chosen)  # compile outside the timing
     perms = GradientNoiseTextures(gpu, owner) if progs.perlin else None
     uniforms = spec.uniforms()
 
     def setup(prog):
         if perms is not None:
-            perms.bind(prog, spec.seed, unit=0)
+            prog.bind_textures(perms.textures(spec.seed))
         prog.set_many(uniforms)
 
     result = None

@@ -13,9 +13,9 @@ import json
 import platform
 from pathlib import Path
 
-import moderngl
 
-from ..effects.base import Pass, fullscreen
+from ..effects.base import Pass
+from ..gpu.programs import draw_fullscreen, fullscreen
 from ..gpu.timing import time_call
 from ..imageio import next_free_path, write_text_atomic
 from ..runtime import Session
@@ -24,12 +24,12 @@ TRIVIAL = fullscreen("common/constant")
 
 
 def trivial_pass(session: Session, target) -> Pass:
-    prog = session.gpu.program("bench", TRIVIAL.name, vert=TRIVIAL.vert, frag=TRIVIAL.frag)
+    prog = session.gpu.program("bench", TRIVIAL)
 
     def run():
         target.use()
         prog.set("uColor", (0.5, 0.5, 0.5, 1.0))
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)
 
     return Pass("reference.fullscreen", run)
 

@@ -12,7 +12,7 @@ Use::
 
     luts = HillaireLuts(gpu, "planet", params)        # params: a ParamSet holding hillaire.*
     luts.update(model_uniforms, CameraFrame.from_camera(camera, aspect))   # once per frame
-    unit = luts.bind(composite_program, first_unit=4)  # 6 units: 4 … 9; returns 10
+    luts.bind(composite_program)  # its six LUT samplers and the uHillaire* uniforms
 
 ``model_uniforms`` is the dict of model.glsl uniform values the scene sets for methods 1–3
 (``uEarthCenter``, ``uCameraRadius``, ``uBottomRadius``, ``uTopRadius``, ``uBetaRayleigh``,
@@ -60,7 +60,7 @@ import moderngl
 import numpy as np
 
 from ..params import Param
-from .base import ProgramSpec, fullscreen
+from ..gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 
 GROUP = "hillaire"
 SECTION = "Hillaire 2020"
@@ -83,7 +83,8 @@ STATIC_UNIFORMS = ("uBottomRadius", "uTopRadius", "uBetaRayleigh", "uBetaMieScat
 #: model.glsl uniforms the per-frame passes read as well
 FRAME_UNIFORMS = ("uEarthCenter", "uCameraRadius", "uSunDir", "uSunIntensity", "uMieG")
 
-#: texture units bind() uses, in order from first_unit
+#: the LUT samplers bind() sets, in the order of LUT_NAMES
+LUT_NAMES = ("transmittance", "multiscattering", "skyview0", "skyview1", "ap0", "ap1")
 SAMPLERS = ("uHillaireTransmittanceLut", "uHillaireMultiScatteringLut", "uHillaireSkyViewRayleighMs",
             "uHillaireSkyViewMie", "uHillaireApRayleighMs", "uHillaireApMie")
 
@@ -320,25 +321,21 @@ class HillaireLuts:
 
     # -- passes --------------------------------------------------------------------------------
     def _program(self, spec: ProgramSpec):
-        return self.gpu.program(self.owner, spec.name, dict(spec.defines), **spec.stages())
+        return self.gpu.program(self.owner, spec)
 
     def _common_uniforms(self, prog) -> None:
         prog.set_many(self._uniforms)
         prog.set("uHillaireCameraHeight", float(self._height))
         prog.set("uHillaireMsScale", 1.0 if self.value("multiple_scattering") else 0.0)
 
-    def _bind_static(self, prog, unit: int = 0) -> None:
-        self._textures["transmittance"].use(unit)
-        prog.set("uHillaireTransmittanceLut", unit)
-        ms = self._textures.get("multiscattering")
-        if ms is not None:
-            ms.use(unit + 1)
-            prog.set("uHillaireMultiScatteringLut", unit + 1)
+    def _static_textures(self) -> dict:
+        return {"uHillaireTransmittanceLut": self._textures["transmittance"],
+                "uHillaireMultiScatteringLut": self._textures.get("multiscattering")}
 
     def _draw(self, prog, fbo, size) -> None:
         with self.ctx.scope(fbo, enable_only=moderngl.NOTHING):
             fbo.viewport = (0, 0, int(size[0]), int(size[1]))
-            prog.vao().render(moderngl.TRIANGLES, vertices=3)
+            draw_fullscreen(prog)
 
     def _timed(self, name: str, fn) -> None:
         if self.measure:
@@ -373,8 +370,7 @@ class HillaireLuts:
 
         def run():
             self._common_uniforms(prog)
-            self._textures["transmittance"].use(0)
-            prog.set("uHillaireTransmittanceLut", 0)
+            prog.bind_textures({"uHillaireTransmittanceLut": self._textures["transmittance"]})
             prog.set("uHillaireTargetSize", tuple(float(s) for s in size))
             prog.set("uHillaireMsDirections", self.ms_directions())
             prog.set("uHillaireMsSteps", int(self.value("ms_steps")))
@@ -393,7 +389,7 @@ class HillaireLuts:
 
         def run():
             self._common_uniforms(prog)
-            self._bind_static(prog)
+            prog.bind_textures(self._static_textures())
             prog.set("uHillaireTargetSize", tuple(float(s) for s in size))
             prog.set("uHillaireSkyViewSteps", int(self.value("skyview_steps")))
             self._draw(prog, fbo, size)
@@ -403,7 +399,7 @@ class HillaireLuts:
     def _ap_uniforms(self, prog, size) -> None:
         self._common_uniforms(prog)
         prog.set_many(self._camera.uniforms())
-        self._bind_static(prog)
+        prog.bind_textures(self._static_textures())
         prog.set("uHillaireApSize", tuple(int(s) for s in size))
         prog.set("uHillaireApRange", float(self.value("ap_range")))
         prog.set("uHillaireApSubsteps", int(self.value("ap_substeps")))
@@ -498,21 +494,26 @@ class HillaireLuts:
         """Force the transmittance and multiple-scattering LUTs to rebuild on the next update."""
         self._static_key = None
 
-    def bind(self, prog, first_unit: int = 0) -> int:
-        """Bind the six LUT textures to units first_unit … first_unit + 5, set their samplers
-        and every uHillaire* uniform hillaire_lookup.glsl reads. Returns the next free unit."""
+    def textures(self) -> dict:
+        """The six LUTs by the sampler names hillaire_lookup.glsl reads."""
         if self._camera is None:
-            raise RuntimeError("HillaireLuts.bind before update(): no LUTs yet")
-        names = ("transmittance", "multiscattering", "skyview0", "skyview1", "ap0", "ap1")
-        for i, (name, sampler) in enumerate(zip(names, SAMPLERS)):
-            self._textures[name].use(first_unit + i)
-            prog.set(sampler, first_unit + i)
-        prog.set("uHillaireCameraHeight", float(self._height))
-        prog.set("uHillaireMsScale", 1.0 if self.value("multiple_scattering") else 0.0)
-        prog.set("uHillaireApRange", float(self.value("ap_range")))
-        prog.set("uHillaireSpaceWeight", float(self._space_weight))
-        prog.set("uHillaireMarchSteps", int(self.value("march_steps")))
-        return first_unit + len(names)
+            raise RuntimeError("HillaireLuts.textures before update(): no LUTs yet")
+        return {sampler: self._textures[name] for name, sampler in zip(LUT_NAMES, SAMPLERS)}
+
+    def lookup_uniforms(self) -> dict:
+        """Every uHillaire* uniform hillaire_lookup.glsl reads besides the samplers."""
+        return {"uHillaireCameraHeight": float(self._height),
+                "uHillaireMsScale": 1.0 if self.value("multiple_scattering") else 0.0,
+                "uHillaireApRange": float(self.value("ap_range")),
+                "uHillaireSpaceWeight": float(self._space_weight),
+                "uHillaireMarchSteps": int(self.value("march_steps"))}
+
+    def bind(self, prog) -> None:
+        """For a program that reads only the LUTs: bind :meth:`textures` (units assigned by
+        ``Program.bind_textures``) and set :meth:`lookup_uniforms`. A program with samplers of
+        its own merges :meth:`textures` into its own bind_textures call instead."""
+        prog.bind_textures(self.textures())
+        prog.set_many(self.lookup_uniforms())
 
     def read(self, name: str) -> np.ndarray:
         """A LUT as float32 numpy: (h, w, 4) for 2D (row 0 = texel row 0), (d, h, w, 4) for 3D."""

@@ -20,6 +20,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, ClassVar
 
+from ..gpu.cache import Keyed
+from ..gpu.programs import ProgramSpec, fullscreen  # noqa: F401  (re-exported until the package split)
 from ..gpu.shaders import PreprocessError, ShaderLibrary
 from ..params import Param, ParamSet, parse_glsl_annotations
 
@@ -27,26 +29,6 @@ if TYPE_CHECKING:
     from ..frame import FrameContext
     from ..gpu.device import Gpu
     from ..gpu.targets import RenderTarget
-
-
-@dataclass(frozen=True)
-class ProgramSpec:
-    """A program by library name, with optional explicit stage files and defines."""
-
-    name: str
-    vert: str | None = None
-    frag: str | None = None
-    comp: str | None = None
-    defines: tuple = ()
-    requires_compute: bool = False
-
-    def stages(self) -> dict[str, str | None]:
-        return {"vert": self.vert, "frag": self.frag, "comp": self.comp}
-
-
-def fullscreen(frag_name: str, **kw) -> ProgramSpec:
-    """A full-screen pass: the shared triangle vertex shader plus ``<frag_name>.frag``."""
-    return ProgramSpec(frag_name, vert="common/fullscreen.vert", frag=f"{frag_name}.frag", **kw)
 
 
 @dataclass
@@ -101,9 +83,17 @@ class Effect(abc.ABC):
         self.gpu = gpu
         self.params = params
         self.scene = scene
+        self._keyed: list[Keyed] = []
+
+    def keyed(self, build: Callable, release: Callable | None = None) -> Keyed:
+        """A :class:`~app.gpu.cache.Keyed` value of this effect (rebuilt when its key changes),
+        forgotten when the effect releases its resources."""
+        k = Keyed(build, release)
+        self._keyed.append(k)
+        return k
 
     def program(self, spec: ProgramSpec):
-        prog = self.gpu.program(self.name, spec.name, dict(spec.defines), **spec.stages())
+        prog = self.gpu.program(self.name, spec)
         if self._on_reload not in prog.on_reload:
             prog.on_reload.append(self._on_reload)
         return prog
@@ -134,5 +124,7 @@ class Effect(abc.ABC):
         return [Pass(self.name, lambda: self.render(frame, target))]
 
     def release(self) -> None:
+        for k in self._keyed:
+            k.clear()
         self.gpu.release_owner(self.name)
 

@@ -61,7 +61,8 @@ from ..errors import ParamError
 from ..params import Param
 from .clouds_reprojection import REPROJECT, TemporalReprojection
 from .layer import LAYER_COMPOSITE, composite_layer
-from .base import Effect, Pass, fullscreen
+from ..gpu.programs import draw_fullscreen, fullscreen
+from .base import Effect, Pass
 
 CLOUD_MARCH = fullscreen("clouds/cloud_march")
 REPROJECTION_MODES = ("window", "on", "off")
@@ -243,21 +244,17 @@ class Clouds(Effect):
         ctx = self.gpu.ctx
         prog = self.program(CLOUD_MARCH)
         # all bakes first, then the bindings: a bake run now uses texture units of its own
-        textures = [self.texture_for(kind) for kind in ("weather", "shape", "detail")]
-        for unit, tex in enumerate(textures):
-            tex.use(unit)
+        weather, shape, detail = (self.texture_for(kind) for kind in ("weather", "shape", "detail"))
         depth = getattr(target, "depth", None)
-        if depth is not None:
-            depth.use(3)
+        prog.bind_textures({"uWeather": weather, "uShape": shape, "uDetail": detail, "uSceneDepth": depth})
         self.apply_params(prog)
         prog.set_many(frame.camera_uniforms())
         prog.set_many(self.uniforms(frame))
-        prog.set_many({"uWeather": 0, "uShape": 1, "uDetail": 2, "uSceneDepth": 3,
-                       "uHasSceneDepth": depth is not None, "uBlockSub": tuple(block_sub),
+        prog.set_many({"uHasSceneDepth": depth is not None, "uBlockSub": tuple(block_sub),
                        "uFullSize": tuple(float(v) for v in target.size)})
         layer.use()
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)
 
     def composite(self, target) -> None:
         composite_layer(self, self._layer.color, target)

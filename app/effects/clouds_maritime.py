@@ -44,7 +44,8 @@ from .. import bakes
 from ..bakes.textures import BakedTextures
 from ..params import Param
 from ..sim import clouds_maritime as twin
-from .base import Effect, Pass, fullscreen
+from ..gpu.programs import draw_fullscreen, fullscreen
+from .base import Effect, Pass
 from .layer import LAYER_COMPOSITE, composite_layer
 
 CLOUDS_B = fullscreen("clouds_b/clouds_b")
@@ -145,20 +146,18 @@ class CloudsMaritime(Effect):
         self.apply_params(prog)
         layer = self.layer(target.size)
         # all bakes first, then the bindings: a bake run now uses texture units of its own
-        textures = [self.texture(kind) for kind in ("shape", "detail", "weather")]
-        for unit, tex in enumerate(textures):
-            tex.use(unit)
+        shape, detail, weather = (self.texture(kind) for kind in ("shape", "detail", "weather"))
         depth = getattr(target, "depth", None)
         saved_compare = None
         if depth is not None:
             saved_compare = depth.compare_func
             depth.compare_func = ""  # sample the stored depth, not a shadow comparison
-            depth.use(3)
+        prog.bind_textures({"uVolumeNoise": shape, "uDetailNoise": detail, "uGradientNoise": weather,
+                            "uSceneDepth": depth})
         light_dir, light_color = self.light(frame)
         cam = frame.camera
         prog.set_many(frame.camera_uniforms())
         prog.set_many({
-            "uVolumeNoise": 0, "uDetailNoise": 1, "uGradientNoise": 2, "uSceneDepth": 3,
             "uHasDepth": depth is not None, "uCameraNear": float(cam.near), "uCameraFar": float(cam.far),
             "uLightDir": tuple(float(v) for v in light_dir), "uLightColor": tuple(float(v) for v in light_color),
             "uCloudOffset": tuple(float(v) for v in self.cloud_offset),
@@ -166,13 +165,13 @@ class CloudsMaritime(Effect):
         })
         layer.use()
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)
         if depth is not None:
             depth.compare_func = saved_compare
 
     def composite(self, frame, target) -> None:
         """Pass 2: target = target·transmittance + in-scattered light (alpha kept)."""
-        composite_layer(self, self.layer(target.size).color, target, unit=0)
+        composite_layer(self, self.layer(target.size).color, target)
 
     def render(self, frame, target) -> None:
         self.march(frame, target)

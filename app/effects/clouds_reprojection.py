@@ -10,7 +10,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from .base import fullscreen
+from ..gpu.programs import draw_fullscreen, fullscreen
 
 REPROJECT = fullscreen("clouds/reproject")
 
@@ -87,16 +87,12 @@ class TemporalReprojection:
             fresh = full.color
             sub = (-1, -1)
             self.full_marches += 1
-        prog = self.gpu.program(self.owner, REPROJECT.name, vert=REPROJECT.vert, frag=REPROJECT.frag)
-        fresh.use(0)
-        src.layer.use(1)
-        src.dist.use(2)
-        if scene_depth is not None:
-            scene_depth.use(3)
+        prog = self.gpu.program(self.owner, REPROJECT)
+        prog.bind_textures({"uFresh": fresh, "uHistory": src.layer, "uHistoryDist": src.dist,
+                            "uSceneDepth": scene_depth})
         prog.set_many(frame.camera_uniforms())
         prog.set_many(resolve_uniforms)
         prog.set_many({
-            "uFresh": 0, "uHistory": 1, "uHistoryDist": 2, "uSceneDepth": 3,
             "uHasSceneDepth": scene_depth is not None, "uSub": sub, "uFullFresh": not have_history,
             "uPrevViewProj": self._prev_view_proj if have_history else np.identity(4),
             "uClampHistory": bool(moving or not have_history
@@ -104,7 +100,7 @@ class TemporalReprojection:
         })
         dst.fbo.use()
         self.gpu.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)
         if not have_history:
             self.gpu.free(full)
         self._pair.reverse()

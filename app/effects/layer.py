@@ -5,23 +5,22 @@ from __future__ import annotations
 
 import moderngl
 
-from .base import fullscreen
+from ..gpu.programs import draw_fullscreen, fullscreen
 
 LAYER_COMPOSITE = fullscreen("common/layer_composite")
 
 
-def composite_layer(effect, layer_texture, target, unit: int = 4) -> None:
+def composite_layer(effect, layer_texture, target) -> None:
     """Blend ``layer_texture`` over ``target`` (its depth untouched)."""
     ctx = effect.gpu.ctx
     prog = effect.program(LAYER_COMPOSITE)
-    layer_texture.use(unit)
-    prog.set("uCloudLayer", unit)
+    prog.bind_textures({"uCloudLayer": layer_texture})
     target.use()
     ctx.disable(moderngl.DEPTH_TEST)
     ctx.enable(moderngl.BLEND)
     ctx.blend_func = (moderngl.ONE, moderngl.SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
     try:
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)
     finally:
         ctx.blend_func = moderngl.DEFAULT_BLENDING
         ctx.disable(moderngl.BLEND)

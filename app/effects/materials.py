@@ -123,8 +123,7 @@ class Materials(Effect):
     def __init__(self, gpu, params, scene=None):
         super().__init__(gpu, params, scene)
         self._meshes: dict[str, Mesh] = {}
-        self._value_tex = None
-        self._value_seed = None
+        self._value_tex = self.keyed(lambda seed: value_noise_texture(gpu, self.name, seed), release=gpu.free)
         self._gradient = None
 
     def meshes(self) -> list[tuple[str, Mesh]]:
@@ -139,22 +138,19 @@ class Materials(Effect):
             out.append((n, self._meshes[key]))
         return out
 
-    def _bind_noise(self, prog) -> None:
+    def _noise_textures(self) -> dict:
+        """The noise sources the chosen material and noise read, by sampler name."""
         seed = self.params["wood.noise_seed"]
+        out = {}
         if self.params["material.noise"] == "value" or self.params["material.material"] == "wood":
-            if self._value_tex is None or self._value_seed != seed:
-                if self._value_tex is not None:
-                    self.gpu.free(self._value_tex)
-                self._value_tex = value_noise_texture(self.gpu, self.name, seed)
-                self._value_seed = seed
-            self._value_tex.use(4)
-            prog.set("uValueNoiseTex", 4)
+            out["uValueNoiseTex"] = self._value_tex.get(seed)
         if self.params["material.noise"] == "gradient":
             from ..noise.gpu import GradientNoiseTextures
 
             if self._gradient is None:
                 self._gradient = GradientNoiseTextures(self.gpu, self.name)
-            self._gradient.bind(prog, seed, 5)
+            out.update(self._gradient.textures(seed))
+        return out
 
     def uniforms(self) -> dict:
         p = self.params
@@ -192,7 +188,7 @@ class Materials(Effect):
         from ..gpu.bake import bake_volume
 
         def setup(prog):
-            self._bind_noise(prog)
+            prog.bind_textures(self._noise_textures())
             prog.set_many(self.uniforms())
 
         result = bake_volume(self.gpu, self.name, f"wood noise {size}³", (size, size, size), WOOD_BAKE_COMPUTE,
@@ -206,11 +202,8 @@ class Materials(Effect):
         ``baked`` is a noise volume from :meth:`bake_noise` for the BAKED_NOISE variants."""
         ctx = self.gpu.ctx
         prog = self.program(spec)
-        self._bind_noise(prog)
+        prog.bind_textures({**self._noise_textures(), "uBakedNoise": baked})
         prog.set_many(self.uniforms())
-        if baked is not None:
-            baked.use(6)
-            prog.set("uBakedNoise", 6)
         if view_proj is None:
             view_proj = frame.camera.projection_matrix(frame.aspect) @ frame.camera.view_matrix()
         prog.set("uViewProj", view_proj)

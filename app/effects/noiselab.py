@@ -12,7 +12,8 @@ import moderngl
 from .. import bakes
 from ..bakes.textures import BakedTextures
 from ..params import Param
-from .base import Effect, fullscreen
+from ..gpu.programs import draw_fullscreen, fullscreen
+from .base import Effect
 
 VIEWS = ("shape", "detail", "weather", "perlin", "worley_f1", "worley_f2_f1", "fbm", "turbulence",
          "perlin_worley", "value")
@@ -61,31 +62,31 @@ class NoiseLab(Effect):
         p = self.params
         view = p["noise.view"]
         prog = self.program(NOISE_VIEW)
+        textures: dict = {}
         if view in ("shape", "detail"):
-            self.texture_for(view).use(0)
+            textures["uVolume"] = self.texture_for(view)
         elif view == "weather":
-            self.texture_for(view).use(1)
+            textures["uMap"] = self.texture_for(view)
         if view == "value":
             from ..noise.gpu import value_noise_texture
 
             if "value" not in self._extra:
                 self._extra["value"] = value_noise_texture(self.gpu, self.name, 1)
-            self._extra["value"].use(2)
-            prog.set("uValueNoiseTex", 2)
+            textures["uValueNoiseTex"] = self._extra["value"]
             prog.set("uValueNoiseWrap", (256.0, 256.0, 256.0))
         if view in ("perlin", "fbm", "turbulence", "perlin_worley"):
             from ..noise.gpu import GradientNoiseTextures
 
             if "gradient" not in self._extra:
                 self._extra["gradient"] = GradientNoiseTextures(self.gpu, self.name)
-            self._extra["gradient"].bind(prog, None, 3)
+            textures.update(self._extra["gradient"].textures(None))
+        # every sampler gets a unit of its own, bound or not: two sampler types on one unit fail the draw
+        prog.bind_textures(textures)
         prog.set_many({
             "uView": VIEWS.index(view), "uChannel": CHANNELS.index(p["noise.channel"]), "uSlice": p["noise.slice"],
             "uTiles": p["noise.tiles"], "uAspect": frame.aspect, "uScale": p["noise.scale"],
             "uOctaves": p["noise.octaves"],
-            # every sampler on its own unit, bound or not: two sampler types on one unit fail the draw
-            "uVolume": 0, "uMap": 1, "uValueNoiseTex": 2, "uPerlinPermutation": 3,
         })
         target.use()
         self.gpu.ctx.disable(moderngl.DEPTH_TEST)
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)

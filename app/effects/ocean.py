@@ -28,7 +28,9 @@ import numpy as np
 from ..errors import ParamError
 from ..params import Param
 from ..sim import ocean as oc
-from .base import Effect, Pass, ProgramSpec, fullscreen
+from ..gpu.copy import ColourCopy
+from ..gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from .base import Effect, Pass
 
 MODELS = ("sine", "gerstner", "fft")
 FFT_SIZES = ("64", "128", "256", "512")
@@ -204,10 +206,9 @@ class Ocean(Effect):
         self._fft_ref: oc.FFTOcean | None = None
         self._waves: list[oc.GerstnerWave] = []
         self._waves_key = None
-        self._mesh = None
-        self._mesh_key = None
-        self._scene_copy = None
-        self._color_copy = None
+        self._mesh = self.keyed(self._make_mesh, release=lambda objs: [gpu.free(o) for o in objs])
+        self._scene_copy = ColourCopy(gpu, self.name, "scene copy")
+        self._color_copy = ColourCopy(gpu, self.name, "color copy")
         self._flat_env = None
         self.time = 0.0
         self.camera_pos = np.zeros(3)
@@ -448,7 +449,8 @@ class Ocean(Effect):
         return min(0.05, 0.5 * min(self.patch_sizes()) / self.fft_size())
 
     # -- uniforms --------------------------------------------------------------------------
-    def wave_uniforms(self, prog) -> None:
+    def wave_uniforms(self, prog) -> dict:
+        """Set the wave model's uniforms; returns its textures by sampler name (FFT)."""
         p = self.params
         cam = self.camera_pos
         model = MODELS.index(p["ocean.model"])
@@ -473,8 +475,8 @@ class Ocean(Effect):
                 a_rows.append((dx, dz, k, wv.steepness / k))
                 b_rows.append((om, ph, wv.steepness, 0.0))
             prog.set("uGerstnerCount", len(waves))
-            self._set_array(prog, "uGerstnerA", a_rows)
-            self._set_array(prog, "uGerstnerB", b_rows)
+            prog.set_array("uGerstnerA", a_rows)
+            prog.set_array("uGerstnerB", b_rows)
         else:
             sizes = self.patch_sizes()
             n = self.fft_size()
@@ -483,46 +485,35 @@ class Ocean(Effect):
                 # sample j of the grid sits at j·L/N, i.e. at texel centre (j + ½)/N
                 uv = ((cam[0] / size + 0.5 / n) % 1.0, (cam[2] / size + 0.5 / n) % 1.0)
                 rows.append((uv[0], uv[1], 1.0 / size, n / size))
-            self._set_array(prog, "uCascadeUV", rows)
+            prog.set_array("uCascadeUV", rows)
             bands = self.cascade_bands + [(1.0, 2.0, 0.0)] * (4 - len(self.cascade_bands))
-            self._set_array(prog, "uCascadeBand", [(lo, hi, m, 0.0) for lo, hi, m in bands])
+            prog.set_array("uCascadeBand", [(lo, hi, m, 0.0) for lo, hi, m in bands])
             weight = p["ocean.foam_amount"]
             prog.set("uFoamWeight", [weight] * 4)
             prog.set("uCascades", len(sizes))
-            for i in range(4):
-                j = min(i, len(sizes) - 1)
-                self.sim.disp[j].use(4 + i)
-                self.sim.deriv[j].use(8 + i)
-                self.sim.foam[j].use(12 + i)
-                prog.set(f"uDisp{i}", 4 + i)
-                prog.set(f"uDeriv{i}", 8 + i)
-                prog.set(f"uFoam{i}", 12 + i)
-
-    @staticmethod
-    def _set_array(prog, name: str, rows) -> None:
-        if prog.program is None or name not in prog.program:
-            return
-        member = prog.program[name]
-        arr = np.zeros((member.array_length, member.dimension), dtype="f4")
-        rows = np.asarray(rows, dtype="f4").reshape(-1, member.dimension)[: member.array_length]
-        arr[: len(rows)] = rows
-        member.write(arr.tobytes())
+            textures = {}
+            for kind, held in (("uDisp", self.sim.disp), ("uDeriv", self.sim.deriv), ("uFoam", self.sim.foam)):
+                for i in range(4):
+                    textures[f"{kind}{i}"] = held[min(i, len(sizes) - 1)]
+            return textures
+        return {}
 
     def cox_munk_mss(self) -> float:
         """Cox & Munk 1954 clean-surface mean-square slope 0.003 + 5.12e-3·U."""
         return 0.003 + 5.12e-3 * self.params["ocean.wind"]
 
-    def shading_uniforms(self, prog, frame, env) -> None:
+    def shading_uniforms(self, prog, frame, env) -> dict:
+        """Set the shading uniforms; returns the environment cubemap by sampler name."""
         p = self.params
         subgrid = max(self.cox_munk_mss() - self.resolved_mss, 0.0) if p["ocean.subgrid_slopes"] else 0.0
-        env.use(2)
-        prog.set_many({"uEnvironment": 2, "uEnvironmentLods": float(max(0, int(math.log2(env.size[0])))),
+        prog.set_many({"uEnvironmentLods": float(max(0, int(math.log2(env.size[0])))),
                        "uSubgridMss": subgrid, "uSeaHs": max(self.significant_height(), 1e-3)})
         if frame.main_light is not None:
             prog.set_many(frame.light_uniforms())
         else:
             prog.set_many({"uMainLightDir": (0.0, 0.7071, 0.7071), "uMainLightRadiance": (1.0, 1.0, 1.0)})
         self.apply_params(prog)
+        return {"uEnvironment": env}
 
     def environment(self, frame):
         """The sky's environment cubemap (the reflection probe) without the sun disk — the main
@@ -555,40 +546,22 @@ class Ocean(Effect):
         if model == "fft" and self.sim is not None:
             lines.append(f"N {self.fft_size()} × {len(self.patch_sizes())} cascades ({self.sim.path}); "
                          f"queries lag one frame (t = {self.query_time if self.query_time is not None else '—'})")
-        if self._mesh is not None:
+        if self._mesh.built:
             lines.append(f"mesh: {self.drawn_triangles:,} of {self.mesh_triangles:,} triangles drawn"
                          + ("; camera under water" if self.underwater else ""))
         return lines
 
     # -- passes ----------------------------------------------------------------------------
     def mesh(self):
+        """(vertex buffer, index buffer) of the polar grid, rebuilt when its shape changes."""
         p = self.params
-        key = (p["ocean.mesh_segments"], p["ocean.mesh_inner"], p["ocean.mesh_extent"])
-        if key != self._mesh_key:
-            if self._mesh is not None:
-                for obj in self._mesh:
-                    self.gpu.free(obj)
-            verts, idx = polar_grid(*key)
-            self._mesh = (self.gpu.buffer(self.name, "mesh vertices", verts.tobytes()),
-                          self.gpu.buffer(self.name, "mesh indices", idx.tobytes()))
-            self._mesh_key = key
-            self.mesh_triangles = len(idx) // 3
-        return self._mesh
+        return self._mesh.get((p["ocean.mesh_segments"], p["ocean.mesh_inner"], p["ocean.mesh_extent"]))
 
-    def _copy(self, attr: str, target) -> moderngl.Texture:
-        """Copy the target's colour into a float texture of ours (framebuffer to framebuffer:
-        moderngl's copy into a texture goes through 8 bits and would clamp the radiance)."""
-        held = getattr(self, attr)
-        if held is None or held[0].size != target.size:
-            if held is not None:
-                self.gpu.free(held[1])
-                self.gpu.free(held[0])
-            label = attr.strip("_").replace("_", " ")
-            tex = self.gpu.texture(self.name, label, target.size, 4, dtype="f4")
-            held = (tex, self.gpu.framebuffer(self.name, label, [tex]))
-            setattr(self, attr, held)
-        self.gpu.ctx.copy_framebuffer(held[1], target.fbo)
-        return held[0]
+    def _make_mesh(self, key):
+        verts, idx = polar_grid(*key)
+        self.mesh_triangles = len(idx) // 3
+        return (self.gpu.buffer(self.name, "mesh vertices", verts.tobytes()),
+                self.gpu.buffer(self.name, "mesh indices", idx.tobytes()))
 
     def view_proj_rel(self, frame) -> np.ndarray:
         cam = frame.camera
@@ -620,22 +593,21 @@ class Ocean(Effect):
         env = self.environment(frame)
         vp = self.view_proj_rel(frame)
         near_surface = self.may_be_underwater()
-        scene_copy = self._copy("_scene_copy", target) if near_surface else None
+        scene_copy = self._scene_copy.of(target) if near_surface else None
         target.use()
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE)
         prog = self.program(SURFACE)
-        self.wave_uniforms(prog)
-        self.shading_uniforms(prog, frame, env)
+        textures = self.wave_uniforms(prog)
+        textures.update(self.shading_uniforms(prog, frame, env))
+        textures["uSceneCopy"] = scene_copy
+        prog.bind_textures(textures)
         prog.set_many({"uViewProjRel": vp, "uCameraPos": tuple(frame.camera.position),
                        "uViewport": tuple(float(s) for s in target.size), "uViewMode": self.view_mode(),
                        "uInvViewProjRel": np.linalg.inv(vp)})
-        if scene_copy is not None:
-            scene_copy.use(1)
-            prog.set("uSceneCopy", 1)
         vbo, ibo = self.mesh()
         vao = prog.vao([(vbo, "3f", "in_polar")], index_buffer=ibo)
-        segments = self._mesh_key[0]
+        segments = self._mesh.key[0]
         per = 3 * self.mesh_triangles // segments  # indices per wedge
         wedges = visible_wedges(frame.camera, frame.aspect, segments) if self.params["ocean.mesh_cull"] else None
         if wedges is None:
@@ -650,33 +622,31 @@ class Ocean(Effect):
             self.drawn_triangles = count * per // 3
         if frame.camera.position[1] > 0.0:
             far = self.program(FAR)
-            self.wave_uniforms(far)
-            self.shading_uniforms(far, frame, env)
+            textures = self.wave_uniforms(far)
+            textures.update(self.shading_uniforms(far, frame, env))
+            far.bind_textures(textures)
             far.set_many(frame.camera_uniforms())
             far.set_many({"uViewProjRel": vp, "uFarStart": 0.88 * self.params["ocean.mesh_extent"],
                           "uViewport": tuple(float(s) for s in target.size)})
-            far.vao().render(moderngl.TRIANGLES, vertices=3)
+            draw_fullscreen(far)
         ctx.disable(moderngl.DEPTH_TEST)
 
     def render_underwater(self, frame, target) -> None:
         ctx = self.gpu.ctx
-        color = self._copy("_color_copy", target)
+        color = self._color_copy.of(target)
         env = self.environment(frame)
         prog = self.program(UNDERWATER)
-        self.wave_uniforms(prog)
-        self.shading_uniforms(prog, frame, env)
+        textures = self.wave_uniforms(prog)
+        textures.update(self.shading_uniforms(prog, frame, env))
         prog.set_many(frame.camera_uniforms())
         prog.set("uInvViewProjRel", np.linalg.inv(self.view_proj_rel(frame)))
-        color.use(0)
-        prog.set("uColor", 0)
         depth = target.depth
         old = depth.compare_func
         depth.compare_func = ""
-        depth.use(1)
-        prog.set("uSceneDepth", 1)
+        prog.bind_textures({**textures, "uColor": color, "uSceneDepth": depth})
         target.use()
         ctx.disable(moderngl.DEPTH_TEST)
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)
         depth.compare_func = old
 
     def passes(self, frame, target) -> list[Pass]:
@@ -695,5 +665,6 @@ class Ocean(Effect):
     def release(self) -> None:
         self._release_fft()
         super().release()
-        self._mesh = self._scene_copy = self._color_copy = self._flat_env = None
-        self._mesh_key = None
+        self._scene_copy.release()
+        self._color_copy.release()
+        self._flat_env = None

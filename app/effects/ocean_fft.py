@@ -34,6 +34,7 @@ import numpy as np
 
 from ..errors import ParamError
 from ..gpu.fft import GpuFFT, check_fft_size, resolve_compute, twiddle_table
+from ..gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 
 MAX_CASCADES = 4
 LOCAL = 8  # work group edge of the ocean compute shaders
@@ -124,10 +125,8 @@ class GpuOceanSim:
     def _program(self, name: str):
         prog = self._programs.get(name)
         if prog is None:
-            if self.use_compute:
-                prog = self.gpu.program(self.owner, name, comp=f"{name}.comp")
-            else:
-                prog = self.gpu.program(self.owner, name, vert="common/fullscreen.vert", frag=f"{name}.frag")
+            spec = ProgramSpec(name, comp=f"{name}.comp") if self.use_compute else fullscreen(name)
+            prog = self.gpu.program(self.owner, spec)
             self._programs[name] = prog
         return prog
 
@@ -231,15 +230,13 @@ class GpuOceanSim:
             raise ParamError(f"ocean.choppiness: {choppiness} is outside the allowed range [0, 4]")
         return float(choppiness)
 
-    def _set_spectrum_uniforms(self, prog, i: int, t: float, choppiness: float) -> None:
+    def _set_spectrum_uniforms(self, prog, i: int, t: float, choppiness: float) -> dict:
+        """Set the evolution uniforms of cascade i; returns its spectrum textures by sampler."""
         t_hi, t_lo = split_hi_lo(float(t))
         prog.set("uTime", (float(t_hi), float(t_lo)))
         prog.set("uChoppiness", choppiness)
         prog.set("uN", self.n)
-        for unit, (uniform, tex) in enumerate((("uH0", self._h0[i]), ("uFrequency", self._freq[i]),
-                                               ("uWaveVector", self._wave[i]))):
-            tex.use(unit)
-            prog.set(uniform, unit)
+        return {"uH0": self._h0[i], "uFrequency": self._freq[i], "uWaveVector": self._wave[i]}
 
     def _groups(self) -> int:
         return (self.n + LOCAL - 1) // LOCAL
@@ -247,15 +244,14 @@ class GpuOceanSim:
     def _write_fields(self, prog, i: int, extra_setup: Callable | None = None) -> None:
         """Run ``prog`` for cascade i, writing its two field textures (the FFT's data)."""
         fields = self._fft.textures[2 * i: 2 * i + 2]
-        if extra_setup:
-            extra_setup(prog, i)
+        prog.bind_textures(extra_setup(prog, i) if extra_setup else {})
         if self.use_compute:
             fields[0].bind_to_image(0, read=False, write=True)
             fields[1].bind_to_image(1, read=False, write=True)
             prog.program.run(self._groups(), self._groups(), 1)
         else:
             self._evolve_fbo[i].use()
-            prog.vao().render(moderngl.TRIANGLES, vertices=3)
+            draw_fullscreen(prog)
 
     def _run_per_cascade(self, prog, setup: Callable) -> None:
         ctx = self.gpu.ctx
@@ -326,11 +322,9 @@ class GpuOceanSim:
                     prog.set("uFoamWidth", widths[i])
                     self._finalize_fbo[i][1 - src].use()
                     fields = self._fft.textures[2 * i: 2 * i + 2]
-                    for unit, (uniform, tex) in enumerate((("uFields0", fields[0]), ("uFields1", fields[1]),
-                                                           ("uFoamBefore", self._foam_tex[i][src]))):
-                        tex.use(unit)
-                        prog.set(uniform, unit)
-                    prog.vao().render(moderngl.TRIANGLES, vertices=3)
+                    prog.bind_textures({"uFields0": fields[0], "uFields1": fields[1],
+                                        "uFoamBefore": self._foam_tex[i][src]})
+                    draw_fullscreen(prog)
             self._foam_cur = 1 - src
         for tex in self.disp + self.deriv:
             tex.build_mipmaps()
@@ -409,14 +403,11 @@ class GpuOceanSim:
         prog = self._program(DIRECT_SUM)
 
         def setup(p, i):
-            self._set_spectrum_uniforms(p, i, t, lam)
+            textures = self._set_spectrum_uniforms(p, i, t, lam)
             tex = self._modes[i]
-            tex.use(3)
-            p.set("uModes", 3)
             p.set("uModeCount", tex.extra["modes"])
             p.set("uModeWidth", tex.extra["width"])
-            self._phase_table.use(4)
-            p.set("uPhaseTable", 4)
+            return {**textures, "uModes": tex, "uPhaseTable": self._phase_table}
 
         self._run_per_cascade(prog, setup)
         self.time = float(t)

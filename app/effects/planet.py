@@ -23,7 +23,8 @@ import numpy as np
 from ..params import Param
 from ..sim import atmosphere as atm
 from . import atmosphere_hillaire as hillaire
-from .base import Effect, Pass, ProgramSpec
+from ..gpu.programs import ProgramSpec, draw_fullscreen
+from .base import Effect, Pass
 from .planet_geometry import albedo_texture, boxes, mountains, normal_texture
 
 METHODS = ("brute_force", "lut", "shadowed", "hillaire")
@@ -130,15 +131,14 @@ class Planet(Effect):
     def __init__(self, gpu, params, scene=None):
         super().__init__(gpu, params, scene)
         self.shadow_passes = 0
-        self.lut_builds = 0
-        self._shadow_key = None
-        self._shadow_tex = None
-        self._shadow_fbo = None
-        self._lut = None
-        self._lut_key = None
+        self._shadow_rendered = None  # the key the shadow map was last rendered for
+        #: (depth texture, framebuffer) of the shadow map, remade when its size changes
+        self._shadow = self.keyed(self._make_shadow_map, release=self._free_all)
+        self._lut = self.keyed(self._build_lut, release=gpu.free)
         self._meshes = None
         self._textures = None
-        self._gbuffer = None
+        #: (colour, position, depth, framebuffer), remade when the target's size changes
+        self._gbuffer = self.keyed(self._make_gbuffer, release=self._free_all)
         self._hillaire = None
         self._gradient = None
         self._stars = None
@@ -218,64 +218,78 @@ class Planet(Effect):
         for _, vbo, ibo in self._meshes:
             prog.vao([(vbo, *layout)], index_buffer=ibo).render()
 
+    def _free_all(self, objects) -> None:
+        for obj in reversed(objects):
+            self.gpu.free(obj)
+
     def optical_depth_lut(self):
         """The thesis's "Chapman function" table, rebuilt when the model or its size changes."""
-        m = self.model()
         size = (self.params["planet.lut_angle"], self.params["planet.lut_height"])
-        key = m.lut_key() + size
-        if self._lut is None or key != self._lut_key:
-            if self._lut is not None:
-                self.gpu.free(self._lut)
-            data = atm.OpticalDepthLut(m, n_height=size[1], n_angle=size[0]).table
-            self._lut = self.gpu.texture(self.name, "optical depth LUT", size, 2, data.astype("f4").tobytes(), dtype="f4")
-            self._lut.repeat_x = self._lut.repeat_y = False
-            self._lut_key = key
-            self.lut_builds += 1
-        return self._lut
+        return self._lut.get(self.model().lut_key() + size)
+
+    def _build_lut(self, key):
+        size = key[-2:]
+        data = atm.OpticalDepthLut(self.model(), n_height=size[1], n_angle=size[0]).table
+        lut = self.gpu.texture(self.name, "optical depth LUT", size, 2, data.astype("f4").tobytes(), dtype="f4")
+        lut.repeat_x = lut.repeat_y = False
+        return lut
+
+    @property
+    def lut_builds(self) -> int:
+        return self._lut.builds
+
+    def _make_shadow_map(self, size: int):
+        tex = self.gpu.depth_texture(self.name, "shadow map", (size, size))
+        self._shadow_rendered = None
+        return tex, self.gpu.framebuffer(self.name, "shadow map", [], tex)
+
+    @property
+    def shadow_texture(self):
+        """The shadow map's depth texture (None before the first render that needs it)."""
+        return self._shadow.value[0] if self._shadow.value is not None else None
 
     def shadow_map(self):
         """Depth from the sun; re-rendered only when the sun direction or the size changed."""
         size = self.params["planet.shadow_map_size"]
+        tex, _ = self._shadow.get(size)
         key = (tuple(np.round(self.sun_dir, 9)), size)
-        if self._shadow_tex is not None and self._shadow_tex.size[0] != size:
-            self.gpu.free(self._shadow_fbo)
-            self.gpu.free(self._shadow_tex)
-            self._shadow_tex = None
-        if self._shadow_tex is None:
-            self._shadow_tex = self.gpu.depth_texture(self.name, "shadow map", (size, size))
-            self._shadow_fbo = self.gpu.framebuffer(self.name, "shadow map", [], self._shadow_tex)
-            self._shadow_key = None
-        if key != self._shadow_key:
+        if key != self._shadow_rendered:
             self._render_shadow_map()
-            self._shadow_key = key
-        return self._shadow_tex
+            self._shadow_rendered = key
+        return tex
 
     def _render_shadow_map(self) -> None:
         ctx = self.gpu.ctx
         self._ensure_geometry()
+        _, fbo = self._shadow.get(self.params["planet.shadow_map_size"])
         prog = self.program(SHADOW_DEPTH)
         prog.set("uLightViewProj", light_view_proj(self.sun_dir))
-        self._shadow_fbo.use()
-        self._shadow_fbo.clear(depth=1.0)
+        fbo.use()
+        fbo.clear(depth=1.0)
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE)
         self._draw_meshes(prog, depth_only=True)
         self.shadow_passes += 1
 
+    def _make_gbuffer(self, size):
+        colour = self.gpu.texture(self.name, "gbuffer colour", size, 4, dtype="f4")
+        position = self.gpu.texture(self.name, "gbuffer position", size, 4, dtype="f4")
+        depth = self.gpu.depth_texture(self.name, "gbuffer depth", size)
+        fbo = self.gpu.framebuffer(self.name, "gbuffer", [colour, position], depth)
+        return colour, position, depth, fbo
+
     def _gbuffer_for(self, size):
-        if self._gbuffer is None or self._gbuffer[0].size != tuple(size):
-            if self._gbuffer is not None:
-                for obj in self._gbuffer:
-                    self.gpu.free(obj)
-            colour = self.gpu.texture(self.name, "gbuffer colour", size, 4, dtype="f4")
-            position = self.gpu.texture(self.name, "gbuffer position", size, 4, dtype="f4")
-            depth = self.gpu.depth_texture(self.name, "gbuffer depth", size)
-            fbo = self.gpu.framebuffer(self.name, "gbuffer", [colour, position], depth)
-            self._gbuffer = (colour, position, depth, fbo)
-        return self._gbuffer
+        return self._gbuffer.get(tuple(size))
+
+    @property
+    def gbuffer(self):
+        """(colour, position, depth, framebuffer) of the last surfaces pass, or None."""
+        return self._gbuffer.value
 
     # -- passes -----------------------------------------------------------------------------
-    def _shared(self, prog, frame) -> None:
+    def _shared(self, prog, frame) -> dict:
+        """Uniforms both passes read; returns their shared textures by sampler name (the
+        shadow map is rendered here first when it is out of date)."""
         prog.set_many(self.model_uniforms(frame))
         p = self.params
         prog.set_many({
@@ -286,12 +300,10 @@ class Planet(Effect):
             "uKa": p["planet.ka"],
             "uKd": p["planet.kd"],
         })
-        lut = self.optical_depth_lut()
-        lut.use(1)
-        prog.set("uOpticalDepthLut", 1)
+        textures = {"uOpticalDepthLut": self.optical_depth_lut()}
         if self.uses_shadows():
-            self.shadow_map().use(2)
-            prog.set("uShadowMap", 2)
+            textures["uShadowMap"] = self.shadow_map()
+        return textures
 
     def projection(self, frame) -> np.ndarray:
         altitude = max(frame.camera.position[1], 0.0)
@@ -311,14 +323,15 @@ class Planet(Effect):
         fbo.use()
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         prog = self.program(SURFACE)
-        self._shared(prog, frame)
+        textures = self._shared(prog, frame)
         p = self.params
         aniso = p["planet.anisotropy"] or (1 if self.gpu.caps.software else 8)
-        for unit, tex in ((3, self._textures[0]), (4, self._textures[1])):
+        for tex in self._textures:
             tex.anisotropy = float(aniso)
-            tex.use(unit)
+        prog.bind_textures({**textures, "uAlbedo": self._textures[0], "uNormalMap": self._textures[1]})
+        fbo.use()  # the shadow map may have been rendered just now
         prog.set_many({
-            "uAlbedo": 3, "uNormalMap": 4, "uTextureTile": 40.0, "uShading": self.shading(),
+            "uTextureTile": 40.0, "uShading": self.shading(),
             "uNormalMapping": p["planet.normal_mapping"], "uKs": p["planet.ks"], "uShininess": p["planet.shininess"],
             "uViewProj": self.projection(frame),
         })
@@ -329,15 +342,13 @@ class Planet(Effect):
     def render_composite(self, frame, target) -> None:
         method = self.method()
         prog = self.program(COMPOSITE[method])
-        self._shared(prog, frame)
+        textures = self._shared(prog, frame)
         p = self.params
         colour, position, _, _ = self._gbuffer_for(target.size)
-        colour.use(5)
-        position.use(6)
-        self._stars.use(7)
+        textures.update({"uGColor": colour, "uGPosition": position, "uStarTex": self._stars})
         prog.set_many(frame.camera_uniforms())
         prog.set_many({
-            "uGColor": 5, "uGPosition": 6, "uStarTex": 7, "uStarIntensity": p["planet.star_intensity"],
+            "uStarIntensity": p["planet.star_intensity"],
             "uSunDisk": p["planet.sun_disk"], "uSunDiskCos": math.cos(math.radians(0.27)),
             "uSunDiskRadiance": 100.0 * self.model().sun_intensity,
             "uUniverseRadius": p["planet.universe_radius"],
@@ -350,13 +361,16 @@ class Planet(Effect):
             from ..noise.gpu import GradientNoiseTextures
 
             self._gradient = GradientNoiseTextures(self.gpu, self.name)
-        self._gradient.bind(prog, None, 8)
+        textures.update(self._gradient.textures(None))
         if method == "hillaire":
-            self.hillaire().update(self.model_uniforms(frame), frame.camera_uniforms())
-            self.hillaire().bind(prog, 9)
+            luts = self.hillaire()
+            luts.update(self.model_uniforms(frame), frame.camera_uniforms())
+            textures.update(luts.textures())
+            prog.set_many(luts.lookup_uniforms())
+        prog.bind_textures(textures)
         target.use()
         self.gpu.ctx.disable(moderngl.DEPTH_TEST)
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)
 
     def hillaire(self) -> "hillaire.HillaireLuts":
         if self._hillaire is None:

@@ -32,7 +32,8 @@ import moderngl
 from ..params import Param
 from ..sim import preetham as model
 from ..sim.daynight import Light, light_fade
-from .base import Effect, fullscreen
+from ..gpu.programs import draw_fullscreen, fullscreen
+from .base import Effect
 
 PREETHAM_SKY = fullscreen("preetham/sky")
 
@@ -88,7 +89,7 @@ class Preetham(Effect):
         prog.set("uSunDir", tuple(float(v) for v in self.sun_direction))
         target.use()
         self.gpu.ctx.disable(moderngl.DEPTH_TEST)
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)
 
     def radiance_numpy(self, directions) -> np.ndarray:
         """The twin of what :meth:`render` draws toward ``directions`` (…, 3)."""

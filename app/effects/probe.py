@@ -10,7 +10,8 @@ import math
 
 import moderngl
 
-from .base import Effect, fullscreen
+from ..gpu.programs import draw_fullscreen, fullscreen
+from .base import Effect
 
 MIRROR_BALL = fullscreen("probe/mirror_ball")
 
@@ -25,12 +26,11 @@ class MirrorBall(Effect):
         sky = self.scene.effect("sky")
         cube = sky.environment(frame)
         prog = self.program(MIRROR_BALL)
-        cube.use(0)
+        prog.bind_textures({"uEnvironment": cube})
         prog.set_many(frame.camera_uniforms())
         prog.set_many(frame.light_uniforms())
-        prog.set("uEnvironment", 0)
         prog.set("uEnvironmentLods", float(int(math.log2(cube.size[0]))))
         self.apply_params(prog)
         target.use()
         self.gpu.ctx.disable(moderngl.DEPTH_TEST)
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)

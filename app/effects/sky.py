@@ -21,7 +21,8 @@ import numpy as np
 from .. import RESOURCES
 from ..params import Param
 from ..sim.daynight import DayNight, Keyframes, wrap_hour
-from .base import Effect, Pass, ProgramSpec, fullscreen
+from ..gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from .base import Effect, Pass
 
 MIE_G = -0.990
 MIE_G2 = 0.9801
@@ -69,12 +70,12 @@ class Sky(Effect):
         self.environment_renders = 0
         self._gradient = None
         self._gradient_version = None
-        self._stars = None
-        self._stars_seed = None
-        self._moon = None
-        self._cube = None
-        self._cube_nosun = None
-        self._cube_keys: dict = {}
+        self._stars = self.keyed(self._make_stars, release=gpu.free)
+        self._moon = self.keyed(self._make_moon, release=gpu.free)
+        #: the environment cubemaps (with and without the sun), remade when their size changes
+        self._cubes = {sun: self.keyed(lambda size, sun=sun: self._make_cube(size, sun), release=gpu.free)
+                       for sun in (True, False)}
+        self._cube_rendered: dict[bool, tuple | None] = {True: None, False: None}
 
     # -- CPU -------------------------------------------------------------------------------
     def daynight(self) -> DayNight:
@@ -113,28 +114,24 @@ class Sky(Effect):
                 self._gradient = gpu.texture(self.name, "sky gradient keyframes", (data.shape[1], data.shape[0]), 4,
                                              data.tobytes())
             self._gradient_version = self.keyframes.version
-        seed = self.params["sky.star_seed"]
-        if self._stars is None or self._stars_seed != seed:
-            if self._stars is not None:
-                gpu.free(self._stars)
-            stars = star_field(seed)
-            self._stars = gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1, stars.tobytes(),
-                                      repeat=True)
-            self._stars_seed = seed
-        if self._moon is None:
-            moon = moon_texture()
-            self._moon = gpu.texture(self.name, "moon", (moon.shape[1], moon.shape[0]), 4, moon.tobytes())
+
+    def _make_stars(self, seed: int):
+        stars = star_field(seed)
+        return self.gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1, stars.tobytes(), repeat=True)
+
+    def _make_moon(self, _key):
+        moon = moon_texture()
+        return self.gpu.texture(self.name, "moon", (moon.shape[1], moon.shape[0]), 4, moon.tobytes())
 
     def _bind(self, prog) -> None:
         st = self.state
         self._textures()
-        self._gradient.use(0)
-        self._stars.use(1)
-        self._moon.use(2)
+        prog.bind_textures({"uSkyGradient": self._gradient,
+                            "uStarTex": self._stars.get(self.params["sky.star_seed"]),
+                            "uMoonTex": self._moon.get(None)})
         rows = self._gradient.size[1]
         i0, i1, t = st.keyframe_rows
         prog.set_many({
-            "uSkyGradient": 0, "uStarTex": 1, "uMoonTex": 2,
             "uGradientRows": ((i0 + 0.5) / rows, (i1 + 0.5) / rows),
             "uGradientMix": t,
             "uGradientTexels": float(self._gradient.size[0]),
@@ -153,7 +150,7 @@ class Sky(Effect):
         prog.set_many(frame.camera_uniforms())
         target.use()
         self.gpu.ctx.disable(moderngl.DEPTH_TEST)
-        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        draw_fullscreen(prog)
 
     def environment_key(self) -> tuple:
         return (round(self.state.hour, 6), self.params.version("sky"), self.keyframes.version)
@@ -164,22 +161,22 @@ class Sky(Effect):
         ``sun=False`` gives a second cubemap without the sun disk, for surfaces that light the sun
         analytically (the ocean's glitter): blurred mip levels of a map with a 400× sun smear it
         over one cube face, which shows as bright wedges in rough reflections."""
-        size = self.params["sky.cubemap_size"]
-        attr = "_cube" if sun else "_cube_nosun"
-        cube = getattr(self, attr)
-        if cube is not None and cube.size[0] != size:
-            self.gpu.free(cube)
-            cube = None
-        if cube is None:
-            cube = self.gpu.texture_cube(self.name, "environment" if sun else "environment without the sun", size)
-            cube.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-            self._cube_keys[attr] = None
-            setattr(self, attr, cube)
+        cube = self._cubes[sun].get(self.params["sky.cubemap_size"])
         key = self.environment_key()
-        if force or key != self._cube_keys.get(attr):
+        if force or key != self._cube_rendered[sun]:
             self._render_cubemap(cube, sun=sun)
-            self._cube_keys[attr] = key
+            self._cube_rendered[sun] = key
             self.environment_renders += 1
+        return cube
+
+    def has_cubemap(self, sun: bool = True) -> bool:
+        """Whether the environment cubemap with (or without) the sun has been made."""
+        return self._cubes[sun].built
+
+    def _make_cube(self, size: int, sun: bool):
+        cube = self.gpu.texture_cube(self.name, "environment" if sun else "environment without the sun", size)
+        cube.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        self._cube_rendered[sun] = None
         return cube
 
     def _render_cubemap(self, cube, use_compute: bool | None = None, sun: bool = True) -> None:
@@ -203,7 +200,7 @@ class Sky(Effect):
                 for face in range(6):
                     face_target.use()
                     prog.set("uFace", face)
-                    prog.vao().render(moderngl.TRIANGLES, vertices=3)
+                    draw_fullscreen(prog)
                     raw = np.frombuffer(face_target.fbo.read(components=4, dtype="f4"), dtype=np.float32)
                     cube.write(face, raw.astype(np.float16).tobytes())
             finally:
@@ -212,9 +209,9 @@ class Sky(Effect):
 
     def passes(self, frame, target) -> list[Pass]:
         out = [Pass("sky", lambda: self.render(frame, target))]
-        if self._cube is not None:
+        if self._cubes[True].built:
             out.append(Pass("sky.cubemap", lambda: self.environment(frame, force=True)))
-        if self._cube_nosun is not None:
+        if self._cubes[False].built:
             out.append(Pass("sky.cubemap (no sun)", lambda: self.environment(frame, force=True, sun=False)))
         return out
 

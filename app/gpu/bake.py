@@ -16,10 +16,9 @@ import time
 from dataclasses import dataclass
 from typing import Callable
 
-import moderngl
 import numpy as np
 
-from ..effects.base import ProgramSpec
+from .programs import ProgramSpec, draw_fullscreen
 
 
 @dataclass
@@ -59,7 +58,7 @@ def bake_volume(gpu, owner: str, name: str, size: tuple[int, int, int], compute:
     ctx.finish()
     t0 = time.perf_counter()
     if use_compute:
-        prog = gpu.program(owner, compute.name, dict(compute.defines), **compute.stages())
+        prog = gpu.program(owner, compute)
         setup(prog)
         prog.set("uBakeSize", size)
         tex.bind_to_image(0, read=False, write=True)
@@ -74,7 +73,7 @@ def bake_volume(gpu, owner: str, name: str, size: tuple[int, int, int], compute:
                 progress((first + count) / size[2])
         ctx.memory_barrier()
     else:
-        prog = gpu.program(owner, fragment.name, dict(fragment.defines), **fragment.stages())
+        prog = gpu.program(owner, fragment)
         setup(prog)
         prog.set("uBakeSize", size)
         target = gpu.target(owner, f"{name} slice", size[:2], depth=False)
@@ -82,7 +81,7 @@ def bake_volume(gpu, owner: str, name: str, size: tuple[int, int, int], compute:
             for z in range(size[2]):
                 target.use()
                 prog.set("uBakeSlice", z)
-                prog.vao().render(moderngl.TRIANGLES, vertices=3)
+                draw_fullscreen(prog)
                 data = target.fbo.read(components=4, dtype="f4")
                 tex.write(data, viewport=(0, 0, z, size[0], size[1], 1))
                 if progress:

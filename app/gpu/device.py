@@ -11,6 +11,7 @@ from typing import Any
 import moderngl
 
 from .context import Caps, caps_of, create_headless_context
+from .programs import ProgramSpec
 from .shaders import Program, ShaderLibrary
 from .targets import RenderTarget
 
@@ -42,7 +43,13 @@ class Gpu:
         self.allocations.append(Allocation(owner, kind, name, obj))
         return obj
 
-    def program(self, owner: str, name: str, defines: dict | None = None, **stages) -> Program:
+    def program(self, owner: str, spec: ProgramSpec | str, defines: dict | None = None, **stages) -> Program:
+        """The compiled program of ``spec`` (a :class:`ProgramSpec`, or a library name with
+        ``defines`` and explicit stage files), recorded under ``owner``."""
+        if isinstance(spec, ProgramSpec):
+            name, defines, stages = spec.name, {**dict(spec.defines), **(defines or {})}, spec.stages()
+        else:
+            name = spec
         prog = self.shaders.program(name, defines, **stages)
         if not any(a.obj is prog and a.owner == owner for a in self.allocations):
             self._record(owner, "program", name, prog)

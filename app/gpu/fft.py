@@ -33,6 +33,7 @@ import moderngl
 import numpy as np
 
 from ..errors import ParamError
+from .programs import draw_fullscreen, fullscreen
 
 MIN_N = 4
 MAX_N = 1024
@@ -93,8 +94,7 @@ class GpuFFT:
             self._scratch = []
             self._fbos = []
         else:
-            self._prog = gpu.program(owner, FFT_STAGE, {"FFT_COUNT": self.count},
-                                     vert="common/fullscreen.vert", frag=f"{FFT_STAGE}.frag")
+            self._prog = gpu.program(owner, fullscreen(FFT_STAGE), {"FFT_COUNT": self.count})
             self._scratch = [self._own(gpu.texture(owner, f"fft scratch {i}", size, 4, dtype="f4", filter=nearest))
                              for i in range(self.count)]
             self._fbos = [self._own(gpu.framebuffer(owner, "fft data", self.textures)),
@@ -136,8 +136,7 @@ class GpuFFT:
     def _inverse_compute(self) -> None:
         ctx = self.gpu.ctx
         prog = self._prog
-        self.twiddles.use(0)
-        prog.set("uTwiddle", 0)
+        prog.bind_textures({"uTwiddle": self.twiddles})
         for axis in (0, 1):
             prog.set("uAxis", axis)
             for tex in self.textures:
@@ -151,21 +150,16 @@ class GpuFFT:
         sets = [self.textures, self._scratch]
         src = 0
         with ctx.scope(self._fbos[1], enable_only=moderngl.NOTHING):
-            self.twiddles.use(self.count)
-            prog.set("uTwiddle", self.count)
             prog.set("uN", self.n)
-            for i in range(self.count):
-                prog.set(f"uSrc{i}", i)
-            vao = prog.vao()
             for axis in (0, 1):
                 prog.set("uAxis", axis)
                 for stage in range(self.log2n):
                     dst = 1 - src
                     self._fbos[dst].use()
-                    for i, tex in enumerate(sets[src]):
-                        tex.use(i)
+                    prog.bind_textures({**{f"uSrc{i}": tex for i, tex in enumerate(sets[src])},
+                                        "uTwiddle": self.twiddles})
                     prog.set("uSpan", 1 << stage)
-                    vao.render(moderngl.TRIANGLES, vertices=3)
+                    draw_fullscreen(prog)
                     src = dst
         assert src == 0  # 2·log2 N passes: the result is back in self.textures
 

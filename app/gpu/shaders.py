@@ -42,6 +42,14 @@ STAGES = {
     "comp": "compute_shader",
 }
 SHADER_ENV = "NATURA_SHADERS"
+#: GL types of sampler uniforms (samplers use texture units; image uniforms do not).
+SAMPLER_TYPES = frozenset(
+    list(range(0x8B5D, 0x8B65))  # sampler1D … sampler2DRectShadow
+    + list(range(0x8DC0, 0x8DC6))  # array, buffer and cube shadow samplers
+    + list(range(0x8DC9, 0x8DD0)) + list(range(0x8DD1, 0x8DD9))  # isampler*, usampler*
+    + list(range(0x900C, 0x9010))  # cube-map arrays
+    + list(range(0x9108, 0x910E))  # multisample
+)
 #: Line numbers of the file with source id ``k`` start at ``k * LINE_STRIDE`` (see module doc).
 LINE_STRIDE = 100_000
 
@@ -288,6 +296,7 @@ class Program:
     generation: int = 0  # increases with each successful compile
     stamps: dict[Path, Any] = field(default_factory=dict)
     _vaos: dict = field(default_factory=dict)
+    _samplers: tuple[int, list[str]] | None = None
     on_reload: list[Callable[["Program"], None]] = field(default_factory=list)
 
     @property
@@ -393,6 +402,49 @@ class Program:
     def set_many(self, values: dict[str, Any]) -> None:
         for k, v in values.items():
             self.set(k, v)
+
+    def set_array(self, uniform: str, rows: Any) -> None:
+        """Write a uniform array (``vec4 uRows[16]``) from rows of numbers: missing rows are
+        zeros, extra rows are dropped, and an array the compiler removed is tolerated."""
+        prog = self.program
+        if prog is None or uniform not in prog:
+            return
+        member = prog[uniform]
+        arr = np.zeros((member.array_length, member.dimension), dtype="f4")
+        data = np.asarray(rows, dtype="f4").reshape(-1, member.dimension)[: member.array_length]
+        arr[: len(data)] = data
+        member.write(arr.tobytes())
+
+    def samplers(self) -> list[str]:
+        """The sampler uniforms the linked program kept, in location order."""
+        prog = self.program
+        if prog is None:
+            return []
+        if self._samplers is None or self._samplers[0] != self.generation:
+            found = []
+            for name in prog:
+                member = prog[name]
+                if isinstance(member, moderngl.Uniform) and getattr(member, "gl_type", None) in SAMPLER_TYPES:
+                    found.append((member.location, name))
+            self._samplers = (self.generation, [name for _, name in sorted(found)])
+        return self._samplers[1]
+
+    def bind_textures(self, textures: dict[str, Any]) -> None:
+        """Bind textures by sampler name, with texture units assigned here: the given
+        textures take units 0, 1, … in the order given, and every other sampler of the program
+        gets a unit of its own after them (two samplers of different types on one unit fail
+        the draw, and an unset sampler reads unit 0). Names the compiler removed are skipped."""
+        present = self.samplers()
+        given = {name: tex for name, tex in textures.items() if tex is not None and name in present}
+        unit = 0
+        for name, texture in given.items():
+            texture.use(unit)
+            self.program[name].value = unit
+            unit += 1
+        for name in present:
+            if name not in given:
+                self.program[name].value = unit
+                unit += 1
 
     def uniforms(self) -> list[str]:
         prog = self.program

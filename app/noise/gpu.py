@@ -81,6 +81,10 @@ class GradientNoiseTextures:
             self._textures[key] = tex
         return tex
 
+    def textures(self, seed: int | None = None, uniform: str = PERMUTATION_UNIFORM) -> dict[str, moderngl.Texture]:
+        """``{sampler: texture}`` for ``Program.bind_textures`` (units assigned there)."""
+        return {uniform: self.texture(seed)}
+
     def bind(self, prog: Any, seed: int | None = None, unit: int = 0,
              uniform: str = PERMUTATION_UNIFORM) -> moderngl.Texture:
         """Bind the texture for ``seed`` to texture unit ``unit`` and point ``uniform`` of
@@ -144,7 +148,7 @@ class NoiseProbe:
 
         ``perlin_seed`` picks the permutation texture; ``seed``, ``period``, ``octaves``,
         ``lacunarity``, ``gain`` and ``params`` fill the probe's uniforms; ``textures`` binds
-        extra samplers (uniform name → texture) to units 1, 2, ...; ``uniforms`` sets any
+        extra samplers (uniform name → texture; units assigned by ``Program.bind_textures``); ``uniforms`` sets any
         other uniform. Returns float32 (N, 4)."""
         pts = np.asarray(points, dtype=np.float32)
         if pts.ndim == 1:
@@ -155,10 +159,7 @@ class NoiseProbe:
         padded = np.zeros((n, 4), dtype=np.float32)
         padded[:, :dims] = pts
         prog = self.program(expr, defines)
-        self.permutations.bind(prog, perlin_seed, unit=0)
-        for unit, (name, tex) in enumerate((textures or {}).items(), start=1):
-            tex.use(location=unit)
-            prog.set(name, unit)
+        prog.bind_textures({**self.permutations.textures(perlin_seed), **(textures or {})})
         period = tuple(int(v) for v in np.broadcast_to(np.asarray(period), (4,)))
         prog.set_many({
             "uProbeCount": n, "uProbeSeed": int(seed) & 0xFFFFFFFF, "uProbePeriod": period,
