@@ -1,18 +1,185 @@
-"""What every pass sees in a frame: camera, time, resolution, lights and wind.
+"""What every pass sees in a frame, and the typed slots through which effects meet.
 
-Effects earlier in a scene's list fill in what later ones read: the sky sets the sun, the moon
-and the main light (sun by day, moon by night); later issues add wind and water queries.
+Effects never name each other. A *producer* fills a slot of the :class:`FrameContext` in its
+``update`` (or, for GPU resources, hands over an object that makes them on request), and a
+*consumer* reads the slot. Each effect declares the slots it ``produces`` and ``consumes``
+(``"required"`` or ``"optional"``); a scene whose effects require a slot that none of them
+produces is refused when it is built, with one line naming both. An optional slot that no active
+effect fills has a documented fallback at its consumer.
+
+The slots (:data:`SLOTS` is the machine-readable list):
+
+``hour``, ``sun``, ``moon``, ``main_light``
+    The time of day and the lights (:class:`~app.sim.daynight.Light`: direction *toward* the
+    light, colour, intensity). ``main_light`` is what lit surfaces use: the sun by day, the moon
+    by night. Filled by a sky (day–night or analytic).
+``environment``
+    An :class:`Environment`: the scene's reflection probe, a cubemap of linear radiance with or
+    without the sun disk, re-rendered by its producer only when it changed.
+``wind``
+    (x, z) wind velocity in m/s over the scene.
+``water``
+    A :class:`WaterSurface`: height, displacement and normal of the water at world points, and
+    the simulation time those answers describe.
+``image``
+    The :class:`SceneImage` the frame is drawn into: colour (linear radiance of every stage drawn
+    so far) and depth (window depth of the opaque geometry drawn so far), for effects that
+    composite over it or read it (clouds clip at the depth, water refracts the colour).
+``shadows``
+    Shadow maps by light name (:class:`ShadowMap`), filled in the shadow stage.
+``exposure``
+    A factor on ``output.exposure`` (the atmosphere thesis's "pupil").
+
+Stages (:class:`Stage`) order the passes of a frame: each pass says in which stage it runs, and
+the scene runs them stage by stage (effects in the scene's order within a stage).
 """
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass, field
-from typing import Any
+from enum import IntEnum
+from typing import TYPE_CHECKING, Any, Iterator, Protocol, runtime_checkable
 
 import numpy as np
 
+from .errors import NaturaError
 from .sim.camera import Camera
 from .sim.daynight import Light
+
+if TYPE_CHECKING:
+    from .gpu.targets import RenderTarget
+
+
+class Stage(IntEnum):
+    """When a pass runs within a frame, in this order.
+
+    * ``SHADOW`` — depth from each shadowed light into ``frame.shadows``;
+    * ``ENVIRONMENT`` — reflection probes, re-rendered only when what they show changed;
+    * ``BACKGROUND`` — what is behind everything (sky): overwrites every pixel;
+    * ``OPAQUE`` — solid geometry, depth-tested and depth-writing;
+    * ``WATER`` — water surfaces seen from above: they read the opaque image (refraction) and
+      are covered by the volumes in front of them;
+    * ``TRANSPARENT`` — blended surfaces, back to front;
+    * ``VOLUMES`` — ray-marched media composited over the image (clouds), clipped at its depth;
+    * ``FOG`` — participating media in front of everything: distance and height fog, aerial
+      perspective, and the water when the camera is in it or at it (seen from below, the
+      surface is part of the medium the camera is in, so it draws after the volumes and
+      Snell's window shows them): an effect may pick its stage per frame;
+    * ``POST`` — image-space effects on the finished radiance (outlines, bloom);
+    * ``OVERLAY`` — HUD and debug views, drawn last.
+    """
+
+    SHADOW = 10
+    ENVIRONMENT = 20
+    BACKGROUND = 30
+    OPAQUE = 40
+    WATER = 50
+    TRANSPARENT = 60
+    VOLUMES = 70
+    FOG = 80
+    POST = 90
+    OVERLAY = 100
+
+
+@runtime_checkable
+class Environment(Protocol):
+    """A reflection probe: the scene's surroundings as a cubemap (linear radiance, mipmapped)."""
+
+    def cubemap(self, sun: bool = True) -> Any:
+        """The cubemap, with the sun disk or without it (for surfaces that add the sun as an
+        analytic highlight); made on the first request, re-rendered only when it changed."""
+        ...
+
+
+@runtime_checkable
+class WaterSurface(Protocol):
+    """The water as floating objects and cameras query it (all lengths in metres, world axes,
+    arrays broadcast over the points)."""
+
+    #: simulation time [s] the answers describe; None before the first one (flat water)
+    query_time: float | None
+
+    def height(self, x: Any, z: Any) -> np.ndarray:
+        """Water height above the world points (x, z)."""
+        ...
+
+    def displacement(self, x: Any, z: Any) -> np.ndarray:
+        """(D_x, η, D_z) of the surface point whose rest position is (x, z)."""
+        ...
+
+    def normal(self, x: Any, z: Any) -> np.ndarray:
+        """Unit normal of the displaced surface above the world points (x, z), (..., 3)."""
+        ...
+
+    def water(self, x: Any, z: Any, iterations: int | None = None) -> Any:
+        """Height, displacement and normal at once (an ``app.sim.ocean.WaterQuery``)."""
+        ...
+
+
+@dataclass
+class SceneImage:
+    """The target a frame is drawn into, as compositing effects read it."""
+
+    target: RenderTarget
+
+    @property
+    def colour(self) -> Any:
+        return self.target.color
+
+    @property
+    def depth(self) -> Any:
+        """The depth texture (None for a target without depth)."""
+        return getattr(self.target, "depth", None)
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self.target.size
+
+    @contextlib.contextmanager
+    def depth_values(self) -> Iterator[Any]:
+        """The depth texture sampled as values (its compare mode off) for the duration, then
+        restored; yields it (None without depth)."""
+        depth = self.depth
+        if depth is None:
+            yield None
+            return
+        old = depth.compare_func
+        depth.compare_func = ""
+        try:
+            yield depth
+        finally:
+            depth.compare_func = old
+
+
+@dataclass
+class ShadowMap:
+    """One light's shadow map, as receivers sample it."""
+
+    light: str  # the light's name ("sun", "lamp 2", ...)
+    kind: str  # "directional" | "spot" | "point"
+    texture: Any  # depth texture (a cubemap for a point light)
+    view_proj: np.ndarray  # world → the light's clip space (directional and spot)
+    bias: float = 0.0
+
+
+#: slot name → what it holds (the attributes of FrameContext effects may produce and consume)
+SLOTS: dict[str, str] = {
+    "hour": "time of day in hours",
+    "sun": "the sun (Light)",
+    "moon": "the moon (Light)",
+    "main_light": "the light surfaces are lit by (Light)",
+    "environment": "reflection probe (Environment)",
+    "wind": "(x, z) wind velocity in m/s",
+    "water": "water heights, displacements and normals (WaterSurface)",
+    "image": "colour and depth drawn so far (SceneImage)",
+    "shadows": "shadow maps by light name (ShadowMap)",
+    "exposure": "factor on output.exposure",
+}
+
+
+class SlotMissing(NaturaError):
+    """A consumer needed a slot that no active effect filled."""
 
 
 @dataclass
@@ -26,14 +193,32 @@ class FrameContext:
     sun: Light | None = None
     moon: Light | None = None
     main_light: Light | None = None
+    environment: Environment | None = None
     wind: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    water: WaterSurface | None = None
+    image: SceneImage | None = None
+    shadows: dict[str, ShadowMap] = field(default_factory=dict)
     exposure: float = 1.0  # multiplies output.exposure (e.g. the atmosphere thesis's "pupil")
     interactive: bool = False  # rendered in the window (frames follow each other)
-    extra: dict[str, Any] = field(default_factory=dict)
 
     @property
     def aspect(self) -> float:
         return self.size[0] / self.size[1]
+
+    def image_for(self, target: RenderTarget) -> SceneImage:
+        """The ``image`` slot when it is ``target`` (the scene sets it before the passes run);
+        for a pass run on its own, ``target`` wrapped as one."""
+        if self.image is not None and self.image.target is target:
+            return self.image
+        return SceneImage(target)
+
+    def require(self, slot: str, by: str) -> Any:
+        """The value of ``slot``, or a :class:`SlotMissing` error naming the consumer ``by``."""
+        value = getattr(self, slot)
+        if value is None:
+            raise SlotMissing(f"effect {by!r} needs the frame slot {slot!r} ({SLOTS[slot]}), which no active "
+                              "effect of the scene fills: allowed a scene with an effect that produces it")
+        return value
 
     def camera_uniforms(self) -> dict[str, Any]:
         return self.camera.uniforms(self.aspect)

@@ -502,7 +502,7 @@ class Wall(Effect):
     name = "wall"
     distance = 500.0
 
-    def render(self, frame, target):
+    def draw(self, frame, target):
         cam = frame.camera
         n, f = cam.near, cam.far
         # window depth of a point at view depth `distance` (the scene's perspective projection)

@@ -47,7 +47,7 @@ def top_view(session, n: int = 256, spec=MATERIAL) -> np.ndarray:
     frame = session.scene.frame((n, n))
     target.use()
     target.clear((0, 0, 0, 0))
-    eff.render(frame, target, spec, view_proj=TOP_VIEW)
+    eff.draw(frame, target, spec, view_proj=TOP_VIEW)
     img = target.read()
     session.gpu.free(target)
     return img
@@ -170,7 +170,7 @@ def test_object_space_anchoring(materials, objects):
         for spec, out in ((MATERIAL, colours), (MATERIAL_OBJECT_POS, positions)):
             target.use()
             target.clear((0, 0, 0, 0))
-            eff.render(frame, target, spec)
+            eff.draw(frame, target, spec)
             out.append(target.read())
         s.gpu.free(target)
         covered = positions[0][..., 3] > 0.5

@@ -50,7 +50,7 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
             return Pass(p.name, run)
 
         passes = [trivial_pass(session, target), Pass("reference.clear", target.clear)]
-        passes += [cleared(p) for p in session.scene.passes(frame, target)]
+        passes += [cleared(p) for p in session.scene.bench_passes(frame, target)]
         passes.append(Pass("frame", lambda: session.scene.render(frame, target)))
         hardware = not gpu.caps.software
         timings = {p.name: time_call(gpu.ctx, p.name, p.run, warmup, repeat, gpu_queries=hardware) for p in passes}

@@ -28,7 +28,7 @@ def _render(session, eff: Materials, target, frame, spec=MATERIAL, view_proj=Non
     def run():
         target.use()
         target.clear((*session.scene.background, 1.0))
-        eff.render(frame, target, spec, view_proj=view_proj, baked=baked)
+        eff.draw(frame, target, spec, view_proj=view_proj, baked=baked)
 
     return run
 

@@ -1,25 +1,33 @@
-"""The effect interface: one module per effect, owning its GL resources, parameters and passes.
+"""The effect interface: one package per effect, owning its GL resources, parameters and passes.
 
 An effect declares
 
+* ``name`` — one name for the effect, its parameter group, its GLSL folder and its tests;
 * ``programs`` — every shader program it may compile (``natura shaders check`` compiles them
   all, and their ``// @param`` annotations become parameters of the effect);
 * ``python_params()`` — tunables that live on the CPU;
-* ``update(frame, dt)`` — CPU work and what it adds to the frame context;
-* ``render(frame, target)`` — its passes, in order;
-* ``passes()`` — named callables for ``natura bench``.
+* ``stages`` — the render stages it draws in (:class:`app.frame.Stage`);
+* ``produces`` / ``consumes`` — the frame slots it fills and reads (:mod:`app.frame`), the
+  latter ``"required"`` or ``"optional"`` (an optional slot has a documented fallback);
+* ``update(frame, dt)`` — CPU work, and the slots it fills;
+* ``passes(frame, target)`` — this frame's passes, each in its stage; the scene runs every
+  effect's passes stage by stage. A single-pass effect implements ``draw(frame, target)``
+  instead (one pass in its first stage);
+* ``bench_passes(frame, target)`` — what ``natura bench`` times (the passes, plus work the
+  frame only does on demand, such as a forced re-render of a cached probe).
 
 GL resources are created lazily through ``self.gpu`` under the effect's name, so a scene
-without the effect allocates nothing of it.
+without the effect allocates nothing of it. An effect never imports or names another effect:
+what it needs from others comes through the frame's slots.
 """
 
 from __future__ import annotations
 
-import abc
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, ClassVar
 
+from ..frame import Stage
 from ..gpu.cache import Keyed
 from ..gpu.programs import ProgramSpec, fullscreen  # noqa: F401  (re-exported until the package split)
 from ..gpu.shaders import PreprocessError, ShaderLibrary
@@ -33,17 +41,26 @@ if TYPE_CHECKING:
 
 @dataclass
 class Pass:
+    """A named piece of a frame's work and the stage it runs in."""
+
     name: str
     run: Callable[[], None]
+    stage: Stage = Stage.OPAQUE
 
 
-class Effect(abc.ABC):
+class Effect:
     name: ClassVar[str] = ""
     title: ClassVar[str] = ""
     spec: ClassVar[str] = ""  # digest the effect implements, e.g. "spec/000"
     programs: ClassVar[tuple[ProgramSpec, ...]] = ()
     #: groups of parameters the effect owns besides its own name
     extra_groups: ClassVar[tuple[str, ...]] = ()
+    #: render stages the effect draws in; the first is where draw() runs
+    stages: ClassVar[tuple[Stage, ...]] = (Stage.OPAQUE,)
+    #: frame slots the effect fills (names of app.frame.SLOTS)
+    produces: ClassVar[frozenset[str]] = frozenset()
+    #: frame slots the effect reads: slot name → "required" or "optional"
+    consumes: ClassVar[dict[str, str]] = {}
 
     # -- parameters ------------------------------------------------------------------------
     @classmethod
@@ -79,10 +96,9 @@ class Effect(abc.ABC):
         return cls.python_params() + cls.glsl_params(library)
 
     # -- life ------------------------------------------------------------------------------
-    def __init__(self, gpu: "Gpu", params: ParamSet, scene=None):
+    def __init__(self, gpu: Gpu, params: ParamSet):
         self.gpu = gpu
         self.params = params
-        self.scene = scene
         self._keyed: list[Keyed] = []
 
     def keyed(self, build: Callable, release: Callable | None = None) -> Keyed:
@@ -109,19 +125,30 @@ class Effect(abc.ABC):
             if p.uniform and p.group == self.name:
                 prog.set(p.uniform, self.params[p.name])
 
-    def update(self, frame: "FrameContext", dt: float) -> None:
+    def update(self, frame: FrameContext, dt: float) -> None:
         """CPU work for this frame; may add to ``frame`` (lights, wind...)."""
 
-    @abc.abstractmethod
-    def render(self, frame: "FrameContext", target: "RenderTarget") -> None:
-        """Draw the effect's passes into ``target`` (linear radiance)."""
+    def draw(self, frame: FrameContext, target: RenderTarget) -> None:
+        """The pass of a single-pass effect (the default :meth:`passes` runs it)."""
+        raise NotImplementedError(f"effect {self.name!r} implements neither passes() nor draw()")
+
+    def passes(self, frame: FrameContext, target: RenderTarget) -> list[Pass]:
+        """This frame's passes, each in its stage (default: :meth:`draw` in the first stage)."""
+        return [Pass(self.name, lambda: self.draw(frame, target), self.stages[0])]
+
+    def bench_passes(self, frame: FrameContext, target: RenderTarget) -> list[Pass]:
+        """What ``natura bench`` times: the frame's passes unless an effect adds more."""
+        return self.passes(frame, target)
+
+    def render(self, frame: FrameContext, target: RenderTarget) -> None:
+        """Run this effect's passes alone, in order, into ``target`` (linear radiance)."""
+        frame.image = frame.image_for(target)
+        for p in self.passes(frame, target):
+            p.run()
 
     def panel_notes(self) -> list[str]:
         """Lines the window's panel shows above this effect's widgets (live figures)."""
         return []
-
-    def passes(self, frame: "FrameContext", target: "RenderTarget") -> list[Pass]:
-        return [Pass(self.name, lambda: self.render(frame, target))]
 
     def release(self) -> None:
         for k in self._keyed:

@@ -11,18 +11,18 @@ Per frame:
 * the shape, detail and weather textures come from :mod:`app.bakes` (cached on disk), created
   on the first render under the owner ``clouds`` from the ``bake_*`` parameters, with bake
   progress reported through ``gpu.progress`` like the noise lab;
-* the light: ``frame.main_light`` when a sky effect earlier in the scene set it (sun by day,
-  moon by night) and ``clouds.sun_from_sky`` is on, else ``clouds.sun_direction`` /
+* the light: the frame's ``main_light`` slot when a sky fills it (sun by day, moon by night)
+  and ``clouds.sun_from_sky`` is on, else (the fallback) ``clouds.sun_direction`` /
   ``sun_color`` / ``sun_intensity``;
 * wind: the density field is translated rigidly by ``wind_speed · time · (wind_dir_x,
   wind_dir_y)`` metres along world (x, z) — weather map and both noises alike, each offset
   wrapped by its own tile on the CPU in float64 (so float32 never loses the fraction and
   rendering at time T equals rendering at 0 with the field moved); speed 0 gives identical
   frames (nothing else depends on time: the jitter is static per pixel);
-* pass 1 marches into the effect's own layer target (RGBA32F: premultiplied radiance,
-  transmittance), clipping each ray at the scene depth (``target.depth``), so clouds behind
-  opaque geometry drawn before this effect are hidden; pass 2 blends the layer over
-  ``target`` (``out = rgb + T · scene``; a missed pixel keeps the scene's value exactly).
+* pass 1 (volumes stage) marches into the effect's own layer target (RGBA32F: premultiplied
+  radiance, transmittance), clipping each ray at the depth of the frame's ``image`` slot, so
+  clouds behind opaque geometry drawn in earlier stages are hidden; pass 2 blends the layer
+  over the image (``out = rgb + T · scene``; a missed pixel keeps the scene's value exactly).
 
 Presets (spec/001 §2, Ch. 6): ``resources/presets/clouds-<name>.toml`` for cumulus,
 stratocumulus, stratus and the lighting preset. Two ways to use them:
@@ -47,7 +47,6 @@ helpers with.
 
 from __future__ import annotations
 
-import contextlib
 import math
 import tomllib
 from pathlib import Path
@@ -61,6 +60,7 @@ from ..errors import ParamError
 from ..params import Param
 from .clouds_reprojection import REPROJECT, TemporalReprojection
 from .layer import LAYER_COMPOSITE, composite_layer
+from ..frame import Stage
 from ..gpu.programs import draw_fullscreen, fullscreen
 from .base import Effect, Pass
 
@@ -84,6 +84,8 @@ class Clouds(Effect):
     spec = SPEC
     programs = (CLOUD_MARCH, LAYER_COMPOSITE, REPROJECT)
     extra_groups = ("bake_shape", "bake_detail", "bake_weather")
+    stages = (Stage.VOLUMES,)
+    consumes = {"main_light": "optional", "image": "optional"}
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -113,8 +115,8 @@ class Clouds(Effect):
                   step=0.01, section=f"{s} §2"),
         ] + bakes.bake_params()
 
-    def __init__(self, gpu, params, scene=None):
-        super().__init__(gpu, params, scene)
+    def __init__(self, gpu, params):
+        super().__init__(gpu, params)
         self.bakes = BakedTextures(gpu, self.name)
         self._layer = None  # what the composite reads: the marched target or the resolved history
         self._own_layer = None  # the full-size march target (without reprojection)
@@ -221,8 +223,7 @@ class Clouds(Effect):
 
     # -- passes ----------------------------------------------------------------------------
     def render_layer(self, frame, target) -> None:
-        depth = getattr(target, "depth", None)
-        with _depth_values(depth):  # the march and the resolve read depth values, not comparisons
+        with frame.image_for(target).depth_values() as depth:  # the march and the resolve read depth values, not comparisons
             mode = self.params["clouds.reprojection"]
             if mode == "on" or (mode == "window" and frame.interactive):
                 if self._reprojection is None:
@@ -239,13 +240,14 @@ class Clouds(Effect):
                 self.march(frame, target, self._layer, (-1, -1))
 
     def march(self, frame, target, layer, block_sub) -> None:
-        """The view march into ``layer``: full size, or one pixel of each 4×4 block. The target's
-        depth texture must be readable as values (``render_layer`` sees to it)."""
+        """The view march into ``layer``: full size, or one pixel of each 4×4 block, clipped at
+        the depth of ``target`` (the scene image), which must be readable as values
+        (``render_layer`` sees to it)."""
         ctx = self.gpu.ctx
         prog = self.program(CLOUD_MARCH)
         # all bakes first, then the bindings: a bake run now uses texture units of its own
         weather, shape, detail = (self.texture_for(kind) for kind in ("weather", "shape", "detail"))
-        depth = getattr(target, "depth", None)
+        depth = frame.image_for(target).depth
         prog.bind_textures({"uWeather": weather, "uShape": shape, "uDetail": detail, "uSceneDepth": depth})
         self.apply_params(prog)
         prog.set_many(frame.camera_uniforms())
@@ -259,27 +261,9 @@ class Clouds(Effect):
     def composite(self, target) -> None:
         composite_layer(self, self._layer.color, target)
 
-    def render(self, frame, target) -> None:
-        self.render_layer(frame, target)
-        self.composite(target)
-
     def passes(self, frame, target) -> list[Pass]:
-        return [Pass("clouds.march", lambda: self.render_layer(frame, target)),
-                Pass("clouds.composite", lambda: self.composite(target))]
-
-
-@contextlib.contextmanager
-def _depth_values(depth):
-    """Read a depth texture as values (compare mode off) for the duration, then restore it."""
-    if depth is None:
-        yield
-        return
-    old = depth.compare_func
-    depth.compare_func = ""
-    try:
-        yield
-    finally:
-        depth.compare_func = old
+        return [Pass("clouds.march", lambda: self.render_layer(frame, target), Stage.VOLUMES),
+                Pass("clouds.composite", lambda: self.composite(target), Stage.VOLUMES)]
 
 
 def density_length(base_height: float, max_height: float) -> float:

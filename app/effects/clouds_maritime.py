@@ -15,20 +15,20 @@ baked once and cached on disk; ``clouds_b.volume_resolution`` and friends change
 
 How a scene composes it:
 
-* **order**: after the background (``Sky`` or ``Preetham``) and the opaque geometry, before
-  fog and UI. It blends over whatever the target holds, so it must come after everything that
-  the clouds should cover;
+* **stage**: volumes — after the background (``Sky`` or ``Preetham``), the opaque geometry and
+  water seen from above, before fog and the overlay. It blends over whatever the image holds;
 * **update()** moves ``_CloudOffset`` with the wind: ``clouds_b.wind_speed`` along
-  ``clouds_b.wind_direction`` plus ``frame.wind`` (read as (x, z) in m/s), so the base shape
-  drifts at the wind's speed in metres per second and the detail noise at twice that (the
-  thesis's offset factors 0.1 and 0.2), and the coverage map drifts with the base shape
-  (beyond the thesis, which leaves the map still); speed 0 gives identical frames;
-* **render()** reads ``frame.main_light`` (else ``frame.sun``; else its own
+  ``clouds_b.wind_direction`` plus the frame's ``wind`` slot (read as (x, z) in m/s; filled
+  only by effects listed before this one in the scene), so the base shape drifts at the wind's
+  speed in metres per second and the detail noise at twice that (the thesis's offset factors
+  0.1 and 0.2), and the coverage map drifts with the base shape (beyond the thesis, which
+  leaves the map still); speed 0 gives identical frames;
+* **passes** read the ``main_light`` slot (else ``sun``; the fallback: its own
   ``clouds_b.sun_elevation``/``sun_azimuth``/``sun_color``) for _SunDir and _SunColor, the
-  camera from the frame, and the target's depth texture (``target.depth``; none = everything
-  far). Pass 1 marches into a cloud layer of its own (rgb = in-scattered light, a =
-  transmittance); pass 2 blends it into the target: target = target·a + rgb (the thesis's
-  background·transmittance + lightEnergy·SunColor). The target's alpha and depth are kept.
+  camera from the frame, and the depth of the ``image`` slot (none = everything far). Pass 1
+  marches into a cloud layer of its own (rgb = in-scattered light, a = transmittance); pass 2
+  blends it into the image: target = target·a + rgb (the thesis's background·transmittance +
+  lightEnergy·SunColor). The target's alpha and depth are kept.
 
 The numpy twins of the shader functions are in :mod:`app.sim.clouds_maritime`.
 """
@@ -44,6 +44,7 @@ from .. import bakes
 from ..bakes.textures import BakedTextures
 from ..params import Param
 from ..sim import clouds_maritime as twin
+from ..frame import Stage
 from ..gpu.programs import draw_fullscreen, fullscreen
 from .base import Effect, Pass
 from .layer import LAYER_COMPOSITE, composite_layer
@@ -56,6 +57,8 @@ class CloudsMaritime(Effect):
     title = "Volumetric clouds, model B (maritime thesis)"
     spec = "spec/000"
     programs = (CLOUDS_B, LAYER_COMPOSITE)
+    stages = (Stage.VOLUMES,)
+    consumes = {"main_light": "optional", "sun": "optional", "wind": "optional", "image": "optional"}
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -81,8 +84,8 @@ class CloudsMaritime(Effect):
                   kind="vec3", step=0.01, section=s),
         ]
 
-    def __init__(self, gpu, params, scene=None):
-        super().__init__(gpu, params, scene)
+    def __init__(self, gpu, params):
+        super().__init__(gpu, params)
         self.bakes = BakedTextures(gpu, self.name)
         self._layer = None
         self.cloud_offset = np.zeros(3)
@@ -141,17 +144,16 @@ class CloudsMaritime(Effect):
     # -- passes ----------------------------------------------------------------------------
     def march(self, frame, target) -> None:
         """Pass 1: the view march into the cloud layer."""
-        ctx = self.gpu.ctx
         prog = self.program(CLOUDS_B)
         self.apply_params(prog)
         layer = self.layer(target.size)
         # all bakes first, then the bindings: a bake run now uses texture units of its own
         shape, detail, weather = (self.texture(kind) for kind in ("shape", "detail", "weather"))
-        depth = getattr(target, "depth", None)
-        saved_compare = None
-        if depth is not None:
-            saved_compare = depth.compare_func
-            depth.compare_func = ""  # sample the stored depth, not a shadow comparison
+        with frame.image_for(target).depth_values() as depth:  # the stored depth, not a shadow comparison
+            self._march(frame, prog, layer, shape, detail, weather, depth)
+
+    def _march(self, frame, prog, layer, shape, detail, weather, depth) -> None:
+        ctx = self.gpu.ctx
         prog.bind_textures({"uVolumeNoise": shape, "uDetailNoise": detail, "uGradientNoise": weather,
                             "uSceneDepth": depth})
         light_dir, light_color = self.light(frame)
@@ -166,20 +168,14 @@ class CloudsMaritime(Effect):
         layer.use()
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         draw_fullscreen(prog)
-        if depth is not None:
-            depth.compare_func = saved_compare
 
     def composite(self, frame, target) -> None:
         """Pass 2: target = target·transmittance + in-scattered light (alpha kept)."""
         composite_layer(self, self.layer(target.size).color, target)
 
-    def render(self, frame, target) -> None:
-        self.march(frame, target)
-        self.composite(frame, target)
-
     def passes(self, frame, target) -> list[Pass]:
-        return [Pass("clouds_b.march", lambda: self.march(frame, target)),
-                Pass("clouds_b.composite", lambda: self.composite(frame, target))]
+        return [Pass("clouds_b.march", lambda: self.march(frame, target), Stage.VOLUMES),
+                Pass("clouds_b.composite", lambda: self.composite(frame, target), Stage.VOLUMES)]
 
     def read_layer(self) -> np.ndarray:
         """(h, w, 4) float32 of the last cloud layer: rgb in-scattered light, a transmittance."""

@@ -18,7 +18,8 @@ from ..imageio import srgb_to_linear
 from ..noise.gpu import value_noise_texture
 from ..noise.value import ValueNoise, ease_in
 from ..params import Param
-from .base import Effect, ProgramSpec
+from ..gpu.programs import ProgramSpec
+from .base import Effect
 from .meshes import Mesh, cube, slice_quad, torus, uv_sphere
 
 MATERIALS = ("wood", "marble", "granite")
@@ -120,8 +121,8 @@ class Materials(Effect):
             Param("granite.light_color", (0.9, 0.88, 0.86), 0.0, 1.0, "light grains", kind="color", srgb=True),
         ]
 
-    def __init__(self, gpu, params, scene=None):
-        super().__init__(gpu, params, scene)
+    def __init__(self, gpu, params):
+        super().__init__(gpu, params)
         self._meshes: dict[str, Mesh] = {}
         self._value_tex = self.keyed(lambda seed: value_noise_texture(gpu, self.name, seed), release=gpu.free)
         self._gradient = None
@@ -196,8 +197,8 @@ class Materials(Effect):
         result.texture.repeat_x = result.texture.repeat_y = result.texture.repeat_z = False
         return result
 
-    def render(self, frame, target, spec: ProgramSpec = MATERIAL, view_proj: np.ndarray | None = None,
-               baked=None) -> None:
+    def draw(self, frame, target, spec: ProgramSpec = MATERIAL, view_proj: np.ndarray | None = None,
+             baked=None) -> None:
         """Draw the meshes; ``view_proj`` replaces the camera's (tests look at the slice from above);
         ``baked`` is a noise volume from :meth:`bake_noise` for the BAKED_NOISE variants."""
         ctx = self.gpu.ctx

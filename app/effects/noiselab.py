@@ -12,6 +12,7 @@ import moderngl
 from .. import bakes
 from ..bakes.textures import BakedTextures
 from ..params import Param
+from ..frame import Stage
 from ..gpu.programs import draw_fullscreen, fullscreen
 from .base import Effect
 
@@ -27,6 +28,7 @@ class NoiseLab(Effect):
     spec = "spec/001"
     programs = (NOISE_VIEW,) + tuple(spec for p in bakes.PROGRAMS.values() for spec in (p.compute, p.fragment))
     extra_groups = ("bake_shape", "bake_detail", "bake_weather")
+    stages = (Stage.BACKGROUND,)
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -41,8 +43,8 @@ class NoiseLab(Effect):
             Param("noise.octaves", 4, 1, 8, "octaves of the live fractal sums", kind="int"),
         ] + bakes.bake_params()
 
-    def __init__(self, gpu, params, scene=None):
-        super().__init__(gpu, params, scene)
+    def __init__(self, gpu, params):
+        super().__init__(gpu, params)
         self.bakes = BakedTextures(gpu, self.name)
         self._extra: dict[str, object] = {}  # value-noise table, permutation textures
 
@@ -58,7 +60,7 @@ class NoiseLab(Effect):
         if self.params["noise.animate"] and dt > 0:
             self.params.set("noise.slice", (self.params["noise.slice"] + 0.05 * dt) % 1.0)
 
-    def render(self, frame, target) -> None:
+    def draw(self, frame, target) -> None:
         p = self.params
         view = p["noise.view"]
         prog = self.program(NOISE_VIEW)

@@ -28,6 +28,7 @@ import numpy as np
 from ..errors import ParamError
 from ..params import Param
 from ..sim import ocean as oc
+from ..frame import Stage
 from ..gpu.copy import ColourCopy
 from ..gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from .base import Effect, Pass
@@ -130,6 +131,10 @@ class Ocean(Effect):
     title = "Ocean"
     spec = "spec/000"
     programs = (SURFACE, FAR, UNDERWATER) + SIMULATION
+    #: water stage seen from above; fog stage near or under the surface (see passes())
+    stages = (Stage.WATER, Stage.FOG)
+    produces = frozenset({"wind", "water"})
+    consumes = {"environment": "optional", "main_light": "optional", "image": "optional"}
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -196,8 +201,8 @@ class Ocean(Effect):
         ]
 
     # -- life ------------------------------------------------------------------------------
-    def __init__(self, gpu, params, scene=None):
-        super().__init__(gpu, params, scene)
+    def __init__(self, gpu, params):
+        super().__init__(gpu, params)
         self.sim = None  # GpuOceanSim, only for the FFT model
         self._foam_key = None
         self._foam: list[tuple[float, float]] = []
@@ -376,7 +381,7 @@ class Ocean(Effect):
                 a, k, _ = self.sine_wave()
                 self.resolved_mss = 0.5 * (k * a) ** 2
         frame.wind = wind_vector(p["ocean.wind_direction"]) * p["ocean.wind"]
-        frame.extra["ocean"] = self
+        frame.water = self
         self.camera_height_water = float(self.height(self.camera_pos[0], self.camera_pos[2]))
         self.underwater = bool(self.camera_pos[1] < self.camera_height_water)
 
@@ -420,6 +425,10 @@ class Ocean(Effect):
         """Water height [m] above world points (x, z): :meth:`water` without the normal."""
         return oc.invert_horizontal_displacement(self.displacement, x, z,
                                                  self.params["ocean.query_iterations"])[2][..., 1]
+
+    def normal(self, x, z) -> np.ndarray:
+        """Unit normal of the water above world points (x, z): :meth:`water`'s normal."""
+        return self.water(x, z).normal
 
     def water(self, x, z, iterations: int | None = None) -> oc.WaterQuery:
         """Height, displacement and unit normal of the water above world points (x, z).
@@ -516,13 +525,10 @@ class Ocean(Effect):
         return {"uEnvironment": env}
 
     def environment(self, frame):
-        """The sky's environment cubemap (the reflection probe) without the sun disk — the main
-        light's specular lobe draws the sun — or a flat grey one without a sky."""
-        scene = self.scene
-        if scene is not None and scene.has_effect("sky"):
-            sky = scene.effect("sky")
-            if scene.active(sky):
-                return sky.environment(frame, sun=False)  # the sun is the analytic glitter
+        """The frame's environment probe without the sun disk — the main light's specular lobe
+        draws the sun — or, the fallback when no effect fills the slot, a flat grey cubemap."""
+        if frame.environment is not None:
+            return frame.environment.cubemap(sun=False)  # the sun is the analytic glitter
         if self._flat_env is None:
             self._flat_env = self.gpu.texture_cube(self.name, "flat environment", 1, dtype="f4")
             for face in range(6):
@@ -583,10 +589,12 @@ class Ocean(Effect):
         """Whether any pixel can start under water: the camera within the waves' reach."""
         return self.view_mode() != 0
 
-    def render(self, frame, target) -> None:
-        self.render_surface(frame, target)
-        if self.may_be_underwater():
-            self.render_underwater(frame, target)
+    def stage(self) -> Stage:
+        """The water stage while the camera is clearly above the surface (clouds below the
+        camera then cover the sea, clipped by its depth); the fog stage near or under it, so the
+        sea draws after the volumes and Snell's window shows the clouds (the surface pass copies
+        the image before it draws)."""
+        return Stage.WATER if self.view_mode() == 0 else Stage.FOG
 
     def render_surface(self, frame, target) -> None:
         ctx = self.gpu.ctx
@@ -650,16 +658,21 @@ class Ocean(Effect):
         depth.compare_func = old
 
     def passes(self, frame, target) -> list[Pass]:
-        out = []
+        stage = self.stage()
+        out = [Pass("ocean.surface", lambda: self.render_surface(frame, target), stage)]
+        if self.may_be_underwater():
+            out.append(Pass("ocean.underwater", lambda: self.render_underwater(frame, target), stage))
+        return out
+
+    def bench_passes(self, frame, target) -> list[Pass]:
+        """The passes, after the FFT simulation's update (which the frame runs in update())."""
+        out = self.passes(frame, target)
         if self.sim is not None:
             p = self.params
             thresholds = self.foam_thresholds()
-            out.append(Pass("ocean.simulate", lambda: self.sim.update(
+            out.insert(0, Pass("ocean.simulate", lambda: self.sim.update(
                 frame.time, p["ocean.choppiness"], frame.dt, foam_threshold=[t for t, _ in thresholds],
-                foam_decay_time=p["ocean.foam_decay"], foam_width=[w for _, w in thresholds])))
-        out.append(Pass("ocean.surface", lambda: self.render_surface(frame, target)))
-        if self.may_be_underwater():
-            out.append(Pass("ocean.underwater", lambda: self.render_underwater(frame, target)))
+                foam_decay_time=p["ocean.foam_decay"], foam_width=[w for _, w in thresholds]), self.stage()))
         return out
 
     def release(self) -> None:

@@ -3,10 +3,15 @@
 
 Per frame:
 
-1. shadow map from the sun — only when the sun direction (or the map size) changed (§3.1, §4.2);
-2. surfaces (mountains, city block) into a G-buffer: colour and camera-relative position;
-3. one full-screen scattering pass that finds what each pixel sees (G-buffer, the analytic Earth,
-   or space) and applies the chosen method (``glsl/planet/composite.frag``).
+1. shadow stage: the shadow map from the sun — re-rendered only when the sun direction (or the
+   map size) changed (§3.1, §4.2) — published as ``frame.shadows["sun"]``;
+2. opaque stage: surfaces (mountains, city block) into a G-buffer: colour and camera-relative
+   position;
+3. fog stage: one full-screen scattering pass that finds what each pixel sees (G-buffer, the
+   analytic Earth, or space) and applies the chosen method (``glsl/planet/composite.frag``):
+   the sky and the aerial perspective of everything in front of it.
+
+Slots: produces ``exposure`` (the thesis's pupil) and ``shadows``.
 
 Coordinates: the scene's local frame has its origin on the sea surface, y up, the planet centre
 at (0, −R, 0). The camera position is kept in double precision here; the GPU only ever sees
@@ -23,6 +28,7 @@ import numpy as np
 from ..params import Param
 from ..sim import atmosphere as atm
 from . import atmosphere_hillaire as hillaire
+from ..frame import ShadowMap, Stage
 from ..gpu.programs import ProgramSpec, draw_fullscreen
 from .base import Effect, Pass
 from .planet_geometry import albedo_texture, boxes, mountains, normal_texture
@@ -80,6 +86,8 @@ class Planet(Effect):
     spec = "spec/002"
     programs = tuple(COMPOSITE.values()) + (SURFACE, SHADOW_DEPTH) + tuple(hillaire.HillaireLuts.programs)
     extra_groups = ("atmosphere", "hillaire")
+    stages = (Stage.SHADOW, Stage.OPAQUE, Stage.FOG)
+    produces = frozenset({"exposure", "shadows"})
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -128,8 +136,8 @@ class Planet(Effect):
                   "integrates to", unit="m", section=f"{s} §2.4"),
         ]
 
-    def __init__(self, gpu, params, scene=None):
-        super().__init__(gpu, params, scene)
+    def __init__(self, gpu, params):
+        super().__init__(gpu, params)
         self.shadow_passes = 0
         self._shadow_rendered = None  # the key the shadow map was last rendered for
         #: (depth texture, framebuffer) of the shadow map, remade when its size changes
@@ -377,17 +385,25 @@ class Planet(Effect):
             self._hillaire = hillaire.HillaireLuts(self.gpu, self.name, self.params)
         return self._hillaire
 
-    def render(self, frame, target) -> None:
-        self._ensure_geometry()
-        if self.uses_shadows():
-            self.shadow_map()
-        self.render_surfaces(frame, target.size)
-        self.render_composite(frame, target)
+    def shadow_stage(self, frame) -> None:
+        """Bring the sun's shadow map up to date and publish it in ``frame.shadows``."""
+        tex = self.shadow_map()
+        frame.shadows["sun"] = ShadowMap("sun", "directional", tex, light_view_proj(self.sun_dir),
+                                         self.params["planet.shadow_bias"])
 
     def passes(self, frame, target) -> list[Pass]:
         out = []
         if self.uses_shadows():
-            out.append(Pass("planet.shadow_map", self._render_shadow_map))
-        out.append(Pass("planet.surfaces", lambda: self.render_surfaces(frame, target.size)))
-        out.append(Pass(f"planet.scattering[{self.method()}]", lambda: self.render_composite(frame, target)))
+            out.append(Pass("planet.shadow_map", lambda: self.shadow_stage(frame), Stage.SHADOW))
+        out.append(Pass("planet.surfaces", lambda: self.render_surfaces(frame, target.size), Stage.OPAQUE))
+        out.append(Pass(f"planet.scattering[{self.method()}]", lambda: self.render_composite(frame, target),
+                        Stage.FOG))
+        return out
+
+    def bench_passes(self, frame, target) -> list[Pass]:
+        """The passes, with the shadow map re-rendered every time (the frame re-renders it only
+        when the sun moves)."""
+        out = self.passes(frame, target)
+        if self.uses_shadows():
+            out[0] = Pass("planet.shadow_map", self._render_shadow_map, Stage.SHADOW)
         return out

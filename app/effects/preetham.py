@@ -7,16 +7,16 @@ pixel).
 
 How a scene composes it — it is a drop-in alternative to the day–night :class:`~app.effects.sky.Sky`:
 
-* **order**: first among the effects that draw (it overwrites every pixel of the target);
-  after a ``Sky`` if the scene has one (then Preetham only replaces the picture, see below);
-  before anything that reads the background or the lights (clouds, water, fog);
+* **stage**: the background (it overwrites every pixel of the target); listed after a
+  day–night ``Sky`` if the scene has both (then Preetham only replaces the picture, see below)
+  and before anything that reads the lights (clouds, water, fog);
 * **update()** reads ``frame.sun``: when an earlier effect (a day–night ``Sky``) already set it,
   that sun is used and the frame is left as it is; otherwise the sun comes from this effect's
   ``preetham.sun_elevation`` / ``preetham.sun_azimuth`` and ``update()`` fills ``frame.sun`` and
   ``frame.main_light`` (colour = the sun's transmittance through the atmosphere, paper appendix
   A.1 — yellow-white at noon, dim red at sunset; intensity = ``preetham.sun_intensity`` times the day–night sky's horizon fade,
   so the light goes out smoothly 2° below the horizon) — the same interface as ``Sky``;
-* **render()** draws the sky into the target (linear radiance, alpha 1) with the depth test
+* **draw()** draws the sky into the target (linear radiance, alpha 1) with the depth test
   off; it reads nothing from the target. A later cloud pass composites over this picture.
 
 Exposure: the model's luminance is in kcd/m²; the picture is ``preetham.exposure`` times the
@@ -32,6 +32,7 @@ import moderngl
 from ..params import Param
 from ..sim import preetham as model
 from ..sim.daynight import Light, light_fade
+from ..frame import Stage
 from ..gpu.programs import draw_fullscreen, fullscreen
 from .base import Effect
 
@@ -43,6 +44,9 @@ class Preetham(Effect):
     title = "Preetham analytic sky"
     spec = "spec/001"
     programs = (PREETHAM_SKY,)
+    stages = (Stage.BACKGROUND,)
+    produces = frozenset({"sun", "main_light"})  # only when no day–night sky filled them first
+    consumes = {"sun": "optional"}
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -58,8 +62,8 @@ class Preetham(Effect):
                   "main-light intensity of the sun when this effect sets the lights", step=0.05, section=s),
         ]
 
-    def __init__(self, gpu, params, scene=None):
-        super().__init__(gpu, params, scene)
+    def __init__(self, gpu, params):
+        super().__init__(gpu, params)
         self.sun_direction = model.sun_direction(45.0, 180.0)
         self.owns_sun = True
 
@@ -82,7 +86,7 @@ class Preetham(Effect):
         frame.main_light = light
 
     # -- passes ----------------------------------------------------------------------------
-    def render(self, frame, target) -> None:
+    def draw(self, frame, target) -> None:
         prog = self.program(PREETHAM_SKY)
         self.apply_params(prog)
         prog.set_many(frame.camera_uniforms())

@@ -1,7 +1,8 @@
 """A mirror ball showing the sky's environment cubemap (the thesis's reflection probe).
 
-It asks the sky for :meth:`~app.effects.sky.Sky.environment`, so the cubemap exists only in
-scenes that reflect something, and is re-rendered only when the sky changed.
+It reads the frame's ``environment`` slot (required: the scene must have a sky that produces
+it), so the cubemap exists only in scenes that reflect something, and is re-rendered only when
+the sky changed.
 """
 
 from __future__ import annotations
@@ -21,10 +22,10 @@ class MirrorBall(Effect):
     title = "Reflection probe (mirror ball)"
     spec = "spec/000"
     programs = (MIRROR_BALL,)
+    consumes = {"environment": "required", "main_light": "optional"}
 
-    def render(self, frame, target) -> None:
-        sky = self.scene.effect("sky")
-        cube = sky.environment(frame)
+    def draw(self, frame, target) -> None:
+        cube = frame.require("environment", by=self.name).cubemap()
         prog = self.program(MIRROR_BALL)
         prog.bind_textures({"uEnvironment": cube})
         prog.set_many(frame.camera_uniforms())

@@ -2,10 +2,13 @@
 
 GPU side: ``glsl/sky/sky_radiance.glsl`` (the model, with its ``@param`` uniforms),
 ``sky.frag`` (what the camera sees) and the environment cubemap (``sky_cubemap.comp`` with
-compute shaders, ``sky_face.frag`` without) that reflective effects ask for through
-:meth:`Sky.environment`. The cubemap is created on the first request and re-rendered only when
-the hour, a sky parameter or the keyframes changed — the thesis's reflection probe, rendered
-"only when needed".
+compute shaders, ``sky_face.frag`` without) that reflective effects read through the frame's
+``environment`` slot. The cubemap is created on the first request and re-rendered (in the
+environment stage) only when the hour, a sky parameter or the keyframes changed — the thesis's
+reflection probe, rendered "only when needed".
+
+Slots: produces ``hour``, ``sun``, ``moon``, ``main_light`` (sun by day, moon by night) and
+``environment``.
 
 CPU side: ``app.sim.daynight`` (hour, sun and moon, keyframes). The numpy functions at the end
 of this module are the twins the tests compare the shader with.
@@ -21,6 +24,7 @@ import numpy as np
 from .. import RESOURCES
 from ..params import Param
 from ..sim.daynight import DayNight, Keyframes, wrap_hour
+from ..frame import Stage
 from ..gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from .base import Effect, Pass
 
@@ -39,6 +43,8 @@ class Sky(Effect):
     spec = "spec/000"
     programs = (SKY, SKY_FACE, SKY_CUBEMAP)
     extra_groups = ("time",)
+    stages = (Stage.BACKGROUND, Stage.ENVIRONMENT)
+    produces = frozenset({"hour", "sun", "moon", "main_light", "environment"})
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -63,8 +69,8 @@ class Sky(Effect):
                   kind="int", step=8, unit="px", section=s),
         ]
 
-    def __init__(self, gpu, params, scene=None, keyframes: Keyframes | None = None):
-        super().__init__(gpu, params, scene)
+    def __init__(self, gpu, params, keyframes: Keyframes | None = None):
+        super().__init__(gpu, params)
         self.keyframes = keyframes or Keyframes.load(DEFAULT_KEYFRAMES)
         self.state = None
         self.environment_renders = 0
@@ -76,6 +82,7 @@ class Sky(Effect):
         self._cubes = {sun: self.keyed(lambda size, sun=sun: self._make_cube(size, sun), release=gpu.free)
                        for sun in (True, False)}
         self._cube_rendered: dict[bool, tuple | None] = {True: None, False: None}
+        self._probe = _SkyProbe(self)
 
     # -- CPU -------------------------------------------------------------------------------
     def daynight(self) -> DayNight:
@@ -100,6 +107,7 @@ class Sky(Effect):
         self.state = dn.state()
         frame.hour = self.state.hour
         frame.sun, frame.moon, frame.main_light = self.state.sun, self.state.moon, self.state.main_light
+        frame.environment = self._probe
 
     # -- textures --------------------------------------------------------------------------
     def _textures(self) -> None:
@@ -144,7 +152,7 @@ class Sky(Effect):
         prog.set("uSunColor", tuple(st.sun.color))  # reddened by sky.sun_extinction (no-op at 0)
 
     # -- passes ----------------------------------------------------------------------------
-    def render(self, frame, target) -> None:
+    def draw(self, frame, target) -> None:
         prog = self.program(SKY)
         self._bind(prog)
         prog.set_many(frame.camera_uniforms())
@@ -207,13 +215,36 @@ class Sky(Effect):
                 self.gpu.free(face_target)
         cube.build_mipmaps()
 
+    def refresh_environment(self) -> None:
+        """Re-render the cubemaps made so far whose sky changed (the environment stage)."""
+        for sun in (True, False):
+            if self._cubes[sun].built:
+                self.environment(sun=sun)
+
     def passes(self, frame, target) -> list[Pass]:
-        out = [Pass("sky", lambda: self.render(frame, target))]
-        if self._cubes[True].built:
-            out.append(Pass("sky.cubemap", lambda: self.environment(frame, force=True)))
-        if self._cubes[False].built:
-            out.append(Pass("sky.cubemap (no sun)", lambda: self.environment(frame, force=True, sun=False)))
+        out = [Pass("sky", lambda: self.draw(frame, target), Stage.BACKGROUND)]
+        if self._cubes[True].built or self._cubes[False].built:
+            out.append(Pass("sky.environment", self.refresh_environment, Stage.ENVIRONMENT))
         return out
+
+    def bench_passes(self, frame, target) -> list[Pass]:
+        out = self.passes(frame, target)
+        if self._cubes[True].built:
+            out.append(Pass("sky.cubemap", lambda: self.environment(frame, force=True), Stage.ENVIRONMENT))
+        if self._cubes[False].built:
+            out.append(Pass("sky.cubemap (no sun)", lambda: self.environment(frame, force=True, sun=False),
+                            Stage.ENVIRONMENT))
+        return out
+
+
+class _SkyProbe:
+    """The sky as the frame's ``environment`` slot (an :class:`app.frame.Environment`)."""
+
+    def __init__(self, sky: Sky):
+        self._sky = sky
+
+    def cubemap(self, sun: bool = True):
+        return self._sky.environment(sun=sun)
 
 
 # ---- procedural textures ---------------------------------------------------------------------

@@ -92,17 +92,6 @@ class OceanScene(Scene):
     camera = {"position": (0.0, 4.0, 0.0), "yaw": 262.0, "pitch": -2.0, "fov": 60.0, "far": 200000.0}
     keymap = OCEAN
 
-    def active_instances(self):
-        """Above the water the sea is drawn before the clouds, so clouds below the camera cover
-        it (they are clipped by its depth); near or under the surface it is drawn after them, so
-        Snell's window shows the clouds above (the ocean copies the image before drawing)."""
-        out = super().active_instances()
-        ocean = next((e for e in out if e.name == "ocean"), None)
-        if ocean is None or ocean.view_mode() != 0:
-            return out
-        sky = [e for e in out if e.name == "sky"]
-        return sky + [ocean] + [e for e in out if e is not ocean and e not in sky]
-
 
 SCENES: dict[str, type[Scene]] = {cls.name: cls for cls in (SkyScene, ProbeScene, MaterialsScene, PlanetScene,
                                                             NoiseScene, CloudsScene, OceanScene)}

@@ -1,8 +1,12 @@
 """Scenes compose effects. A scene names exactly the effects it uses; nothing else is created.
 
-Per frame (DESIGN.md, "What flows through a frame"): each effect's ``update`` runs in order and
-fills the :class:`~app.frame.FrameContext` (the sky adds the lights), then each effect renders
-into the scene's linear-radiance target.
+Per frame (docs/architecture.md, "A frame"): each active effect's ``update`` runs in the
+scene's order and fills the slots of the :class:`~app.frame.FrameContext` it produces (the sky
+adds the lights and the environment probe, the ocean the water and the wind); then every active
+effect's passes run stage by stage (:class:`~app.frame.Stage`; within a stage, in the scene's
+order) into the scene's linear-radiance target.
+
+A scene whose effects require a slot that none of them produces is refused when it is built.
 """
 
 from __future__ import annotations
@@ -11,7 +15,8 @@ from typing import ClassVar
 
 from .. import RESOURCES
 from ..effects.base import Effect, Pass
-from ..frame import FrameContext
+from ..errors import NaturaError
+from ..frame import SLOTS, FrameContext, SceneImage
 from ..gpu.shaders import ShaderLibrary
 from ..imageio import TONEMAPS
 from ..params import Param, ParamSet
@@ -42,7 +47,23 @@ class Scene:
     selectors: ClassVar[dict] = {}
 
     @classmethod
+    def check_slots(cls) -> None:
+        """Refuse a scene where an effect requires a frame slot that no effect produces."""
+        produced = set().union(*(e.produces for e in cls.effects)) if cls.effects else set()
+        for effect in cls.effects:
+            unknown = (set(effect.consumes) | set(effect.produces)) - set(SLOTS)
+            if unknown:
+                raise NaturaError(f"effect {effect.name!r} declares unknown frame slots {sorted(unknown)}: "
+                                  f"allowed {', '.join(SLOTS)}")
+            for slot, need in effect.consumes.items():
+                if need == "required" and slot not in produced:
+                    raise NaturaError(f"scene {cls.name!r}: effect {effect.name!r} needs the frame slot {slot!r} "
+                                      f"({SLOTS[slot]}), which none of its effects produces: allowed a scene "
+                                      "that also has an effect producing it")
+
+    @classmethod
     def declare_params(cls, library: ShaderLibrary) -> ParamSet:
+        cls.check_slots()
         params = ParamSet(output_params())
         for name, (default, choices, doc) in cls.selectors.items():
             params.add(Param(name, default, doc=doc, kind="choice", choices=tuple(choices)))
@@ -55,12 +76,13 @@ class Scene:
         return params
 
     def __init__(self, gpu, params: ParamSet, camera: Camera | None = None):
+        self.check_slots()
         self.gpu = gpu
         self.params = params
         self.camera = camera or Camera(**self.camera)
         self.time = 0.0
         self.index = 0
-        self.instances: list[Effect] = [cls(gpu, params, self) for cls in self.effects]
+        self.instances: list[Effect] = [cls(gpu, params) for cls in self.effects]
         self.last_frame: FrameContext | None = None
         self.interactive = False  # the window sets it (e.g. clouds reproject only there)
 
@@ -102,14 +124,21 @@ class Scene:
     def render(self, frame: FrameContext, target) -> None:
         target.use()
         target.clear((*self.background, 1.0))
-        for effect in self.active_instances():
-            effect.render(frame, target)
+        for p in self.passes(frame, target):
+            p.run()
 
     def passes(self, frame: FrameContext, target) -> list[Pass]:
-        out = []
-        for effect in self.active_instances():
-            out.extend(effect.passes(frame, target))
-        return out
+        """Every active effect's passes for this frame, stage by stage (stable: within a stage
+        in the scene's order). Sets the frame's ``image`` slot to ``target``."""
+        frame.image = SceneImage(target)
+        out = [p for effect in self.active_instances() for p in effect.passes(frame, target)]
+        return sorted(out, key=lambda p: p.stage)
+
+    def bench_passes(self, frame: FrameContext, target) -> list[Pass]:
+        """What ``natura bench`` times, stage by stage (see :meth:`Effect.bench_passes`)."""
+        frame.image = SceneImage(target)
+        out = [p for effect in self.active_instances() for p in effect.bench_passes(frame, target)]
+        return sorted(out, key=lambda p: p.stage)
 
     def release(self) -> None:
         for effect in self.instances:
