@@ -156,8 +156,14 @@ class ParamSet:
         self._params: dict[str, Param] = {}
         self._values: dict[str, Any] = {}
         self._versions: dict[str, int] = {}
+        self._aliases: dict[str, str] = {}
         for p in params:
             self.add(p)
+
+    def alias(self, former: str, group: str) -> None:
+        """Accept ``former.x`` for ``group.x`` everywhere a name is given (``--set``, presets,
+        lookups): the former name of a renamed group keeps old presets and scripts working."""
+        self._aliases[former] = group
 
     # -- declaration -------------------------------------------------------------------------
     def add(self, param: Param, replace: bool = False) -> None:
@@ -183,7 +189,11 @@ class ParamSet:
             self._bump(group)
 
     def __contains__(self, name: str) -> bool:
-        return name in self._params
+        return name in self._params or self._unalias(name) in self._params
+
+    def _unalias(self, name: str) -> str:
+        group, dot, rest = name.partition(".")
+        return f"{self._aliases[group]}.{rest}" if dot and group in self._aliases else name
 
     def __iter__(self):
         return iter(self._params.values())
@@ -196,6 +206,8 @@ class ParamSet:
         exactly one parameter of the scene has that short name."""
         if name in self._params:
             return name
+        if self._unalias(name) in self._params:
+            return self._unalias(name)
         if "." not in name:
             matches = [p.name for p in self._params.values() if p.short == name]
             if len(matches) == 1:

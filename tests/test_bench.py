@@ -39,7 +39,7 @@ def test_cli_bench_writes_json_and_chart(tmp_path):
                            "--warmup", "1", "--out", str(out)], capture_output=True, text=True, cwd=tmp_path, timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
     report = json.loads(out.read_text())
-    assert {"material", "frame", "reference.fullscreen", "reference.clear"} <= set(report["passes"])
+    assert {"materials", "frame", "reference.fullscreen", "reference.clear"} <= set(report["passes"])
     assert all(t["median_ms"] > 0 for t in report["passes"].values())
     assert len(report["sweep"]["baked_vs_per_pixel"]["rows"]) == 1 + len(mbench.BAKE_SIZES)
     assert out.with_suffix(".png").stat().st_size > 10000

@@ -20,9 +20,11 @@ import moderngl
 import numpy as np
 import pytest
 
-from app.effects import clouds as cl
-from app.effects.base import Effect, fullscreen
-from app.effects.sky import Sky
+from app.effects.clouds import Clouds
+from app.sim import clouds as cl
+from app.effects.base import Effect
+from app.gpu.programs import fullscreen
+from app.effects.sky.effect import Sky
 from app.gpu.device import Gpu
 from app.runtime import open_session, scene_params
 from app.scenes import get_scene
@@ -513,7 +515,7 @@ class Wall(Effect):
 
 class WallScene(Scene):
     name = "clouds"
-    effects = (Sky, Wall, cl.Clouds)
+    effects = (Sky, Wall, Clouds)
 
 
 def test_clouds_behind_opaque_geometry_are_hidden(gl_ctx):

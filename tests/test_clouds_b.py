@@ -14,11 +14,11 @@ import numpy as np
 import pytest
 
 from app.bakes import CACHE_ENV
-from app.effects.clouds_maritime import CloudsMaritime
+from app.effects.clouds_b.effect import CloudsB
 from app.frame import FrameContext
 from app.gpu.device import Gpu
 from app.params import ParamSet
-from app.sim import clouds_maritime as twin
+from app.sim import clouds_b as twin
 from app.sim.camera import Camera
 from app.sim.daynight import Light
 from tests.helpers.glsl_eval import evaluate_points
@@ -32,8 +32,8 @@ BG = (0.2, 0.3, 0.5, 1.0)
 class Rig:
     def __init__(self, gpu: Gpu):
         self.gpu = gpu
-        self.params = ParamSet(CloudsMaritime.declare(gpu.shaders))
-        self.fx = CloudsMaritime(gpu, self.params)
+        self.params = ParamSet(CloudsB.declare(gpu.shaders))
+        self.fx = CloudsB(gpu, self.params)
         self.targets = {}
 
     def reset(self, **sets):

@@ -18,14 +18,8 @@ import moderngl
 import numpy as np
 import pytest
 
-from app.effects.atmosphere_hillaire import (
-    PROGRAMS,
-    CameraFrame,
-    HillaireLuts,
-    model_uniforms,
-    params,
-)
-from app.effects.base import fullscreen
+from app.effects.planet.hillaire import PROGRAMS, CameraFrame, HillaireLuts, model_uniforms, params
+from app.gpu.programs import fullscreen
 from app.gpu.device import Gpu
 from app.gpu.targets import RenderTarget
 from app.sim import hillaire as twin

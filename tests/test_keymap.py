@@ -7,7 +7,9 @@ import pytest
 
 from app.params import Param, ParamSet
 from app.sim.camera import Camera
-from app.ui.keymap import ATMOSPHERE_THESIS, FLY, Controller
+from app.scenes.keymaps import FLY
+from app.scenes.planet import ATMOSPHERE_THESIS
+from app.ui.keymap import Controller
 
 
 def test_w_moves_forward_by_speed_times_dt():
@@ -95,7 +97,7 @@ def test_release_of_unbound_key_and_unknown_key_are_harmless():
 
 
 def test_ocean_keys_pick_the_wave_model_and_keep_the_fly_keys():
-    from app.ui.keymap import FLY, OCEAN, Controller
+    from app.scenes.ocean import OCEAN
 
     c = Controller(OCEAN)
     for key, model in (("NUMBER_1", "sine"), ("NUMBER_2", "gerstner"), ("NUMBER_3", "fft")):

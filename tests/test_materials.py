@@ -6,9 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.effects.materials import MATERIAL, MATERIAL_OBJECT_POS, MATERIAL_RADIUS, Materials, effective, wood_colour
-from app.imageio import linear_to_srgb
-from app.noise.value import ValueNoise
+from app.effects.materials.effect import MATERIAL, MATERIAL_OBJECT_POS, MATERIAL_RADIUS, Materials
+from app.sim.materials import effective, wood_colour
+from app.colour import linear_to_srgb
+from app.sim.noise.value import ValueNoise
 from app.runtime import open_session, render_frames, scene_params
 
 C0 = np.array([0.75, 0.5, 0.25])
@@ -42,7 +43,7 @@ def materials(gl_ctx):
 def top_view(session, n: int = 256, spec=MATERIAL) -> np.ndarray:
     """Render the cross-section (material.objects=slice) from above: (n, n, 4) float32."""
     session.params.set("material.objects", "slice")
-    eff: Materials = session.scene.effect("material")
+    eff: Materials = session.scene.effect("materials")
     target = session.gpu.target("test", "top", (n, n))
     frame = session.scene.frame((n, n))
     target.use()
@@ -75,7 +76,7 @@ def test_parameters_match_the_thesis_table(materials):
     assert p["wood.texture_2d_image_size"] == (1, 1, 1, 256)
     assert p["wood.inner_color"] == (0.75, 0.5, 0.25) and p["wood.outer_color"] == (0.5, 0.25, 0.0)
     assert p["wood.rec_depth"] == 3 and p.spec("wood.rec_depth").lo == 1 and p.spec("wood.rec_depth").hi == 8
-    u = s.scene.effect("material").uniforms()
+    u = s.scene.effect("materials").uniforms()
     assert u["uValueNoiseWrap"] == (256.0, 256.0, 256.0)  # xyz·w is what the shader gets
     assert np.allclose(effective(p["wood.noise_grid_size"]), (2.0, 10.0, 10.0))
     with pytest.raises(Exception, match=r"wood.rec_depth=9 .*\[1, 8\]"):
@@ -163,7 +164,7 @@ def test_object_space_anchoring(materials, objects):
         s = materials(f"material.objects={objects}", "material.spin=40")
         s.scene.camera.set(position=(-1.45 if objects == "cube" else 1.45 if objects == "torus" else 0.0, 0.3, 1.7),
                            yaw=0.0, pitch=-8.0, fov=45.0)
-        eff = s.scene.effect("material")
+        eff = s.scene.effect("materials")
         target = s.gpu.target("test", "t", size)
         frame = s.scene.frame(size, spin_time)
         colours, positions = [], []

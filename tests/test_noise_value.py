@@ -7,7 +7,7 @@ import moderngl
 import numpy as np
 import pytest
 
-from app.noise.value import ValueNoise, ease_in, ease_in_out, random_texture
+from app.sim.noise.value import ValueNoise, ease_in, ease_in_out, random_texture
 from tests.helpers.glsl_eval import evaluate_points
 
 PROBE = "tests/value_noise_probe"

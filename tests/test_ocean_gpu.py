@@ -21,7 +21,7 @@ import functools
 import numpy as np
 import pytest
 
-from app.effects.ocean_fft import GpuOceanSim
+from app.effects.ocean.fft import GpuOceanSim
 from app.errors import ParamError
 from app.gpu.fft import GpuFFT
 from app.sim import ocean as oc

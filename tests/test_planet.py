@@ -23,13 +23,13 @@ from typing import NamedTuple
 import numpy as np
 import pytest
 
-from app.effects import planet as pfx
-from app.effects.planet import COMPOSITE, METHODS, Planet
-from app.effects.planet_geometry import boxes
+from app.effects.planet import effect as pfx
+from app.effects.planet.effect import COMPOSITE, METHODS, Planet
+from app.effects.planet.geometry import boxes
 from app.gpu.device import Gpu
-from app.imageio import to_srgb8
+from app.colour import to_srgb8
 from app.runtime import Session, render_frames, scene_params
-from app.scenes import PlanetScene
+from app.scenes.planet import PlanetScene
 from app.sim import atmosphere as atm
 from app.sim.camera import Camera
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.imageio import to_srgb8
+from app.colour import to_srgb8
 from app.runtime import open_session, render_frames, scene_params
 
 

@@ -11,8 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from app.effects.preetham import Preetham
-from app.effects.sky import Sky
+from app.effects.preetham.effect import Preetham
+from app.effects.sky.effect import Sky
 from app.frame import FrameContext
 from app.gpu.device import Gpu
 from app.params import ParamSet

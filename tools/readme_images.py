@@ -16,7 +16,7 @@ import sys
 import numpy as np
 
 from app import PROJECT_ROOT
-from app.imageio import to_srgb8
+from app.colour import to_srgb8
 from app.runtime import open_session, render_frames, scene_params
 
 SHOTS = [("sky", 6.3, "sunrise"), ("sky", 12.0, "noon"), ("sky", 18.5, "sunset"), ("sky", 0.0, "midnight")]

@@ -9,7 +9,7 @@ checked against numpy twins.
   (RGBA8 texels, path, cache status, timings; ``.texture(gpu, owner)`` for renderers), and
   :func:`bake_report` (uncached timings of both paths, for the bench);
 * :mod:`.cache` — :class:`BakeCache`, the checked file format, ``$NATURA_CACHE``;
-* :mod:`.reference` — numpy twins of the bake shaders for small sizes.
+* :func:`reference` — numpy twins of the bake shaders for small sizes (``app/sim/bakes.py``).
 
 Shaders: ``glsl/bakes/cloud_shape.glsl``, ``cloud_detail.glsl``, ``weather_map.glsl`` (headers
 with the equations), driven by ``glsl/common/bake3d_compute.glsl`` / ``bake3d_fragment.glsl``.
@@ -17,9 +17,17 @@ with the equations), driven by ``glsl/common/bake3d_compute.glsl`` / ``bake3d_fr
 """
 
 from .cache import BAKE_VERSION, CACHE_ENV, BakeCache, default_cache_dir
-from .core import (PROGRAMS, Baked, RawBake, bake, bake_detail, bake_raw, bake_report, bake_shape, bake_weather,
-                   finish, key_for, normalized, quantize, shader_digest, shader_files)
+from .core import (
+    PROGRAMS, Baked, RawBake, bake, bake_detail, bake_raw, bake_report, bake_shape,
+    bake_weather, finish, key_for, normalized, quantize, shader_digest, shader_files,
+)
 from .params import DetailBake, ShapeBake, WeatherBake, bake_params, defaults, maritime
-from .reference import reference
+from ..sim.bakes import reference
 
-__all__ = [name for name in dir() if not name.startswith("_")]
+__all__ = [
+    "bake", "bake_detail", "bake_params", "bake_raw", "bake_report", "bake_shape",
+    "BAKE_VERSION", "bake_weather", "BakeCache", "Baked", "CACHE_ENV", "default_cache_dir",
+    "defaults", "DetailBake", "finish", "key_for", "maritime", "normalized", "PROGRAMS",
+    "quantize", "RawBake", "reference", "shader_digest", "shader_files", "ShapeBake",
+    "WeatherBake",
+]

@@ -29,8 +29,8 @@ from ..gpu.programs import ProgramSpec
 from ..errors import GpuUnavailableError
 from ..gpu.bake import bake_volume, read_volume
 from ..gpu.shaders import ShaderLibrary
-from ..noise import gradient
-from ..noise.gpu import GradientNoiseTextures
+from ..sim.noise import gradient
+from ..render.noise import GradientNoiseTextures
 from .cache import BakeCache, cache_key
 from .params import DetailBake, ShapeBake, WeatherBake
 

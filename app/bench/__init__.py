@@ -9,6 +9,8 @@ added only on a hardware GPU.
 from __future__ import annotations
 
 import datetime
+import importlib
+import importlib.util
 import json
 import platform
 from pathlib import Path
@@ -76,25 +78,13 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
 
 
 def scene_sweeps(scene: str):
-    """The module with ``sweep(session, size, ...)``, ``chart(report, path)`` and ``summary(report)``
-    for scenes that have speed/accuracy sweeps, else None."""
-    if scene == "materials":
-        from . import materials
-
-        return materials
-    if scene == "planet":
-        from . import planet
-
-        return planet
-    if scene == "clouds":
-        from . import clouds
-
-        return clouds
-    if scene == "ocean":
-        from . import ocean
-
-        return ocean
-    return None
+    """The speed/accuracy sweeps of a scene: the module ``app/bench/<scene>.py`` when there is
+    one (it defines ``sweep(session, size, ...)``, ``chart(report, path)`` and
+    ``summary(report)``), else None. Adding a scene's sweeps is adding that module."""
+    if not scene.isidentifier() or importlib.util.find_spec(f"{__name__}.{scene}") is None:
+        return None
+    module = importlib.import_module(f"{__name__}.{scene}")
+    return module if all(hasattr(module, f) for f in ("sweep", "chart", "summary")) else None
 
 
 def write_report(report: dict, out: str | None, force: bool = False) -> Path:

@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..effects.materials import MATERIAL, MATERIAL_BAKED, MATERIAL_BAKED_RADIUS, MATERIAL_RADIUS, Materials
+from ..effects.materials.effect import MATERIAL, MATERIAL_BAKED, MATERIAL_BAKED_RADIUS, MATERIAL_RADIUS, Materials
 from ..gpu.timing import time_call
-from ..imageio import linear_to_srgb
+from ..colour import linear_to_srgb
 
 TOP_VIEW = np.array([[2.0, 0, 0, 0], [0, 0, -2.0, 0], [0, 0, 0, 0], [0, 0, 0, 1.0]])
 BAKE_SIZES = (8, 16, 32, 64, 128)
@@ -39,20 +39,20 @@ def _display(img):
 
 def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES, sizes=None) -> dict:
     params = session.params
-    eff: Materials = session.scene.effect("material")
+    eff: Materials = session.scene.effect("materials")
     gpu = session.gpu
     saved = params.values()
     out: dict = {}
     try:
-        params.set("material.material", "wood")
+        params.set("materials.material", "wood")
         # 1. noise cost per octave (square target, the slice fills it)
         n = min(size)
         square = gpu.target("bench", "square", (n, n))
-        params.set("material.objects", "slice")
+        params.set("materials.objects", "slice")
         frame = session.scene.frame((n, n))
         octaves = {}
         for kind in ("value", "gradient"):
-            params.set("material.noise", kind)
+            params.set("materials.noise", kind)
             ms = []
             for d in range(1, 9):
                 params.set("wood.rec_depth", d)
@@ -64,9 +64,9 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
         out["octave_cost"] = {"size": [n, n], **octaves}
 
         # 2. baked volume against per-pixel noise, on the scene's own view of the meshes
-        params.set("material.noise", "value")
+        params.set("materials.noise", "value")
         params.set("wood.rec_depth", saved.get("wood.rec_depth", 3))
-        params.set("material.objects", "all")
+        params.set("materials.objects", "all")
         view = gpu.target("bench", "view", size)
         frame = session.scene.frame(size)
         exact_run = _render(session, eff, view, frame)
@@ -96,19 +96,19 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
         out["baked_vs_per_pixel"] = {"size": list(size), "rows": rows}
 
         # 3. hard against filtered ring edges, rings finer than pixels
-        params.set("material.objects", "slice")
+        params.set("materials.objects", "slice")
         params.set("wood.vol_tex_scale", (1.0, 1.0, 1.0, 70.0))
         small, ss = 64, 8
         big = gpu.target("bench", "supersampled", (small * ss, small * ss))
         tiny = gpu.target("bench", "small", (small, small))
         frame_big = session.scene.frame((small * ss, small * ss))
         frame_small = session.scene.frame((small, small))
-        params.set("material.filter_rings", False)
+        params.set("materials.filter_rings", False)
         _render(session, eff, big, frame_big, view_proj=TOP_VIEW)()
         ref = _display(big.read()).reshape(small, ss, small, ss, 3).mean(axis=(1, 3))
         rings = {}
         for filtered in (False, True):
-            params.set("material.filter_rings", filtered)
+            params.set("materials.filter_rings", filtered)
             run = _render(session, eff, tiny, frame_small, view_proj=TOP_VIEW)
             t = time_call(gpu.ctx, "rings", run, warmup, repeat)
             run()

@@ -340,7 +340,7 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
 def direct_sweep(session, sizes=DIRECT_SIZES, extra: int | None = DIRECT_EXTRA, budget_s: float = DIRECT_BUDGET_S,
                  warmup: int = 2, repeat: int = 5) -> dict:
     """One cascade: GpuOceanSim.update (FFT) against direct_sum, same waves, same run."""
-    from ..effects.ocean_fft import GpuOceanSim
+    from ..effects.ocean.fft import GpuOceanSim
 
     p = session.params
     eff = _effect(session)

@@ -55,6 +55,8 @@ class Effect:
     programs: ClassVar[tuple[ProgramSpec, ...]] = ()
     #: groups of parameters the effect owns besides its own name
     extra_groups: ClassVar[tuple[str, ...]] = ()
+    #: names the effect (and its parameter group) had before a rename; still accepted
+    former_names: ClassVar[tuple[str, ...]] = ()
     #: render stages the effect draws in; the first is where draw() runs
     stages: ClassVar[tuple[Stage, ...]] = (Stage.OPAQUE,)
     #: frame slots the effect fills (names of app.frame.SLOTS)
@@ -148,6 +150,11 @@ class Effect:
 
     def panel_notes(self) -> list[str]:
         """Lines the window's panel shows above this effect's widgets (live figures)."""
+        return []
+
+    def panel_items(self) -> list:
+        """Objects the window's panel offers editors for besides the parameters (it knows how
+        to edit ``app.sim`` types such as the sky's ``Keyframes``)."""
         return []
 
     def release(self) -> None:

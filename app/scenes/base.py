@@ -18,10 +18,10 @@ from ..effects.base import Effect, Pass
 from ..errors import NaturaError
 from ..frame import SLOTS, FrameContext, SceneImage
 from ..gpu.shaders import ShaderLibrary
-from ..imageio import TONEMAPS
+from ..colour import TONEMAPS
 from ..params import Param, ParamSet
 from ..sim.camera import Camera
-from ..ui.keymap import FLY
+from .keymaps import FLY, KeyMap
 
 PRESETS = RESOURCES / "presets"
 
@@ -36,12 +36,14 @@ def output_params() -> list[Param]:
 
 class Scene:
     name: ClassVar[str] = ""
+    #: where ``natura scenes`` lists the scene (then by name)
+    order: ClassVar[int] = 1000
     title: ClassVar[str] = ""
     description: ClassVar[str] = ""
     effects: ClassVar[tuple[type[Effect], ...]] = ()
     camera: ClassVar[dict] = {}
     background: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)  # linear radiance behind everything
-    keymap: ClassVar = FLY  # the window's key bindings (app/ui/keymap.py)
+    keymap: ClassVar[KeyMap] = FLY  # the window's key bindings (app/scenes/keymaps.py)
     #: switches between effects of the scene: parameter → (default, {choice: effect name}, doc).
     #: An effect that is not chosen is skipped entirely, so it creates no GL resources.
     selectors: ClassVar[dict] = {}
@@ -70,6 +72,8 @@ class Scene:
         for effect in cls.effects:
             for p in effect.declare(library):
                 params.add(p)
+            for former in effect.former_names:
+                params.alias(former, effect.name)
         preset = PRESETS / f"{cls.name}.toml"
         if preset.is_file():
             params.load_preset(preset)

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ParamError
-from ..imageio import srgb_to_linear
+from ..colour import srgb_to_linear
 
 GRADIENT_TEXELS = 256
 
@@ -167,7 +167,7 @@ class Keyframes:
         return cls(frames, where)
 
     def to_toml(self) -> str:
-        from ..imageio import linear_to_srgb
+        from ..colour import linear_to_srgb
 
         def hexcol(c):
             s = np.round(linear_to_srgb(np.asarray(c)) * 255).astype(int)
@@ -298,3 +298,8 @@ class DayNight:
             keyframe_rows=self.keyframes.bracket(self.hour),
             stars=self.keyframes.stars_at(self.hour),
         )
+
+
+def hour_label(hour: float) -> str:
+    minutes = int(round(wrap_hour(hour) * 60.0)) % 1440
+    return f"{minutes // 60:02d}:{minutes % 60:02d}"

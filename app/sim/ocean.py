@@ -76,7 +76,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from app.errors import ParamError
+from ..errors import ParamError
 
 G = 9.81  # m/s²
 SPECTRA = ("phillips", "pierson_moskowitz", "jonswap")

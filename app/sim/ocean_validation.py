@@ -90,7 +90,7 @@ def oceanography(gpu=None, seed: int = 0) -> dict:
 
 
 def _gpu_hs(gpu, p, size, seed) -> float:
-    from ..effects.ocean_fft import GpuOceanSim
+    from ..effects.ocean.fft import GpuOceanSim
 
     ref = oc.FFTOcean(p, n=256, patch_sizes=(size,), choppiness=1.0, seed=seed)
     sim = GpuOceanSim(gpu, "validation")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import moderngl
 
 from ..gpu.programs import draw_fullscreen, fullscreen
-from ..imageio import TONEMAPS
+from ..colour import TONEMAPS
 
 DISPLAY = fullscreen("common/display")
 

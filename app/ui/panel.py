@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from imgui_bundle import imgui
 
-from ..imageio import linear_to_srgb, srgb_to_linear
+from ..colour import linear_to_srgb, srgb_to_linear
 from ..params import Param, ParamSet
 
 ERROR_COLOUR = (1.0, 0.35, 0.3, 1.0)

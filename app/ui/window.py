@@ -192,6 +192,7 @@ class NaturaWindow:
         """Carry out the one-shot actions the controller collected."""
         p = self.params
         for action, arg in self.controller.take_events():
+            action = self.controller.keymap.resolve(action)
             if action == "quit":
                 self.wnd.close()
             elif action == "screenshot":
@@ -208,8 +209,6 @@ class NaturaWindow:
             elif action == "reset_camera":
                 h = self.home
                 self.scene.camera.set(position=h.position, yaw=h.yaw, pitch=h.pitch, fov=h.fov)
-            elif action == "toggle_auto_sun" and "planet.auto_sun" in p:
-                p.set("planet.auto_sun", not p["planet.auto_sun"])
             elif action == "print_gl_version":
                 self._say(f"OpenGL {self.ctx.info.get('GL_VERSION')} — {self.session.gpu.caps.renderer}")
             elif action == "print_camera":
@@ -223,6 +222,10 @@ class NaturaWindow:
                 if name in p:
                     p.set_from_string(f"{name}={value}")
                     self._say(f"{name} = {value}")
+            elif action.startswith("toggle:"):  # a key that flips a boolean parameter
+                name = action[7:]
+                if name in p:
+                    p.set(name, not p[name])
 
     def _say(self, text: str) -> None:
         print(text)
@@ -331,10 +334,9 @@ class NaturaWindow:
         write_text_atomic(path, self.params.preset_text(f"scene {self.scene.name}"))
         self.messages.append(f"saved {path}")
 
-    def save_keyframes(self) -> None:
-        sky = self.scene.effect("sky")
+    def save_keyframes(self, keyframes) -> None:
         path = next_free_path(Path("."), "keyframes", ".toml")
-        write_text_atomic(path, sky.keyframes.to_toml())
+        write_text_atomic(path, keyframes.to_toml())
         self.messages.append(f"saved {path}")
 
     def build_panel(self, dt: float) -> None:
@@ -358,7 +360,7 @@ class NaturaWindow:
             if imgui.button("Pause" if playing else "Resume"):
                 self.params.set("time.playing", not playing)
             imgui.same_line()
-            from ..effects.sky import hour_label
+            from ..sim.daynight import hour_label
 
             imgui.text(hour_label(self.params["time.hour"]))
             changed, hour = imgui.slider_float("time of day##scrub", self.params["time.hour"], 0.0, 24.0, "%.2f h")
@@ -388,10 +390,14 @@ class NaturaWindow:
             except Exception as exc:  # a figure that cannot be computed must not close the panel
                 notes[e.name] = [f"({exc})"]
         panel.params_panel(self.params, titles, skip={"time.hour"}, open_groups=set(titles), notes=notes)
-        if self.scene.has_effect("sky") and imgui.collapsing_header("Sky keyframes (every 3 h)"):
-            panel.keyframes_panel(self.scene.effect("sky").keyframes)
-            if imgui.button("Save keyframes"):
-                self.save_keyframes()
+        from ..sim.daynight import Keyframes
+
+        for effect in self.scene.active_instances():
+            for item in effect.panel_items():  # editors an effect offers besides its parameters
+                if isinstance(item, Keyframes) and imgui.collapsing_header("Sky keyframes (every 3 h)"):
+                    panel.keyframes_panel(item)
+                    if imgui.button("Save keyframes"):
+                        self.save_keyframes(item)
         if imgui.collapsing_header("Resources"):
             for a in gpu.allocations:
                 imgui.text(f"{a.owner}: {a.kind} {a.name}")

@@ -11,13 +11,13 @@ import math
 
 import moderngl
 
-from ..gpu.programs import draw_fullscreen, fullscreen
-from .base import Effect
+from ...gpu.programs import draw_fullscreen, fullscreen
+from ..base import Effect
 
 MIRROR_BALL = fullscreen("probe/mirror_ball")
 
 
-class MirrorBall(Effect):
+class Probe(Effect):
     name = "probe"
     title = "Reflection probe (mirror ball)"
     spec = "spec/000"

@@ -16,20 +16,17 @@ of this module are the twins the tests compare the shader with.
 
 from __future__ import annotations
 
-import math
-
 import moderngl
 import numpy as np
 
-from .. import RESOURCES
-from ..params import Param
-from ..sim.daynight import DayNight, Keyframes, wrap_hour
-from ..frame import Stage
-from ..gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
-from .base import Effect, Pass
+from ... import RESOURCES
+from ...params import Param
+from ...sim.daynight import DayNight, Keyframes
+from ...sim.textures import moon_texture, star_field
+from ...frame import Stage
+from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from ..base import Effect, Pass
 
-MIE_G = -0.990
-MIE_G2 = 0.9801
 DEFAULT_KEYFRAMES = RESOURCES / "sky" / "keyframes.toml"
 
 SKY = fullscreen("sky/sky")
@@ -108,6 +105,9 @@ class Sky(Effect):
         frame.hour = self.state.hour
         frame.sun, frame.moon, frame.main_light = self.state.sun, self.state.moon, self.state.main_light
         frame.environment = self._probe
+
+    def panel_items(self) -> list:
+        return [self.keyframes]
 
     # -- textures --------------------------------------------------------------------------
     def _textures(self) -> None:
@@ -245,107 +245,3 @@ class _SkyProbe:
 
     def cubemap(self, sun: bool = True):
         return self._sky.environment(sun=sun)
-
-
-# ---- procedural textures ---------------------------------------------------------------------
-
-def star_field(seed: int, width: int = 1024, height: int = 512, count: int = 2600) -> np.ndarray:
-    """A tileable star texture (R, float32): small Gaussian points, mostly faint.
-
-    The shader keeps saturate(3·s³), so only points brighter than ~0.69 show at full strength.
-    """
-    rng = np.random.default_rng(seed)
-    img = np.zeros((height, width), dtype=np.float32)
-    xs = rng.uniform(0, width, count)
-    ys = rng.uniform(0, height, count)
-    bright = 0.45 + 0.55 * rng.random(count) ** 2.5
-    offsets = np.arange(-2, 3)
-    for dy in offsets:
-        for dx in offsets:
-            px = np.floor(xs).astype(int) + dx
-            py = np.floor(ys).astype(int) + dy
-            d2 = (px + 0.5 - xs) ** 2 + (py + 0.5 - ys) ** 2
-            np.add.at(img, (py % height, px % width), bright * np.exp(-d2 / (2 * 0.55**2)))
-    return np.clip(img, 0.0, 1.0)
-
-
-def moon_texture(size: int = 256, seed: int = 3) -> np.ndarray:
-    """The moon: a grey disc of radius 0.47 (in texture units) with maria and craters, black
-    outside so clamp-to-edge sampling adds nothing around it. RGBA float32."""
-    rng = np.random.default_rng(seed)
-    y, x = np.mgrid[0:size, 0:size]
-    u = (x + 0.5) / size - 0.5
-    v = (y + 0.5) / size - 0.5
-    r = np.hypot(u, v) / 0.47
-    albedo = np.full((size, size), 0.82)
-    for _ in range(7):  # maria: broad dark patches
-        cu, cv = rng.uniform(-0.3, 0.3, 2)
-        rad = rng.uniform(0.06, 0.16)
-        albedo -= 0.22 * np.exp(-((u - cu) ** 2 + (v - cv) ** 2) / (2 * rad**2))
-    for _ in range(60):  # craters: dark floor, bright rim
-        cu, cv = rng.uniform(-0.45, 0.45, 2)
-        rad = rng.uniform(0.008, 0.05)
-        d = np.hypot(u - cu, v - cv) / rad
-        albedo -= 0.12 * np.exp(-(d**2) * 2.0)
-        albedo += 0.08 * np.exp(-((d - 1.0) ** 2) * 18.0)
-    limb = np.sqrt(np.clip(1.0 - r**2, 0.0, 1.0)) ** 0.35
-    disc = np.clip((1.0 - r) * size * 0.47, 0.0, 1.0)  # one-texel anti-aliased edge
-    grey = np.clip(albedo, 0.05, 1.0) * limb * disc
-    out = np.zeros((size, size, 4), dtype=np.float32)
-    out[..., 0] = grey
-    out[..., 1] = grey * 0.98
-    out[..., 2] = grey * 0.93
-    out[..., 3] = disc
-    return out
-
-
-# ---- numpy twins (tests compare the shader with these) ---------------------------------------
-
-def mie_phase(c, c2, sun_size: float = 0.05):
-    """(B.2) ``getMiePhase`` with the SunSize exponent and the 1e-4 clamp."""
-    t = 1.0 + MIE_G2 - 2.0 * MIE_G * np.asarray(c, dtype=np.float64)
-    t = np.maximum(t, 0.0) ** (sun_size**0.65 * 10.0)
-    t = np.maximum(t, 1e-4)
-    return 1.5 * ((1.0 - MIE_G2) / (2.0 + MIE_G2)) * (1.0 + np.asarray(c2)) / t
-
-
-def sun_term(cos_angle, sun_size: float = 0.05, intensity: float = 2.0):
-    """Sun disk value (per unit SunCol) at angle ``acos(cos_angle)`` from the sun (B.3)."""
-    f = np.clip(np.asarray(cos_angle, dtype=np.float64), 0.0, 1.0) ** 5
-    return mie_phase(-f, f * f, sun_size) * intensity
-
-
-def smoothstep(e0, e1, x):
-    t = np.clip((np.asarray(x, dtype=np.float64) - e0) / (e1 - e0), 0.0, 1.0)
-    return t * t * (3.0 - 2.0 * t)
-
-
-def scattering_intensity_factor(sun_sin_elevation):
-    """scatInt = max(0.15, smoothstep(0.6, 0.0, sin elevation)), the reversed ramp by hand."""
-    return np.maximum(0.15, 1.0 - smoothstep(0.0, 0.6, sun_sin_elevation))
-
-
-def halo_term(cos_angle, sun_sin_elevation, scattering_intensity: float = 1.0):
-    return smoothstep(0.5, 1.5, cos_angle) * scattering_intensity * scattering_intensity_factor(sun_sin_elevation)
-
-
-def cubemap_face_direction(face: int, s, t) -> np.ndarray:
-    """Twin of ``CubemapFaceDirection`` (glsl/common/cubemap.glsl)."""
-    s, t = np.broadcast_arrays(np.asarray(s, dtype=np.float64), np.asarray(t, dtype=np.float64))
-    one = np.ones_like(s)
-    d = {
-        0: (one, -t, -s), 1: (-one, -t, s), 2: (s, one, t),
-        3: (s, -one, -t), 4: (s, -t, one), 5: (-s, -t, -one),
-    }[face]
-    d = np.stack(d, axis=-1)
-    return d / np.linalg.norm(d, axis=-1, keepdims=True)
-
-
-def elevation_u(directions: np.ndarray) -> np.ndarray:
-    """sphereUV.y = asin(p.y) / (π/2)."""
-    return np.arcsin(np.clip(directions[..., 1], -1.0, 1.0)) / (math.pi / 2)
-
-
-def hour_label(hour: float) -> str:
-    minutes = int(round(wrap_hour(hour) * 60.0)) % 1440
-    return f"{minutes // 60:02d}:{minutes % 60:02d}"

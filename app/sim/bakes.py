@@ -1,5 +1,5 @@
 """Numpy twins of the bake shaders (``glsl/bakes/*.glsl``), built from the noise twins in
-``app.noise`` — for small sizes (16³ takes well under a second; 128³ would take minutes).
+``app.sim.noise`` — for small sizes (16³ takes well under a second; 128³ would take minutes).
 
 Each ``*_reference(spec)`` returns the raw float64 channels the GPU writes into its RGBA32F
 volume, before :func:`app.bakes.core.finish` normalises and quantises them; the coordinates
@@ -11,8 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..noise import fractal, gradient
-from .params import DetailBake, ShapeBake, WeatherBake
+from typing import TYPE_CHECKING
+
+from .noise import fractal, gradient
+
+if TYPE_CHECKING:  # the bake specs (app.bakes.params) are only read here, by attribute
+    from ..bakes.params import DetailBake, ShapeBake, WeatherBake
 
 _U32 = 0xFFFFFFFF
 
@@ -112,11 +116,9 @@ def weather_reference(spec: WeatherBake) -> np.ndarray:
 
 
 def reference(spec) -> np.ndarray:
-    """The raw float channels of any bake spec."""
-    if isinstance(spec, ShapeBake):
-        return shape_reference(spec)
-    if isinstance(spec, DetailBake):
-        return detail_reference(spec)
-    if isinstance(spec, WeatherBake):
-        return weather_reference(spec)
-    raise TypeError(f"no reference for {type(spec).__name__}")
+    """The raw float channels of any bake spec (by its ``kind``)."""
+    twins = {"shape": shape_reference, "detail": detail_reference, "weather": weather_reference}
+    kind = getattr(spec, "kind", None)
+    if kind not in twins:
+        raise TypeError(f"no reference for {type(spec).__name__}")
+    return twins[kind](spec)

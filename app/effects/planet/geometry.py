@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..noise.fractal import perlin_fbm2
+from ...sim.noise.fractal import perlin_fbm2
 
 
 def curvature_drop(x, z, radius: float) -> np.ndarray:
@@ -95,7 +95,7 @@ def boxes(radius: float, count: int = 24, centre=(0.0, -400.0), spread: float = 
 def albedo_texture(size: int = 256, seed: int = 2) -> np.ndarray:
     """A tileable rock/grass albedo (RGBA8)."""
     y, x = np.mgrid[0:size, 0:size] / size
-    from ..noise.fractal import perlin_fbm2_periodic
+    from ...sim.noise.fractal import perlin_fbm2_periodic
 
     n = perlin_fbm2_periodic(x * 8, y * 8, (8, 8), octaves=5, seed=seed)
     t = np.clip(0.5 + 0.7 * n, 0, 1)[..., None]
@@ -109,7 +109,7 @@ def albedo_texture(size: int = 256, seed: int = 2) -> np.ndarray:
 def normal_texture(size: int = 256, seed: int = 3, strength: float = 2.5) -> np.ndarray:
     """A tileable tangent-space normal map (RGBA8, (0.5, 0.5, 1) = flat) from periodic fBm."""
     y, x = np.mgrid[0:size, 0:size] / size
-    from ..noise.fractal import perlin_fbm2_periodic
+    from ...sim.noise.fractal import perlin_fbm2_periodic
 
     h = perlin_fbm2_periodic(x * 16, y * 16, (16, 16), octaves=4, seed=seed)
     gx = (np.roll(h, -1, axis=1) - np.roll(h, 1, axis=1)) * size / 2 * strength / size * 8

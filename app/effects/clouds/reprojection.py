@@ -10,7 +10,7 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..gpu.programs import draw_fullscreen, fullscreen
+from ...gpu.programs import draw_fullscreen, fullscreen
 
 REPROJECT = fullscreen("clouds/reproject")
 

@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import moderngl
 
-from .. import bakes
-from ..bakes.textures import BakedTextures
-from ..params import Param
-from ..frame import Stage
-from ..gpu.programs import draw_fullscreen, fullscreen
-from .base import Effect
+from ... import bakes
+from ...bakes.textures import BakedTextures
+from ...params import Param
+from ...frame import Stage
+from ...gpu.programs import draw_fullscreen, fullscreen
+from ..base import Effect
 
 VIEWS = ("shape", "detail", "weather", "perlin", "worley_f1", "worley_f2_f1", "fbm", "turbulence",
          "perlin_worley", "value")
@@ -22,7 +22,7 @@ CHANNELS = ("r", "g", "b", "a", "rgb")
 NOISE_VIEW = fullscreen("noise/noise_view")
 
 
-class NoiseLab(Effect):
+class Noise(Effect):
     name = "noise"
     title = "Noise lab"
     spec = "spec/001"
@@ -70,14 +70,14 @@ class NoiseLab(Effect):
         elif view == "weather":
             textures["uMap"] = self.texture_for(view)
         if view == "value":
-            from ..noise.gpu import value_noise_texture
+            from ...render.noise import value_noise_texture
 
             if "value" not in self._extra:
                 self._extra["value"] = value_noise_texture(self.gpu, self.name, 1)
             textures["uValueNoiseTex"] = self._extra["value"]
             prog.set("uValueNoiseWrap", (256.0, 256.0, 256.0))
         if view in ("perlin", "fbm", "turbulence", "perlin_worley"):
-            from ..noise.gpu import GradientNoiseTextures
+            from ...render.noise import GradientNoiseTextures
 
             if "gradient" not in self._extra:
                 self._extra["gradient"] = GradientNoiseTextures(self.gpu, self.name)

@@ -40,19 +40,19 @@ import math
 import moderngl
 import numpy as np
 
-from .. import bakes
-from ..bakes.textures import BakedTextures
-from ..params import Param
-from ..sim import clouds_maritime as twin
-from ..frame import Stage
-from ..gpu.programs import draw_fullscreen, fullscreen
-from .base import Effect, Pass
-from .layer import LAYER_COMPOSITE, composite_layer
+from ... import bakes
+from ...bakes.textures import BakedTextures
+from ...params import Param
+from ...sim import clouds_b as twin
+from ...frame import Stage
+from ...gpu.programs import draw_fullscreen, fullscreen
+from ..base import Effect, Pass
+from ...render.layers import LAYER_COMPOSITE, composite_layer
 
 CLOUDS_B = fullscreen("clouds_b/clouds_b")
 
 
-class CloudsMaritime(Effect):
+class CloudsB(Effect):
     name = "clouds_b"
     title = "Volumetric clouds, model B (maritime thesis)"
     spec = "spec/000"

@@ -32,9 +32,9 @@ from typing import Callable, Sequence
 import moderngl
 import numpy as np
 
-from ..errors import ParamError
-from ..gpu.fft import GpuFFT, check_fft_size, resolve_compute, twiddle_table
-from ..gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from ...errors import ParamError
+from ...gpu.fft import GpuFFT, check_fft_size, resolve_compute, twiddle_table
+from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 
 MAX_CASCADES = 4
 LOCAL = 8  # work group edge of the ocean compute shaders

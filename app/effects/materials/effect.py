@@ -14,13 +14,12 @@ import math
 import moderngl
 import numpy as np
 
-from ..imageio import srgb_to_linear
-from ..noise.gpu import value_noise_texture
-from ..noise.value import ValueNoise, ease_in
-from ..params import Param
-from ..gpu.programs import ProgramSpec
-from .base import Effect
-from .meshes import Mesh, cube, slice_quad, torus, uv_sphere
+from ...colour import srgb_to_linear
+from ...render.noise import value_noise_texture
+from ...params import Param
+from ...gpu.programs import ProgramSpec
+from ..base import Effect
+from ...render.meshes import Mesh, cube, slice_quad, torus, uv_sphere
 
 MATERIALS = ("wood", "marble", "granite")
 NOISES = ("value", "gradient")
@@ -40,7 +39,7 @@ LAYOUT = {
     "cube": (cube, (-1.45, 0.0, 0.0), ((1.0, 1.0, 0.0), 35.0)),
     "sphere": (uv_sphere, (0.0, 0.0, 0.0), ((0.0, 1.0, 0.0), 0.0)),
     "torus": (torus, (1.45, 0.0, 0.0), ((1.0, 0.0, 0.0), 55.0)),
-    "slice": (slice_quad, (0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), 0.0)),  # mesh built at material.slice_y
+    "slice": (slice_quad, (0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), 0.0)),  # mesh built at materials.slice_y
 }
 
 
@@ -61,7 +60,8 @@ def model_matrix(translation, axis, degrees: float, spin_degrees: float = 0.0) -
 
 
 class Materials(Effect):
-    name = "material"
+    name = "materials"
+    former_names = ("material",)
     title = "Procedural materials"
     spec = "spec/004"
     programs = (MATERIAL, MATERIAL_OBJECT_POS, MATERIAL_RADIUS, MATERIAL_BAKED, MATERIAL_BAKED_RADIUS,
@@ -72,22 +72,22 @@ class Materials(Effect):
     def python_params(cls) -> list[Param]:
         w = "spec/004 §2"
         return [
-            Param("material.material", "wood", doc="which material: the thesis's wood, or marble / granite",
+            Param("materials.material", "wood", doc="which material: the thesis's wood, or marble / granite",
                   kind="choice", choices=MATERIALS, section="spec/004 §1.4"),
-            Param("material.noise", "value", doc="value = the thesis's lattice value noise; gradient = Perlin 2002",
+            Param("materials.noise", "value", doc="value = the thesis's lattice value noise; gradient = Perlin 2002",
                   kind="choice", choices=NOISES, section="spec/004 §1.5"),
-            Param("material.objects", "all", doc="which meshes to draw (slice = the y = 0 cross-section, fig. 7)",
+            Param("materials.objects", "all", doc="which meshes to draw (slice = the y = 0 cross-section, fig. 7)",
                   kind="choice", choices=OBJECTS),
-            Param("material.filter_rings", False, doc="box-filter the ring edges over the pixel footprint (anti-aliasing)",
+            Param("materials.filter_rings", False, doc="box-filter the ring edges over the pixel footprint (anti-aliasing)",
                   kind="bool"),
-            Param("material.lighting", False, doc="Blinn–Phong lighting (the thesis renders unlit)", kind="bool"),
-            Param("material.light_dir", (0.5, 0.8, 0.45), -1.0, 1.0, "direction toward the light", kind="vec3"),
-            Param("material.light_color", (1.0, 1.0, 1.0), 0.0, 4.0, "light colour", kind="vec3"),
-            Param("material.ambient", 0.3, 0.0, 1.0, "ambient light"),
-            Param("material.specular", 0.15, 0.0, 1.0, "specular strength"),
-            Param("material.shininess", 32.0, 1.0, 512.0, "Blinn–Phong exponent"),
-            Param("material.spin", 0.0, 0.0, 360.0, "turntable speed", unit="deg/s"),
-            Param("material.slice_y", 0.0, -0.5, 0.5, "height of the cross-section (objects = slice)", unit="object units",
+            Param("materials.lighting", False, doc="Blinn–Phong lighting (the thesis renders unlit)", kind="bool"),
+            Param("materials.light_dir", (0.5, 0.8, 0.45), -1.0, 1.0, "direction toward the light", kind="vec3"),
+            Param("materials.light_color", (1.0, 1.0, 1.0), 0.0, 4.0, "light colour", kind="vec3"),
+            Param("materials.ambient", 0.3, 0.0, 1.0, "ambient light"),
+            Param("materials.specular", 0.15, 0.0, 1.0, "specular strength"),
+            Param("materials.shininess", 32.0, 1.0, 512.0, "Blinn–Phong exponent"),
+            Param("materials.spin", 0.0, 0.0, 360.0, "turntable speed", unit="deg/s"),
+            Param("materials.slice_y", 0.0, -0.5, 0.5, "height of the cross-section (objects = slice)", unit="object units",
                   section="spec/004 §1.4"),
             # the thesis's property table (spec/004 §2), names and defaults as documented
             Param("wood.vol_tex_scale", (1.0, 1.0, 1.0, 10.0), 0.0, 1000.0,
@@ -128,13 +128,13 @@ class Materials(Effect):
         self._gradient = None
 
     def meshes(self) -> list[tuple[str, Mesh]]:
-        which = self.params["material.objects"]
+        which = self.params["materials.objects"]
         names = ["cube", "sphere", "torus"] if which == "all" else [which]
         out = []
         for n in names:
-            key = (n, self.params["material.slice_y"]) if n == "slice" else n
+            key = (n, self.params["materials.slice_y"]) if n == "slice" else n
             if key not in self._meshes:
-                data = slice_quad(self.params["material.slice_y"]) if n == "slice" else LAYOUT[n][0]()
+                data = slice_quad(self.params["materials.slice_y"]) if n == "slice" else LAYOUT[n][0]()
                 self._meshes[key] = Mesh(self.gpu, self.name, data)
             out.append((n, self._meshes[key]))
         return out
@@ -143,10 +143,10 @@ class Materials(Effect):
         """The noise sources the chosen material and noise read, by sampler name."""
         seed = self.params["wood.noise_seed"]
         out = {}
-        if self.params["material.noise"] == "value" or self.params["material.material"] == "wood":
+        if self.params["materials.noise"] == "value" or self.params["materials.material"] == "wood":
             out["uValueNoiseTex"] = self._value_tex.get(seed)
-        if self.params["material.noise"] == "gradient":
-            from ..noise.gpu import GradientNoiseTextures
+        if self.params["materials.noise"] == "gradient":
+            from ...render.noise import GradientNoiseTextures
 
             if self._gradient is None:
                 self._gradient = GradientNoiseTextures(self.gpu, self.name)
@@ -157,16 +157,16 @@ class Materials(Effect):
         p = self.params
         size = p["wood.texture_2d_image_size"]
         out = {
-            "uMaterial": MATERIALS.index(p["material.material"]),
-            "uNoiseKind": NOISES.index(p["material.noise"]),
+            "uMaterial": MATERIALS.index(p["materials.material"]),
+            "uNoiseKind": NOISES.index(p["materials.noise"]),
             "uRecDepth": p["wood.rec_depth"],
-            "uFilterRings": p["material.filter_rings"],
-            "uLighting": p["material.lighting"],
-            "uLightDir": p["material.light_dir"],
-            "uLightColor": p["material.light_color"],
-            "uAmbient": p["material.ambient"],
-            "uSpecular": p["material.specular"],
-            "uShininess": p["material.shininess"],
+            "uFilterRings": p["materials.filter_rings"],
+            "uLighting": p["materials.lighting"],
+            "uLightDir": p["materials.light_dir"],
+            "uLightColor": p["materials.light_color"],
+            "uAmbient": p["materials.ambient"],
+            "uSpecular": p["materials.specular"],
+            "uShininess": p["materials.shininess"],
             "uVolTexScale": p["wood.vol_tex_scale"],
             "uNoiseGridSize": p["wood.noise_grid_size"],
             "uDistorFactor": p["wood.distor_factor"],
@@ -186,7 +186,7 @@ class Materials(Effect):
 
     def bake_noise(self, size: int, use_compute: bool | None = None):
         """Bake the wood's distortion noise over the object box into a size³ texture."""
-        from ..gpu.bake import bake_volume
+        from ...gpu.bake import bake_volume
 
         def setup(prog):
             prog.bind_textures(self._noise_textures())
@@ -211,7 +211,7 @@ class Materials(Effect):
         prog.set("uCameraPos", tuple(frame.camera.position))
         target.use()
         ctx.enable(moderngl.DEPTH_TEST)
-        spin = self.params["material.spin"] * frame.time
+        spin = self.params["materials.spin"] * frame.time
         for name, mesh in self.meshes():
             _, translation, (axis, degrees) = LAYOUT[name]
             if name == "slice":  # one-sided quad: seen from above or below
@@ -221,42 +221,3 @@ class Materials(Effect):
             prog.set("uModel", model_matrix(translation, axis, degrees, spin))
             mesh.draw(prog)
         ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
-
-
-# ---- numpy twins of the wood chain (glsl/materials/wood.glsl) -------------------------------------
-
-def effective(v) -> np.ndarray:
-    """A thesis Vector property's effective 3D scale: xyz·w."""
-    v = np.asarray(v, dtype=np.float64)
-    return v[:3] * v[3]
-
-
-def wood_radius(pos: np.ndarray, noise01: np.ndarray, vol_tex_scale=(1, 1, 1, 10), distor_factor=(1, 1, 1, 0.5)):
-    distor = (noise01 - 0.5) * effective(distor_factor)
-    vt = pos * effective(vol_tex_scale) + distor
-    return np.sqrt(vt[..., 0] ** 2 + vt[..., 2] ** 2)
-
-
-def wood_value(radius) -> np.ndarray:
-    return ease_in(np.mod(radius, 1.0))
-
-
-def wood_value_filtered(radius, width) -> np.ndarray:
-    def F(x):
-        return (np.floor(x) + np.mod(x, 1.0) ** 3) / 3.0
-
-    a, b = radius - 0.5 * width, radius + 0.5 * width
-    return np.where(width < 1e-6, wood_value(radius), (F(b) - F(a)) / np.maximum(b - a, 1e-12))
-
-
-def wood_colour(pos: np.ndarray, noise: ValueNoise | None = None, rec_depth: int = 3,
-                vol_tex_scale=(1, 1, 1, 10), noise_grid_size=(0.2, 1, 1, 10), distor_factor=(1, 1, 1, 0.5),
-                inner=(0.75, 0.5, 0.25), outer=(0.5, 0.25, 0.0)) -> np.ndarray:
-    """The thesis's colour (display values, as its Unity shader output them) at object points."""
-    pos = np.asarray(pos, dtype=np.float64)
-    if noise is None:
-        n = np.full(pos.shape, 0.5)
-    else:
-        n = noise.octaves(pos * effective(noise_grid_size), rec_depth)
-    v = wood_value(wood_radius(pos, n, vol_tex_scale, distor_factor))[..., None]
-    return np.asarray(inner) * (1 - v) + np.asarray(outer) * v

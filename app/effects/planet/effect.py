@@ -25,13 +25,13 @@ import math
 import moderngl
 import numpy as np
 
-from ..params import Param
-from ..sim import atmosphere as atm
-from . import atmosphere_hillaire as hillaire
-from ..frame import ShadowMap, Stage
-from ..gpu.programs import ProgramSpec, draw_fullscreen
-from .base import Effect, Pass
-from .planet_geometry import albedo_texture, boxes, mountains, normal_texture
+from ...params import Param
+from ...sim import atmosphere as atm
+from . import hillaire
+from ...frame import ShadowMap, Stage
+from ...gpu.programs import ProgramSpec, draw_fullscreen
+from ..base import Effect, Pass
+from .geometry import albedo_texture, boxes, mountains, normal_texture
 
 METHODS = ("brute_force", "lut", "shadowed", "hillaire")
 DEBUG_VIEWS = ("final", "in_scatter", "out_scatter")
@@ -214,7 +214,7 @@ class Planet(Effect):
         for tex in self._textures:
             tex.build_mipmaps()
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-        from .sky import star_field
+        from ...sim.textures import star_field
 
         stars = star_field(7)
         self._stars = self.gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1, stars.tobytes(),
@@ -366,7 +366,7 @@ class Planet(Effect):
             "uThesisPcRule": p["planet.pc_rule"] == "thesis",
         })
         if self._gradient is None:
-            from ..noise.gpu import GradientNoiseTextures
+            from ...render.noise import GradientNoiseTextures
 
             self._gradient = GradientNoiseTextures(self.gpu, self.name)
         textures.update(self._gradient.textures(None))

@@ -25,13 +25,13 @@ import math
 import moderngl
 import numpy as np
 
-from ..errors import ParamError
-from ..params import Param
-from ..sim import ocean as oc
-from ..frame import Stage
-from ..gpu.copy import ColourCopy
-from ..gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
-from .base import Effect, Pass
+from ...errors import ParamError
+from ...params import Param
+from ...sim import ocean as oc
+from ...frame import Stage
+from ...gpu.copy import ColourCopy
+from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from ..base import Effect, Pass
 
 MODELS = ("sine", "gerstner", "fft")
 FFT_SIZES = ("64", "128", "256", "512")
@@ -282,8 +282,8 @@ class Ocean(Effect):
             return
         ref = oc.FFTOcean(key[0], n=key[1], patch_sizes=key[2], choppiness=1.0, seed=key[3])
         if self.sim is None:
-            from ..gpu.fft import resolve_compute
-            from .ocean_fft import GpuOceanSim
+            from ...gpu.fft import resolve_compute
+            from .fft import GpuOceanSim
             if path == "auto":  # llvmpipe runs the fragment path faster (evolve and finalize
                 # as image stores cost it 2–3×: 79 against 98 ms per update at 256 × 3)
                 use_compute = self.gpu.caps.compute and not self.gpu.caps.software

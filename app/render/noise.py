@@ -26,7 +26,7 @@ import moderngl
 import numpy as np
 
 from ..errors import GpuUnavailableError
-from . import gradient
+from ..sim.noise import gradient
 
 if TYPE_CHECKING:
     from ..gpu.device import Gpu
@@ -50,7 +50,7 @@ def _set_uniform(prog: Any, name: str, value: Any) -> None:
 def value_noise_texture(gpu: "Gpu", owner: str, seed: int) -> moderngl.Texture:
     """The wood thesis's random source (256×256 RGBA8, NEAREST, repeat) for
     ``glsl/common/noise_value.glsl`` (read with texelFetch), allocated under ``owner``."""
-    from .value import random_texture
+    from ..sim.noise.value import random_texture
 
     return gpu.texture(owner, "value noise source", (256, 256), 4, random_texture(seed).tobytes(), dtype="f1",
                        filter=(moderngl.NEAREST, moderngl.NEAREST), repeat=True)
