@@ -23,6 +23,7 @@ from app.gpu.programs import fullscreen
 from app.gpu.device import Gpu
 from app.gpu.targets import RenderTarget
 from app.sim import hillaire as twin
+from app.sim import optics
 from app.sim.camera import Camera
 
 PROBE = fullscreen("tests/hillaire_probe")
@@ -229,7 +230,7 @@ def test_single_scattering_matches_numpy_integral(rig):
         v = d[iy, ix]
         nu = float(v @ sun)
         res = twin.integrate_ray(m, 2.0, float(v @ up), float(sun @ up), nu, steps=3000)
-        ref = 30.0 * (twin.phase_rayleigh(nu) * res["rayleigh"] + twin.phase_mie(nu, 0.76) * res["mie"])
+        ref = 30.0 * (optics.phase_rayleigh(nu) * res["rayleigh"] + optics.phase_mie_cornette_shanks(nu, 0.76) * res["mie"])
         assert img[iy, ix] == pytest.approx(ref, rel=0.01), (iy, ix)
 
 

@@ -86,6 +86,8 @@ import numpy as np
 
 from ..errors import ParamError
 from ..params import Param
+from .optics import phase_mie_cornette_shanks, phase_rayleigh
+from .optics import ray_sphere as optics_ray_sphere
 
 SPEC = "spec/002"
 
@@ -318,30 +320,18 @@ AtmosphereParams.from_params = staticmethod(from_params)  # type: ignore[attr-de
 # Phase functions (spec/002 §1.2)
 # =============================================================================================
 
-def phase_rayleigh(mu):
-    """Rayleigh phase ``3/(16π) (1 + μ²)``, μ = cos θ (§1.2). Integrates to 1 over the sphere."""
-    mu = np.asarray(mu, dtype=np.float64)
-    return 3.0 / (16.0 * np.pi) * (1.0 + mu * mu)
-
-
 def phase_mie(mu, g):
-    """Cornette–Shanks phase (§1.2, after Yusov)::
-
-        P_M(μ) = 1/(4π) · 3(1 − g²) / (2(2 + g²)) · (1 + μ²) / (1 + g² − 2gμ)^{3/2}
-
-    Normalised to 1 over the sphere for any |g| < 1; equals :func:`phase_rayleigh` at g = 0;
-    forward/backward ratio ((1+g)/(1−g))³ (394.37 at g = 0.76). The §2.3 code's ``3/8π`` prefix
+    """The Cornette–Shanks phase of :mod:`app.sim.optics` (§1.2) for the atmosphere's g:
+    forward/backward ratio ((1+g)/(1−g))³ (394.37 at g = 0.76); the §2.3 code's ``3/8π`` prefix
     is the same constant (1/(4π)·3/2). |g| ≥ 1 raises :class:`ParamError`: at g = ±1 the
     denominator 1 + g² − 2gμ vanishes at μ = g (§1.2) and the factor 1 − g² is 0.
+    Rayleigh's phase is :func:`app.sim.optics.phase_rayleigh`.
     """
-    mu = np.asarray(mu, dtype=np.float64)
     g = np.asarray(g, dtype=np.float64)
     if not np.all(np.abs(g) < 1.0):
         raise ParamError(f"atmosphere.g={float(np.max(np.abs(g)))!r} is out of range: allowed |g| < 1 "
                          "(thesis range [0.7, 0.999])")
-    g2 = g * g
-    return (1.0 / (4.0 * np.pi) * 3.0 * (1.0 - g2) / (2.0 * (2.0 + g2))
-            * (1.0 + mu * mu) / (1.0 + g2 - 2.0 * g * mu) ** 1.5)
+    return phase_mie_cornette_shanks(mu, g)
 
 
 # =============================================================================================
@@ -371,31 +361,9 @@ def _unit(v) -> np.ndarray:
 
 def ray_sphere(origin, direction, radius):
     """Distances (near, far) along ``origin + t·direction`` to the sphere |x| = radius about the
-    planet centre; NaN where the line misses it. ``direction`` is normalised here; distances may
-    be negative (the sphere, or part of it, behind the origin).
-
-    Numerically stable for rays far from the centre (Numerical Recipes): with b = o·d and
-    c = (|o| − R)(|o| + R), q = −(b + sign(b)·√(b² − c)) gives t = q and t = c/q without
-    cancellation.
-    """
-    o = np.asarray(origin, dtype=np.float64)
-    d = _unit(direction)
-    o, d = np.broadcast_arrays(o, d)
-    b = np.einsum("...i,...i->...", o, d)
-    ro = np.linalg.norm(o, axis=-1)
-    c = (ro - radius) * (ro + radius)
-    disc = b * b - c
-    miss = disc < 0.0
-    sq = np.sqrt(np.where(miss, 0.0, disc))
-    q = -(b + np.where(b >= 0.0, sq, -sq))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t_a = q
-        t_b = np.where(q != 0.0, c / np.where(q != 0.0, q, 1.0), -b)
-    near = np.minimum(t_a, t_b)
-    far = np.maximum(t_a, t_b)
-    near = np.where(miss, np.nan, near)
-    far = np.where(miss, np.nan, far)
-    return near, far
+    planet centre (:func:`app.sim.optics.ray_sphere` with the centre at the origin); NaN where
+    the line misses it."""
+    return optics_ray_sphere(origin, direction, (0.0, 0.0, 0.0), radius)
 
 
 def ground_distance(origin, direction, params: AtmosphereParams):

@@ -4,9 +4,9 @@ these, function by function."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
+
+from .optics import henyey_greenstein
 
 
 def density_length(base_height: float, max_height: float) -> float:
@@ -80,13 +80,6 @@ def beer(b, ds):
     return np.exp(-np.asarray(b, dtype=np.float64) * ds)
 
 
-def henyey_greenstein(cos_theta, g):
-    """(4.19), 1/sr."""
-    c = np.clip(np.asarray(cos_theta, dtype=np.float64), -1.0, 1.0)
-    denom = np.maximum(1.0 + g * g - 2.0 * g * c, 1e-6)
-    return (1.0 - g * g) / (4.0 * math.pi * denom**1.5)
-
-
 def silver_lobe(cos_theta, intensity, exponent):
     """(4.20) with Sat(cos θ)."""
     return intensity * sat(np.asarray(cos_theta, dtype=np.float64)) ** exponent
@@ -103,21 +96,3 @@ def powder(b, ds):
     return 2.0 * beer(b, ds) * (1.0 - beer(b, 2.0 * np.asarray(ds, dtype=np.float64)))
 
 
-def ray_box(origin, direction, box_min, box_max):
-    """Slab method (t_near, t_far), unclamped; hit when t_far ≥ max(t_near, 0)."""
-    o, d = np.asarray(origin, float), np.asarray(direction, float)
-    d = np.where(np.abs(d) < 1e-20, 1e-20, d)
-    t0, t1 = (np.asarray(box_min, float) - o) / d, (np.asarray(box_max, float) - o) / d
-    return float(np.minimum(t0, t1).max()), float(np.maximum(t0, t1).min())
-
-
-def ray_sphere(origin, direction, centre, radius):
-    """(t0, t1) with t0 ≤ t1, or None on a miss (unit direction)."""
-    oc = np.asarray(origin, float) - np.asarray(centre, float)
-    b = float(np.dot(oc, direction))
-    c = float(np.dot(oc, oc)) - radius * radius
-    disc = b * b - c
-    if disc < 0.0:
-        return None
-    s = math.sqrt(disc)
-    return -b - s, -b + s

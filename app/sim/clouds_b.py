@@ -8,39 +8,22 @@ computes with constant or analytic noise.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
-TINY = 1.0e-20
+from .optics import henyey_greenstein, ray_box
+
 
 
 def ray_box_distance(bounds_min, bounds_max, origin, direction) -> np.ndarray:
     """(A.4) (dstToBox, dstInsideBox), last axis; ``direction`` is passed as is (the fix: not
     1/L) and zero components are allowed (replaced by ±1e-20 like the shader)."""
-    o = np.asarray(origin, dtype=np.float64)
-    d = np.array(direction, dtype=np.float64)
-    small = np.abs(d) < TINY
-    d = np.where(small, np.where(d >= 0.0, TINY, -TINY), d)
-    inv = 1.0 / d
-    t0 = (np.asarray(bounds_min, dtype=np.float64) - o) * inv
-    t1 = (np.asarray(bounds_max, dtype=np.float64) - o) * inv
-    tmin, tmax = np.minimum(t0, t1), np.maximum(t0, t1)
-    dst_a = tmin.max(axis=-1)
-    dst_b = tmax.min(axis=-1)
+    dst_a, dst_b = ray_box(origin, direction, bounds_min, bounds_max)
     to_box = np.maximum(0.0, dst_a)
     inside = np.maximum(0.0, dst_b - to_box)
     return np.stack([to_box, inside], axis=-1)
-
-
-def henyey_greenstein(cos_theta, g) -> np.ndarray:
-    """(eq. 3.1) (1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2}), per steradian."""
-    c = np.asarray(cos_theta, dtype=np.float64)
-    g = np.asarray(g, dtype=np.float64)
-    denom = np.maximum(1.0 + g * g - 2.0 * g * c, 1.0e-6)
-    return (1.0 - g * g) / (4.0 * math.pi * denom * np.sqrt(denom))
 
 
 def phase(cos_alpha, forward: float, back: float, base_brightness: float, phase_factor: float) -> np.ndarray:

@@ -173,10 +173,3 @@ def multiple_scattering_texel(m: Model, h: float, mu_s: float, directions: int =
     return (L2 / (1 - np.minimum(f, 0.999)) if infinite else L2), f
 
 
-def phase_rayleigh(nu):
-    return 3.0 / (16.0 * math.pi) * (1.0 + nu * nu)
-
-
-def phase_mie(nu, g):
-    g2 = g * g
-    return 3.0 / (8.0 * math.pi) * (1 - g2) / (2 + g2) * (1 + nu * nu) / (1 + g2 - 2 * g * nu) ** 1.5

@@ -21,8 +21,10 @@ uniform int uInnerSteps;   // inner steps of the brute-force sun integral
 // Density integral from P (camera-relative) toward the sun to the top of the atmosphere, by a
 // midpoint sum; a huge value when the sun ray hits the planet.
 vec2 SunDepthBruteForce(vec3 P) {
-    if (RaySphere(P, uSunDir, uEarthCenter, uBottomRadius).x > 0.0) return vec2(1.0e12);
-    float len = RaySphere(P, uSunDir, uEarthCenter, uTopRadius).y;
+    vec2 ground, top;
+    if (RaySphereIntersect(P, uSunDir, uEarthCenter, uBottomRadius, ground) && ground.x > 0.0) return vec2(1.0e12);
+    RaySphereIntersect(P, uSunDir, uEarthCenter, uTopRadius, top);
+    float len = top.y;
     if (len <= 0.0) return vec2(0.0);
     vec3 rel = P - uEarthCenter;
     float r = length(rel);

@@ -6,7 +6,7 @@
 //   extinction     β^ext_R = β^scatt_R = (5.8, 13.5, 33.1)·10⁻⁶ /m,
 //                  β^ext_M = β^scatt_M + β^abs_M = 1.1 · 2·10⁻⁵ /m                           (§1.3)
 //   transmittance  T = exp(−(β^ext_R τ_R + β^ext_M τ_M))   — e^(−τ), not ×τ (erratum of §1.4)
-//   phases         Rayleigh 3/(16π)(1 + μ²); Mie: Cornette–Shanks, |G| < 1                   (§1.2)
+//   phases         Rayleigh 3/(16π)(1 + μ²); Mie: Cornette–Shanks, |G| < 1  (§1.2; common/phase.glsl)
 //
 // Coordinates: metres, world axes, the camera at the origin; the planet centre is uEarthCenter
 // (= C_earth − camera, computed in double precision on the CPU). Float32 at planet scale
@@ -17,6 +17,8 @@
 // (negative discriminant → no segment), sqrt of tiny negatives (SafeSqrt).
 // =============================================================================================
 #include "math.glsl"
+#include "phase.glsl"
+#include "intersect.glsl"
 
 uniform vec3 uEarthCenter;      // planet centre relative to the camera (m)
 uniform float uCameraRadius;    // |camera − C_earth| (m), exact from the CPU
@@ -32,32 +34,11 @@ uniform float uMieG;            // Cornette–Shanks asymmetry, |G| < 1
 uniform float uSunIntensity;    // "lightSun" (30)
 uniform vec3 uSunDir;           // unit vector toward the sun
 
-float PhaseRayleigh(float mu) { return 3.0 / (16.0 * PI) * (1.0 + mu * mu); }
-
-float PhaseMieCornetteShanks(float mu, float g) {
-    g = clamp(g, -0.9999, 0.9999);
-    float g2 = g * g;
-    float denom = pow(max(1.0 + g2 - 2.0 * g * mu, 1.0e-8), 1.5);
-    return 1.0 / (4.0 * PI) * 3.0 * (1.0 - g2) / (2.0 * (2.0 + g2)) * (1.0 + mu * mu) / denom;
-}
-
-// Distances along origin + t·dir to the sphere of radius R about center: (near, far), or
-// (-1, -1) when the ray misses. Computed relative to the closest approach for precision.
-vec2 RaySphere(vec3 origin, vec3 dir, vec3 center, float radius) {
-    vec3 oc = origin - center;
-    float b = dot(oc, dir);
-    vec3 closest = oc - b * dir;
-    float h2 = radius * radius - dot(closest, closest);
-    if (h2 < 0.0) return vec2(-1.0);
-    float h = sqrt(h2);
-    return vec2(-b - h, -b + h);
-}
-
 // The view segment clipped to the atmosphere (spec/002 §2.4 item 2, §9 criterion 6):
 // returns (t0, t1) with t0 ≤ t1, or (-1, -1) when it does not cross the atmosphere.
 vec2 AtmosphereSegment(vec3 dir, float maxDist) {
-    vec2 top = RaySphere(vec3(0.0), dir, uEarthCenter, uTopRadius);
-    if (top.y <= 0.0) return vec2(-1.0);
+    vec2 top;
+    if (!RaySphereIntersect(vec3(0.0), dir, uEarthCenter, uTopRadius, top) || top.y <= 0.0) return vec2(-1.0);
     float t0 = max(top.x, 0.0);
     float t1 = min(top.y, maxDist);
     if (t1 <= t0) return vec2(-1.0);
@@ -66,8 +47,8 @@ vec2 AtmosphereSegment(vec3 dir, float maxDist) {
 
 // Distance to the ground along dir, or a huge value when the ray misses the planet.
 float GroundDistance(vec3 dir) {
-    vec2 g = RaySphere(vec3(0.0), dir, uEarthCenter, uBottomRadius);
-    return g.x > 0.0 ? g.x : 1.0e30;
+    vec2 g;
+    return RaySphereIntersect(vec3(0.0), dir, uEarthCenter, uBottomRadius, g) && g.x > 0.0 ? g.x : 1.0e30;
 }
 
 // Height above sea level at distance t along a view ray whose cosine with the camera's local

@@ -54,6 +54,8 @@
 //   by a 1e-6 floor.
 
 #include "math.glsl"
+#include "phase.glsl"
+#include "intersect.glsl"
 
 float Remap(float v, float ia, float fa, float in_, float fn) {
     return in_ + (v - ia) * (fn - in_) / (fa - ia);
@@ -131,13 +133,6 @@ float CloudDensityFromSamples(vec4 weather, vec4 shape, vec3 detail, float pa, f
 // (4.18)
 float Beer(float absorption, float ds) { return exp(-absorption * ds); }
 
-// (4.19) in 1/sr
-float HenyeyGreenstein(float cosTheta, float g) {
-    float g2 = g * g;
-    float denom = max(1.0 + g2 - 2.0 * g * ClampCosine(cosTheta), 1e-6);
-    return (1.0 - g2) / (4.0 * PI * denom * sqrt(denom));
-}
-
 // (4.20) with Sat(cos θ) (erratum 6)
 float SilverLobe(float cosTheta, float intensity, float exponent) {
     float c = saturate(cosTheta);
@@ -155,35 +150,4 @@ float InOutScatter(float cosTheta, float inScatter, float outScatter, float inVs
 // (4.22)
 float Powder(float absorption, float ds) {
     return 2.0 * Beer(absorption, ds) * (1.0 - Beer(absorption, 2.0 * ds));
-}
-
-// ---- intersections (spec/001 §1.9, Annex C) ------------------------------------------------
-
-// Slab method: (t_near, t_far) along the ray, unclamped (either may be negative: behind the
-// origin). Hit when t_far >= max(t_near, 0). Axis-parallel rays: 1/d is replaced by ±1e30,
-// so a ray parallel to a slab is inside it for all t or for none (no 0·inf NaN).
-vec2 RayBoxIntersect(vec3 origin, vec3 dir, vec3 boxMin, vec3 boxMax) {
-    vec3 safeDir = vec3(abs(dir.x) < 1e-20 ? 1e-20 : dir.x, abs(dir.y) < 1e-20 ? 1e-20 : dir.y,
-                        abs(dir.z) < 1e-20 ? 1e-20 : dir.z);
-    vec3 inv = 1.0 / safeDir;
-    vec3 t0 = (boxMin - origin) * inv;
-    vec3 t1 = (boxMax - origin) * inv;
-    vec3 tmin = min(t0, t1), tmax = max(t0, t1);
-    return vec2(max(max(tmin.x, tmin.y), tmin.z), min(min(tmax.x, tmax.y), tmax.z));
-}
-
-// Algebraic ray–sphere with a unit direction (a = 1): t = −b' ± √(b'² − c), b' = d·(o − C),
-// c = |o − C|² − R² written (|o − C| − R)(|o − C| + R) so that a planet-sized R keeps its
-// precision near the surface (erratum 7: the test is on the discriminant b'² − c, not on its
-// root). Returns false on a miss; t.x ≤ t.y, either may be negative.
-bool RaySphereIntersect(vec3 origin, vec3 dir, vec3 centre, float radius, out vec2 t) {
-    vec3 oc = origin - centre;
-    float dist = length(oc);
-    float b = dot(oc, dir);
-    float c = (dist - radius) * (dist + radius);
-    float disc = b * b - c;
-    if (disc < 0.0) { t = vec2(-1.0, -2.0); return false; }
-    float s = sqrt(disc);
-    t = vec2(-b - s, -b + s);
-    return true;
 }

@@ -45,6 +45,8 @@
 // Numpy twins: app/sim/clouds_maritime.py.
 // =============================================================================================
 #include "math.glsl"
+#include "phase.glsl"
+#include "intersect.glsl"
 
 uniform vec3 uBoundsMin;               // @param (-1500, 1000, -1500) [-100000, 100000] step=10 unit=m §1.6 _BoundsMin: cloud container, lower corner
 uniform vec3 uBoundsMax;               // @param (1500, 1400, 1500) [-100000, 100000] step=10 unit=m §1.6 _BoundsMax: cloud container, upper corner
@@ -73,23 +75,13 @@ uniform sampler3D uVolumeNoise;   // shape ("volume") noise, RGBA
 uniform sampler3D uDetailNoise;   // detail noise, RGB (+ A = 1)
 uniform sampler2D uGradientNoise; // GradientSimulator's 2D coverage map, R used
 
-const float CLOUDS_B_TINY = 1.0e-20;
 
 // (A.4) Distances along d to the box and through it: (dstToBox, dstInsideBox). d need not be
 // unit length (distances are in units of |d|); a zero component is allowed.
 vec2 CloudsBRayBoxDistance(vec3 boundsMin, vec3 boundsMax, vec3 origin, vec3 dir) {
-    vec3 safeDir = mix(dir, mix(vec3(-CLOUDS_B_TINY), vec3(CLOUDS_B_TINY), step(vec3(0.0), dir)),
-                       lessThan(abs(dir), vec3(CLOUDS_B_TINY)));
-    vec3 invDir = 1.0 / safeDir;
-    vec3 t0 = (boundsMin - origin) * invDir;
-    vec3 t1 = (boundsMax - origin) * invDir;
-    vec3 tmin = min(t0, t1);
-    vec3 tmax = max(t0, t1);
-    float dstA = max(max(tmin.x, tmin.y), tmin.z);
-    float dstB = min(tmax.x, min(tmax.y, tmax.z));
-    float dstToBox = max(0.0, dstA);
-    float dstInsideBox = max(0.0, dstB - dstToBox);
-    return vec2(dstToBox, dstInsideBox);
+    vec2 t = RayBoxIntersect(origin, dir, boundsMin, boundsMax);
+    float dstToBox = max(0.0, t.x);
+    return vec2(dstToBox, max(0.0, t.y - dstToBox));
 }
 
 // The thesis's rayBoxDistance as it is called from lightAtPos: it receives 1/L and divides by it
@@ -105,18 +97,11 @@ vec2 CloudsBRayBoxDistanceThesis(vec3 boundsMin, vec3 boundsMax, vec3 origin, ve
     return vec2(dstToBox, max(0.0, dstB - dstToBox));
 }
 
-// (eq. 3.1) Henyey–Greenstein phase, normalised over the sphere (1/sr).
-float CloudsBHenyeyGreenstein(float cosTheta, float g) {
-    float g2 = g * g;
-    float denom = max(1.0 + g2 - 2.0 * g * cosTheta, 1.0e-6);
-    return (1.0 - g2) / (4.0 * PI * denom * sqrt(denom));
-}
-
 // (A.3) Two lobes blended 50/50, scaled by the phase factor, on the base brightness.
 float CloudsBPhase(float cosAlpha) {
     float blend = 0.5;
-    float hg = CloudsBHenyeyGreenstein(cosAlpha, uForwardScattering) * (1.0 - blend)
-             + CloudsBHenyeyGreenstein(cosAlpha, -uBackScattering) * blend;
+    float hg = HenyeyGreenstein(cosAlpha, uForwardScattering) * (1.0 - blend)  // (eq. 3.1)
+             + HenyeyGreenstein(cosAlpha, -uBackScattering) * blend;
     return uBaseBrightness + hg * uPhaseFactor;
 }
 
