@@ -11,7 +11,9 @@ import math
 import numpy as np
 import pytest
 
-from app.effects.ocean.effect import Ocean, polar_grid, wind_vector
+from app.effects.ocean import Ocean
+from app.effects.ocean.mesh import polar_grid
+from app.effects.ocean.params import wind_vector
 from app.errors import ParamError
 from app.runtime import open_session, scene_params
 from app.sim import ocean as oc

@@ -12,9 +12,11 @@ from app.sim.ocean_validation import oceanography, summary
 def report(gl_ctx):
     from app.gpu.device import Gpu
 
+    from app.bench.ocean import gpu_significant_height
+
     gpu = Gpu(gl_ctx)
     try:
-        yield oceanography(gpu)
+        yield oceanography(gpu_hs=gpu_significant_height(gpu))
     finally:
         gpu.release()
 

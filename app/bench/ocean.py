@@ -44,7 +44,10 @@ import numpy as np
 from ..errors import NaturaError, ParamError, UsageError
 from ..gpu.timing import time_call
 from ..sim import ocean as oc
-from ..sim.ocean_validation import oceanography
+from ..sim.ocean_validation import (
+    cascade_moments, fft_peak_period, fft_shape_distance, gerstner_peak_period, gerstner_shape_distance,
+    oceanography, ratio_errors, shape_bins, spectrum_peak_period,
+)
 from ..sim.ocean_validation import summary as oceanography_summary
 
 FFT_SIZES = (64, 128, 256, 512)
@@ -78,67 +81,22 @@ def reference(session) -> dict:
             "tp_s": spectrum_peak_period(sp, m["k_peak"])}
 
 
-def spectrum_peak_period(sp: oc.SpectrumParams, k_peak: float) -> float | None:
-    """Tp = 2π/ω_p of the spectrum: S(ω)'s peak for JONSWAP and Pierson–Moskowitz, ω(k_peak)
-    of the omnidirectional E(k) for Phillips (which has no frequency form)."""
-    if sp.wind_speed <= 0:
-        return None
-    if sp.kind == "phillips":
-        w = float(oc.dispersion_omega(k_peak, sp.depth, sp.g))
-    else:
-        w = sp.peak_omega()
-    return 2.0 * math.pi / w
+def gpu_significant_height(gpu):
+    """For :func:`app.sim.ocean_validation.oceanography`: Hs = 4·std(η) of a seeded sea simulated
+    on the GPU (the effect's ``GpuOceanSim``, N = 256, read back at t = 3 s)."""
+    from ..effects.ocean.fft import GpuOceanSim
 
+    def measure(p, size, seed) -> float:
+        ref = oc.FFTOcean(p, n=256, patch_sizes=(size,), choppiness=1.0, seed=seed)
+        sim = GpuOceanSim(gpu, "validation")
+        try:
+            sim.set_spectrum(ref.cascades, 256)
+            sim.update(3.0, 1.0, 0.0)
+            return 4.0 * float(np.std(sim.read_fields(0)["height"]))
+        finally:
+            sim.release()
 
-def _ratio_errors(mss: float, hs: float, ref: dict) -> dict:
-    return {"mss_deficit": (1.0 - mss / ref["mss"]) if ref["mss"] > 0 else None,
-            "hs_error": (abs(hs - ref["hs"]) / ref["hs"]) if ref["hs"] > 0 else None}
-
-
-def cascade_moments(cascades, sp: oc.SpectrumParams) -> dict:
-    """mss and Hs of the cascades' actual h₀, and of its expectation ½Ψ(−k)Δk²."""
-    m0 = mss = m0_e = mss_e = 0.0
-    for c in cascades:
-        m, s = c.moments()
-        m0 += m
-        mss += s
-        expected = c.expected_variance(sp)  # Σ(E|h₀(k)|² + E|h₀(−k)|²) = ΣΨ(−k)Δk²
-        m0_e += float(expected.sum())
-        mss_e += float(((c.kx**2 + c.kz**2) * expected).sum())
-    return {"m0": m0, "hs": 4.0 * math.sqrt(m0), "mss": mss,
-            "hs_expected": 4.0 * math.sqrt(m0_e), "mss_expected": mss_e}
-
-
-def fft_peak_period(cascades, sp: oc.SpectrumParams) -> float | None:
-    """Tp of the FFT sea: the peak of S(ω) = ring energy / ring Δω of its actual h₀, rings
-    2π/L₀ wide (L₀ the coarsest tile)."""
-    ks, es = [], []
-    for c in cascades:
-        h2 = np.abs(np.asarray(c.h0)) ** 2
-        nz = h2 > 0
-        ks.append(np.hypot(c.kx, c.kz)[nz])
-        es.append(2.0 * h2[nz])
-    k = np.concatenate(ks)
-    e = np.concatenate(es)
-    if e.sum() <= 0:
-        return None
-    dk = 2.0 * math.pi / cascades[0].patch_size
-    ring = np.floor(k / dk + 0.5).astype(np.int64)  # ring j covers [(j − ½)Δk, (j + ½)Δk)
-    energy = np.bincount(ring, weights=e)
-    j = np.arange(len(energy))
-    lo = np.maximum(j - 0.5, 0.0) * dk
-    hi = (j + 0.5) * dk
-    dw = oc.dispersion_omega(hi, sp.depth, sp.g) - oc.dispersion_omega(lo, sp.depth, sp.g)
-    s = np.where(dw > 0, energy / np.where(dw > 0, dw, 1.0), 0.0)
-    jp = int(np.argmax(s))
-    return 2.0 * math.pi / float(oc.dispersion_omega(jp * dk, sp.depth, sp.g))
-
-
-def gerstner_peak_period(waves, depth: float) -> float:
-    """Tp = 2π/ω of the wave with the most energy A²/2."""
-    energy = [(w.steepness * w.wavelength / (2.0 * math.pi)) ** 2 for w in waves]
-    w = waves[int(np.argmax(energy))]
-    return 2.0 * math.pi / float(oc.dispersion_omega(2.0 * math.pi / w.wavelength, depth))
+    return measure
 
 
 # ---- timing ----------------------------------------------------------------------------------
@@ -185,64 +143,6 @@ def _fft_sizes_from(sizes) -> tuple[int, ...]:
     return tuple(out)
 
 
-SHAPE_BINS_PER_DECADE = 8
-SHAPE_DIRECTIONS = 16
-
-
-def _shape_bins(sp: oc.SpectrumParams, ref: dict):
-    """log-k edges (k_p/4 … k_ref, 8 per decade) and the reference's variance share per
-    (log k, direction) bin, directions measured from the wind (16 sectors)."""
-    k_lo = max(ref["k_peak"] / 4.0, 1e-4) if math.isfinite(ref["k_peak"]) else 1e-3
-    decades = math.log10(ref["k_ref"] / k_lo)
-    edges = np.geomspace(k_lo, ref["k_ref"], max(2, int(math.ceil(decades * SHAPE_BINS_PER_DECADE))) + 1)
-    k, th, psi, dk, dth = oc.polar_spectrum(sp, k_lo, ref["k_ref"], nk=800, nth=144)
-    e = psi * (k * dk)[:, None] * dth
-    kk = np.repeat(k[:, None], len(th), axis=1)
-    tt = np.repeat(th[None, :], len(k), axis=0)  # already relative to the wind
-    return edges, _histogram(kk.ravel(), tt.ravel(), e.ravel(), edges)
-
-
-def _histogram(k, theta_from_wind, energy, edges):
-    ik = np.searchsorted(edges, k) - 1
-    it = np.floor((np.angle(np.exp(1j * theta_from_wind)) + math.pi) / (2 * math.pi) * SHAPE_DIRECTIONS)
-    it = np.clip(it.astype(np.int64), 0, SHAPE_DIRECTIONS - 1)
-    ok = (ik >= 0) & (ik < len(edges) - 1)
-    hist = np.zeros((len(edges) - 1, SHAPE_DIRECTIONS))
-    np.add.at(hist, (ik[ok], it[ok]), energy[ok])
-    total = hist.sum()
-    return hist / total if total > 0 else hist
-
-
-def shape_distance(k, theta_travel, energy, sp: oc.SpectrumParams, bins) -> float:
-    """Half the L1 distance (0 = same shape, 1 = disjoint) between a sea's variance over
-    (log k, direction) bins and the spectrum's: how well a wave set fills the directional
-    spectrum, whatever its Hs and mss."""
-    edges, ref_hist = bins
-    hist = _histogram(np.asarray(k, float), np.asarray(theta_travel, float) - sp.wind_direction,
-                      np.asarray(energy, float), edges)
-    return 0.5 * float(np.abs(hist - ref_hist).sum())
-
-
-def fft_shape_distance(cascades, sp, bins) -> float:
-    """For the expectation of h₀ (½Ψ(−k)Δk² per mode, so the figure measures the grid and the
-    bands, not the luck of one draw): mode k carries a wave travelling toward −k."""
-    ks, ts, es = [], [], []
-    for c in cascades:
-        expected = c.expected_variance(sp)
-        held = expected > 0
-        ks.append(np.hypot(c.kx, c.kz)[held])
-        ts.append(np.arctan2(-c.kz[held], -c.kx[held]))
-        es.append(expected[held])
-    return shape_distance(np.concatenate(ks), np.concatenate(ts), np.concatenate(es), sp, bins)
-
-
-def gerstner_shape_distance(waves, sp, bins) -> float:
-    k = [2.0 * math.pi / w.wavelength for w in waves]
-    t = [math.atan2(w.direction[1], w.direction[0]) for w in waves]
-    e = [0.5 * (w.steepness / kk) ** 2 for w, kk in zip(waves, k)]
-    return shape_distance(k, t, e, sp, bins)
-
-
 # ---- sweep 1 ---------------------------------------------------------------------------------
 
 def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int = 2, repeat: int = 5,
@@ -253,7 +153,7 @@ def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int
     sp = eff.spectrum_params()
     p.set("ocean.model", "fft")
     all_sizes = [float(s) for s in p["ocean.patch_sizes"]]
-    bins = _shape_bins(sp, ref)
+    bins = shape_bins(sp, ref)
     rows = []
     for n in fft_sizes:
         for c in cascades:
@@ -270,9 +170,9 @@ def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int
                 continue
             casc = _cascades_of(eff, int(n), int(c))
             m = cascade_moments(casc, sp)
-            row.update({"hs": m["hs"], "mss": m["mss"], **_ratio_errors(m["mss"], m["hs"], ref),
+            row.update({"hs": m["hs"], "mss": m["mss"], **ratio_errors(m["mss"], m["hs"], ref),
                         "shape_distance": fft_shape_distance(casc, sp, bins)})
-            e = _ratio_errors(m["mss_expected"], m["hs_expected"], ref)
+            e = ratio_errors(m["mss_expected"], m["hs_expected"], ref)
             row.update({"mss_expected": m["mss_expected"], "hs_expected": m["hs_expected"],
                         "mss_deficit_expected": e["mss_deficit"], "hs_error_expected": e["hs_error"]})
             rows.append(row)
@@ -288,7 +188,7 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
     ref = ref or reference(session)
     sp = eff.spectrum_params()
     rows = []
-    bins = _shape_bins(sp, ref)
+    bins = shape_bins(sp, ref)
     p.set("ocean.model", "gerstner")
     for count in counts:
         row = {"model": "gerstner", "waves": int(count)}
@@ -303,7 +203,7 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
         m = oc.gerstner_moments(waves)
         tp = gerstner_peak_period(waves, sp.depth)
         angles = {round(math.degrees(math.atan2(w.direction[1], w.direction[0]))) % 360 for w in waves}
-        row.update({"hs": m["hs"], "mss": m["mss"], **_ratio_errors(m["mss"], m["hs"], ref), "tp_s": tp,
+        row.update({"hs": m["hs"], "mss": m["mss"], **ratio_errors(m["mss"], m["hs"], ref), "tp_s": tp,
                     "tp_error": (abs(tp - ref["tp_s"]) / ref["tp_s"]) if ref["tp_s"] else None,
                     "distinct_directions": len(angles), "shape_distance": gerstner_shape_distance(waves, sp, bins),
                     "shortest_wavelength_m": min(w.wavelength for w in waves),
@@ -324,7 +224,7 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
         casc = _cascades_of(eff, int(n), int(c))
         m = cascade_moments(casc, sp)
         tp = fft_peak_period(casc, sp)
-        row.update({"hs": m["hs"], "mss": m["mss"], **_ratio_errors(m["mss"], m["hs"], ref), "tp_s": tp,
+        row.update({"hs": m["hs"], "mss": m["mss"], **ratio_errors(m["mss"], m["hs"], ref), "tp_s": tp,
                     "tp_error": (abs(tp - ref["tp_s"]) / ref["tp_s"]) if (ref["tp_s"] and tp) else None,
                     "modes": int(sum(int(np.count_nonzero(cc.h0)) for cc in casc)),
                     "shape_distance": fft_shape_distance(casc, sp, bins)})
@@ -419,7 +319,7 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None, fft_sizes
             "fft": fft_sweep(session, size, fft_sizes, cascades, warmup, repeat, ref),
             "gerstner": gerstner_sweep(session, size, gerstner_counts, fft_compare, warmup, repeat, ref),
             "direct_sum": direct_sweep(session, direct_sizes, direct_extra, DIRECT_BUDGET_S, warmup, repeat),
-            "oceanography": oceanography(session.gpu),
+            "oceanography": oceanography(gpu_hs=gpu_significant_height(session.gpu)),
         }
     finally:
         for k, v in saved.items():

@@ -1,7 +1,7 @@
 """The ocean against oceanography (issue 6, item 5), as figures a report can quote.
 
-``oceanography()`` measures, on the numpy reference (and on the GPU simulation when a ``gpu``
-is given, through its read-back fields):
+``oceanography()`` measures, on the numpy reference (and on the GPU simulation when a
+measurement of it is given, through its read-back fields):
 
 * **significant wave height** of a fully developed Pierson–Moskowitz sea, 4·std(η), against
   Hs = 0.21·U²/g for U = 5…20 m/s (one realisation on a grid 10 peak wavelengths wide, which
@@ -12,6 +12,10 @@ is given, through its read-back fields):
   the height field between two frames 2 s apart along the wind, against the peak phase speed;
 * **mean-square slope** against Cox & Munk's 0.003 + 5.12·10⁻³·U: a grid without sub-grid
   detail falls below it (the ocean's glitter adds the remainder, ``ocean.subgrid_slopes``).
+
+Beside it, the metrics ``natura bench ocean`` charts for a sea against its own spectrum: the
+moments the cascades carry (``cascade_moments``), the peak period of an FFT sea, a Gerstner set
+and a spectrum, and how well a wave set fills the directional spectrum (``shape_distance``).
 """
 
 from __future__ import annotations
@@ -55,7 +59,10 @@ def phase_speed_error(depth: float, n: int = 64, size: float = 100.0, m: int = 3
     return abs(c / ref - 1.0)
 
 
-def oceanography(gpu=None, seed: int = 0) -> dict:
+def oceanography(gpu_hs=None, seed: int = 0) -> dict:
+    """The report. ``gpu_hs(spectrum params, patch size, seed) → Hs`` measures the same seeded
+    sea on the GPU (``app.bench.ocean.gpu_significant_height``); without it the GPU rows are
+    left out (this module is numpy only)."""
     out: dict = {"hs": [], "mss": [], "phase_speed_error": {
         "deep": phase_speed_error(math.inf), "2 m": phase_speed_error(2.0)}}
     for wind in WINDS:
@@ -63,8 +70,8 @@ def oceanography(gpu=None, seed: int = 0) -> dict:
         f, *_ = fields(p, size, seed=seed + int(wind))
         target = PM_HS_COEFF * wind * wind / oc.G
         row = {"wind": wind, "hs_target": target, "hs_numpy": 4 * float(f.height.std())}
-        if gpu is not None:
-            row["hs_gpu"] = _gpu_hs(gpu, p, size, seed + int(wind))
+        if gpu_hs is not None:
+            row["hs_gpu"] = gpu_hs(p, size, seed + int(wind))
         out["hs"].append(row)
         cm = 0.003 + 5.12e-3 * wind
         out["mss"].append({"wind": wind, "cox_munk": cm, "resolved": float(np.mean(f.slope_x**2 + f.slope_z**2)),
@@ -89,19 +96,6 @@ def oceanography(gpu=None, seed: int = 0) -> dict:
     return out
 
 
-def _gpu_hs(gpu, p, size, seed) -> float:
-    from ..effects.ocean.fft import GpuOceanSim
-
-    ref = oc.FFTOcean(p, n=256, patch_sizes=(size,), choppiness=1.0, seed=seed)
-    sim = GpuOceanSim(gpu, "validation")
-    try:
-        sim.set_spectrum(ref.cascades, 256)
-        sim.update(3.0, 1.0, 0.0)
-        return 4.0 * float(np.std(sim.read_fields(0)["height"]))
-    finally:
-        sim.release()
-
-
 def summary(report: dict) -> str:
     lines = ["oceanography (issue 6, item 5):",
              "  wind  Hs 0.21U²/g  numpy (ratio)   gpu (ratio)   mss/Cox–Munk"]
@@ -115,3 +109,126 @@ def summary(report: dict) -> str:
                  f"{report['drift_along_wind_m']:.1f} m along the wind (peak phase speed: "
                  f"{report['drift_expected_m']:.1f} m)")
     return "\n".join(lines)
+
+
+# ---- metrics of a sea against its spectrum (natura bench ocean) ------------------------------
+
+def spectrum_peak_period(sp: oc.SpectrumParams, k_peak: float) -> float | None:
+    """Tp = 2π/ω_p of the spectrum: S(ω)'s peak for JONSWAP and Pierson–Moskowitz, ω(k_peak)
+    of the omnidirectional E(k) for Phillips (which has no frequency form)."""
+    if sp.wind_speed <= 0:
+        return None
+    if sp.kind == "phillips":
+        w = float(oc.dispersion_omega(k_peak, sp.depth, sp.g))
+    else:
+        w = sp.peak_omega()
+    return 2.0 * math.pi / w
+
+
+def ratio_errors(mss: float, hs: float, ref: dict) -> dict:
+    return {"mss_deficit": (1.0 - mss / ref["mss"]) if ref["mss"] > 0 else None,
+            "hs_error": (abs(hs - ref["hs"]) / ref["hs"]) if ref["hs"] > 0 else None}
+
+
+def cascade_moments(cascades, sp: oc.SpectrumParams) -> dict:
+    """mss and Hs of the cascades' actual h₀, and of its expectation ½Ψ(−k)Δk²."""
+    m0 = mss = m0_e = mss_e = 0.0
+    for c in cascades:
+        m, s = c.moments()
+        m0 += m
+        mss += s
+        expected = c.expected_variance(sp)  # Σ(E|h₀(k)|² + E|h₀(−k)|²) = ΣΨ(−k)Δk²
+        m0_e += float(expected.sum())
+        mss_e += float(((c.kx**2 + c.kz**2) * expected).sum())
+    return {"m0": m0, "hs": 4.0 * math.sqrt(m0), "mss": mss,
+            "hs_expected": 4.0 * math.sqrt(m0_e), "mss_expected": mss_e}
+
+
+def fft_peak_period(cascades, sp: oc.SpectrumParams) -> float | None:
+    """Tp of the FFT sea: the peak of S(ω) = ring energy / ring Δω of its actual h₀, rings
+    2π/L₀ wide (L₀ the coarsest tile)."""
+    ks, es = [], []
+    for c in cascades:
+        h2 = np.abs(np.asarray(c.h0)) ** 2
+        nz = h2 > 0
+        ks.append(np.hypot(c.kx, c.kz)[nz])
+        es.append(2.0 * h2[nz])
+    k = np.concatenate(ks)
+    e = np.concatenate(es)
+    if e.sum() <= 0:
+        return None
+    dk = 2.0 * math.pi / cascades[0].patch_size
+    ring = np.floor(k / dk + 0.5).astype(np.int64)  # ring j covers [(j − ½)Δk, (j + ½)Δk)
+    energy = np.bincount(ring, weights=e)
+    j = np.arange(len(energy))
+    lo = np.maximum(j - 0.5, 0.0) * dk
+    hi = (j + 0.5) * dk
+    dw = oc.dispersion_omega(hi, sp.depth, sp.g) - oc.dispersion_omega(lo, sp.depth, sp.g)
+    s = np.where(dw > 0, energy / np.where(dw > 0, dw, 1.0), 0.0)
+    jp = int(np.argmax(s))
+    return 2.0 * math.pi / float(oc.dispersion_omega(jp * dk, sp.depth, sp.g))
+
+
+def gerstner_peak_period(waves, depth: float) -> float:
+    """Tp = 2π/ω of the wave with the most energy A²/2."""
+    energy = [(w.steepness * w.wavelength / (2.0 * math.pi)) ** 2 for w in waves]
+    w = waves[int(np.argmax(energy))]
+    return 2.0 * math.pi / float(oc.dispersion_omega(2.0 * math.pi / w.wavelength, depth))
+
+
+SHAPE_BINS_PER_DECADE = 8
+SHAPE_DIRECTIONS = 16
+
+
+def shape_bins(sp: oc.SpectrumParams, ref: dict):
+    """log-k edges (k_p/4 … k_ref, 8 per decade) and the reference's variance share per
+    (log k, direction) bin, directions measured from the wind (16 sectors)."""
+    k_lo = max(ref["k_peak"] / 4.0, 1e-4) if math.isfinite(ref["k_peak"]) else 1e-3
+    decades = math.log10(ref["k_ref"] / k_lo)
+    edges = np.geomspace(k_lo, ref["k_ref"], max(2, int(math.ceil(decades * SHAPE_BINS_PER_DECADE))) + 1)
+    k, th, psi, dk, dth = oc.polar_spectrum(sp, k_lo, ref["k_ref"], nk=800, nth=144)
+    e = psi * (k * dk)[:, None] * dth
+    kk = np.repeat(k[:, None], len(th), axis=1)
+    tt = np.repeat(th[None, :], len(k), axis=0)  # already relative to the wind
+    return edges, direction_histogram(kk.ravel(), tt.ravel(), e.ravel(), edges)
+
+
+def direction_histogram(k, theta_from_wind, energy, edges):
+    ik = np.searchsorted(edges, k) - 1
+    it = np.floor((np.angle(np.exp(1j * theta_from_wind)) + math.pi) / (2 * math.pi) * SHAPE_DIRECTIONS)
+    it = np.clip(it.astype(np.int64), 0, SHAPE_DIRECTIONS - 1)
+    ok = (ik >= 0) & (ik < len(edges) - 1)
+    hist = np.zeros((len(edges) - 1, SHAPE_DIRECTIONS))
+    np.add.at(hist, (ik[ok], it[ok]), energy[ok])
+    total = hist.sum()
+    return hist / total if total > 0 else hist
+
+
+def shape_distance(k, theta_travel, energy, sp: oc.SpectrumParams, bins) -> float:
+    """Half the L1 distance (0 = same shape, 1 = disjoint) between a sea's variance over
+    (log k, direction) bins and the spectrum's: how well a wave set fills the directional
+    spectrum, whatever its Hs and mss."""
+    edges, ref_hist = bins
+    hist = direction_histogram(np.asarray(k, float), np.asarray(theta_travel, float) - sp.wind_direction,
+                      np.asarray(energy, float), edges)
+    return 0.5 * float(np.abs(hist - ref_hist).sum())
+
+
+def fft_shape_distance(cascades, sp, bins) -> float:
+    """For the expectation of h₀ (½Ψ(−k)Δk² per mode, so the figure measures the grid and the
+    bands, not the luck of one draw): mode k carries a wave travelling toward −k."""
+    ks, ts, es = [], [], []
+    for c in cascades:
+        expected = c.expected_variance(sp)
+        held = expected > 0
+        ks.append(np.hypot(c.kx, c.kz)[held])
+        ts.append(np.arctan2(-c.kz[held], -c.kx[held]))
+        es.append(expected[held])
+    return shape_distance(np.concatenate(ks), np.concatenate(ts), np.concatenate(es), sp, bins)
+
+
+def gerstner_shape_distance(waves, sp, bins) -> float:
+    k = [2.0 * math.pi / w.wavelength for w in waves]
+    t = [math.atan2(w.direction[1], w.direction[0]) for w in waves]
+    e = [0.5 * (w.steepness / kk) ** 2 for w, kk in zip(waves, k)]
+    return shape_distance(k, t, e, sp, bins)

@@ -32,6 +32,7 @@ from ...frame import ShadowMap, Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen
 from ..base import Effect, Pass
 from .geometry import albedo_texture, boxes, mountains, normal_texture
+from ...render.shadows import depth_target, directional_view_proj
 
 METHODS = ("brute_force", "lut", "shadowed", "hillaire")
 DEBUG_VIEWS = ("final", "in_scatter", "out_scatter")
@@ -52,32 +53,9 @@ sun_direction = atm.direction
 pupil = atm.pupil
 
 
-def look_at(eye, target, up) -> np.ndarray:
-    f = np.asarray(target, float) - np.asarray(eye, float)
-    f /= np.linalg.norm(f)
-    r = np.cross(f, up)
-    if np.linalg.norm(r) < 1e-6:
-        r = np.cross(f, [1.0, 0.0, 0.0])
-    r /= np.linalg.norm(r)
-    u = np.cross(r, f)
-    m = np.identity(4)
-    m[0, :3], m[1, :3], m[2, :3] = r, u, -f
-    m[:3, 3] = -m[:3, :3] @ np.asarray(eye, float)
-    return m
-
-
-def ortho(half: float, near: float, far: float) -> np.ndarray:
-    m = np.identity(4)
-    m[0, 0] = m[1, 1] = 1.0 / half
-    m[2, 2] = -2.0 / (far - near)
-    m[2, 3] = -(far + near) / (far - near)
-    return m
-
-
 def light_view_proj(sun_dir: np.ndarray) -> np.ndarray:
     """Orthographic projection along the sun over the mountains and the city (§3.1)."""
-    eye = SHADOW_CENTRE + sun_dir * 30000.0
-    return ortho(SHADOW_HALF, 1.0, 60000.0) @ look_at(eye, SHADOW_CENTRE, np.array([0.0, 1.0, 0.0]))
+    return directional_view_proj(sun_dir, SHADOW_CENTRE, SHADOW_HALF, 30000.0, 60000.0)
 
 
 class Planet(Effect):
@@ -247,9 +225,8 @@ class Planet(Effect):
         return self._lut.builds
 
     def _make_shadow_map(self, size: int):
-        tex = self.gpu.depth_texture(self.name, "shadow map", (size, size))
         self._shadow_rendered = None
-        return tex, self.gpu.framebuffer(self.name, "shadow map", [], tex)
+        return depth_target(self.gpu, self.name, "shadow map", size)
 
     @property
     def shadow_texture(self):

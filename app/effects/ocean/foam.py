@@ -1,0 +1,47 @@
+"""Foam calibration: the thresholds at which the sea's Jacobian makes foam, chosen so that the
+foam covers the whitecap fraction oceanography gives for the wind (beyond the thesis), or the
+upstream's fixed threshold."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...sim import ocean as oc
+
+
+class FoamCalibration:
+    """Mixin of :class:`~app.effects.ocean.Ocean`: per-cascade foam thresholds."""
+
+    def foam_thresholds(self) -> list[tuple[float, float]]:
+        """(threshold, ramp width) of the foam source per cascade (FFT) or for the wave set.
+
+        Whitecap mode calibrates them on the sea's own Jacobian (the FFT's λ = 1 derivative fields
+        at t = 0, rescaled for the choppiness; a grid of the Gerstner set), so that the foam covers
+        Monahan & O'Muircheartaigh's whitecap fraction for the wind."""
+        p = self.params
+        model = p["ocean.model"]
+        if p["ocean.foam_mode"] == "jacobian":
+            t = p["ocean.foam_threshold"]
+            return [(t, t)] * (len(self.cascade_bands) if model == "fft" and self.cascade_bands else 1)
+        key = (model, p["ocean.choppiness"], p["ocean.wind"], self._sim_key if model == "fft" else self._waves_key)
+        if key != self._foam_key:
+            coverage = oc.whitecap_coverage(p["ocean.wind"])
+            if model == "fft" and self._fft_ref is not None:
+                lam = p["ocean.choppiness"]
+                if self._fft_ref.time is None:
+                    self._fft_ref.update(0.0)
+                jacs = [(1 + lam * c.fields.ddx_dx) * (1 + lam * c.fields.ddz_dz) - (lam * c.fields.ddx_dz) ** 2
+                        for c in self._fft_ref.cascades]
+            elif model == "gerstner":
+                waves = self.gerstner_waves()
+                span = 2.0 * max(w.wavelength for w in waves)
+                g = np.linspace(0.0, span, 192)
+                x, z = np.meshgrid(g, g)
+                jacs = [oc.gerstner(x, z, 0.0, waves, check=False).jacobian]
+            else:
+                jacs = [np.ones(4)]  # the sine wave has no horizontal motion: no foam
+            # whitecaps break mostly on the long waves: each finer cascade gets half the foam of
+            # the one before (57 / 29 / 14 % of the coverage for three)
+            self._foam = oc.whitecap_thresholds(jacs, coverage, shares=[0.5**i for i in range(len(jacs))])
+            self._foam_key = key
+        return self._foam

@@ -1,0 +1,91 @@
+"""Water-height queries: what floating objects and the camera ask the ocean (the frame's
+``water`` slot, an :class:`app.frame.WaterSurface`).
+
+Sine and Gerstner are evaluated exactly in numpy; the FFT reads back the displacement textures
+asynchronously — the answer describes the sea **one frame earlier** (the frame before the last
+``update``), never stalls the GPU, and its time is ``query_time``. Heights come from the
+iterative inversion of the horizontal displacement (spec/000 §1.3, 3 corrections + a final
+read); normals from central differences with a step inside the shortest wave.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...sim import ocean as oc
+from .params import wind_vector
+
+
+class WaterQueries:
+    """Mixin of :class:`~app.effects.ocean.Ocean` implementing :class:`app.frame.WaterSurface`."""
+
+    def fade_range(self) -> tuple[float, float]:
+        """Distances from the camera [m] over which the displacement fades to flat water (the
+        shaders' uFadeStart/uFadeEnd and the queries alike)."""
+        extent = self.params["ocean.mesh_extent"]
+        return 0.5 * extent, 0.9 * extent
+
+    def _fade(self, x, z):
+        start, end = self.fade_range()
+        r = np.hypot(np.asarray(x) - self.camera_pos[0], np.asarray(z) - self.camera_pos[2])
+        t = np.clip((r - start) / (end - start), 0.0, 1.0)
+        return 1.0 - t * t * (3.0 - 2.0 * t)
+
+    def displacement(self, x, z) -> np.ndarray:
+        """(D_x, η, D_z) [m] of the rest points (x, z) as drawn (faded far from the camera)."""
+        x = np.asarray(x, dtype=float)
+        z = np.asarray(z, dtype=float)
+        model = self.params["ocean.model"]
+        if model == "sine":
+            a, k, w = self.sine_wave()
+            d = wind_vector(self.params["ocean.wind_direction"])
+            eta = a * np.sin(k * (d[0] * x + d[1] * z) - w * self.time)
+            out = np.stack([np.zeros_like(eta), eta, np.zeros_like(eta)], axis=-1)
+        elif model == "gerstner":
+            surf = oc.gerstner(x, z, self.time, self.gerstner_waves(), depth=self.params["ocean.depth"])
+            out = surf.position - np.stack([x, np.zeros_like(x), z], axis=-1)
+        else:
+            if self._readback is None:
+                out = np.zeros(x.shape + (3,))
+            else:
+                out = 0.0
+                for size, grid in zip(self.patch_sizes(), self._readback[1]):
+                    out = out + oc.sample_periodic_bilinear(grid[..., :3], size, x, z)
+                out = np.broadcast_to(out, x.shape + (3,)).copy()
+        return out * self._fade(x, z)[..., None]
+
+    def height(self, x, z) -> np.ndarray:
+        """Water height [m] above world points (x, z): :meth:`water` without the normal."""
+        return oc.invert_horizontal_displacement(self.displacement, x, z,
+                                                 self.params["ocean.query_iterations"])[2][..., 1]
+
+    def normal(self, x, z) -> np.ndarray:
+        """Unit normal of the water above world points (x, z): :meth:`water`'s normal."""
+        return self.water(x, z).normal
+
+    def water(self, x, z, iterations: int | None = None) -> oc.WaterQuery:
+        """Height, displacement and unit normal of the water above world points (x, z).
+
+        Sine and Gerstner: exact at the current time. FFT: from the last completed readback (one
+        frame old, see the module docstring); flat water before the first one."""
+        if iterations is None:
+            iterations = self.params["ocean.query_iterations"]
+        x0, z0, d, res = oc.invert_horizontal_displacement(self.displacement, x, z, iterations)
+        # normal of the displaced surface by central differences around the rest point, with a
+        # step well inside the shortest wave (or the finest FFT texel)
+        e = self._difference_step()
+        px1, px0 = self.displacement(x0 + e, z0), self.displacement(x0 - e, z0)
+        pz1, pz0 = self.displacement(x0, z0 + e), self.displacement(x0, z0 - e)
+        t = np.stack([2 * e + px1[..., 0] - px0[..., 0], px1[..., 1] - px0[..., 1], px1[..., 2] - px0[..., 2]], -1)
+        b = np.stack([pz1[..., 0] - pz0[..., 0], pz1[..., 1] - pz0[..., 1], 2 * e + pz1[..., 2] - pz0[..., 2]], -1)
+        n = np.cross(b, t)
+        n /= np.linalg.norm(n, axis=-1, keepdims=True)
+        return oc.WaterQuery(d[..., 1], d, n, x0, z0, res)
+
+    def _difference_step(self) -> float:
+        model = self.params["ocean.model"]
+        if model == "sine":
+            return min(0.05, self.params["ocean.sine_wavelength"] / 50.0)
+        if model == "gerstner":
+            return min(0.05, min(w.wavelength for w in self.gerstner_waves()) / 50.0)
+        return min(0.05, 0.5 * min(self.patch_sizes()) / self.fft_size())

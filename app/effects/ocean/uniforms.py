@@ -1,0 +1,77 @@
+"""What the ocean's programs are told: the wave model (sine, Gerstner set, FFT cascades and
+their textures) and the shading (environment, main light, sub-grid slopes)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...sim import ocean as oc
+from .params import MODELS, wind_vector
+
+
+class OceanUniforms:
+    """Mixin of :class:`~app.effects.ocean.Ocean`: uniforms and textures of its passes."""
+
+    def wave_uniforms(self, prog) -> dict:
+        """Set the wave model's uniforms; returns its textures by sampler name (FFT)."""
+        p = self.params
+        cam = self.camera_pos
+        model = MODELS.index(p["ocean.model"])
+        fade_start, fade_end = self.fade_range()
+        foam_t, foam_w = self.foam_thresholds()[0]
+        prog.set_many({"uWaveModel": model, "uTime": float(self.time), "uFadeStart": fade_start,
+                       "uFadeEnd": fade_end, "uFoamThreshold": foam_t, "uFoamWidth": foam_w})
+        d = wind_vector(p["ocean.wind_direction"])
+        if model == 0:
+            a, k, w = self.sine_wave()
+            phase = math.fmod(k * (d[0] * cam[0] + d[1] * cam[2]), 2.0 * math.pi)
+            prog.set("uSine", (float(d[0]), float(d[1]), k, a))
+            prog.set("uSinePhase", (-w, phase))
+        elif model == 1:
+            waves = self.gerstner_waves()
+            a_rows, b_rows = [], []
+            for wv in waves:
+                dx, dz = np.asarray(wv.direction) / math.hypot(*wv.direction)
+                k = 2.0 * math.pi / wv.wavelength
+                om = float(oc.dispersion_omega(k, p["ocean.depth"]))
+                ph = math.fmod(wv.phase + k * (dx * cam[0] + dz * cam[2]), 2.0 * math.pi)
+                a_rows.append((dx, dz, k, wv.steepness / k))
+                b_rows.append((om, ph, wv.steepness, 0.0))
+            prog.set("uGerstnerCount", len(waves))
+            prog.set_array("uGerstnerA", a_rows)
+            prog.set_array("uGerstnerB", b_rows)
+        else:
+            sizes = self.patch_sizes()
+            n = self.fft_size()
+            rows = []
+            for size in sizes + [1.0] * (4 - len(sizes)):
+                # sample j of the grid sits at j·L/N, i.e. at texel centre (j + ½)/N
+                uv = ((cam[0] / size + 0.5 / n) % 1.0, (cam[2] / size + 0.5 / n) % 1.0)
+                rows.append((uv[0], uv[1], 1.0 / size, n / size))
+            prog.set_array("uCascadeUV", rows)
+            bands = self.cascade_bands + [(1.0, 2.0, 0.0)] * (4 - len(self.cascade_bands))
+            prog.set_array("uCascadeBand", [(lo, hi, m, 0.0) for lo, hi, m in bands])
+            weight = p["ocean.foam_amount"]
+            prog.set("uFoamWeight", [weight] * 4)
+            prog.set("uCascades", len(sizes))
+            textures = {}
+            for kind, held in (("uDisp", self.sim.disp), ("uDeriv", self.sim.deriv), ("uFoam", self.sim.foam)):
+                for i in range(4):
+                    textures[f"{kind}{i}"] = held[min(i, len(sizes) - 1)]
+            return textures
+        return {}
+
+    def shading_uniforms(self, prog, frame, env) -> dict:
+        """Set the shading uniforms; returns the environment cubemap by sampler name."""
+        p = self.params
+        subgrid = max(self.cox_munk_mss() - self.resolved_mss, 0.0) if p["ocean.subgrid_slopes"] else 0.0
+        prog.set_many({"uEnvironmentLods": float(max(0, int(math.log2(env.size[0])))),
+                       "uSubgridMss": subgrid, "uSeaHs": max(self.significant_height(), 1e-3)})
+        if frame.main_light is not None:
+            prog.set_many(frame.light_uniforms())
+        else:
+            prog.set_many({"uMainLightDir": (0.0, 0.7071, 0.7071), "uMainLightRadiance": (1.0, 1.0, 1.0)})
+        self.apply_params(prog)
+        return {"uEnvironment": env}
