@@ -102,7 +102,7 @@ def _session_inputs(args, scene_name: str):
     """Validate everything the user gave (scene, parameters, camera, size) before any GL work."""
     from .runtime import parse_size, scene_params
     from .scenes import get_scene
-    from .sim.camera import Camera, parse_camera
+    from .sim.camera import parse_camera
 
     cls = get_scene(scene_name)
     params = scene_params(scene_name, args.shaders, args.sets, args.preset)
@@ -113,7 +113,7 @@ def _session_inputs(args, scene_name: str):
         if not 0.0 <= args.time <= 24.0:
             raise UsageError(f"--time {args.time:g} is out of range: allowed hours in [0, 24]")
         params.set("time.hour", args.time % 24.0)
-    camera = Camera(**cls.camera)
+    camera = cls.new_camera()
     if args.camera:
         parse_camera(args.camera, camera)
     camera.set(yaw=args.yaw, pitch=args.pitch, fov=args.fov)
@@ -249,8 +249,7 @@ def cmd_shaders(args) -> int:
 
 def cmd_bench(args) -> int:
     from .bench import bench_scene, scene_sweeps, write_report
-    from .runtime import parse_size
-    from .runtime import open_session
+    from .runtime import open_session, parse_size
 
     params, camera, size = _session_inputs(args, args.scene)
     if args.size is None:

@@ -77,7 +77,8 @@ class Param:
             return "true or false"
         if self.kind == "choice":
             return "one of " + ", ".join(self.choices)
-        rng = f"[{_fmt(self.lo)}, {_fmt(self.hi)}]" if self.lo is not None else "any finite value"
+        rng = (f"[{_fmt(self.lo)}, {_fmt(self.hi)}]" if self.lo is not None and self.hi is not None
+               else "any finite value")
         if self.kind in COMPONENTS:
             return f"{_WORDS[COMPONENTS[self.kind]]} comma-separated numbers, each in {rng}"
         if self.kind == "int":

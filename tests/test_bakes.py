@@ -22,13 +22,26 @@ import numpy as np
 import pytest
 
 import app.bakes.core as core
-from app.bakes import CACHE_ENV, BakeCache, DetailBake, ShapeBake, WeatherBake, bake, bake_params, bake_raw, bake_report, default_cache_dir, finish, key_for
-from app.sim.bakes import reference
+from app.bakes import (
+    CACHE_ENV,
+    BakeCache,
+    DetailBake,
+    ShapeBake,
+    WeatherBake,
+    bake,
+    bake_params,
+    bake_raw,
+    bake_report,
+    default_cache_dir,
+    finish,
+    key_for,
+)
 from app.bakes.cache import FILE_FORMAT
 from app.errors import GpuUnavailableError, ParamError
 from app.gpu.device import Gpu
 from app.gpu.shaders import ShaderLibrary
 from app.params import ParamSet
+from app.sim.bakes import reference
 
 
 def needs_compute(gpu):

@@ -20,16 +20,16 @@ import moderngl
 import numpy as np
 import pytest
 
-from app.effects.clouds import Clouds
-from app.sim import clouds as cl
-from app.sim import optics
 from app.effects.base import Effect
-from app.gpu.programs import fullscreen
+from app.effects.clouds import Clouds
 from app.effects.sky.effect import Sky
 from app.gpu.device import Gpu
+from app.gpu.programs import fullscreen
 from app.runtime import open_session, scene_params
 from app.scenes import get_scene
 from app.scenes.base import Scene
+from app.sim import clouds as cl
+from app.sim import optics
 from app.sim.camera import Camera
 
 PROBE = fullscreen("tests/clouds_probe")

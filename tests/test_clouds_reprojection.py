@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.effects.clouds.reprojection import BAYER4, block_pixel
 from app.colour import to_srgb8
+from app.effects.clouds.reprojection import BAYER4, block_pixel
 from app.runtime import open_session, render_frames, scene_params
 
 SIZE = (64, 36)

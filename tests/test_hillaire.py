@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 from app.effects.planet.hillaire import PROGRAMS, CameraFrame, HillaireLuts, model_uniforms, params
-from app.gpu.programs import fullscreen
 from app.gpu.device import Gpu
+from app.gpu.programs import fullscreen
 from app.gpu.targets import RenderTarget
 from app.sim import hillaire as twin
 from app.sim import optics

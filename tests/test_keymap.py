@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from app.params import Param, ParamSet
-from app.sim.camera import Camera
 from app.scenes.keymaps import FLY
 from app.scenes.planet import ATMOSPHERE_THESIS
+from app.sim.camera import Camera
 from app.ui.keymap import Controller
 
 

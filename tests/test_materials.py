@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.effects.materials.effect import MATERIAL, MATERIAL_OBJECT_POS, MATERIAL_RADIUS, Materials
-from app.sim.materials import effective, wood_colour
 from app.colour import linear_to_srgb
-from app.sim.noise.value import ValueNoise
+from app.effects.materials.effect import MATERIAL, MATERIAL_OBJECT_POS, MATERIAL_RADIUS, Materials
 from app.runtime import open_session, render_frames, scene_params
+from app.sim.materials import effective, wood_colour
+from app.sim.noise.value import ValueNoise
 
 C0 = np.array([0.75, 0.5, 0.25])
 C1 = np.array([0.5, 0.25, 0.0])

@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 
 from app.gpu.device import Gpu
-from app.sim.noise import cellular, fractal, gradient
 from app.render.noise import PERMUTATION_UNIFORM, GradientNoiseTextures, NoiseProbe
+from app.sim.noise import cellular, fractal, gradient
 
 RNG = np.random.default_rng(20021)
 

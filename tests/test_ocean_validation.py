@@ -10,9 +10,8 @@ from app.sim.ocean_validation import oceanography, summary
 
 @pytest.fixture(scope="module")
 def report(gl_ctx):
-    from app.gpu.device import Gpu
-
     from app.bench.ocean import gpu_significant_height
+    from app.gpu.device import Gpu
 
     gpu = Gpu(gl_ctx)
     try:

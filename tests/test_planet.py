@@ -23,11 +23,11 @@ from typing import NamedTuple
 import numpy as np
 import pytest
 
+from app.colour import to_srgb8
 from app.effects.planet import effect as pfx
 from app.effects.planet.effect import COMPOSITE, METHODS, Planet
 from app.effects.planet.geometry import boxes
 from app.gpu.device import Gpu
-from app.colour import to_srgb8
 from app.runtime import Session, render_frames, scene_params
 from app.scenes.planet import PlanetScene
 from app.sim import atmosphere as atm

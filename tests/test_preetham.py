@@ -106,7 +106,10 @@ def test_bluer_at_zenith_than_horizon_at_noon():
     sun = model.sun_direction(75.0, 180.0)
     zen = model.sky_radiance(np.array([0.0, 1.0, 0.0]), sun, 2.5)
     hor = model.sky_radiance(model.sun_direction(1.0, 0.0), sun, 2.5)  # horizon, away from the sun
-    blue = lambda c: c[2] / c.sum()
+
+    def blue(c):
+        return c[2] / c.sum()
+
     assert blue(zen) > blue(hor) + 0.05
 
 

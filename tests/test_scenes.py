@@ -6,14 +6,14 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from app.effects.sky.effect import Sky
-from app.sim.sky import cubemap_face_direction
-from app.gpu.device import Gpu
 from app.colour import to_srgb8
+from app.effects.sky.effect import Sky
+from app.gpu.device import Gpu
 from app.runtime import open_session, render_frames, scene_params
 from app.scenes import SCENES
 from app.scenes.base import Scene
 from app.sim.camera import Camera
+from app.sim.sky import cubemap_face_direction
 from app.ui.display import draw_display
 
 

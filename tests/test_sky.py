@@ -11,11 +11,11 @@ import math
 import numpy as np
 import pytest
 
-from app.sim import sky as skyfx
+from app.effects.sky.effect import DEFAULT_KEYFRAMES
 from app.errors import ParamError
+from app.sim import sky as skyfx
 from app.sim.camera import Camera
 from app.sim.daynight import GRADIENT_TEXELS, DayNight, Keyframes, sun_direction, wrap_hour
-from app.effects.sky.effect import DEFAULT_KEYFRAMES
 
 ECLIPTIC = (0.0, 0.6, -1.0)
 

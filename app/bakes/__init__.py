@@ -16,13 +16,26 @@ with the equations), driven by ``glsl/common/bake3d_compute.glsl`` / ``bake3d_fr
 ``tools/bake.py`` fills the cache with the defaults and the maritime sizes and prints times.
 """
 
+from ..sim.bakes import reference
 from .cache import BAKE_VERSION, CACHE_ENV, BakeCache, default_cache_dir
 from .core import (
-    PROGRAMS, Baked, RawBake, bake, bake_detail, bake_raw, bake_report, bake_shape,
-    bake_weather, finish, key_for, normalized, quantize, shader_digest, shader_files,
+    PROGRAMS,
+    Baked,
+    RawBake,
+    bake,
+    bake_detail,
+    bake_raw,
+    bake_report,
+    bake_shape,
+    bake_weather,
+    finish,
+    key_for,
+    normalized,
+    quantize,
+    shader_digest,
+    shader_files,
 )
 from .params import DetailBake, ShapeBake, WeatherBake, bake_params, defaults, maritime
-from ..sim.bakes import reference
 
 __all__ = [
     "bake", "bake_detail", "bake_params", "bake_raw", "bake_report", "bake_shape",

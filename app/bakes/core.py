@@ -25,12 +25,12 @@ from typing import Callable
 import moderngl
 import numpy as np
 
-from ..gpu.programs import ProgramSpec
 from ..errors import GpuUnavailableError
 from ..gpu.bake import bake_volume, read_volume
+from ..gpu.programs import ProgramSpec
 from ..gpu.shaders import ShaderLibrary
-from ..sim.noise import gradient
 from ..render.noise import GradientNoiseTextures
+from ..sim.noise import gradient
 from .cache import BakeCache, cache_key
 from .params import DetailBake, ShapeBake, WeatherBake
 

@@ -15,7 +15,6 @@ import json
 import platform
 from pathlib import Path
 
-
 from ..effects.base import Pass
 from ..gpu.programs import draw_fullscreen, fullscreen
 from ..gpu.timing import time_call

@@ -16,9 +16,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..effects.materials.effect import MATERIAL, MATERIAL_BAKED, MATERIAL_BAKED_RADIUS, MATERIAL_RADIUS, Materials
-from ..gpu.timing import time_call
 from ..colour import linear_to_srgb
+from ..effects.materials.effect import (
+    MATERIAL,
+    MATERIAL_BAKED,
+    MATERIAL_BAKED_RADIUS,
+    MATERIAL_RADIUS,
+    Materials,
+)
+from ..gpu.timing import time_call
 
 TOP_VIEW = np.array([[2.0, 0, 0, 0], [0, 0, -2.0, 0], [0, 0, 0, 0], [0, 0, 0, 1.0]])
 BAKE_SIZES = (8, 16, 32, 64, 128)

@@ -45,8 +45,15 @@ from ..errors import NaturaError, ParamError, UsageError
 from ..gpu.timing import time_call
 from ..sim import ocean as oc
 from ..sim.ocean_validation import (
-    cascade_moments, fft_peak_period, fft_shape_distance, gerstner_peak_period, gerstner_shape_distance,
-    oceanography, ratio_errors, shape_bins, spectrum_peak_period,
+    cascade_moments,
+    fft_peak_period,
+    fft_shape_distance,
+    gerstner_peak_period,
+    gerstner_shape_distance,
+    oceanography,
+    ratio_errors,
+    shape_bins,
+    spectrum_peak_period,
 )
 from ..sim.ocean_validation import summary as oceanography_summary
 

@@ -51,7 +51,7 @@ def bake_volume(gpu, owner: str, name: str, size: tuple[int, int, int], compute:
     ``progress(fraction)`` is called after each slice (fragment) or chunk of ``chunk_slices``
     slices (compute; see the module doc)."""
     ctx = gpu.ctx
-    size = tuple(int(s) for s in size)
+    size = (int(size[0]), int(size[1]), int(size[2]))
     if use_compute is None:
         use_compute = gpu.caps.compute
     tex = gpu.texture3d(owner, name, size, 4, dtype="f4")

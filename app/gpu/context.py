@@ -48,7 +48,7 @@ def create_headless_context(require: int = 330) -> moderngl.Context:
         if version < require:
             continue
         try:
-            return moderngl.create_context(standalone=True, backend="egl", require=version)
+            return moderngl.create_context(standalone=True, backend="egl", require=version)  # type: ignore[arg-type]
         except Exception as exc:  # moderngl raises plain Exception subclasses here
             last = exc
     raise GpuUnavailableError(

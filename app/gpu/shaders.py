@@ -335,10 +335,11 @@ class Program:
         self.stamps = {p: _stamp(p) for p in dict.fromkeys(all_files)}
         if not errors:
             try:
+                new: Any
                 if self.is_compute:
                     new = lib.ctx.compute_shader(sources["compute_shader"])
                 else:
-                    new = lib.ctx.program(**sources)
+                    new = lib.ctx.program(**sources)  # type: ignore[arg-type]
             except moderngl.Error as exc:
                 errors = self._map(str(exc), tables)
             else:

@@ -29,7 +29,8 @@ class RenderTarget:
         self.fbo.use()
 
     def clear(self, rgba=(0.0, 0.0, 0.0, 1.0), depth: float = 1.0) -> None:
-        self.fbo.clear(*rgba, depth=depth)
+        r, g, b, a = rgba
+        self.fbo.clear(r, g, b, a, depth=depth)
 
     def read(self) -> np.ndarray:
         w, h = self.size

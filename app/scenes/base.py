@@ -14,11 +14,11 @@ from __future__ import annotations
 from typing import ClassVar
 
 from .. import RESOURCES
+from ..colour import TONEMAPS
 from ..effects.base import Effect, Pass
 from ..errors import NaturaError
 from ..frame import SLOTS, FrameContext, SceneImage
 from ..gpu.shaders import ShaderLibrary
-from ..colour import TONEMAPS
 from ..params import Param, ParamSet
 from ..sim.camera import Camera
 from .keymaps import FLY, KeyMap
@@ -41,12 +41,18 @@ class Scene:
     title: ClassVar[str] = ""
     description: ClassVar[str] = ""
     effects: ClassVar[tuple[type[Effect], ...]] = ()
-    camera: ClassVar[dict] = {}
+    #: Camera(...) arguments of the scene's starting view
+    default_camera: ClassVar[dict] = {}
     background: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)  # linear radiance behind everything
     keymap: ClassVar[KeyMap] = FLY  # the window's key bindings (app/scenes/keymaps.py)
     #: switches between effects of the scene: parameter → (default, {choice: effect name}, doc).
     #: An effect that is not chosen is skipped entirely, so it creates no GL resources.
     selectors: ClassVar[dict] = {}
+
+    @classmethod
+    def new_camera(cls) -> Camera:
+        """A camera at the scene's starting view."""
+        return Camera(**cls.default_camera)
 
     @classmethod
     def check_slots(cls) -> None:
@@ -83,7 +89,7 @@ class Scene:
         self.check_slots()
         self.gpu = gpu
         self.params = params
-        self.camera = camera or Camera(**self.camera)
+        self.camera: Camera = camera or self.new_camera()
         self.time = 0.0
         self.index = 0
         self.instances: list[Effect] = [cls(gpu, params) for cls in self.effects]
@@ -112,7 +118,7 @@ class Scene:
     def frame(self, size: tuple[int, int], dt: float = 0.0) -> FrameContext:
         """Advance the simulation by ``dt`` seconds and return this frame's context."""
         self.time += dt
-        frame = FrameContext(size=tuple(size), camera=self.camera, time=self.time, dt=dt, index=self.index,
+        frame = FrameContext(size=(int(size[0]), int(size[1])), camera=self.camera, time=self.time, dt=dt, index=self.index,
                              interactive=self.interactive)
         self.index += 1
         for effect in self.active_instances():

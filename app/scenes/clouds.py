@@ -23,4 +23,4 @@ class CloudsScene(Scene):
         "scene.model": ("a", {"a": "clouds", "b": "clouds_b"},
                         "cloud model: a = the cloud thesis (spec/001), b = the maritime thesis (spec/000 §1.6)"),
     }
-    camera = {"position": (0.0, 300.0, 0.0), "yaw": 30.0, "pitch": 25.0, "fov": 70.0, "far": 200000.0}
+    default_camera = {"position": (0.0, 300.0, 0.0), "yaw": 30.0, "pitch": 25.0, "fov": 70.0, "far": 200000.0}

@@ -12,5 +12,5 @@ class MaterialsScene(Scene):
     title = "Procedural materials"
     description = "the thesis's volumetric wood on a cube, a sphere and a torus; marble and granite (spec/004)"
     effects = (Materials,)
-    camera = {"position": (0.0, 0.5, 3.1), "yaw": 0.0, "pitch": -8.0, "fov": 40.0}
+    default_camera = {"position": (0.0, 0.5, 3.1), "yaw": 0.0, "pitch": -8.0, "fov": 40.0}
     background = (0.02, 0.02, 0.025)

@@ -27,5 +27,5 @@ class OceanScene(Scene):
                          "clouds over the sea: off, a = the cloud thesis (spec/001), b = the maritime thesis "
                          "(spec/000 §1.6)"),
     }
-    camera = {"position": (0.0, 4.0, 0.0), "yaw": 262.0, "pitch": -2.0, "fov": 60.0, "far": 200000.0}
+    default_camera = {"position": (0.0, 4.0, 0.0), "yaw": 262.0, "pitch": -2.0, "fov": 60.0, "far": 200000.0}
     keymap = OCEAN

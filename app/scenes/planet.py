@@ -30,5 +30,5 @@ class PlanetScene(Scene):
     description = ("single scattering in the thesis's three approximations (brute force, optical-depth LUT, "
                    "LUT + shadow-map light shafts) and Hillaire 2020 multiple scattering (spec/002)")
     effects = (Planet,)
-    camera = {"position": (0.0, 2.0, 60.0), "yaw": 0.0, "pitch": 4.0, "fov": 60.0, "far": 5.0e7}
+    default_camera = {"position": (0.0, 2.0, 60.0), "yaw": 0.0, "pitch": 4.0, "fov": 60.0, "far": 5.0e7}
     keymap = ATMOSPHERE_THESIS

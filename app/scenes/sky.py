@@ -12,4 +12,4 @@ class SkyScene(Scene):
     title = "Day–night sky at sea level"
     description = "procedural sky, sun, halo, moon and stars over 24 h (spec/000 §1.7)"
     effects = (Sky,)
-    camera = {"position": (0.0, 2.0, 0.0), "yaw": 225.0, "pitch": 25.0, "fov": 90.0}
+    default_camera = {"position": (0.0, 2.0, 0.0), "yaw": 225.0, "pitch": 25.0, "fov": 90.0}

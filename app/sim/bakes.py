@@ -1,7 +1,8 @@
 """Numpy twins of the bake shaders (``glsl/bakes/*.glsl``), built from the noise twins in
 ``app.sim.noise`` — for small sizes (16³ takes well under a second; 128³ would take minutes).
 
-Each ``*_reference(spec)`` returns the raw float64 channels the GPU writes into its RGBA32F
+A spec is one of ``app.bakes.params``' ShapeBake, DetailBake or WeatherBake, read here only by
+attribute (this module stays below ``app.bakes``). Each ``*_reference(spec)`` returns the raw float64 channels the GPU writes into its RGBA32F
 volume, before :func:`app.bakes.core.finish` normalises and quantises them; the coordinates
 are formed in float32 exactly as the shaders form them (texel centre (g + 0.5) / size, times
 the period), then evaluated in float64 by the twins.
@@ -11,12 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from typing import TYPE_CHECKING
-
 from .noise import fractal, gradient
-
-if TYPE_CHECKING:  # the bake specs (app.bakes.params) are only read here, by attribute
-    from ..bakes.params import DetailBake, ShapeBake, WeatherBake
 
 _U32 = 0xFFFFFFFF
 
@@ -42,7 +38,7 @@ def _worley_channel(coords, cells: int, octaves: int, gain: float, seed: int) ->
     return fractal.worley_fbm3_periodic(*p, cells, octaves=octaves, lacunarity=2, gain=gain, seed=seed & _U32)
 
 
-def shape_reference(spec: ShapeBake) -> np.ndarray:
+def shape_reference(spec) -> np.ndarray:
     """(size, size, size, 4) float64: R Perlin–Worley, G/B/A inverted-Worley fBm."""
     coords = _grid3(spec.size)
     p = _scaled(coords, spec.base_cells)
@@ -56,7 +52,7 @@ def shape_reference(spec: ShapeBake) -> np.ndarray:
     return np.stack(channels, axis=-1)
 
 
-def detail_reference(spec: DetailBake) -> np.ndarray:
+def detail_reference(spec) -> np.ndarray:
     """(size, size, size, 4) float64: R/G/B inverted-Worley fBm, A = 1."""
     coords = _grid3(spec.size)
     channels = [_worley_channel(coords, cells, spec.octaves, spec.gain, spec.seed * 8 + 4 + i)
@@ -85,7 +81,7 @@ def weather_noise(px, py, cells: int, lattice_offset=(0, 0), seed: int | None = 
                 lerp(u, g(perm[(A + Y1) & 255], x, y - 1), g(perm[(B + Y1) & 255], x - 1, y - 1)))
 
 
-def weather_fbm(spec: WeatherBake, qx: np.ndarray, qy: np.ndarray, lattice_offset=(0, 0)) -> np.ndarray:
+def weather_fbm(spec, qx: np.ndarray, qy: np.ndarray, lattice_offset=(0, 0)) -> np.ndarray:
     """F_K(q) of weather_map.glsl: the layered tiling Perlin fBm at float32 points q (maps)."""
     cells = spec.layer_cells()
     total, norm, amp = 0.0, 0.0, 1.0
@@ -99,7 +95,7 @@ def weather_fbm(spec: WeatherBake, qx: np.ndarray, qy: np.ndarray, lattice_offse
     return total / norm
 
 
-def weather_reference(spec: WeatherBake) -> np.ndarray:
+def weather_reference(spec) -> np.ndarray:
     """(size, size, 4) float64: low coverage, high coverage, max height, density (row 0 is
     v = 0, as in the texture)."""
     s = texel_centres(spec.size)

@@ -16,7 +16,6 @@ import numpy as np
 from .optics import henyey_greenstein, ray_box
 
 
-
 def ray_box_distance(bounds_min, bounds_max, origin, direction) -> np.ndarray:
     """(A.4) (dstToBox, dstInsideBox), last axis; ``direction`` is passed as is (the fix: not
     1/L) and zero components are allowed (replaced by ±1e-20 like the shader)."""

@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ParamError
 from ..colour import srgb_to_linear
+from ..errors import ParamError
 
 GRADIENT_TEXELS = 256
 

@@ -7,6 +7,7 @@ import numpy as np
 
 from .noise.value import ValueNoise, ease_in
 
+
 def effective(v) -> np.ndarray:
     """A thesis Vector property's effective 3D scale: xyz·w."""
     v = np.asarray(v, dtype=np.float64)

@@ -7,7 +7,6 @@ import math
 
 import numpy as np
 
-
 MIE_G = -0.990
 MIE_G2 = 0.9801
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+
 def star_field(seed: int, width: int = 1024, height: int = 512, count: int = 2600) -> np.ndarray:
     """A tileable star texture (R, float32): small Gaussian points, mostly faint.
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import moderngl
 
-from ..gpu.programs import draw_fullscreen, fullscreen
 from ..colour import TONEMAPS
+from ..gpu.programs import draw_fullscreen, fullscreen
 
 DISPLAY = fullscreen("common/display")
 

@@ -26,7 +26,6 @@ def main(work: str) -> int:
     from app import DEFAULT_SHADER_ROOT
     from app.runtime import scene_params
     from app.scenes import get_scene
-    from app.sim.camera import Camera
     from app.ui import window as W
 
     work_dir = Path(work)
@@ -35,7 +34,7 @@ def main(work: str) -> int:
     os.chdir(work_dir)
     out: dict = {}
     params = scene_params("sky", shader_root=shaders, sets=["time.hour=10"])
-    win = W.NaturaWindow("sky", params, Camera(**get_scene("sky").camera), (320, 180), shaders, screenshot_dir="shots")
+    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (320, 180), shaders, screenshot_dir="shots")
     k = win.wnd.keys
     mods = win.wnd.modifiers
     w, h = win.wnd.buffer_size
@@ -147,11 +146,10 @@ def bake_progress(work: str) -> int:
     os.environ["NATURA_CACHE"] = str(Path(work) / "cache")
     from app.runtime import scene_params
     from app.scenes import get_scene
-    from app.sim.camera import Camera
     from app.ui import window as W
 
     params = scene_params("noise", sets=["noise.view=shape", "bake_shape.size=32"])
-    win = W.NaturaWindow("noise", params, Camera(**get_scene("noise").camera), (320, 180))
+    win = W.NaturaWindow("noise", params, get_scene("noise").new_camera(), (320, 180))
     win.wnd.clear()
     win.frame(1 / 60)
     win.wnd.swap_buffers()
@@ -167,11 +165,10 @@ def ocean_models(work: str) -> int:
     draw a different sea, with no render error."""
     from app.runtime import scene_params
     from app.scenes import get_scene
-    from app.sim.camera import Camera
     from app.ui import window as W
 
     params = scene_params("ocean", sets=["ocean.fft_size=64", "ocean.mesh_segments=96", "time.hour=17"])
-    win = W.NaturaWindow("ocean", params, Camera(**get_scene("ocean").camera), (320, 180))
+    win = W.NaturaWindow("ocean", params, get_scene("ocean").new_camera(), (320, 180))
     w, h = win.wnd.buffer_size
     win.show_panel = False
     shots = {}

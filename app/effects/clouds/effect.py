@@ -57,13 +57,13 @@ import numpy as np
 from ... import RESOURCES, bakes
 from ...bakes.textures import BakedTextures
 from ...errors import ParamError
-from ...params import Param
-from ...sim.clouds import density_length
-from .reprojection import REPROJECT, TemporalReprojection
-from ...render.layers import LAYER_COMPOSITE, composite_layer
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
+from ...params import Param
+from ...render.layers import LAYER_COMPOSITE, composite_layer
+from ...sim.clouds import density_length
 from ..base import Effect, Pass
+from .reprojection import REPROJECT, TemporalReprojection
 
 CLOUD_MARCH = fullscreen("clouds/cloud_march")
 REPROJECTION_MODES = ("window", "on", "off")

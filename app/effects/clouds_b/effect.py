@@ -42,12 +42,12 @@ import numpy as np
 
 from ... import bakes
 from ...bakes.textures import BakedTextures
-from ...params import Param
-from ...sim import clouds_b as twin
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
-from ..base import Effect, Pass
+from ...params import Param
 from ...render.layers import LAYER_COMPOSITE, composite_layer
+from ...sim import clouds_b as twin
+from ..base import Effect, Pass
 
 CLOUDS_B = fullscreen("clouds_b/clouds_b")
 

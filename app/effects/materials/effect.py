@@ -15,11 +15,11 @@ import moderngl
 import numpy as np
 
 from ...colour import srgb_to_linear
-from ...render.noise import value_noise_texture
-from ...params import Param
 from ...gpu.programs import ProgramSpec
-from ..base import Effect
+from ...params import Param
 from ...render.meshes import Mesh, cube, slice_quad, torus, uv_sphere
+from ...render.noise import value_noise_texture
+from ..base import Effect
 
 MATERIALS = ("wood", "marble", "granite")
 NOISES = ("value", "gradient")

@@ -11,9 +11,9 @@ import moderngl
 
 from ... import bakes
 from ...bakes.textures import BakedTextures
-from ...params import Param
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
+from ...params import Param
 from ..base import Effect
 
 VIEWS = ("shape", "detail", "weather", "perlin", "worley_f1", "worley_f2_f1", "fbm", "turbulence",

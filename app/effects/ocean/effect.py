@@ -23,13 +23,13 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ...params import Param
-from ...sim import ocean as oc
 from ...frame import Stage
 from ...gpu.copy import ColourCopy
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
-from ..base import Effect, Pass
+from ...params import Param
 from ...render.environment import flat_environment
+from ...sim import ocean as oc
+from ..base import Effect, Pass
 from .foam import FoamCalibration
 from .mesh import OceanMesh
 from .params import ocean_params, wind_vector

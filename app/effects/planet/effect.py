@@ -25,14 +25,14 @@ import math
 import moderngl
 import numpy as np
 
-from ...params import Param
-from ...sim import atmosphere as atm
-from . import hillaire
 from ...frame import ShadowMap, Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen
-from ..base import Effect, Pass
-from .geometry import albedo_texture, boxes, mountains, normal_texture
+from ...params import Param
 from ...render.shadows import depth_target, directional_view_proj
+from ...sim import atmosphere as atm
+from ..base import Effect, Pass
+from . import hillaire
+from .geometry import albedo_texture, boxes, mountains, normal_texture
 
 METHODS = ("brute_force", "lut", "shadowed", "hillaire")
 DEBUG_VIEWS = ("final", "in_scatter", "out_scatter")

@@ -59,8 +59,8 @@ from typing import Any
 import moderngl
 import numpy as np
 
-from ...params import Param
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from ...params import Param
 
 GROUP = "hillaire"
 SECTION = "Hillaire 2020"

@@ -26,14 +26,14 @@ day–night sky's brightness.
 
 from __future__ import annotations
 
-import numpy as np
 import moderngl
+import numpy as np
 
+from ...frame import Stage
+from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim import preetham as model
 from ...sim.daynight import Light, light_fade
-from ...frame import Stage
-from ...gpu.programs import draw_fullscreen, fullscreen
 from ..base import Effect
 
 PREETHAM_SKY = fullscreen("preetham/sky")

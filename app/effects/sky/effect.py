@@ -20,11 +20,11 @@ import moderngl
 import numpy as np
 
 from ... import RESOURCES
+from ...frame import Stage
+from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim.daynight import DayNight, Keyframes
 from ...sim.textures import moon_texture, star_field
-from ...frame import Stage
-from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ..base import Effect, Pass
 
 DEFAULT_KEYFRAMES = RESOURCES / "sky" / "keyframes.toml"

@@ -10,19 +10,46 @@ numpy-only, like all of ``app.sim``.
 """
 
 from .cellular import (
-    feature_point2, feature_point3, pcg4d, worley2, worley2_periodic, worley3, worley3_periodic,
-    worley_f2_minus_f1, worley_inverted_f1,
+    feature_point2,
+    feature_point3,
+    pcg4d,
+    worley2,
+    worley2_periodic,
+    worley3,
+    worley3_periodic,
+    worley_f2_minus_f1,
+    worley_inverted_f1,
 )
 from .fractal import (
-    gain_for, octave_sum, perlin_fbm2, perlin_fbm2_periodic, perlin_fbm3, perlin_fbm3_periodic,
-    perlin_turbulence2, perlin_turbulence2_periodic, perlin_turbulence3,
-    perlin_turbulence3_periodic, perlin_worley2, perlin_worley2_periodic, perlin_worley3,
-    perlin_worley3_periodic, perlin_worley_remap, worley_fbm2, worley_fbm2_periodic,
-    worley_fbm3, worley_fbm3_periodic,
+    gain_for,
+    octave_sum,
+    perlin_fbm2,
+    perlin_fbm2_periodic,
+    perlin_fbm3,
+    perlin_fbm3_periodic,
+    perlin_turbulence2,
+    perlin_turbulence2_periodic,
+    perlin_turbulence3,
+    perlin_turbulence3_periodic,
+    perlin_worley2,
+    perlin_worley2_periodic,
+    perlin_worley3,
+    perlin_worley3_periodic,
+    perlin_worley_remap,
+    worley_fbm2,
+    worley_fbm2_periodic,
+    worley_fbm3,
+    worley_fbm3_periodic,
 )
 from .gradient import (
-    PERLIN2_BOUND, PERLIN3_BOUND, REFERENCE_PERMUTATION, perlin2, perlin2_periodic, perlin3,
-    perlin3_periodic, permutation,
+    PERLIN2_BOUND,
+    PERLIN3_BOUND,
+    REFERENCE_PERMUTATION,
+    perlin2,
+    perlin2_periodic,
+    perlin3,
+    perlin3_periodic,
+    permutation,
 )
 from .value import ValueNoise, ease_in, ease_in_out, random_texture
 

@@ -164,7 +164,10 @@ def _noise3(x, y, z, period, perm) -> np.ndarray:
     A, B = p[X0 & 255], p[X1 & 255]          # first lookup, per x index
     AA, AB = p[(A + Y0) & 255], p[(A + Y1) & 255]
     BA, BB = p[(B + Y0) & 255], p[(B + Y1) & 255]
-    h = lambda row, zi: p[(row + zi) & 255]
+
+    def h(row, zi):
+        return p[(row + zi) & 255]
+
     return _lerp(
         w,
         _lerp(v, _lerp(u, _grad3(h(AA, Z0), x, y, z), _grad3(h(BA, Z0), x - 1, y, z)),
