@@ -1,8 +1,8 @@
 """Natura: natural effects from five graphics theses, rendered with moderngl.
 
-The package layout follows ../shared/DESIGN.md: ``gpu`` (contexts, shader library, targets,
-timing), ``effects`` (one module per effect), ``sim`` (numpy-only simulation), ``scenes``,
-``ui`` and ``bench``.
+The package layout is described in docs/architecture.md: ``gpu`` (contexts, shader library,
+targets, timing), ``effects`` (one package per effect), ``sim`` (numpy-only simulation),
+``render`` (helpers shared by the effects), ``scenes``, ``ui`` and ``bench``.
 """
 
 from pathlib import Path

@@ -1,6 +1,7 @@
 """``natura`` — the command line.
 
-    natura                      open the window on the default scene (headless PNG without a display)
+    natura                      open the window on the default scene (headless PNG without a
+                                display)
     natura window [SCENE]       the same, for any scene
     natura render SCENE ...     render headless to PNG or EXR
     natura scenes               list the scenes and their effects
@@ -34,25 +35,31 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _add_common(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--shaders", metavar="DIR", help=f"shader folder to load GLSL from (default: ${SHADER_ENV} or glsl/)")
+    p.add_argument("--shaders", metavar="DIR",
+                   help=f"shader folder to load GLSL from (default: ${SHADER_ENV} or glsl/)")
 
 
 def _add_scene_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", default=None, metavar="WxH", help="image size (default 1280x720)")
     p.add_argument("--time", type=float, default=None, metavar="HOURS", help="hour of day, 0 to 24")
     p.add_argument("--camera", default=None, metavar="X,Y,Z[,YAW[,PITCH[,FOV]]]",
-                   help="camera position in metres, then yaw (0 = north, 90 = east), pitch and vertical fov in degrees")
-    p.add_argument("--yaw", type=float, default=None, help="camera yaw in degrees (0 = north, 90 = east)")
-    p.add_argument("--pitch", type=float, default=None, help="camera pitch in degrees (positive looks up)")
+                   help="camera position in metres, then yaw (0 = north, 90 = east), pitch and "
+                   "vertical fov in degrees")
+    p.add_argument("--yaw", type=float, default=None,
+                   help="camera yaw in degrees (0 = north, 90 = east)")
+    p.add_argument("--pitch", type=float, default=None,
+                   help="camera pitch in degrees (positive looks up)")
     p.add_argument("--fov", type=float, default=None, help="vertical field of view in degrees")
     p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
                    help="set a parameter (repeatable); see `natura params SCENE`")
-    p.add_argument("--preset", default=None, metavar="FILE.toml", help="apply a TOML preset before --set")
+    p.add_argument("--preset", default=None, metavar="FILE.toml",
+                   help="apply a TOML preset before --set")
     _add_common(p)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="natura", description="Natural effects from five graphics theses, live and measured.")
+    parser = _Parser(prog="natura",
+                     description="Natural effects from five graphics theses, live and measured.")
     parser.add_argument("--version", action="version", version=f"natura {__version__}")
     sub = parser.add_subparsers(dest="command", parser_class=_Parser)
 
@@ -66,7 +73,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_scene_options(r)
     r.add_argument("--out", default=None, metavar="FILE.png|FILE.exr",
                    help="output file (default: the next free SCENE-NNNN.png here)")
-    r.add_argument("--frames", type=int, default=1, help="number of frames (numbered files when > 1)")
+    r.add_argument("--frames", type=int, default=1,
+                   help="number of frames (numbered files when > 1)")
     r.add_argument("--fps", type=float, default=30.0, help="frames per second of simulated time")
     r.add_argument("--force", action="store_true", help="overwrite existing output files")
 
@@ -88,10 +96,13 @@ def build_parser() -> argparse.ArgumentParser:
     _add_scene_options(b)
     b.add_argument("--warmup", type=int, default=3)
     b.add_argument("--repeat", type=int, default=15)
-    b.add_argument("--out", default=None, metavar="FILE.json", help="default: bench-results/SCENE-NNNN.json")
+    b.add_argument("--out", default=None, metavar="FILE.json",
+                   help="default: bench-results/SCENE-NNNN.json")
     b.add_argument("--sizes", default=None, metavar="WxH,WxH,...",
-                   help="image sizes of the scene's table (planet: the thesis's 800x600,1280x720,1920x1080)")
-    b.add_argument("--no-sweep", action="store_true", help="time the passes only, skip the scene's sweeps")
+                   help="image sizes of the scene's table "
+                   "(planet: the thesis's 800x600,1280x720,1920x1080)")
+    b.add_argument("--no-sweep", action="store_true",
+                   help="time the passes only, skip the scene's sweeps")
     b.add_argument("--force", action="store_true")
     return parser
 
@@ -108,8 +119,8 @@ def _session_inputs(args, scene_name: str):
     params = scene_params(scene_name, args.shaders, args.sets, args.preset)
     if args.time is not None:
         if "time.hour" not in params:
-            raise UsageError(f"--time: scene {scene_name!r} has no time of day: allowed with the scenes that have a "
-                             "day–night sky (see natura scenes)")
+            raise UsageError(f"--time: scene {scene_name!r} has no time of day: allowed with the "
+                             "scenes that have a day–night sky (see natura scenes)")
         if not 0.0 <= args.time <= 24.0:
             raise UsageError(f"--time {args.time:g} is out of range: allowed hours in [0, 24]")
         params.set("time.hour", args.time % 24.0)
@@ -142,8 +153,10 @@ def cmd_render(args) -> int:
         check_output_path(out, force=args.force)
     session = open_session(args.scene, params, args.shaders, camera=camera)
     try:
-        for out, image in zip(outs, render_frames(session, size, args.frames, args.fps, progress=args.frames > 1)):
-            write_image(out, image, session.scene.exposure(), params["output.tonemap"], force=args.force)
+        for out, image in zip(outs, render_frames(session, size, args.frames, args.fps,
+                                                  progress=args.frames > 1)):
+            write_image(out, image, session.scene.exposure(), params["output.tonemap"],
+                        force=args.force)
             print(out)
     finally:
         session.release()
@@ -163,8 +176,8 @@ def cmd_window(args) -> int:
         from .imageio import next_free_path, write_image
         from .runtime import open_session, render_frames
 
-        print(f"natura: no display (DISPLAY and WAYLAND_DISPLAY are unset): rendering {scene_name!r} headless instead",
-              file=sys.stderr)
+        print(f"natura: no display (DISPLAY and WAYLAND_DISPLAY are unset): "
+              f"rendering {scene_name!r} headless instead", file=sys.stderr)
         out = next_free_path(Path("."), f"natura-{scene_name}", ".png")
         session = open_session(scene_name, params, args.shaders, camera=camera)
         try:
@@ -174,8 +187,8 @@ def cmd_window(args) -> int:
             session.release()
         print(out)
         return 0
-    return run_window(scene_name, params, camera, size, shader_root=resolve_shader_root(args.shaders),
-                      frames=args.frames)
+    return run_window(scene_name, params, camera, size,
+                      shader_root=resolve_shader_root(args.shaders), frames=args.frames)
 
 
 def cmd_scenes(args) -> int:
@@ -184,7 +197,8 @@ def cmd_scenes(args) -> int:
     for name, cls in SCENES.items():
         mark = " (default)" if name == DEFAULT_SCENE else ""
         effects = ", ".join(e.name for e in cls.effects)
-        print(f"{name:10s} {cls.title}{mark}\n{'':10s} effects: {effects}\n{'':10s} {cls.description}")
+        print(f"{name:10s} {cls.title}{mark}\n{'':10s} effects: {effects}\n"
+              f"{'':10s} {cls.description}")
     return 0
 
 
@@ -207,9 +221,11 @@ def cmd_shaders(args) -> int:
     if args.shaders_command == "copy":
         dest = Path(args.dest)
         if dest.exists():
-            raise UsageError(f"{str(dest)!r} already exists: allowed a new folder name (nothing is overwritten)")
+            raise UsageError(f"{str(dest)!r} already exists: "
+                             "allowed a new folder name (nothing is overwritten)")
         shutil.copytree(resolve_shader_root(None), dest)
-        print(f"{dest}\nedit there, then: natura --shaders {dest} ... (or export {SHADER_ENV}={dest})")
+        print(f"{dest}\nedit there, then: natura --shaders {dest} ... "
+              f"(or export {SHADER_ENV}={dest})")
         return 0
     if args.shaders_command != "check":
         raise UsageError("natura shaders: allowed subcommands: check, copy")
@@ -234,7 +250,8 @@ def cmd_shaders(args) -> int:
     failures = 0
     for spec in specs:
         if spec.requires_compute and not caps.compute:
-            print(f"skip {spec.name}: needs compute shaders (GL 4.3), this context has {caps.describe()}")
+            print(f"skip {spec.name}: needs compute shaders (GL 4.3), "
+                  f"this context has {caps.describe()}")
             continue
         try:
             library.program(spec.name, dict(spec.defines), **spec.stages())
@@ -243,7 +260,8 @@ def cmd_shaders(args) -> int:
             failures += 1
             for line in str(exc).splitlines():
                 print(line)
-    print(f"{len(specs) - failures} of {len(specs)} programs compiled ({caps.describe()}, shaders from {root})")
+    print(f"{len(specs) - failures} of {len(specs)} programs compiled "
+          f"({caps.describe()}, shaders from {root})")
     return 1 if failures else 0
 
 
@@ -254,7 +272,8 @@ def cmd_bench(args) -> int:
     params, camera, size = _session_inputs(args, args.scene)
     if args.size is None:
         size = (640, 360)
-    table_sizes = [parse_size(t) for t in args.sizes.split(",") if t.strip()] if args.sizes else None
+    table_sizes = ([parse_size(t) for t in args.sizes.split(",") if t.strip()] if args.sizes
+                   else None)
     if args.out:
         from .imageio import check_output_path
 
@@ -264,16 +283,17 @@ def cmd_bench(args) -> int:
         report = bench_scene(session, size, args.warmup, args.repeat)
         sweeps = None if args.no_sweep else scene_sweeps(args.scene)
         if sweeps is not None:
-            print(f"running the {args.scene} speed/accuracy sweeps (this takes a while on a software renderer)",
-                  file=sys.stderr)
+            print(f"running the {args.scene} speed/accuracy sweeps "
+                  "(this takes a while on a software renderer)", file=sys.stderr)
             kwargs = {"sizes": table_sizes} if table_sizes else {}
-            report["sweep"] = sweeps.sweep(session, size, warmup=min(args.warmup, 2), repeat=max(3, args.repeat // 2),
-                                           **kwargs)
+            report["sweep"] = sweeps.sweep(session, size, warmup=min(args.warmup, 2),
+                                           repeat=max(3, args.repeat // 2), **kwargs)
     finally:
         session.release()
     path = write_report(report, args.out, force=args.force)
     for name, t in report["passes"].items():
-        print(f"{name:24s} {t['median_ms']:9.3f} ms  ×{t['ratio_to_fullscreen']:.2f} of a full-screen pass")
+        print(f"{name:24s} {t['median_ms']:9.3f} ms  ×{t['ratio_to_fullscreen']:.2f} "
+              "of a full-screen pass")
     if "sweep" in report:
         chart_path = Path(path).with_suffix(".png")
         sweeps.chart(report, chart_path)

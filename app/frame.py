@@ -178,6 +178,10 @@ SLOTS: dict[str, str] = {
 }
 
 
+#: slots the scene fills itself (not an effect)
+SCENE_SLOTS = frozenset({"image"})
+
+
 class SlotMissing(NaturaError):
     """A consumer needed a slot that no active effect filled."""
 
@@ -216,8 +220,9 @@ class FrameContext:
         """The value of ``slot``, or a :class:`SlotMissing` error naming the consumer ``by``."""
         value = getattr(self, slot)
         if value is None:
-            raise SlotMissing(f"effect {by!r} needs the frame slot {slot!r} ({SLOTS[slot]}), which no active "
-                              "effect of the scene fills: allowed a scene with an effect that produces it")
+            raise SlotMissing(f"effect {by!r} needs the frame slot {slot!r} ({SLOTS[slot]}), "
+                              "which no active effect of the scene fills: allowed a scene with an "
+                              "effect that produces it")
         return value
 
     def camera_uniforms(self) -> dict[str, Any]:

@@ -23,21 +23,27 @@ IMAGE_SUFFIXES = (".png", ".exr")
 
 # ---- paths ---------------------------------------------------------------------------------
 
-def check_output_path(path: str | os.PathLike, force: bool = False, suffixes=IMAGE_SUFFIXES) -> Path:
+def check_output_path(path: str | os.PathLike, force: bool = False,
+                      suffixes=IMAGE_SUFFIXES) -> Path:
     """Validate an output path before any work is done: known suffix, writable folder, and
     no existing file unless ``force``."""
     p = Path(path).expanduser()
     if p.suffix.lower() not in suffixes:
-        raise UsageError(f"output {str(p)!r} has an unsupported extension: allowed {', '.join(suffixes)}")
+        raise UsageError(f"output {str(p)!r} has an unsupported extension: "
+                         f"allowed {', '.join(suffixes)}")
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
-        raise UsageError(f"output folder {str(parent)!r} does not exist: allowed an existing, writable folder")
+        raise UsageError(f"output folder {str(parent)!r} does not exist: "
+                         "allowed an existing, writable folder")
     if not _can_create_in(parent):
-        raise UsageError(f"output folder {str(parent)!r} is not writable: allowed an existing, writable folder")
+        raise UsageError(f"output folder {str(parent)!r} is not writable: "
+                         "allowed an existing, writable folder")
     if p.is_dir():
-        raise UsageError(f"output {str(p)!r} is a folder: allowed a file name ending in {', '.join(suffixes)}")
+        raise UsageError(f"output {str(p)!r} is a folder: "
+                         f"allowed a file name ending in {', '.join(suffixes)}")
     if p.exists() and not force:
-        raise OutputExistsError(f"refusing to overwrite {str(p)!r}: pass --force or choose another name")
+        raise OutputExistsError(f"refusing to overwrite {str(p)!r}: "
+                                "pass --force or choose another name")
     return p
 
 
@@ -77,10 +83,12 @@ def _atomic_commit(tmp: Path, path: Path, force: bool) -> None:
             try:
                 os.link(tmp, path)  # fails if the name exists: no clobbering, even in a race
             except FileExistsError:
-                raise OutputExistsError(f"refusing to overwrite {str(path)!r}: pass --force or choose another name") from None
+                raise OutputExistsError(f"refusing to overwrite {str(path)!r}: "
+                                        "pass --force or choose another name") from None
             except OSError:  # file systems without hard links
                 if path.exists():
-                    raise OutputExistsError(f"refusing to overwrite {str(path)!r}: pass --force or choose another name") from None
+                    raise OutputExistsError(f"refusing to overwrite {str(path)!r}: "
+                                            "pass --force or choose another name") from None
                 os.replace(tmp, path)
     finally:
         if tmp.exists():
@@ -88,7 +96,8 @@ def _atomic_commit(tmp: Path, path: Path, force: bool) -> None:
 
 
 def _temp_beside(path: Path) -> Path:
-    fd, name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent if str(path.parent) else ".")
+    fd, name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix,
+                                dir=path.parent if str(path.parent) else ".")
     os.close(fd)
     return Path(name)
 

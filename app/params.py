@@ -214,7 +214,8 @@ class ParamSet:
             if len(matches) == 1:
                 return matches[0]
             if len(matches) > 1:
-                raise ParamError(f"parameter {name!r} is ambiguous: allowed " + ", ".join(sorted(matches)))
+                raise ParamError(f"parameter {name!r} is ambiguous: allowed "
+                                 + ", ".join(sorted(matches)))
         raise self._unknown(name)
 
     def spec(self, name: str) -> Param:
@@ -250,7 +251,8 @@ class ParamSet:
     def set_from_string(self, assignment: str) -> None:
         """Apply ``name=value`` as given to ``--set``."""
         if "=" not in assignment:
-            raise ParamError(f"--set {assignment!r} is not name=value: allowed e.g. sky.sun_size=0.1")
+            raise ParamError(f"--set {assignment!r} is not name=value: "
+                             "allowed e.g. sky.sun_size=0.1")
         name, _, value = assignment.partition("=")
         self.set(name.strip(), value.strip())
 
@@ -314,11 +316,13 @@ _DEFAULT = re.compile(
     rf"^(?P<default>\(\s*{_NUMBER}(?:\s*,\s*{_NUMBER}){{2,3}}\s*\)|{_NUMBER}|true|false)\s*"
 )
 _RANGE = re.compile(rf"^\[\s*(?P<lo>{_NUMBER})\s*,\s*(?P<hi>{_NUMBER})\s*\]\s*")
-_OPTION = re.compile(r"^(?P<key>step|unit)=(?P<value>\S+)\s*|^(?P<color>color)\b\s*|^(?P<section>§\S+)\s*")
+_OPTION = re.compile(r"^(?P<key>step|unit)=(?P<value>\S+)\s*|^(?P<color>color)\b\s*"
+                     r"|^(?P<section>§\S+)\s*")
 
 
 def param_name_from_uniform(uniform: str) -> str:
-    """``uSunSize`` → ``sun_size``; ``u_sun_size`` → ``sun_size``; ``fogDensity`` → ``fog_density``."""
+    """``uSunSize`` → ``sun_size``; ``u_sun_size`` → ``sun_size``; ``fogDensity`` →
+    ``fog_density``."""
     name = uniform
     if re.match(r"^u[A-Z_]", name):
         name = name[1:].lstrip("_")
@@ -326,7 +330,8 @@ def param_name_from_uniform(uniform: str) -> str:
     return name.lower()
 
 
-def parse_glsl_annotations(text: str, group: str, source: str = "", spec_doc: str = "") -> list[Param]:
+def parse_glsl_annotations(text: str, group: str, source: str = "",
+                           spec_doc: str = "") -> list[Param]:
     """Parameters declared by ``// @param`` comments on uniforms.
 
     Grammar (after ``@param``)::
@@ -343,14 +348,16 @@ def parse_glsl_annotations(text: str, group: str, source: str = "", spec_doc: st
         if not m:
             if "@param" in line and re.match(r"^\s*uniform\b", line):
                 raise ParamError(
-                    f"{source}:{lineno}: @param on an unsupported uniform: allowed float, int, bool, vec3, vec4"
+                    f"{source}:{lineno}: @param on an unsupported uniform: "
+                    "allowed float, int, bool, vec3, vec4"
                 )
             continue
         gtype, uname, rest = m["type"], m["name"], m["rest"].strip()
         where = f"{source}:{lineno}"
         d = _DEFAULT.match(rest)
         if not d:
-            raise ParamError(f"{where}: @param needs a default first: allowed a number, true/false or (a, b, c)")
+            raise ParamError(f"{where}: @param needs a default first: "
+                             "allowed a number, true/false or (a, b, c)")
         default_text = d["default"]
         rest = rest[d.end():]
         lo = hi = None

@@ -41,7 +41,8 @@ class Session:
         self.gpu.release()
 
 
-def scene_params(scene_name: str, shader_root=None, sets: Iterable[str] = (), preset: str | None = None) -> ParamSet:
+def scene_params(scene_name: str, shader_root=None, sets: Iterable[str] = (),
+                 preset: str | None = None) -> ParamSet:
     """Validate a scene's parameters without touching the GPU (annotations are read from the
     GLSL files directly)."""
     cls = get_scene(scene_name)

@@ -17,13 +17,17 @@ import sys
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--cache", help="cache directory (default: $NATURA_CACHE or ~/.cache/natura/bakes)")
-    ap.add_argument("--force", action="store_true", help="rebake even when a valid cache file exists")
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--cache",
+                    help="cache directory (default: $NATURA_CACHE or ~/.cache/natura/bakes)")
+    ap.add_argument("--force", action="store_true",
+                    help="rebake even when a valid cache file exists")
     ap.add_argument("--path", choices=("auto", "compute", "fragment"), default="auto",
                     help="bake path for the cache fill (auto: compute where GL >= 4.3)")
     ap.add_argument("--report", action="store_true", help="also time both paths without the cache")
-    ap.add_argument("--json", help="write the report rows (and the cache fill) as JSON to this file")
+    ap.add_argument("--json",
+                    help="write the report rows (and the cache fill) as JSON to this file")
     ap.add_argument("--prune", type=int, default=None, metavar="N",
                     help="afterwards keep only the N newest files per kind and size")
     args = ap.parse_args(argv)
@@ -43,13 +47,15 @@ def main(argv=None) -> int:
                 file.unlink(missing_ok=True)
 
             def progress(f, spec=spec):
-                print(f"\r  {spec.kind} {spec.size}: {100 * f:5.1f} %", end="", file=sys.stderr, flush=True)
+                print(f"\r  {spec.kind} {spec.size}: {100 * f:5.1f} %", end="", file=sys.stderr,
+                      flush=True)
 
             result = bake(gpu, spec, cache=cache, use_compute=use_compute, progress=progress)
             print("\r", end="", file=sys.stderr)
             print(" ", result.summary())
-            filled.append({"kind": spec.kind, "size": spec.size, "cache": result.cache, "path": result.path,
-                           "bake_seconds": result.bake_seconds, "seconds": result.seconds,
+            filled.append({"kind": spec.kind, "size": spec.size, "cache": result.cache,
+                           "path": result.path, "bake_seconds": result.bake_seconds,
+                           "seconds": result.seconds,
                            "file": str(result.cache_file) if result.cache_file else None})
         rows = []
         if args.report:
@@ -63,7 +69,8 @@ def main(argv=None) -> int:
                 print(f"  pruned {f.name}")
         if args.json:
             with open(args.json, "w", encoding="utf-8") as fh:
-                json.dump({"device": gpu.caps.describe(), "cache_fill": filled, "report": rows}, fh, indent=2)
+                json.dump({"device": gpu.caps.describe(), "cache_fill": filled, "report": rows},
+                          fh, indent=2)
     finally:
         gpu.release()
     return 0

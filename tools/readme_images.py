@@ -19,7 +19,8 @@ from app import PROJECT_ROOT
 from app.colour import to_srgb8
 from app.runtime import open_session, render_frames, scene_params
 
-SHOTS = [("sky", 6.3, "sunrise"), ("sky", 12.0, "noon"), ("sky", 18.5, "sunset"), ("sky", 0.0, "midnight")]
+SHOTS = [("sky", 6.3, "sunrise"), ("sky", 12.0, "noon"), ("sky", 18.5, "sunset"),
+         ("sky", 0.0, "midnight")]
 
 
 def main(argv=None) -> int:
@@ -42,36 +43,42 @@ def main(argv=None) -> int:
 
     sky = [shot(scene, [f"time.hour={hour}"], (w, h)) for scene, hour, _ in SHOTS]
     grids = {
-        "sky.png": np.concatenate([np.concatenate(sky[:2], axis=1), np.concatenate(sky[2:], axis=1)], axis=0),
+        "sky.png": np.concatenate([np.concatenate(sky[:2], axis=1),
+                                   np.concatenate(sky[2:], axis=1)], axis=0),
         "materials.png": np.concatenate([
-            np.concatenate([shot("materials", [f"material={m}", f"noise={n}"], (w, w * 2 // 5)) for n in ("value", "gradient")],
+            np.concatenate([shot("materials", [f"material={m}", f"noise={n}"], (w, w * 2 // 5))
+                            for n in ("value", "gradient")],
                            axis=1) for m in ("wood", "marble", "granite")], axis=0),
     }
     planet = [
         shot("planet", ["planet.method=shadowed"], (w, h)),
-        shot("planet", ["planet.method=hillaire", "planet.sun_elevation=3", "planet.sun_azimuth=0"], (w, h)),
-        shot("planet", ["planet.method=brute_force", "planet.sun_elevation=12", "planet.sun_azimuth=20"], (w, h)),
-        shot("planet", ["planet.method=hillaire", "planet.sun_elevation=20", "planet.sun_azimuth=90"], (w, h),
+        shot("planet", ["planet.method=hillaire", "planet.sun_elevation=3",
+                        "planet.sun_azimuth=0"], (w, h)),
+        shot("planet", ["planet.method=brute_force", "planet.sun_elevation=12",
+                        "planet.sun_azimuth=20"], (w, h)),
+        shot("planet", ["planet.method=hillaire", "planet.sun_elevation=20",
+                        "planet.sun_azimuth=90"], (w, h),
              {"position": (0.0, 400000.0, 60.0), "pitch": -35.0}),
     ]
-    grids["planet.png"] = np.concatenate([np.concatenate(planet[:2], axis=1), np.concatenate(planet[2:], axis=1)],
-                                         axis=0)
+    grids["planet.png"] = np.concatenate([np.concatenate(planet[:2], axis=1),
+                                          np.concatenate(planet[2:], axis=1)], axis=0)
     clouds = [shot("clouds", ["time.hour=10", f"clouds.preset={preset}"], (w, h))
               for preset in ("cumulus", "stratocumulus", "stratus")]
     clouds.append(shot("clouds", ["scene.model=b", "scene.sky=preetham"], (w, h)))
-    grids["clouds.png"] = np.concatenate([np.concatenate(clouds[:2], axis=1), np.concatenate(clouds[2:], axis=1)],
-                                         axis=0)
+    grids["clouds.png"] = np.concatenate([np.concatenate(clouds[:2], axis=1),
+                                          np.concatenate(clouds[2:], axis=1)], axis=0)
     ocean = [
         shot("ocean", ["ocean.wind=12", "time.hour=17"], (w, h)),
-        shot("ocean", ["ocean.model=sine", "ocean.wind=12", "ocean.sine_amplitude=0.6", "time.hour=12"], (w, h),
+        shot("ocean", ["ocean.model=sine", "ocean.wind=12", "ocean.sine_amplitude=0.6",
+                       "time.hour=12"], (w, h),
              {"position": (0.0, 6.0, 0.0), "yaw": 150.0, "pitch": -8.0}),
         shot("ocean", ["ocean.model=gerstner", "ocean.wind=12", "time.hour=12"], (w, h),
              {"position": (0.0, 6.0, 0.0), "yaw": 150.0, "pitch": -8.0}),
         shot("ocean", ["ocean.wind=8", "scene.clouds=b", "time.hour=12"], (w, h),
              {"position": (0.0, -3.0, 0.0), "yaw": 200.0, "pitch": 50.0}),
     ]
-    grids["ocean.png"] = np.concatenate([np.concatenate(ocean[:2], axis=1), np.concatenate(ocean[2:], axis=1)],
-                                        axis=0)
+    grids["ocean.png"] = np.concatenate([np.concatenate(ocean[:2], axis=1),
+                                         np.concatenate(ocean[2:], axis=1)], axis=0)
     for name, grid in grids.items():
         out = PROJECT_ROOT / "docs" / name
         if out.exists() and not args.force:

@@ -68,10 +68,12 @@ def _warn_once(directory: Path, why: str) -> None:
     tag = str(directory)
     if tag not in _warned:
         _warned.add(tag)
-        warnings.warn(f"bake cache {tag!r} {why}: baking without the cache", RuntimeWarning, stacklevel=3)
+        warnings.warn(f"bake cache {tag!r} {why}: baking without the cache", RuntimeWarning,
+                      stacklevel=3)
 
 
-def cache_key(kind: str, params: dict[str, Any], shader_digest: str, extra: dict[str, Any] | None = None) -> str:
+def cache_key(kind: str, params: dict[str, Any], shader_digest: str,
+              extra: dict[str, Any] | None = None) -> str:
     """SHA-256 hex of everything a bake's bytes depend on (see the module doc)."""
     doc = {"kind": kind, "params": params, "bake_version": BAKE_VERSION, "file_format": FILE_FORMAT,
            "glsl": shader_digest, "extra": extra or {}}
@@ -95,7 +97,8 @@ class BakeCache:
     :func:`default_cache_dir` at construction time."""
 
     def __init__(self, directory: str | os.PathLike | None = None):
-        self.directory = Path(directory).expanduser() if directory is not None else default_cache_dir()
+        self.directory = (Path(directory).expanduser() if directory is not None
+                          else default_cache_dir())
 
     def path_for(self, kind: str, size: int, key: str) -> Path:
         return self.directory / f"{kind}-{int(size)}-{key[:16]}.bake"
@@ -146,22 +149,26 @@ class BakeCache:
             return bad("corrupt (header)")
         if header.get("key") != key:
             return bad("stale (made with other parameters or shaders)")
-        if header.get("kind") != kind or tuple(header.get("shape", ())) != shape or header.get("dtype") != "uint8":
-            return bad(f"stale (holds {header.get('kind')} {header.get('shape')} {header.get('dtype')})")
+        if (header.get("kind") != kind or tuple(header.get("shape", ())) != shape
+                or header.get("dtype") != "uint8"):
+            return bad(f"stale (holds {header.get('kind')} {header.get('shape')} "
+                       f"{header.get('dtype')})")
         if payload_bytes != int(np.prod(shape)):
             return bad("corrupt (payload size does not match the shape)")
         data = np.frombuffer(payload, dtype=np.uint8).reshape(shape).copy()
         return CacheRead(data, "hit", "", header)
 
     # -- writing ---------------------------------------------------------------------------
-    def store(self, path: Path, key: str, kind: str, data: np.ndarray, meta: dict[str, Any] | None = None) -> bool:
+    def store(self, path: Path, key: str, kind: str, data: np.ndarray,
+              meta: dict[str, Any] | None = None) -> bool:
         """Write ``data`` (uint8) atomically. False, with one warning per directory, when the
         directory cannot be created or written."""
         data = np.ascontiguousarray(data)
         if data.dtype != np.uint8:
             raise TypeError(f"bake cache stores uint8 texels, got {data.dtype}")
         header = {"key": key, "kind": kind, "shape": list(data.shape), "dtype": "uint8",
-                  "payload_bytes": int(data.nbytes), "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+                  "payload_bytes": int(data.nbytes),
+                  "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
                   **(meta or {})}
         header_bytes = json.dumps(header, sort_keys=True, default=str).encode("utf-8")
         body = _PREFIX.pack(MAGIC, FILE_FORMAT, len(header_bytes)) + header_bytes + data.tobytes()
@@ -177,7 +184,8 @@ class BakeCache:
             fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
             with os.fdopen(fd, "wb") as fh:
                 if hasattr(os, "fchmod"):
-                    os.fchmod(fh.fileno(), 0o644)  # mkstemp's 0600 would hide the cache from other users
+                    # mkstemp's 0600 would hide the cache from other users
+                    os.fchmod(fh.fileno(), 0o644)
                 fh.write(blob)
                 fh.flush()
                 os.fsync(fh.fileno())

@@ -11,7 +11,8 @@ thesis lowers the level of detail along light rays, spec/001 §1.1).
 Quantisation: u8 = round(clamp(v, 0, 1) · 255) on the CPU, so the stored bytes do not depend
 on how a driver converts floats to unorm. Normalisation (on by default for the Worley
 channels): v' = (v − min) / (max − min) over the whole baked channel — an affine map, so
-tiling and frequency content are kept, and each Worley channel spans [0, 1] (spec/001 B1).
+tiling and frequency content are kept, and each Worley channel spans [0, 1] (spec/001 §6
+criterion B1).
 """
 
 from __future__ import annotations
@@ -48,7 +49,8 @@ class BakePrograms:
     @classmethod
     def named(cls, name: str, perlin: bool) -> "BakePrograms":
         return cls(ProgramSpec(f"bakes/{name}", comp=f"bakes/{name}.comp", requires_compute=True),
-                   ProgramSpec(f"bakes/{name}", vert="common/fullscreen.vert", frag=f"bakes/{name}.frag"),
+                   ProgramSpec(f"bakes/{name}", vert="common/fullscreen.vert",
+                               frag=f"bakes/{name}.frag"),
                    perlin)
 
 
@@ -102,15 +104,17 @@ class RawBake:
     path: str  # "compute" | "fragment"
 
 
-def bake_raw(gpu, spec, use_compute: bool | None = None, progress: Callable[[float], None] | None = None,
+def bake_raw(gpu, spec, use_compute: bool | None = None,
+             progress: Callable[[float], None] | None = None,
              chunk_slices: int | None = None, owner: str = OWNER) -> RawBake:
     """Run the bake shader and read the RGBA32F result back (no cache, no quantisation)."""
     progs = PROGRAMS[spec.kind]
     if use_compute is None:
         use_compute = gpu.caps.compute
     if use_compute and not gpu.caps.compute:
-        raise GpuUnavailableError(f"a compute bake needs GL 4.3; this context has {gpu.caps.describe()}: "
-                                  "allowed use_compute=False or None (the fragment path)")
+        raise GpuUnavailableError("a compute bake needs GL 4.3; this context has "
+                                  f"{gpu.caps.describe()}: allowed use_compute=False or None "
+                                  "(the fragment path)")
     chosen = progs.compute if use_compute else progs.fragment
     gpu.program(owner, chosen)  # compile outside the timing
     perms = GradientNoiseTextures(gpu, owner) if progs.perlin else None
@@ -123,9 +127,9 @@ def bake_raw(gpu, spec, use_compute: bool | None = None, progress: Callable[[flo
 
     result = None
     try:
-        result = bake_volume(gpu, owner, f"{spec.kind} bake {spec.size}", spec.volume_size, progs.compute,
-                             progs.fragment, setup, use_compute=use_compute, progress=progress,
-                             chunk_slices=chunk_slices)
+        result = bake_volume(gpu, owner, f"{spec.kind} bake {spec.size}", spec.volume_size,
+                             progs.compute, progs.fragment, setup, use_compute=use_compute,
+                             progress=progress, chunk_slices=chunk_slices)
         data = read_volume(result.texture)
     finally:
         if result is not None:
@@ -199,10 +203,12 @@ class Baked:
 
     def summary(self) -> str:
         size = "×".join(str(s) for s in self.data.shape[:-1][::-1])
-        how = f"cache hit (baked by {self.path} in {self.recorded_bake_seconds:.2f} s)" if self.hit else \
-            f"{self.path} {self.bake_seconds:.2f} s, cache {self.cache}" + \
-            (f": {self.cache_reason}" if self.cache_reason else "")
-        return f"{self.kind} {size} RGBA8 {self.nbytes / 2**20:.1f} MiB: {how}; call {self.seconds:.2f} s"
+        how = (f"cache hit (baked by {self.path} in {self.recorded_bake_seconds:.2f} s)"
+               if self.hit else
+               f"{self.path} {self.bake_seconds:.2f} s, cache {self.cache}"
+               + (f": {self.cache_reason}" if self.cache_reason else ""))
+        return (f"{self.kind} {size} RGBA8 {self.nbytes / 2**20:.1f} MiB: {how}; "
+                f"call {self.seconds:.2f} s")
 
     def texture(self, gpu, owner: str, mipmaps: bool = True, name: str | None = None):
         """The GL texture (RGBA8, repeat on every axis, linear filtering; trilinear with
@@ -264,13 +270,14 @@ def bake(gpu, spec, *, cache=None, use_compute: bool | None = None,
     data = finish(spec, raw.data)
     renderer = gpu.caps.describe()
     if store is not None:
-        meta = {"path": raw.path, "bake_seconds": raw.seconds, "renderer": renderer, "params": spec.values()}
+        meta = {"path": raw.path, "bake_seconds": raw.seconds, "renderer": renderer,
+                "params": spec.values()}
         if not store.store(file, key, spec.kind, data, meta):
             status, reason, file = "off", "cache directory not writable", None
     if progress:
         progress(1.0)
-    return Baked(spec, data, key, raw.path, status, reason, file, raw.seconds, time.perf_counter() - t0,
-                 raw.seconds, renderer)
+    return Baked(spec, data, key, raw.path, status, reason, file, raw.seconds,
+                 time.perf_counter() - t0, raw.seconds, renderer)
 
 
 def bake_shape(gpu, spec: ShapeBake | None = None, **kw) -> Baked:
@@ -309,11 +316,13 @@ def bake_report(gpu=None, specs=None, paths=("compute", "fragment"), repeat: int
                 if path == "compute" and not gpu.caps.compute:
                     continue
                 bake_raw(gpu, spec.replace(size=8), use_compute=(path == "compute"))  # compile
-                times = [bake_raw(gpu, spec, use_compute=(path == "compute")).seconds for _ in range(max(1, repeat))]
+                times = [bake_raw(gpu, spec, use_compute=(path == "compute")).seconds
+                         for _ in range(max(1, repeat))]
                 seconds = float(np.median(times))
                 texels = int(np.prod(spec.volume_size))
                 rows.append({"kind": spec.kind, "size": spec.size, "path": path, "seconds": seconds,
-                             "texels": texels, "mib": spec.nbytes / 2**20, "texels_per_s": texels / seconds,
+                             "texels": texels, "mib": spec.nbytes / 2**20,
+                             "texels_per_s": texels / seconds,
                              "renderer": gpu.caps.describe()})
     finally:
         if own:

@@ -4,16 +4,18 @@ parameters (``app.params.Param`` metadata on each field, so the same table feeds
 
 Parameter groups (``<group>.<field>``):
 
-* ``bake_shape`` — :class:`ShapeBake`, the 3D RGBA cloud shape noise (spec/001 texture table
-  "Shape"; spec/000 §1.6 "Volume noise");
-* ``bake_detail`` — :class:`DetailBake`, the 3D detail noise, RGB + A = 1 (spec/001 "Detail";
-  spec/000 §1.6 "Detail noise", criterion 15);
-* ``bake_weather`` — :class:`WeatherBake`, the 2D weather / coverage map (spec/001 "Weather
-  map"; spec/000 §1.6 GradientSimulator: scale, layers, persistence, lacunarity, offset).
+* ``bake_shape`` — :class:`ShapeBake`, the 3D RGBA cloud shape noise (spec/001 §1.1, texture
+  table "Shape"; spec/000 §1.6 "Volume noise");
+* ``bake_detail`` — :class:`DetailBake`, the 3D detail noise, RGB + A = 1 (spec/001 §1.1
+  "Detail"; spec/000 §1.6 "Detail noise", spec/000 §6 criterion 15);
+* ``bake_weather`` — :class:`WeatherBake`, the 2D weather / coverage map (spec/001 §1.1
+  "Weather map"; spec/000 §1.6 GradientSimulator: scale, layers, persistence, lacunarity,
+  offset).
 
 Neither thesis gives cell counts, octave counts or seeds; the defaults here are ours and are
-chosen so the frequency order the theses ask for holds (spec/001 B3: shape R < G < B < A,
-detail R < G < B; spec/000 criterion 14) — tests/test_bakes.py checks it. Sizes: the cloud
+chosen so the frequency order the theses ask for holds (spec/001 §6 criterion B3: shape
+R < G < B < A, detail R < G < B; spec/000 §6 criterion 14) — tests/**/test_bakes*.py check
+it. Sizes: the cloud
 thesis's 128³ / 32³ / 512² are the defaults; :func:`maritime` gives the maritime thesis's
 132³ / 64³ ("17.5 MB" and "2 MB" there, which the spec infers were RGBA half floats; 8.8 MiB
 and 1 MiB here in RGBA8; "~11 ms" each on the thesis's GPU).
@@ -39,8 +41,9 @@ MAX_SEED = 2**24 - 1
 
 def _p(default, lo=None, hi=None, doc="", kind="float", unit="", section="", step=None):
     """A dataclass field carrying the keyword arguments of its Param."""
-    return field(default=default, metadata={"param": dict(lo=lo, hi=hi, doc=doc, kind=kind, unit=unit,
-                                                           section=section, step=step)})
+    return field(default=default, metadata={"param": dict(lo=lo, hi=hi, doc=doc, kind=kind,
+                                                           unit=unit, section=section,
+                                                           step=step)})
 
 
 class _BakeSpec:
@@ -114,7 +117,8 @@ class _BakeSpec:
 
     def uniforms(self) -> dict[str, Any]:
         """The bake shader's uniforms (each kind defines its own)."""
-        raise TypeError(f"{type(self).__name__} is abstract: use ShapeBake, DetailBake or WeatherBake")
+        raise TypeError(f"{type(self).__name__} is abstract: use ShapeBake, DetailBake or "
+                        "WeatherBake")
 
 
 @dataclass(frozen=True)
@@ -126,33 +130,37 @@ class ShapeBake(_BakeSpec):
     group: ClassVar[str] = "bake_shape"
     worley_channels: ClassVar[tuple[int, ...]] = (1, 2, 3)
 
-    size: int = _p(128, 8, 256, "texels per side (128 cloud thesis; 132 maritime thesis; staged as RGBA32F: "
-                   "16 B per texel on the GPU)", "int",
+    size: int = _p(128, 8, 256, "texels per side (128 cloud thesis; 132 maritime thesis; staged as "
+                   "RGBA32F: 16 B per texel on the GPU)", "int",
                    "texels", SPEC_SHAPE)
-    seed: int = _p(0, 0, MAX_SEED, "noise seed (0: Perlin's own permutation; Worley seeds seed·8 + channel)",
-                   "int", "", SPEC_SHAPE)
-    base_cells: int = _p(3, 1, 64, "R: Perlin lattice cells and Worley cells per tile (few: the base shape)",
-                         "int", "cells", SPEC_SHAPE)
-    perlin_octaves: int = _p(5, 1, 16, "R: octaves of the Perlin fBm", "int", "", "spec/001 §1.1 eq. 3.2")
-    base_worley_octaves: int = _p(3, 1, 16, "R: octaves of the Worley fBm that billows the Perlin fBm", "int",
-                                  "", "spec/001 §1.1 eq. 3.2")
+    seed: int = _p(0, 0, MAX_SEED, "noise seed (0: Perlin's own permutation; Worley seeds seed·8 + "
+                   "channel)", "int", "", SPEC_SHAPE)
+    base_cells: int = _p(3, 1, 64, "R: Perlin lattice cells and Worley cells per tile (few: the "
+                         "base shape)", "int", "cells", SPEC_SHAPE)
+    perlin_octaves: int = _p(5, 1, 16, "R: octaves of the Perlin fBm", "int", "",
+                             "spec/001 §1.1; spec/001 eq. 3.2")
+    base_worley_octaves: int = _p(3, 1, 16, "R: octaves of the Worley fBm that billows the Perlin "
+                                  "fBm", "int", "", "spec/001 §1.1; spec/001 eq. 3.2")
     cells_g: int = _p(4, 1, 128, "G: Worley cells per tile (octave 0)", "int", "cells", SPEC_SHAPE)
     cells_b: int = _p(8, 1, 128, "B: Worley cells per tile (octave 0)", "int", "cells", SPEC_SHAPE)
     cells_a: int = _p(16, 1, 128, "A: Worley cells per tile (octave 0)", "int", "cells", SPEC_SHAPE)
-    worley_octaves: int = _p(3, 1, 16, "G/B/A: octaves of each Worley fBm", "int", "", "spec/001 §1.1 eq. 3.2")
-    gain: float = _p(0.5, 0.0, 1.0, "octave gain G = 2^-H of every sum (\"usually 1/2\")", "float", "",
-                     "spec/001 §1.1 eq. 3.2")
-    normalize: bool = _p(True, doc="stretch G/B/A to [0, 1] by their min and max (spec/001 B1)", kind="bool",
-                         section="spec/001 B1")
+    worley_octaves: int = _p(3, 1, 16, "G/B/A: octaves of each Worley fBm", "int", "",
+                             "spec/001 §1.1; spec/001 eq. 3.2")
+    gain: float = _p(0.5, 0.0, 1.0, "octave gain G = 2^-H of every sum (\"usually 1/2\")", "float",
+                     "", "spec/001 §1.1; spec/001 eq. 3.2")
+    normalize: bool = _p(True, doc="stretch G/B/A to [0, 1] by their min and max (spec/001 §6 "
+                         "criterion B1)", kind="bool", section="spec/001 §6 (criterion B1)")
 
     def check(self) -> None:
         if not self.cells_g < self.cells_b < self.cells_a:
-            raise ParamError(f"bake_shape cells G {self.cells_g}, B {self.cells_b}, A {self.cells_a}: allowed "
-                             "strictly rising cell counts (spec/001: 'increasing cell counts')")
+            raise ParamError(f"bake_shape cells G {self.cells_g}, B {self.cells_b}, "
+                             f"A {self.cells_a}: allowed strictly rising cell counts (spec/001: "
+                             "'increasing cell counts')")
 
     def uniforms(self) -> dict[str, Any]:
         return {"uShapeSeed": self.seed, "uShapeBasePeriod": self.base_cells,
-                "uShapePerlinOctaves": self.perlin_octaves, "uShapeBaseWorleyOctaves": self.base_worley_octaves,
+                "uShapePerlinOctaves": self.perlin_octaves,
+                "uShapeBaseWorleyOctaves": self.base_worley_octaves,
                 "uShapeCells": (self.cells_g, self.cells_b, self.cells_a),
                 "uShapeWorleyOctaves": self.worley_octaves, "uShapeGain": float(self.gain)}
 
@@ -166,24 +174,29 @@ class DetailBake(_BakeSpec):
     group: ClassVar[str] = "bake_detail"
     worley_channels: ClassVar[tuple[int, ...]] = (0, 1, 2)
 
-    size: int = _p(32, 8, 256, "texels per side (32 cloud thesis; 64 maritime thesis)", "int", "texels",
+    size: int = _p(32, 8, 256, "texels per side (32 cloud thesis; 64 maritime thesis)", "int",
+                   "texels", SPEC_DETAIL)
+    seed: int = _p(0, 0, MAX_SEED, "Worley seed (channel seeds seed·8 + 4 + channel)", "int", "",
                    SPEC_DETAIL)
-    seed: int = _p(0, 0, MAX_SEED, "Worley seed (channel seeds seed·8 + 4 + channel)", "int", "", SPEC_DETAIL)
     cells_r: int = _p(2, 1, 64, "R: Worley cells per tile (octave 0)", "int", "cells", SPEC_DETAIL)
     cells_g: int = _p(4, 1, 64, "G: Worley cells per tile (octave 0)", "int", "cells", SPEC_DETAIL)
     cells_b: int = _p(8, 1, 64, "B: Worley cells per tile (octave 0)", "int", "cells", SPEC_DETAIL)
-    octaves: int = _p(3, 1, 16, "octaves of each Worley fBm", "int", "", "spec/001 §1.1 eq. 3.2")
-    gain: float = _p(0.5, 0.0, 1.0, "octave gain G = 2^-H", "float", "", "spec/001 §1.1 eq. 3.2")
-    normalize: bool = _p(True, doc="stretch R/G/B to [0, 1] by their min and max (spec/001 B1)", kind="bool",
-                         section="spec/001 B1")
+    octaves: int = _p(3, 1, 16, "octaves of each Worley fBm", "int", "",
+                      "spec/001 §1.1; spec/001 eq. 3.2")
+    gain: float = _p(0.5, 0.0, 1.0, "octave gain G = 2^-H", "float", "",
+                     "spec/001 §1.1; spec/001 eq. 3.2")
+    normalize: bool = _p(True, doc="stretch R/G/B to [0, 1] by their min and max (spec/001 §6 "
+                         "criterion B1)", kind="bool", section="spec/001 §6 (criterion B1)")
 
     def check(self) -> None:
         if not self.cells_r < self.cells_g < self.cells_b:
-            raise ParamError(f"bake_detail cells R {self.cells_r}, G {self.cells_g}, B {self.cells_b}: allowed "
-                             "strictly rising cell counts (spec/001: 'increasing frequency')")
+            raise ParamError(f"bake_detail cells R {self.cells_r}, G {self.cells_g}, "
+                             f"B {self.cells_b}: allowed strictly rising cell counts (spec/001: "
+                             "'increasing frequency')")
 
     def uniforms(self) -> dict[str, Any]:
-        return {"uDetailSeed": self.seed, "uDetailCells": (self.cells_r, self.cells_g, self.cells_b),
+        return {"uDetailSeed": self.seed,
+                "uDetailCells": (self.cells_r, self.cells_g, self.cells_b),
                 "uDetailOctaves": self.octaves, "uDetailGain": float(self.gain)}
 
 
@@ -201,35 +214,40 @@ class WeatherBake(_BakeSpec):
     dims: ClassVar[int] = 2
 
     size: int = _p(512, 8, 4096, "texels per side (Resolution)", "int", "texels", SPEC_WEATHER)
-    seed: int = _p(0, 0, MAX_SEED, "Perlin permutation seed (0: Perlin's own table)", "int", "", SPEC_WEATHER)
-    scale: float = _p(4.0, 1.0, 128.0, "Scale: lattice cells across the map in layer 0 (rounded to whole "
-                      "cells per layer so the map tiles)", "float", "cells", SPEC_WEATHER, step=0.5)
-    layers: int = _p(5, 1, WEATHER_MAX_LAYERS, "Num Layers: octaves of the fBm", "int", "", SPEC_WEATHER)
-    persistence: float = _p(0.5, 0.0, 1.0, "Persistence: amplitude ratio of successive layers", "float", "",
-                            SPEC_WEATHER)
-    lacunarity: float = _p(2.0, 1.0, 4.0, "Lacunarity: frequency ratio of successive layers", "float", "",
-                           SPEC_WEATHER)
-    offset_x: float = _p(0.0, 0.0, 1.0, "Offset x: moves the noise, in maps (the map tiles: any offset is "
-                         "taken modulo 1)", "float", "maps", SPEC_WEATHER, step=1 / 512)
-    offset_y: float = _p(0.0, 0.0, 1.0, "Offset y: moves the noise, in maps (modulo 1)", "float", "maps",
-                         SPEC_WEATHER, step=1 / 512)
-    contrast: float = _p(2.0, 0.25, 8.0, "gain k of 0.5 + 0.5 k fBm (the fBm's standard deviation is ~0.18)",
-                         "float", "", "spec/001 §1.1 (Weather map)")
-    density: float = _p(0.5, 0.0, 1.0, "A channel mc_d (constant; 0.5 makes eq. 4.11's × 2 neutral)", "float",
-                        "", "spec/001 §1.4 eq. 4.11")
+    seed: int = _p(0, 0, MAX_SEED, "Perlin permutation seed (0: Perlin's own table)", "int", "",
+                   SPEC_WEATHER)
+    scale: float = _p(4.0, 1.0, 128.0, "Scale: lattice cells across the map in layer 0 (rounded to "
+                      "whole cells per layer so the map tiles)", "float", "cells", SPEC_WEATHER,
+                      step=0.5)
+    layers: int = _p(5, 1, WEATHER_MAX_LAYERS, "Num Layers: octaves of the fBm", "int", "",
+                     SPEC_WEATHER)
+    persistence: float = _p(0.5, 0.0, 1.0, "Persistence: amplitude ratio of successive layers",
+                            "float", "", SPEC_WEATHER)
+    lacunarity: float = _p(2.0, 1.0, 4.0, "Lacunarity: frequency ratio of successive layers",
+                           "float", "", SPEC_WEATHER)
+    offset_x: float = _p(0.0, 0.0, 1.0, "Offset x: moves the noise, in maps (the map tiles: any "
+                         "offset is taken modulo 1)", "float", "maps", SPEC_WEATHER, step=1 / 512)
+    offset_y: float = _p(0.0, 0.0, 1.0, "Offset y: moves the noise, in maps (modulo 1)", "float",
+                         "maps", SPEC_WEATHER, step=1 / 512)
+    contrast: float = _p(2.0, 0.25, 8.0, "gain k of 0.5 + 0.5 k fBm (the fBm's standard deviation "
+                         "is ~0.18)", "float", "", "spec/001 §1.1 (Weather map)")
+    density: float = _p(0.5, 0.0, 1.0, "A channel mc_d (constant; 0.5 makes spec/001 eq. 4.11's "
+                        "× 2 neutral)", "float", "", "spec/001 §1.4; spec/001 eq. 4.11")
 
     def __post_init__(self):
         # the map tiles, so an offset of a whole map is no offset: wrap before validating, so a
         # scrolling storm front never leaves the range and equal images share one cache key
         for name in ("offset_x", "offset_y"):
             value = getattr(self, name)
-            if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value):
+            if (isinstance(value, (int, float)) and not isinstance(value, bool)
+                    and math.isfinite(value)):
                 object.__setattr__(self, name, float(value) % 1.0)
         super().__post_init__()
 
     def layer_cells(self) -> list[int]:
         """c_i = max(1, ⌊scale · lacunarity^i + 0.5⌋) for every layer slot (length 16)."""
-        return [max(1, int(math.floor(self.scale * self.lacunarity**i + 0.5))) if i < self.layers else 1
+        return [max(1, int(math.floor(self.scale * self.lacunarity**i + 0.5)))
+                if i < self.layers else 1
                 for i in range(WEATHER_MAX_LAYERS)]
 
     def wrapped_offset(self) -> tuple[float, float]:
@@ -239,7 +257,8 @@ class WeatherBake(_BakeSpec):
 
     def uniforms(self) -> dict[str, Any]:
         return {"uWeatherCells": self.layer_cells(), "uWeatherLayers": self.layers,
-                "uWeatherPersistence": float(self.persistence), "uWeatherOffset": self.wrapped_offset(),
+                "uWeatherPersistence": float(self.persistence),
+                "uWeatherOffset": self.wrapped_offset(),
                 "uWeatherContrast": float(self.contrast), "uWeatherDensity": float(self.density)}
 
 

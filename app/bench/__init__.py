@@ -1,9 +1,9 @@
 """``natura bench SCENE``: time each pass of a scene, write JSON.
 
 Each pass is timed with ``ctx.finish()`` around it, after a warm-up, as the median of N runs
-(DESIGN.md, "Measuring"). A trivial full-screen pass is timed in the same run, so ratios to it
-hold across machines even where absolute times (llvmpipe) mean little. GPU timer queries are
-added only on a hardware GPU.
+(docs/architecture.md, "Measuring"). A trivial full-screen pass is timed in the same run, so
+ratios to it hold across machines even where absolute times (llvmpipe) mean little. GPU timer
+queries are added only on a hardware GPU.
 """
 
 from __future__ import annotations
@@ -54,7 +54,8 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
         passes += [cleared(p) for p in session.scene.bench_passes(frame, target)]
         passes.append(Pass("frame", lambda: session.scene.render(frame, target)))
         hardware = not gpu.caps.software
-        timings = {p.name: time_call(gpu.ctx, p.name, p.run, warmup, repeat, gpu_queries=hardware) for p in passes}
+        timings = {p.name: time_call(gpu.ctx, p.name, p.run, warmup, repeat, gpu_queries=hardware)
+                   for p in passes}
     finally:
         gpu.free(target)
     ref = timings["reference.fullscreen"].median_ms
@@ -68,7 +69,8 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
         "when": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "warmup": warmup,
         "repeat": repeat,
-        "parameters": {k: (list(v) if isinstance(v, tuple) else v) for k, v in session.params.values().items()},
+        "parameters": {k: (list(v) if isinstance(v, tuple) else v)
+                       for k, v in session.params.values().items()},
         "passes": {
             name: {**t.summary(), "ratio_to_fullscreen": (t.median_ms / ref) if ref > 0 else None}
             for name, t in timings.items()

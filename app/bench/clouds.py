@@ -1,4 +1,4 @@
-"""Speed against accuracy for the volumetric clouds (issue 5, item 6).
+"""Speed against accuracy for the volumetric clouds: ms per frame and error against a fine march.
 
 * **Table 6.1 of the cloud thesis** (spec/001 §3): the three presets × 256², 512², 800² and
   1920×1080 (``--sizes`` scales it for slow renderers), ms per frame for the thesis's marcher
@@ -21,11 +21,13 @@ from ..gpu.timing import time_call
 PRESETS = ("cumulus", "stratocumulus", "stratus")
 DEFAULT_SIZES = ((256, 256), (512, 512), (800, 800), (1920, 1080))
 THESIS = {"clouds.steps": 64, "clouds.light_steps": 6, "clouds.energy_conserving": False,
-          "clouds.adaptive_steps": False, "clouds.distance_steps": False, "clouds.reprojection": "off",
-          "clouds.jitter": True}
-SPEED = {"clouds.adaptive_steps": True, "clouds.energy_conserving": True, "clouds.reprojection": "on"}
+          "clouds.adaptive_steps": False, "clouds.distance_steps": False,
+          "clouds.reprojection": "off", "clouds.jitter": True}
+SPEED = {"clouds.adaptive_steps": True, "clouds.energy_conserving": True,
+         "clouds.reprojection": "on"}
 REFERENCE = {"clouds.steps": 512, "clouds.jitter": False, "clouds.reprojection": "off",
-             "clouds.adaptive_steps": False, "clouds.distance_steps": False, "clouds.energy_conserving": True}
+             "clouds.adaptive_steps": False, "clouds.distance_steps": False,
+             "clouds.energy_conserving": True}
 
 
 def _apply(params, values: dict) -> None:
@@ -47,7 +49,8 @@ def _steady_frame_ms(session, size, warmup: int, repeat: int) -> tuple[float, np
         frame = session.scene.frame(size)
         for _ in range(17 if session.params["clouds.reprojection"] != "off" else 1):
             session.scene.render(frame, target)  # fill the history (static camera, wind 0)
-        ms = time_call(gpu.ctx, "frame", lambda: session.scene.render(frame, target), warmup, repeat).median_ms
+        ms = time_call(gpu.ctx, "frame", lambda: session.scene.render(frame, target), warmup,
+                       repeat).median_ms
         return ms, _layer(session, size)
     finally:
         gpu.free(target)
@@ -64,8 +67,8 @@ def table(session, sizes=DEFAULT_SIZES, warmup: int = 1, repeat: int = 3) -> dic
             thesis_ms, _ = _steady_frame_ms(session, tuple(size), warmup, repeat)
             _apply(p, SPEED)
             fast_ms, _ = _steady_frame_ms(session, tuple(size), warmup, repeat)
-            rows.append({"preset": preset, "size": list(size), "thesis_ms": thesis_ms, "speed_work_ms": fast_ms,
-                         "speedup": thesis_ms / fast_ms})
+            rows.append({"preset": preset, "size": list(size), "thesis_ms": thesis_ms,
+                         "speed_work_ms": fast_ms, "speedup": thesis_ms / fast_ms})
     slowest = {}
     for size in sizes:
         cell = [r for r in rows if r["size"] == list(size)]
@@ -76,7 +79,8 @@ def table(session, sizes=DEFAULT_SIZES, warmup: int = 1, repeat: int = 3) -> dic
     return {"rows": rows, "slowest": slowest}
 
 
-def accuracy(session, size=(160, 90), warmup: int = 1, repeat: int = 3, preset: str = "cumulus") -> dict:
+def accuracy(session, size=(160, 90), warmup: int = 1, repeat: int = 3,
+             preset: str = "cumulus") -> dict:
     p = session.params
     session.scene.interactive = True
     p.set("clouds.preset", preset)
@@ -90,7 +94,8 @@ def accuracy(session, size=(160, 90), warmup: int = 1, repeat: int = 3, preset: 
         _apply(p, values)
         ms, layer = _steady_frame_ms(session, size, warmup, repeat)
         d = np.abs(layer - ref).max(axis=-1)
-        rows.append({"config": label, "ms": ms, "mean": float(d.mean()), "p99": float(np.percentile(d, 99)),
+        rows.append({"config": label, "ms": ms, "mean": float(d.mean()),
+                     "p99": float(np.percentile(d, 99)),
                      **{k.split(".")[1]: v for k, v in values.items()}})
 
     for n in (16, 32, 64, 128, 256):
@@ -104,10 +109,12 @@ def accuracy(session, size=(160, 90), warmup: int = 1, repeat: int = 3, preset: 
     for n in (24, 32, 40, 48, 64, 96, 128):
         measure(f"all speed work, {n} steps", {**SPEED, "clouds.steps": n})
     thesis = next(r for r in rows if r["config"] == "uniform 64 steps (thesis marcher)")
-    candidates = [r for r in rows if r["config"].startswith("all speed work") and r["mean"] <= thesis["mean"]]
+    candidates = [r for r in rows
+                  if r["config"].startswith("all speed work") and r["mean"] <= thesis["mean"]]
     best = min(candidates, key=lambda r: r["ms"]) if candidates else None
     return {"size": list(size), "preset": preset, "rows": rows,
-            "equal_error": {"thesis": thesis["config"], "thesis_ms": thesis["ms"], "thesis_mean": thesis["mean"],
+            "equal_error": {"thesis": thesis["config"], "thesis_ms": thesis["ms"],
+                            "thesis_mean": thesis["mean"],
                             "best": best["config"] if best else None,
                             "best_ms": best["ms"] if best else None,
                             "speedup": (thesis["ms"] / best["ms"]) if best else None}}
@@ -140,7 +147,8 @@ def chart(report: dict, path) -> None:
         ax.plot([r["ms"] for r in rows], [max(r["mean"], 1e-6) for r in rows], style, label=prefix)
         for r in rows:
             ax.annotate(r["config"].split(",")[-1].replace("steps (thesis marcher)", "").strip(),
-                        (r["ms"], max(r["mean"], 1e-6)), fontsize=7, textcoords="offset points", xytext=(3, 3))
+                        (r["ms"], max(r["mean"], 1e-6)), fontsize=7, textcoords="offset points",
+                        xytext=(3, 3))
     for r in s["accuracy"]["rows"]:
         if not any(r["config"].startswith(p) for p in groups):
             ax.plot([r["ms"]], [max(r["mean"], 1e-6)], "^", label=r["config"])
@@ -148,8 +156,8 @@ def chart(report: dict, path) -> None:
     ax.set_xlabel(f"ms per frame at {s['accuracy']['size'][0]}×{s['accuracy']['size'][1]}")
     ax.set_ylabel("mean |layer − 512-step reference|")
     eq = s["accuracy"]["equal_error"]
-    ax.set_title(f"time against error (equal-error speed-up ×{eq['speedup']:.1f})" if eq["speedup"] else
-                 "time against error")
+    ax.set_title(f"time against error (equal-error speed-up ×{eq['speedup']:.1f})"
+                 if eq["speedup"] else "time against error")
     ax.legend(fontsize=7)
     ax = axes[1]
     rows = s["table"]["rows"]
@@ -175,12 +183,15 @@ def summary(report: dict) -> str:
         lines.append(f"{r['preset']:14s} {r['size'][0]}x{r['size'][1]:<7d} {r['thesis_ms']:9.1f} "
                      f"{r['speed_work_ms']:14.1f}   ×{r['speedup']:.2f}")
     for size, who in s["table"]["slowest"].items():
-        lines.append(f"slowest at {size}: {who['thesis']} (thesis marcher), {who['speed_work']} (speed work)")
+        lines.append(f"slowest at {size}: {who['thesis']} (thesis marcher), "
+                     f"{who['speed_work']} (speed work)")
     lines.append("config                                   ms     error mean / p99")
     for r in s["accuracy"]["rows"]:
         lines.append(f"{r['config']:38s} {r['ms']:8.2f}   {r['mean']:.2e} / {r['p99']:.2e}")
     eq = s["accuracy"]["equal_error"]
-    lines.append(f"equal error: {eq['thesis']} {eq['thesis_ms']:.2f} ms (mean {eq['thesis_mean']:.2e}) vs "
-                 f"{eq['best']} {eq['best_ms'] if eq['best_ms'] is None else round(eq['best_ms'], 2)} ms → "
+    lines.append(f"equal error: {eq['thesis']} {eq['thesis_ms']:.2f} ms "
+                 f"(mean {eq['thesis_mean']:.2e}) vs "
+                 f"{eq['best']} "
+                 f"{eq['best_ms'] if eq['best_ms'] is None else round(eq['best_ms'], 2)} ms → "
                  f"speed-up {eq['speedup'] if eq['speedup'] is None else round(eq['speedup'], 2)}")
     return "\n".join(lines)

@@ -1,4 +1,4 @@
-"""Speed against accuracy for the procedural materials (issue 3, item 5).
+"""Speed against accuracy for the procedural materials: noise octaves, baked noise, ring edges.
 
 Three sweeps, each timed in one run on one renderer (ratios hold where absolute times do not):
 
@@ -43,7 +43,8 @@ def _display(img):
     return linear_to_srgb(img[..., :3].astype(np.float64))
 
 
-def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES, sizes=None) -> dict:
+def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES,
+          sizes=None) -> dict:
     params = session.params
     eff: Materials = session.scene.effect("materials")
     gpu = session.gpu
@@ -62,11 +63,13 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
             ms = []
             for d in range(1, 9):
                 params.set("wood.rec_depth", d)
-                t = time_call(gpu.ctx, f"{kind} d{d}", _render(session, eff, square, frame, view_proj=TOP_VIEW),
+                t = time_call(gpu.ctx, f"{kind} d{d}",
+                              _render(session, eff, square, frame, view_proj=TOP_VIEW),
                               warmup, repeat)
                 ms.append(t.median_ms)
             slope, intercept = np.polyfit(np.arange(1, 9), ms, 1)
-            octaves[kind] = {"ms_by_depth": ms, "ms_per_octave": float(slope), "ms_base": float(intercept)}
+            octaves[kind] = {"ms_by_depth": ms, "ms_per_octave": float(slope),
+                             "ms_base": float(intercept)}
         out["octave_cost"] = {"size": [n, n], **octaves}
 
         # 2. baked volume against per-pixel noise, on the scene's own view of the meshes
@@ -82,8 +85,9 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
         _render(session, eff, view, frame, MATERIAL_RADIUS)()
         exact_noise = view.read()
         covered = exact_noise[..., 0] > 0.0
-        rows = [{"method": "per-pixel", "size": None, "median_ms": t_exact.median_ms, "noise_mean": 0.0,
-                 "noise_p99": 0.0, "colour_mean": 0.0, "colour_p99": 0.0, "bake_s": 0.0}]
+        rows = [{"method": "per-pixel", "size": None, "median_ms": t_exact.median_ms,
+                 "noise_mean": 0.0, "noise_p99": 0.0, "colour_mean": 0.0, "colour_p99": 0.0,
+                 "bake_s": 0.0}]
         for bs in bake_sizes:
             bake = eff.bake_noise(bs)
             run = _render(session, eff, view, frame, MATERIAL_BAKED, baked=bake.texture)
@@ -95,9 +99,12 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
             dn = np.abs(noise[..., 1:4] - exact_noise[..., 1:4])[covered]
             dc = np.abs(_display(img) - _display(exact))[covered].max(axis=-1)
             rows.append({"method": "baked", "size": bs, "median_ms": t.median_ms,
-                         "noise_mean": float(dn.mean()), "noise_p99": float(np.percentile(dn, 99)),
-                         "colour_mean": float(dc.mean()), "colour_p99": float(np.percentile(dc, 99)),
-                         "bake_s": bake.seconds, "bake_path": bake.path, "bake_mb": bs**3 * 16 / 2**20})
+                         "noise_mean": float(dn.mean()),
+                         "noise_p99": float(np.percentile(dn, 99)),
+                         "colour_mean": float(dc.mean()),
+                         "colour_p99": float(np.percentile(dc, 99)),
+                         "bake_s": bake.seconds, "bake_path": bake.path,
+                         "bake_mb": bs**3 * 16 / 2**20})
             gpu.free(bake.texture)
         out["baked_vs_per_pixel"] = {"size": list(size), "rows": rows}
 
@@ -119,9 +126,11 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
             t = time_call(gpu.ctx, "rings", run, warmup, repeat)
             run()
             err = np.abs(_display(tiny.read()) - ref).max(axis=-1)
-            rings["filtered" if filtered else "hard"] = {"median_ms": t.median_ms, "mean_error": float(err.mean()),
-                                                         "p99_error": float(np.percentile(err, 99))}
-        out["ring_edges"] = {"size": [small, small], "supersampling": ss, "vol_tex_scale_w": 70.0, **rings}
+            rings["filtered" if filtered else "hard"] = {
+                "median_ms": t.median_ms, "mean_error": float(err.mean()),
+                "p99_error": float(np.percentile(err, 99))}
+        out["ring_edges"] = {"size": [small, small], "supersampling": ss, "vol_tex_scale_w": 70.0,
+                             **rings}
         for tgt in (square, view, big, tiny):
             gpu.free(tgt)
     finally:
@@ -167,7 +176,8 @@ def chart(report: dict, path) -> None:
     re_ = sweep_["ring_edges"]
     for name, marker in (("hard", "o"), ("filtered", "s")):
         ax.plot([re_[name]["median_ms"]], [re_[name]["mean_error"]], marker, markersize=9,
-                label=f"{name}: mean {re_[name]['mean_error']:.3f}, p99 {re_[name]['p99_error']:.3f}")
+                label=f"{name}: mean {re_[name]['mean_error']:.3f}, "
+                      f"p99 {re_[name]['p99_error']:.3f}")
     ax.set_xlabel("ms per frame")
     ax.set_ylabel("error vs 8×8 supersampling")
     ax.set_title("ring edges: hard (thesis) vs box-filtered")
@@ -183,13 +193,16 @@ def summary(report: dict) -> str:
     lines = []
     for kind in ("value", "gradient"):
         o = s["octave_cost"][kind]
-        lines.append(f"{kind:9s} noise: {o['ms_per_octave']:.3f} ms per octave (base {o['ms_base']:.3f} ms)")
+        lines.append(f"{kind:9s} noise: {o['ms_per_octave']:.3f} ms per octave "
+                     f"(base {o['ms_base']:.3f} ms)")
     for r in s["baked_vs_per_pixel"]["rows"]:
         label = "per pixel" if r["size"] is None else f"baked {r['size']}³"
-        lines.append(f"{label:12s} {r['median_ms']:8.3f} ms   noise err mean {r['noise_mean']:.5f} p99 {r['noise_p99']:.5f}"
+        lines.append(f"{label:12s} {r['median_ms']:8.3f} ms   "
+                     f"noise err mean {r['noise_mean']:.5f} p99 {r['noise_p99']:.5f}"
                      f"   colour err mean {r['colour_mean']:.4f} p99 {r['colour_p99']:.4f}")
     for name in ("hard", "filtered"):
         r = s["ring_edges"][name]
-        lines.append(f"rings {name:8s} {r['median_ms']:8.3f} ms   error vs 8×8 supersampling mean {r['mean_error']:.4f}"
+        lines.append(f"rings {name:8s} {r['median_ms']:8.3f} ms   "
+                     f"error vs 8×8 supersampling mean {r['mean_error']:.4f}"
                      f" p99 {r['p99_error']:.4f}")
     return "\n".join(lines)

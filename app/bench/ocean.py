@@ -1,6 +1,6 @@
-"""Speed against accuracy for the ocean (issue 6, item 6).
+"""Speed against accuracy for the ocean: FFT size and cascades, ms per frame and spectrum error.
 
-Three sweeps, run by ``natura bench ocean`` after the per-pass timings, all at the bench view
+Four sweeps, run by ``natura bench ocean`` after the per-pass timings, all at the bench view
 size with the scene's camera and the session's sea state (wind, spectrum, patch sizes):
 
 1. **FFT size × cascades** — N ∈ {64, 128, 256, 512} (``fft_sizes``; ``--sizes NxN,...``
@@ -128,7 +128,8 @@ def _sim_ms(session, warmup: int, repeat: int) -> float:
     p = session.params
     t = session.scene.time
     return time_call(session.gpu.ctx, "ocean.simulate",
-                     lambda: eff.sim.update(t, p["ocean.choppiness"], DT, foam_threshold=p["ocean.foam_threshold"],
+                     lambda: eff.sim.update(t, p["ocean.choppiness"], DT,
+                                            foam_threshold=p["ocean.foam_threshold"],
                                             foam_decay_time=p["ocean.foam_decay"]),
                      warmup, repeat).median_ms
 
@@ -137,7 +138,8 @@ def _cascades_of(eff, n: int, count: int):
     ref = eff.reference  # what the effect uploaded to its GpuOceanSim
     if ref is None or ref.n != n or len(ref.cascades) != count:
         p = eff.params
-        ref = oc.FFTOcean(eff.spectrum_params(), n=n, patch_sizes=eff.patch_sizes(), seed=p["ocean.seed"])
+        ref = oc.FFTOcean(eff.spectrum_params(), n=n, patch_sizes=eff.patch_sizes(),
+                          seed=p["ocean.seed"])
     return ref.cascades
 
 
@@ -145,15 +147,16 @@ def _fft_sizes_from(sizes) -> tuple[int, ...]:
     """``natura bench ocean --sizes 64x64,128x128``: square pairs name FFT sizes."""
     out = sorted({int(w) for w, h in sizes if int(w) == int(h) and int(w) in FFT_SIZES})
     if not out:
-        raise UsageError(f"natura bench ocean --sizes: {','.join(f'{w}x{h}' for w, h in sizes)} names no FFT "
-                         f"size: give NxN pairs with N in {', '.join(map(str, FFT_SIZES))}")
+        raise UsageError(f"natura bench ocean --sizes: {','.join(f'{w}x{h}' for w, h in sizes)} "
+                         f"names no FFT size: give NxN pairs with N in "
+                         f"{', '.join(map(str, FFT_SIZES))}")
     return tuple(out)
 
 
 # ---- sweep 1 ---------------------------------------------------------------------------------
 
-def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int = 2, repeat: int = 5,
-              ref: dict | None = None) -> dict:
+def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int = 2,
+              repeat: int = 5, ref: dict | None = None) -> dict:
     p = session.params
     eff = _effect(session)
     ref = ref or reference(session)
@@ -181,15 +184,17 @@ def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int
                         "shape_distance": fft_shape_distance(casc, sp, bins)})
             e = ratio_errors(m["mss_expected"], m["hs_expected"], ref)
             row.update({"mss_expected": m["mss_expected"], "hs_expected": m["hs_expected"],
-                        "mss_deficit_expected": e["mss_deficit"], "hs_error_expected": e["hs_error"]})
+                        "mss_deficit_expected": e["mss_deficit"],
+                        "hs_error_expected": e["hs_error"]})
             rows.append(row)
-    return {"fft_sizes": [int(n) for n in fft_sizes], "cascades": [int(c) for c in cascades], "rows": rows}
+    return {"fft_sizes": [int(n) for n in fft_sizes], "cascades": [int(c) for c in cascades],
+            "rows": rows}
 
 
 # ---- sweep 2 ---------------------------------------------------------------------------------
 
-def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmup: int = 2, repeat: int = 5,
-                   ref: dict | None = None) -> dict:
+def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmup: int = 2,
+                   repeat: int = 5, ref: dict | None = None) -> dict:
     p = session.params
     eff = _effect(session)
     ref = ref or reference(session)
@@ -209,16 +214,20 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
             continue
         m = oc.gerstner_moments(waves)
         tp = gerstner_peak_period(waves, sp.depth)
-        angles = {round(math.degrees(math.atan2(w.direction[1], w.direction[0]))) % 360 for w in waves}
-        row.update({"hs": m["hs"], "mss": m["mss"], **ratio_errors(m["mss"], m["hs"], ref), "tp_s": tp,
+        angles = {round(math.degrees(math.atan2(w.direction[1], w.direction[0]))) % 360
+                  for w in waves}
+        row.update({"hs": m["hs"], "mss": m["mss"], **ratio_errors(m["mss"], m["hs"], ref),
+                    "tp_s": tp,
                     "tp_error": (abs(tp - ref["tp_s"]) / ref["tp_s"]) if ref["tp_s"] else None,
-                    "distinct_directions": len(angles), "shape_distance": gerstner_shape_distance(waves, sp, bins),
+                    "distinct_directions": len(angles),
+                    "shape_distance": gerstner_shape_distance(waves, sp, bins),
                     "shortest_wavelength_m": min(w.wavelength for w in waves),
                     "longest_wavelength_m": max(w.wavelength for w in waves)})
         rows.append(row)
     n, c = fft
     all_sizes = [float(s) for s in p["ocean.patch_sizes"]]
-    row = {"model": "fft", "fft_size": int(n), "cascades": int(c), "repeat_lengths_m": all_sizes[:c]}
+    row = {"model": "fft", "fft_size": int(n), "cascades": int(c),
+           "repeat_lengths_m": all_sizes[:c]}
     try:
         oc.cascade_bands(int(n), all_sizes[:c])
         p.set("ocean.model", "fft")
@@ -231,8 +240,10 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
         casc = _cascades_of(eff, int(n), int(c))
         m = cascade_moments(casc, sp)
         tp = fft_peak_period(casc, sp)
-        row.update({"hs": m["hs"], "mss": m["mss"], **ratio_errors(m["mss"], m["hs"], ref), "tp_s": tp,
-                    "tp_error": (abs(tp - ref["tp_s"]) / ref["tp_s"]) if (ref["tp_s"] and tp) else None,
+        row.update({"hs": m["hs"], "mss": m["mss"], **ratio_errors(m["mss"], m["hs"], ref),
+                    "tp_s": tp,
+                    "tp_error": ((abs(tp - ref["tp_s"]) / ref["tp_s"]) if (ref["tp_s"] and tp)
+                                 else None),
                     "modes": int(sum(int(np.count_nonzero(cc.h0)) for cc in casc)),
                     "shape_distance": fft_shape_distance(casc, sp, bins)})
     rows.append(row)
@@ -244,8 +255,8 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
 
 # ---- sweep 3 ---------------------------------------------------------------------------------
 
-def direct_sweep(session, sizes=DIRECT_SIZES, extra: int | None = DIRECT_EXTRA, budget_s: float = DIRECT_BUDGET_S,
-                 warmup: int = 2, repeat: int = 5) -> dict:
+def direct_sweep(session, sizes=DIRECT_SIZES, extra: int | None = DIRECT_EXTRA,
+                 budget_s: float = DIRECT_BUDGET_S, warmup: int = 2, repeat: int = 5) -> dict:
     """One cascade: GpuOceanSim.update (FFT) against direct_sum, same waves, same run."""
     from ..effects.ocean.fft import GpuOceanSim
 
@@ -272,11 +283,14 @@ def direct_sweep(session, sizes=DIRECT_SIZES, extra: int | None = DIRECT_EXTRA, 
             diff = float(np.abs(direct_eta - fft_eta).max())
             ms_fft = time_call(session.gpu.ctx, "fft", lambda: sim.update(DIRECT_TIME, lam, 0.0),
                                warmup, repeat).median_ms
-            direct = time_call(session.gpu.ctx, "direct", lambda: sim.direct_sum(DIRECT_TIME, lam), 0, direct_repeat)
+            direct = time_call(session.gpu.ctx, "direct", lambda: sim.direct_sum(DIRECT_TIME, lam),
+                               0, direct_repeat)
             ms_direct = direct.median_ms
-            return {"fft_size": n, "patch_size": patch, "modes": sim.mode_counts()[0], "path": sim.path,
+            return {"fft_size": n, "patch_size": patch, "modes": sim.mode_counts()[0],
+                    "path": sim.path,
                     "ms_fft": ms_fft, "ms_direct": ms_direct, "speedup": ms_direct / ms_fft,
-                    "max_abs_diff": diff, "max_abs_eta": scale, "rel_diff": diff / scale if scale > 0 else diff,
+                    "max_abs_diff": diff, "max_abs_eta": scale,
+                    "rel_diff": diff / scale if scale > 0 else diff,
                     "min_ms_direct": min(direct.wall_ms), "first_direct_s": first_s,
                     "direct_repeat": direct_repeat}
         finally:
@@ -286,17 +300,19 @@ def direct_sweep(session, sizes=DIRECT_SIZES, extra: int | None = DIRECT_EXTRA, 
         rows.append(measure(int(n)))
     if extra and rows and extra > rows[-1]["fft_size"]:
         last = rows[-1]
-        ext_modes = int(np.count_nonzero(oc.FFTOcean(sp, n=extra, patch_sizes=(patch,), seed=p["ocean.seed"])
-                                         .cascades[0].h0))
+        ext_modes = int(np.count_nonzero(oc.FFTOcean(sp, n=extra, patch_sizes=(patch,),
+                                                     seed=p["ocean.seed"]).cascades[0].h0))
         scale = (extra / last["fft_size"]) ** 2 * ext_modes / max(last["modes"], 1)
         # O(N²·modes); from the fastest run (the least disturbed by other load), 1 + repeat runs
         estimate = last["min_ms_direct"] * 1e-3 * scale * (1 + direct_repeat)
         if estimate < budget_s:
             rows.append({**measure(int(extra)), "estimated_s": estimate})
         else:
-            skipped.append({"fft_size": extra, "reason": f"estimated {estimate:.0f} s of direct sums "
-                                                         f"(budget {budget_s:g} s)"})
-    return {"patch_size": patch, "time_s": DIRECT_TIME, "choppiness": lam, "rows": rows, "skipped": skipped}
+            skipped.append({"fft_size": extra,
+                            "reason": f"estimated {estimate:.0f} s of direct sums "
+                                      f"(budget {budget_s:g} s)"})
+    return {"patch_size": patch, "time_s": DIRECT_TIME, "choppiness": lam, "rows": rows,
+            "skipped": skipped}
 
 
 # ---- the whole sweep -------------------------------------------------------------------------
@@ -317,15 +333,18 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None, fft_sizes
             "renderer": session.gpu.caps.renderer,
             "view_size": list(size),
             "camera": {"position": [float(x) for x in session.scene.camera.position]},
-            "wind": session.params["ocean.wind"], "wind_direction": session.params["ocean.wind_direction"],
+            "wind": session.params["ocean.wind"],
+            "wind_direction": session.params["ocean.wind_direction"],
             "spectrum": sp.kind, "fetch_km": session.params["ocean.fetch"], "depth": sp.depth,
             "short_wave_fade": sp.short_wave_fade,
             "patch_sizes": [float(s) for s in session.params["ocean.patch_sizes"]],
             "warmup": warmup, "repeat": repeat,
             "reference": ref,
             "fft": fft_sweep(session, size, fft_sizes, cascades, warmup, repeat, ref),
-            "gerstner": gerstner_sweep(session, size, gerstner_counts, fft_compare, warmup, repeat, ref),
-            "direct_sum": direct_sweep(session, direct_sizes, direct_extra, DIRECT_BUDGET_S, warmup, repeat),
+            "gerstner": gerstner_sweep(session, size, gerstner_counts, fft_compare, warmup, repeat,
+                                       ref),
+            "direct_sum": direct_sweep(session, direct_sizes, direct_extra, DIRECT_BUDGET_S, warmup,
+                                       repeat),
             "oceanography": oceanography(gpu_hs=gpu_significant_height(session.gpu)),
         }
     finally:
@@ -362,14 +381,15 @@ def chart(report: dict, path) -> None:
         ys = [r["mss_deficit"] for r in line]
         ax.plot([r["ms_frame"] for r in line], ys, "o-", label=f"FFT N = {n}")
         for r, y in zip(line, ys):
-            ax.annotate(str(r["cascades"]), (r["ms_frame"], y), fontsize=8, textcoords="offset points",
-                        xytext=(3, 3))
+            ax.annotate(str(r["cascades"]), (r["ms_frame"], y), fontsize=8,
+                        textcoords="offset points", xytext=(3, 3))
     g = [r for r in s["gerstner"]["rows"] if r["model"] == "gerstner" and "skipped" not in r]
     if g:
         ys = [r["mss_deficit"] for r in g]
         ax.plot([r["ms_frame"] for r in g], ys, "s--", color="k", label="Gerstner (waves)")
         for r, y in zip(g, ys):
-            ax.annotate(f"{r['waves']}w", (r["ms_frame"], y), fontsize=8, textcoords="offset points", xytext=(3, -9))
+            ax.annotate(f"{r['waves']}w", (r["ms_frame"], y), fontsize=8,
+                        textcoords="offset points", xytext=(3, -9))
     f = [r for r in s["gerstner"]["rows"] if r["model"] == "fft" and "skipped" not in r]
     for r in f:
         ax.plot([r["ms_frame"]], [r["mss_deficit"]], "*", ms=13, color="tab:red",
@@ -377,7 +397,8 @@ def chart(report: dict, path) -> None:
     # symlog: a random draw of h0 can hold slightly more slope than the reference (deficit < 0)
     ax.set_yscale("symlog", linthresh=SYMLOG_LINEAR)
     ax.axhline(0.0, color="0.6", lw=0.5)
-    ax.set_xlabel(f"ms per frame at {s['view_size'][0]}×{s['view_size'][1]} (labels: cascades)")
+    ax.set_xlabel(f"ms per frame at {s['view_size'][0]}×{s['view_size'][1]} "
+                  "(labels: cascades)")
     ax.set_ylabel(f"mss deficit 1 − mss/mss_ref (symlog, linear below {SYMLOG_LINEAR:g})")
     ax.set_title("(a) time against slope error")
     ax.legend(fontsize=7)
@@ -401,9 +422,10 @@ def chart(report: dict, path) -> None:
     for n in s["fft"]["fft_sizes"]:
         line = [r for r in rows if r["fft_size"] == n]
         if line:
-            ax.plot([r["cascades"] for r in line], [max(r["hs_error"], FLOOR) for r in line], "o-",
-                    label=f"N = {n} (actual h0)")
-            ax.plot([r["cascades"] for r in line], [max(r["hs_error_expected"], FLOOR) for r in line], ":",
+            ax.plot([r["cascades"] for r in line], [max(r["hs_error"], FLOOR) for r in line],
+                    "o-", label=f"N = {n} (actual h0)")
+            ax.plot([r["cascades"] for r in line],
+                    [max(r["hs_error_expected"], FLOOR) for r in line], ":",
                     color=ax.lines[-1].get_color())
     for r in g:
         ax.axhline(max(r["hs_error"], FLOOR), color="k", lw=0.5, ls="--")
@@ -417,7 +439,8 @@ def chart(report: dict, path) -> None:
     for n in s["fft"]["fft_sizes"]:
         line = [r for r in rows if r["fft_size"] == n]
         if line:
-            ax.plot([r["ms_frame"] for r in line], [r["shape_distance"] for r in line], "o-", label=f"FFT N = {n}")
+            ax.plot([r["ms_frame"] for r in line], [r["shape_distance"] for r in line], "o-",
+                    label=f"FFT N = {n}")
             for r in line:
                 ax.annotate(str(r["cascades"]), (r["ms_frame"], r["shape_distance"]), fontsize=8,
                             textcoords="offset points", xytext=(3, 3))
@@ -428,12 +451,13 @@ def chart(report: dict, path) -> None:
             ax.annotate(f"{r['waves']}w", (r["ms_frame"], r["shape_distance"]), fontsize=8,
                         textcoords="offset points", xytext=(3, -9))
     ax.set_ylim(0.0, 1.0)
-    ax.set_xlabel(f"ms per frame at {s['view_size'][0]}×{s['view_size'][1]} (labels: cascades)")
+    ax.set_xlabel(f"ms per frame at {s['view_size'][0]}×{s['view_size'][1]} "
+                  "(labels: cascades)")
     ax.set_ylabel("spectrum shape distance (½ L1 over log k × direction bins)")
     ax.set_title("(d) time against how well the waves fill the directional spectrum")
     ax.legend(fontsize=7)
-    fig.suptitle(f"natura bench ocean — {report.get('renderer', s.get('renderer'))}, {s['spectrum']}, "
-                 f"U = {s['wind']:g} m/s", fontsize=10)
+    fig.suptitle(f"natura bench ocean — {report.get('renderer', s.get('renderer'))}, "
+                 f"{s['spectrum']}, U = {s['wind']:g} m/s", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
@@ -446,38 +470,47 @@ def _pct(x) -> str:
 def summary(report: dict) -> str:
     s = report["sweep"]
     ref = s["reference"]
-    lines = [f"reference: {s['spectrum']}, U = {s['wind']:g} m/s, Hs = {ref['hs']:.3f} m, mss = {ref['mss']:.4g}, "
+    lines = [f"reference: {s['spectrum']}, U = {s['wind']:g} m/s, Hs = {ref['hs']:.3f} m, "
+             f"mss = {ref['mss']:.4g}, "
              f"Tp = {ref['tp_s'] or float('nan'):.2f} s, k ≤ {ref['k_ref']:.0f} rad/m",
              f"{TITLES['fft']} at {s['view_size'][0]}x{s['view_size'][1]}:",
-             "  N    casc   frame ms   sim ms   mss deficit (expected)    Hs error (expected)   shape"]
+             "  N    casc   frame ms   sim ms   mss deficit (expected)    Hs error (expected)   "
+             "shape"]
     for r in s["fft"]["rows"]:
         if "skipped" in r:
             lines.append(f"  {r['fft_size']:<4d} {r['cascades']:4d}   skipped: {r['skipped']}")
             continue
-        lines.append(f"  {r['fft_size']:<4d} {r['cascades']:4d} {r['ms_frame']:10.1f} {r['ms_sim']:8.1f}   "
+        lines.append(f"  {r['fft_size']:<4d} {r['cascades']:4d} {r['ms_frame']:10.1f} "
+                     f"{r['ms_sim']:8.1f}   "
                      f"{_pct(r['mss_deficit'])} ({_pct(r['mss_deficit_expected'])})       "
-                     f"{_pct(r['hs_error'])} ({_pct(r['hs_error_expected'])})   {r['shape_distance']:.3f}")
+                     f"{_pct(r['hs_error'])} ({_pct(r['hs_error_expected'])})   "
+                     f"{r['shape_distance']:.3f}")
     lines.append(f"{TITLES['gerstner']} (equal Hs and peak period):")
-    lines.append("  model            frame ms   Hs m     Hs err    Tp s    Tp err   mss deficit  shape  directions")
+    lines.append("  model            frame ms   Hs m     Hs err    Tp s    Tp err   "
+                 "mss deficit  shape  directions")
     for r in s["gerstner"]["rows"]:
-        label = f"gerstner {r['waves']}" if r["model"] == "gerstner" else f"fft {r['fft_size']}×{r['cascades']}"
+        label = (f"gerstner {r['waves']}" if r["model"] == "gerstner"
+                 else f"fft {r['fft_size']}×{r['cascades']}")
         if "skipped" in r:
             lines.append(f"  {label:16s} skipped: {r['skipped']}")
             continue
         dirs = r.get("distinct_directions", "grid")
         lines.append(f"  {label:16s} {r['ms_frame']:8.1f} {r['hs']:7.3f} {_pct(r['hs_error'])} "
-                     f"{r['tp_s'] or float('nan'):7.2f} {_pct(r['tp_error'])}  {_pct(r['mss_deficit'])}  "
+                     f"{r['tp_s'] or float('nan'):7.2f} {_pct(r['tp_error'])}  "
+                     f"{_pct(r['mss_deficit'])}  "
                      f"{r['shape_distance']:.3f}  {dirs}")
-    lines.append("  shape: half the L1 distance between the sea's variance over (log k, direction) bins and the "
-                 "spectrum's (0 = same shape, 1 = disjoint)")
+    lines.append("  shape: half the L1 distance between the sea's variance over (log k, direction) "
+                 "bins and the spectrum's (0 = same shape, 1 = disjoint)")
     lines.append(f"{TITLES['direct_sum']} (one cascade, L = {s['direct_sum']['patch_size']:g} m):")
     lines.append("  N     modes    FFT ms   direct ms   speed-up   max|Δη|/max|η|")
     for r in s["direct_sum"]["rows"]:
-        lines.append(f"  {r['fft_size']:<4d} {r['modes']:7d} {r['ms_fft']:9.2f} {r['ms_direct']:11.2f}   "
+        lines.append(f"  {r['fft_size']:<4d} {r['modes']:7d} {r['ms_fft']:9.2f} "
+                     f"{r['ms_direct']:11.2f}   "
                      f"×{r['speedup']:<8.1f} {r['rel_diff']:.2e}")
     for sk in s["direct_sum"]["skipped"]:
         lines.append(f"  {sk['fft_size']:<4d} skipped: {sk['reason']}")
     if "oceanography" in s:
         lines.append(oceanography_summary(s["oceanography"]))
-    lines.append(f"sweeps took {s.get('seconds', float('nan')):.0f} s; figures are specific to {s['renderer']}")
+    lines.append(f"sweeps took {s.get('seconds', float('nan')):.0f} s; "
+                 f"figures are specific to {s['renderer']}")
     return "\n".join(lines)

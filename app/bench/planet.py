@@ -1,4 +1,4 @@
-"""Speed and accuracy of the four atmosphere methods (issue 4, items 5–6).
+"""Speed and accuracy of the four atmosphere methods: ms per frame and error against a reference.
 
 * **The thesis's table** (spec/002 §5): methods 1–3 (and Hillaire as a fourth row) × sizes
   (800×600, 1280×720, 1920×1080 by default; ``--sizes`` scales it down for slow renderers) ×
@@ -48,7 +48,8 @@ def _frame_ms(session, size, warmup, repeat, scattering_only: bool = False) -> f
         gpu.free(target)
 
 
-def thesis_table(session, sizes=DEFAULT_SIZES, warmup: int = 2, repeat: int = 5, methods=TABLE_METHODS) -> dict:
+def thesis_table(session, sizes=DEFAULT_SIZES, warmup: int = 2, repeat: int = 5,
+                 methods=TABLE_METHODS) -> dict:
     p = session.params
     rows = []
     for view in VIEWS:
@@ -58,17 +59,19 @@ def thesis_table(session, sizes=DEFAULT_SIZES, warmup: int = 2, repeat: int = 5,
             for method in methods:
                 p.set("planet.method", method)
                 cell[method] = _frame_ms(session, tuple(size), warmup, repeat)
-                scatter[method] = _frame_ms(session, tuple(size), warmup, repeat, scattering_only=True)
+                scatter[method] = _frame_ms(session, tuple(size), warmup, repeat,
+                                            scattering_only=True)
             base, base_s = cell["brute_force"], scatter["brute_force"]
             for method in methods:
                 rows.append({"view": view, "size": list(size), "method": method, "ms": cell[method],
-                             "fps": 1000.0 / cell[method], "ratio_fps_to_method_1": base / cell[method],
+                             "fps": 1000.0 / cell[method],
+                             "ratio_fps_to_method_1": base / cell[method],
                              "scattering_ms": scatter[method],
                              "scattering_ratio_to_method_1": base_s / scatter[method]})
     return {"rows": rows, "n_steps": p["planet.n_steps"]}
 
 
-# ---- accuracy --------------------------------------------------------------------------------------
+# ---- accuracy ------------------------------------------------------------------------------
 
 def _render_debug(session, size, view: str) -> tuple[np.ndarray, np.ndarray]:
     """(in-scatter image, transmittance image), each (h, w, 3) linear, row 0 at the top."""
@@ -104,8 +107,10 @@ def reference_for_view(session, size, steps: int = 2048) -> dict:
     dirs = np.where(covered[..., None], pos[..., :3] / np.maximum(dist, 1e-9)[..., None], dirs)
     max_dist = np.where(covered, dist, np.inf).reshape(-1)
     cam_planet = atm.local_to_planet(cam.position, model)
-    ref = atm.reference(cam_planet, dirs.reshape(-1, 3), eff.sun_dir, model, max_dist=max_dist, steps=steps)
-    return {"in_scatter": ref.in_scatter.reshape(h, w, 3), "transmittance": ref.transmittance.reshape(h, w, 3)}
+    ref = atm.reference(cam_planet, dirs.reshape(-1, 3), eff.sun_dir, model, max_dist=max_dist,
+                        steps=steps)
+    return {"in_scatter": ref.in_scatter.reshape(h, w, 3),
+            "transmittance": ref.transmittance.reshape(h, w, 3)}
 
 
 def _errors(got_in, got_t, ref) -> dict:
@@ -133,8 +138,8 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
         ms = _frame_ms(session, time_size, warmup, repeat)
         rows.append({"method": method, "knob": knob, "value": value, "ms": ms, **errs})
 
-    saved = {k: p[k] for k in ("planet.n_steps", "planet.inner_steps", "planet.lut_height", "planet.lut_angle",
-                               "planet.shadow_map_size")}
+    saved = {k: p[k] for k in ("planet.n_steps", "planet.inner_steps", "planet.lut_height",
+                               "planet.lut_angle", "planet.shadow_map_size")}
     try:
         for n in steps_list:
             p.set("planet.n_steps", n)
@@ -169,18 +174,21 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
                 _scale_hillaire(p, scale)
                 measure("hillaire", "lut scale", scale)
             _scale_hillaire(p, 1.0)
-            p.set("hillaire.multiple_scattering", False)  # single scattering only: the reference's physics
+            # single scattering only: the reference's physics
+            p.set("hillaire.multiple_scattering", False)
             measure("hillaire", "single scattering only", 1.0)
             p.set("hillaire.multiple_scattering", True)
     finally:
         for k, v in saved.items():
             p.set(k, v)
-    return {"size": list(size), "time_size": list(time_size), "reference_steps": ref_steps, "rows": rows}
+    return {"size": list(size), "time_size": list(time_size), "reference_steps": ref_steps,
+            "rows": rows}
 
 
 #: Hillaire LUT resolutions scaled together by the "lut scale" knob (defaults × scale)
-HILLAIRE_SIZES = ("hillaire.transmittance_width", "hillaire.transmittance_height", "hillaire.ms_size",
-                  "hillaire.skyview_width", "hillaire.skyview_height", "hillaire.ap_size", "hillaire.ap_slices")
+HILLAIRE_SIZES = ("hillaire.transmittance_width", "hillaire.transmittance_height",
+                  "hillaire.ms_size", "hillaire.skyview_width", "hillaire.skyview_height",
+                  "hillaire.ap_size", "hillaire.ap_slices")
 
 
 def _scale_hillaire(params, scale: float) -> None:
@@ -212,13 +220,14 @@ def chart(report: dict, path) -> None:
     for method in markers:
         for knob in sorted({r["knob"] for r in s["accuracy"]["rows"] if r["method"] == method}):
             rows = [r for r in s["accuracy"]["rows"] if r["method"] == method and r["knob"] == knob]
-            ax.plot([r["ms"] for r in rows], [max(r["in_mean"], 1e-6) for r in rows], markers[method] + "-",
-                    label=f"{method}: {knob}")
+            ax.plot([r["ms"] for r in rows], [max(r["in_mean"], 1e-6) for r in rows],
+                    markers[method] + "-", label=f"{method}: {knob}")
             for r in rows:
                 ax.annotate(str(r["value"]), (r["ms"], max(r["in_mean"], 1e-6)), fontsize=7,
                             textcoords="offset points", xytext=(3, 3))
     ax.set_yscale("log")
-    ax.set_xlabel(f"ms per frame at {s['accuracy']['time_size'][0]}×{s['accuracy']['time_size'][1]}")
+    ax.set_xlabel(f"ms per frame at "
+                  f"{s['accuracy']['time_size'][0]}×{s['accuracy']['time_size'][1]}")
     ax.set_ylabel("mean |in-scatter − reference| (linear radiance)")
     ax.set_title("time against error")
     ax.legend(fontsize=7)
@@ -227,7 +236,8 @@ def chart(report: dict, path) -> None:
     labels = sorted({(r["view"], tuple(r["size"])) for r in rows}, key=lambda k: (k[0], k[1][0]))
     width = 0.2
     for i, method in enumerate(TABLE_METHODS):
-        ys = [next((r["ms"] for r in rows if r["method"] == method and (r["view"], tuple(r["size"])) == lab), np.nan)
+        ys = [next((r["ms"] for r in rows
+                    if r["method"] == method and (r["view"], tuple(r["size"])) == lab), np.nan)
               for lab in labels]
         ax.bar(np.arange(len(labels)) + (i - 1.5) * width, ys, width, label=method)
     ax.set_xticks(range(len(labels)), [f"{v}\n{w}×{h}" for v, (w, h) in labels], fontsize=8)
@@ -242,14 +252,19 @@ def chart(report: dict, path) -> None:
 
 def summary(report: dict) -> str:
     s = report["sweep"]
-    lines = ["view    size        method        frame ms   fps   ×method 1 (fps)   scattering pass ms   ×method 1"]
+    lines = ["view    size        method        frame ms   fps   ×method 1 (fps)   "
+             "scattering pass ms   ×method 1"]
     for r in s["table"]["rows"]:
-        lines.append(f"{r['view']:7s} {r['size'][0]}x{r['size'][1]:<6d} {r['method']:12s} {r['ms']:8.2f} "
-                     f"{r['fps']:7.1f}   {r['ratio_fps_to_method_1']:5.2f}             {r['scattering_ms']:8.2f}"
+        lines.append(f"{r['view']:7s} {r['size'][0]}x{r['size'][1]:<6d} {r['method']:12s} "
+                     f"{r['ms']:8.2f} "
+                     f"{r['fps']:7.1f}   {r['ratio_fps_to_method_1']:5.2f}             "
+                     f"{r['scattering_ms']:8.2f}"
                      f"           {r['scattering_ratio_to_method_1']:5.2f}")
-    lines.append("method       knob                         value      ms   in-scatter err mean / p99   "
+    lines.append("method       knob                         value      ms   "
+                 "in-scatter err mean / p99   "
                  "transmittance err mean / p99")
     for r in s["accuracy"]["rows"]:
         lines.append(f"{r['method']:12s} {r['knob']:28s} {str(r['value']):>6s} {r['ms']:8.2f}   "
-                     f"{r['in_mean']:.2e} / {r['in_p99']:.2e}       {r['t_mean']:.2e} / {r['t_p99']:.2e}")
+                     f"{r['in_mean']:.2e} / {r['in_p99']:.2e}       "
+                     f"{r['t_mean']:.2e} / {r['t_p99']:.2e}")
     return "\n".join(lines)

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Callable, ClassVar
 
 from ..frame import Stage
 from ..gpu.cache import Keyed
-from ..gpu.programs import ProgramSpec, fullscreen  # noqa: F401  (re-exported until the package split)
+from ..gpu.programs import ProgramSpec
 from ..gpu.shaders import PreprocessError, ShaderLibrary
 from ..params import Param, ParamSet, parse_glsl_annotations
 

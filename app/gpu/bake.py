@@ -42,8 +42,9 @@ def compute_chunks(depth: int, chunk_slices: int | None, progress: bool) -> list
     return [(z, min(chunk, depth - z)) for z in range(0, depth, chunk)]
 
 
-def bake_volume(gpu, owner: str, name: str, size: tuple[int, int, int], compute: ProgramSpec, fragment: ProgramSpec,
-                setup: Callable[[object], None], use_compute: bool | None = None,
+def bake_volume(gpu, owner: str, name: str, size: tuple[int, int, int], compute: ProgramSpec,
+                fragment: ProgramSpec, setup: Callable[[object], None],
+                use_compute: bool | None = None,
                 progress: Callable[[float], None] | None = None,
                 chunk_slices: int | None = None) -> BakeResult:
     """Bake into a new RGBA32F 3D texture of ``size`` (linear filtering, repeat).

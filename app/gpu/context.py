@@ -28,7 +28,8 @@ class Caps:
 
     @property
     def software(self) -> bool:
-        """A CPU rasteriser: timer queries are unreliable there (DESIGN.md, Measuring)."""
+        """A CPU rasteriser: timer queries are unreliable there (docs/architecture.md,
+        Measuring)."""
         r = self.renderer.lower()
         return any(s in r for s in ("llvmpipe", "softpipe", "swrast", "software"))
 
@@ -38,7 +39,8 @@ class Caps:
 
 def caps_of(ctx: moderngl.Context) -> Caps:
     info = ctx.info
-    return Caps(ctx.version_code, str(info.get("GL_RENDERER", "?")), str(info.get("GL_VENDOR", "?")))
+    return Caps(ctx.version_code, str(info.get("GL_RENDERER", "?")),
+                str(info.get("GL_VENDOR", "?")))
 
 
 def create_headless_context(require: int = 330) -> moderngl.Context:

@@ -43,11 +43,13 @@ class Gpu:
         self.allocations.append(Allocation(owner, kind, name, obj))
         return obj
 
-    def program(self, owner: str, spec: ProgramSpec | str, defines: dict | None = None, **stages) -> Program:
+    def program(self, owner: str, spec: ProgramSpec | str, defines: dict | None = None,
+                **stages) -> Program:
         """The compiled program of ``spec`` (a :class:`ProgramSpec`, or a library name with
         ``defines`` and explicit stage files), recorded under ``owner``."""
         if isinstance(spec, ProgramSpec):
-            name, defines, stages = spec.name, {**dict(spec.defines), **(defines or {})}, spec.stages()
+            name, defines, stages = (spec.name, {**dict(spec.defines), **(defines or {})},
+                                     spec.stages())
         else:
             name = spec
         prog = self.shaders.program(name, defines, **stages)
@@ -56,13 +58,15 @@ class Gpu:
         return prog
 
     def texture(self, owner: str, name: str, size, components: int, data=None, dtype: str = "f4",
-                filter=(moderngl.LINEAR, moderngl.LINEAR), repeat: bool = False) -> moderngl.Texture:
+                filter=(moderngl.LINEAR, moderngl.LINEAR),
+                repeat: bool = False) -> moderngl.Texture:
         tex = self.ctx.texture(tuple(size), components, data=data, dtype=dtype)
         tex.filter = filter
         tex.repeat_x = tex.repeat_y = repeat
         return self._record(owner, "texture", name, tex)
 
-    def texture_cube(self, owner: str, name: str, size: int, components: int = 4, dtype: str = "f2"):
+    def texture_cube(self, owner: str, name: str, size: int, components: int = 4,
+                     dtype: str = "f2"):
         cube = self.ctx.texture_cube((size, size), components, dtype=dtype)
         return self._record(owner, "cubemap", name, cube)
 
@@ -83,10 +87,13 @@ class Gpu:
 
     def framebuffer(self, owner: str, name: str, color_attachments, depth_attachment=None):
         return self._record(owner, "framebuffer", name,
-                            self.ctx.framebuffer(color_attachments=list(color_attachments), depth_attachment=depth_attachment))
+                            self.ctx.framebuffer(color_attachments=list(color_attachments),
+                                                 depth_attachment=depth_attachment))
 
-    def target(self, owner: str, name: str, size, dtype: str = "f4", depth: bool = True) -> RenderTarget:
-        return self._record(owner, "target", name, RenderTarget(self.ctx, size, dtype=dtype, depth=depth))
+    def target(self, owner: str, name: str, size, dtype: str = "f4",
+               depth: bool = True) -> RenderTarget:
+        return self._record(owner, "target", name,
+                            RenderTarget(self.ctx, size, dtype=dtype, depth=depth))
 
     def owned_by(self, owner: str) -> list[Allocation]:
         return [a for a in self.allocations if a.owner == owner]

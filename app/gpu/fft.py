@@ -22,7 +22,7 @@ Two paths, picked by ``use_compute`` (``None`` → ``gpu.caps.compute``):
 
 Twiddles e^{+2πi·m/N} (m < N/2) are computed in float64 on the CPU from the integer m and
 stored in an N/2 × 1 RG32F texture: no sin/cos of a large float32 angle anywhere.  Rounding
-grows like log2 N·ε_f32·rms (about 1e-7 relative at N = 256; see tests/test_ocean_gpu.py).
+grows like log2 N·ε_f32·rms (about 1e-7 relative at N = 256, as the GPU ocean tests check).
 """
 
 from __future__ import annotations
@@ -48,7 +48,8 @@ def resolve_compute(gpu, use_compute: bool | None, what: str) -> bool:
     one-line ParamError naming ``what``."""
     chosen = gpu.caps.compute if use_compute is None else bool(use_compute)
     if chosen and not gpu.caps.compute:
-        raise ParamError(f"{what}: compute shaders need GL ≥ 4.3, this context is {gpu.caps.describe()}")
+        raise ParamError(f"{what}: compute shaders need GL ≥ 4.3, "
+                         f"this context is {gpu.caps.describe()}")
     return chosen
 
 
@@ -61,7 +62,8 @@ def check_fft_size(n, what: str = "ocean.fft_size") -> int:
 
 
 def twiddle_table(n: int, length: int | None = None) -> np.ndarray:
-    """(length, 2) float32 table of e^{+2πi·m/N}, m = 0 … length−1 (default N/2), built in float64."""
+    """(length, 2) float32 table of e^{+2πi·m/N}, m = 0 … length−1 (default N/2), built in
+    float64."""
     m = np.arange(n // 2 if length is None else length, dtype=np.float64)
     angle = 2.0 * np.pi * m / n
     return np.stack([np.cos(angle), np.sin(angle)], axis=-1).astype(np.float32)
@@ -83,19 +85,23 @@ class GpuFFT:
         self._programs: list = []
         nearest = (moderngl.NEAREST, moderngl.NEAREST)
         size = (self.n, self.n)
-        self.textures = [self._own(gpu.texture(owner, f"fft data {i}", size, 4, dtype="f4", filter=nearest))
+        self.textures = [self._own(gpu.texture(owner, f"fft data {i}", size, 4, dtype="f4",
+                                               filter=nearest))
                          for i in range(self.count)]
         self.twiddles = self._own(gpu.texture(owner, "fft twiddles", (self.n // 2, 1), 2,
-                                              data=twiddle_table(self.n).tobytes(), dtype="f4", filter=nearest))
+                                              data=twiddle_table(self.n).tobytes(), dtype="f4",
+                                              filter=nearest))
         if self.use_compute:
-            self._prog = gpu.program(owner, FFT_COMPUTE, {"FFT_N": self.n, "FFT_HALF_N": self.n // 2,
-                                                   "FFT_LOG2N": self.log2n},
+            self._prog = gpu.program(owner, FFT_COMPUTE,
+                                     {"FFT_N": self.n, "FFT_HALF_N": self.n // 2,
+                                      "FFT_LOG2N": self.log2n},
                                      comp=f"{FFT_COMPUTE}.comp")
             self._scratch = []
             self._fbos = []
         else:
             self._prog = gpu.program(owner, fullscreen(FFT_STAGE), {"FFT_COUNT": self.count})
-            self._scratch = [self._own(gpu.texture(owner, f"fft scratch {i}", size, 4, dtype="f4", filter=nearest))
+            self._scratch = [self._own(gpu.texture(owner, f"fft scratch {i}", size, 4, dtype="f4",
+                                                   filter=nearest))
                              for i in range(self.count)]
             self._fbos = [self._own(gpu.framebuffer(owner, "fft data", self.textures)),
                           self._own(gpu.framebuffer(owner, "fft scratch", self._scratch))]

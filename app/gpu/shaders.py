@@ -1,9 +1,10 @@
 """The shader library: GLSL programs by name, with includes, defines, mapped errors and live
 reload.
 
-* A program is named by its path under the shader root without extension, e.g. ``sky/sky``
-  for ``glsl/sky/sky.vert`` + ``glsl/sky/sky.frag``; each stage can also be given explicitly
-  (a full-screen pass reuses ``common/fullscreen.vert``).
+* A program is named by its path under the shader root without extension, e.g.
+  ``materials/material`` for ``glsl/materials/material.vert`` +
+  ``glsl/materials/material.frag``; each stage can also be given explicitly (a full-screen pass
+  reuses ``common/fullscreen.vert``).
 * ``#include "file"`` resolves relative to the including file, then ``glsl/common``, then the
   root; each file is included once per stage (later includes of it are dropped).
 * Defines are injected right after ``#version``.
@@ -71,7 +72,8 @@ def resolve_shader_root(arg: str | os.PathLike | None = None) -> Path:
     root = Path(chosen).expanduser()
     origin = "--shaders" if arg else f"${SHADER_ENV}"
     if not root.is_dir():
-        raise UsageError(f"{origin} {str(root)!r} is not a directory: allowed a folder laid out like glsl/")
+        raise UsageError(f"{origin} {str(root)!r} is not a directory: "
+                         "allowed a folder laid out like glsl/")
     return root.resolve()
 
 
@@ -84,7 +86,8 @@ class ShaderError:
     message: str
 
     def __str__(self) -> str:
-        return f"{self.file}:{self.line}: {self.message}" if self.line else f"{self.file}: {self.message}"
+        return (f"{self.file}:{self.line}: {self.message}" if self.line
+                else f"{self.file}: {self.message}")
 
 
 @dataclass
@@ -138,7 +141,8 @@ class ShaderLibrary:
         elif (self.root / f"{name}.comp").is_file():
             out = {"comp": self.root / f"{name}.comp"}
         else:
-            raise UsageError(f"no shader program {name!r} under {self.root}: expected {name}.vert/.frag or .comp")
+            raise UsageError(f"no shader program {name!r} under {self.root}: "
+                             f"expected {name}.vert/.frag or .comp")
         if "comp" in out and len(out) > 1:
             raise UsageError(f"program {name!r} mixes a compute stage with others")
         if "comp" not in out and not {"vert", "frag"} <= set(out):
@@ -167,9 +171,11 @@ class ShaderLibrary:
         try:
             lines = path.read_text(encoding="utf-8").splitlines()
         except FileNotFoundError:
-            raise PreprocessError(ShaderError(self.display(path), 0, "file not found"), files) from None
+            raise PreprocessError(ShaderError(self.display(path), 0, "file not found"),
+                                  files) from None
         except UnicodeDecodeError as exc:
-            raise PreprocessError(ShaderError(self.display(path), 0, f"not UTF-8 text ({exc.reason})"), files) from None
+            raise PreprocessError(ShaderError(self.display(path), 0,
+                                              f"not UTF-8 text ({exc.reason})"), files) from None
         start = 0
         if top:
             for i, line in enumerate(lines):
@@ -181,7 +187,8 @@ class ShaderLibrary:
                     break
                 if line.strip() and not line.strip().startswith("//"):
                     raise PreprocessError(
-                        ShaderError(self.display(path), i + 1, "the first directive must be #version"), files
+                        ShaderError(self.display(path), i + 1,
+                                    "the first directive must be #version"), files
                     )
             else:
                 raise PreprocessError(ShaderError(self.display(path), 1, "missing #version"), files)
@@ -200,7 +207,8 @@ class ShaderLibrary:
             if target is None:
                 looked = ", ".join(self.display(b) for b in (path.parent, self.root / "common"))
                 raise PreprocessError(
-                    ShaderError(self.display(path), i + 1, f'cannot find include "{m.group(1)}" (looked in {looked})'),
+                    ShaderError(self.display(path), i + 1,
+                                f'cannot find include "{m.group(1)}" (looked in {looked})'),
                     files,
                 )
             if target in files:
@@ -210,12 +218,14 @@ class ShaderLibrary:
             out.append(f"#line {base + i + 2} {sid}")
 
     # -- errors ----------------------------------------------------------------------------
-    def map_errors(self, message: str, files: list[Path], stage_file: Path | None = None) -> list[ShaderError]:
+    def map_errors(self, message: str, files: list[Path],
+                   stage_file: Path | None = None) -> list[ShaderError]:
         """Turn a driver log into ``file:line`` errors through the id → file table."""
         errors = []
         for raw in message.splitlines():
             line = raw.strip()
-            if not line or line.startswith("GLSL ") or set(line) <= {"="} or line in STAGES.values() or line == "Program":
+            if (not line or line.startswith("GLSL ") or set(line) <= {"="}
+                    or line in STAGES.values() or line == "Program"):
                 continue
             for fmt in _MESSAGE_FORMATS:
                 m = fmt.match(line)
@@ -227,14 +237,17 @@ class ShaderLibrary:
                     errors.append(ShaderError(self.display(where), lineno, m["msg"].strip()))
                     break
             else:
-                errors.append(ShaderError(self.display(stage_file) if stage_file else "link", 0, line))
+                errors.append(ShaderError(self.display(stage_file) if stage_file else "link", 0,
+                                          line))
         return errors
 
     # -- programs --------------------------------------------------------------------------
-    def program(self, name: str, defines: dict[str, Any] | None = None, **stages: str | None) -> "Program":
+    def program(self, name: str, defines: dict[str, Any] | None = None,
+                **stages: str | None) -> "Program":
         """The program ``name`` (compiled on first use, then shared). Raises
         :class:`ShaderCompileError` if the first compile fails."""
-        key = (name, tuple(sorted((defines or {}).items())), tuple(sorted((k, v) for k, v in stages.items() if v)))
+        key = (name, tuple(sorted((defines or {}).items())),
+               tuple(sorted((k, v) for k, v in stages.items() if v)))
         prog = self._programs.get(key)
         if prog is None:
             prog = Program(self, name, dict(defines or {}), self.stage_files(name, **stages))
@@ -388,7 +401,8 @@ class Program:
         member = prog[uniform]
         try:
             if isinstance(value, np.ndarray) and value.ndim == 2:
-                member.write(np.ascontiguousarray(value.T, dtype="f4").tobytes())  # numpy row-major → GL column-major
+                # numpy row-major → GL column-major
+                member.write(np.ascontiguousarray(value.T, dtype="f4").tobytes())
             elif isinstance(value, bool):
                 member.value = int(value)
             elif isinstance(value, np.ndarray):
@@ -425,7 +439,8 @@ class Program:
             found = []
             for name in prog:
                 member = prog[name]
-                if isinstance(member, moderngl.Uniform) and getattr(member, "gl_type", None) in SAMPLER_TYPES:
+                if (isinstance(member, moderngl.Uniform)
+                        and getattr(member, "gl_type", None) in SAMPLER_TYPES):
                     found.append((member.location, name))
             self._samplers = (self.generation, [name for _, name in sorted(found)])
         return self._samplers[1]
@@ -455,8 +470,10 @@ class Program:
         """A vertex array for this program, rebuilt after each reload."""
         key = (tuple(id(c[0]) for c in content), id(index_buffer))
         if key not in self._vaos:
-            # skip_errors: attributes the compiler removed (e.g. normals in an unlit variant) are fine
-            self._vaos[key] = self.library.ctx.vertex_array(self.program, list(content), index_buffer=index_buffer,
+            # skip_errors: attributes the compiler removed (e.g. normals in an unlit variant) are
+            # fine
+            self._vaos[key] = self.library.ctx.vertex_array(self.program, list(content),
+                                                            index_buffer=index_buffer,
                                                             skip_errors=True)
         return self._vaos[key]
 

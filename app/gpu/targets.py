@@ -13,7 +13,8 @@ class RenderTarget:
     image, as image files and numpy users expect (OpenGL's row 0 is the bottom).
     """
 
-    def __init__(self, ctx: moderngl.Context, size: tuple[int, int], dtype: str = "f4", depth: bool = True):
+    def __init__(self, ctx: moderngl.Context, size: tuple[int, int], dtype: str = "f4",
+                 depth: bool = True):
         self.ctx = ctx
         self.size = (int(size[0]), int(size[1]))
         self.color = ctx.texture(self.size, 4, dtype=dtype)
@@ -39,7 +40,8 @@ class RenderTarget:
 
     def read_depth(self) -> np.ndarray:
         w, h = self.size
-        data = np.frombuffer(self.fbo.read(attachment=-1, components=1, dtype="f4"), dtype=np.float32)
+        data = np.frombuffer(self.fbo.read(attachment=-1, components=1, dtype="f4"),
+                             dtype=np.float32)
         return data.reshape(h, w)[::-1].copy()
 
     def release(self) -> None:

@@ -37,8 +37,8 @@ class Timing:
         return out
 
 
-def time_call(ctx: moderngl.Context, name: str, fn: Callable[[], None], warmup: int = 3, repeat: int = 15,
-              gpu_queries: bool = False) -> Timing:
+def time_call(ctx: moderngl.Context, name: str, fn: Callable[[], None], warmup: int = 3,
+              repeat: int = 15, gpu_queries: bool = False) -> Timing:
     """Run ``fn`` ``warmup`` times, then ``repeat`` times with ``ctx.finish()`` on both sides."""
     timing = Timing(name)
     for _ in range(max(0, warmup)):

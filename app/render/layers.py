@@ -1,5 +1,6 @@
 """Compositing a premultiplied layer (in-scattered light, transmittance) over a scene target:
-out = layer.rgb + layer.a · scene (``glsl/common/layer_composite.frag``). Both cloud models use it."""
+out = layer.rgb + layer.a · scene (``glsl/common/layer_composite.frag``). Both cloud models use
+it."""
 
 from __future__ import annotations
 

@@ -46,19 +46,23 @@ def uv_sphere(radius: float = 0.5, rings: int = 48, segments: int = 96) -> MeshD
     """A sphere of diameter 1 by default, like Unity's default sphere."""
     theta = np.linspace(0, math.pi, rings + 1)[:, None]
     phi = np.linspace(0, 2 * math.pi, segments + 1)[None, :]
-    n = np.stack([np.sin(theta) * np.cos(phi), np.cos(theta) * np.ones_like(phi), np.sin(theta) * np.sin(phi)], -1)
+    n = np.stack([np.sin(theta) * np.cos(phi), np.cos(theta) * np.ones_like(phi),
+                  np.sin(theta) * np.sin(phi)], -1)
     n = n.reshape(-1, 3)
-    return MeshData("sphere", (n * radius).astype("f4"), n.astype("f4"), _grid_indices(rings, segments))
+    return MeshData("sphere", (n * radius).astype("f4"), n.astype("f4"),
+                    _grid_indices(rings, segments))
 
 
-def torus(major: float = 0.36, minor: float = 0.16, rings: int = 48, segments: int = 96) -> MeshData:
+def torus(major: float = 0.36, minor: float = 0.16, rings: int = 48,
+          segments: int = 96) -> MeshData:
     """A torus about the y axis: the third, doubly curved surface of the materials scene."""
     u = np.linspace(0, 2 * math.pi, segments + 1)[None, :]  # around the axis
     v = np.linspace(0, 2 * math.pi, rings + 1)[:, None]  # around the tube
     centre = np.stack([np.cos(u), np.zeros_like(u), np.sin(u)], -1)
     n = np.stack([np.cos(v) * np.cos(u), np.sin(v) * np.ones_like(u), np.cos(v) * np.sin(u)], -1)
     p = centre * major + n * minor
-    return MeshData("torus", p.reshape(-1, 3).astype("f4"), n.reshape(-1, 3).astype("f4"), _grid_indices(rings, segments))
+    return MeshData("torus", p.reshape(-1, 3).astype("f4"), n.reshape(-1, 3).astype("f4"),
+                    _grid_indices(rings, segments))
 
 
 def slice_quad(y: float = 0.0, half: float = 0.5) -> MeshData:

@@ -33,7 +33,8 @@ def ortho(half: float, near: float, far: float) -> np.ndarray:
     return m
 
 
-def directional_view_proj(toward_light, centre, half: float, distance: float, depth: float) -> np.ndarray:
+def directional_view_proj(toward_light, centre, half: float, distance: float,
+                          depth: float) -> np.ndarray:
     """World → clip matrix of a directional light's shadow map covering the square of
     ``half``-width about ``centre``: the light's camera sits ``distance`` toward the light from
     the centre and sees ``depth`` metres from 1 m in front of it."""

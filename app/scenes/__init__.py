@@ -33,7 +33,8 @@ def _discover() -> dict[str, type[Scene]]:
     scenes: dict[str, type[Scene]] = {}
     for cls in found:
         if cls.name in scenes:
-            raise RuntimeError(f"two scenes are named {cls.name!r}: {scenes[cls.name].__module__}, {cls.__module__}")
+            raise RuntimeError(f"two scenes are named {cls.name!r}: "
+                               f"{scenes[cls.name].__module__}, {cls.__module__}")
         scenes[cls.name] = cls
     return scenes
 

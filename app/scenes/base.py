@@ -17,7 +17,7 @@ from .. import RESOURCES
 from ..colour import TONEMAPS
 from ..effects.base import Effect, Pass
 from ..errors import NaturaError
-from ..frame import SLOTS, FrameContext, SceneImage
+from ..frame import SCENE_SLOTS, SLOTS, FrameContext, SceneImage
 from ..gpu.shaders import ShaderLibrary
 from ..params import Param, ParamSet
 from ..sim.camera import Camera
@@ -28,9 +28,10 @@ PRESETS = RESOURCES / "presets"
 
 def output_params() -> list[Param]:
     return [
-        Param("output.exposure", 1.0, 0.001, 1000.0, "exposure multiplier before tone mapping", step=0.01),
-        Param("output.tonemap", "aces", doc="tone map for PNG and the window (EXR stays linear)", kind="choice",
-              choices=TONEMAPS),
+        Param("output.exposure", 1.0, 0.001, 1000.0, "exposure multiplier before tone mapping",
+              step=0.01),
+        Param("output.tonemap", "aces", doc="tone map for PNG and the window (EXR stays linear)",
+              kind="choice", choices=TONEMAPS),
     ]
 
 
@@ -43,7 +44,8 @@ class Scene:
     effects: ClassVar[tuple[type[Effect], ...]] = ()
     #: Camera(...) arguments of the scene's starting view
     default_camera: ClassVar[dict] = {}
-    background: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)  # linear radiance behind everything
+    #: linear radiance behind everything
+    background: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)
     keymap: ClassVar[KeyMap] = FLY  # the window's key bindings (app/scenes/keymaps.py)
     #: switches between effects of the scene: parameter → (default, {choice: effect name}, doc).
     #: An effect that is not chosen is skipped entirely, so it creates no GL resources.
@@ -56,18 +58,20 @@ class Scene:
 
     @classmethod
     def check_slots(cls) -> None:
-        """Refuse a scene where an effect requires a frame slot that no effect produces."""
-        produced = set().union(*(e.produces for e in cls.effects)) if cls.effects else set()
+        """Refuse a scene where an effect requires a frame slot that no effect produces (the
+        scene itself fills ``image``: the target the frame is drawn into)."""
+        produced = set(SCENE_SLOTS).union(*(e.produces for e in cls.effects))
         for effect in cls.effects:
             unknown = (set(effect.consumes) | set(effect.produces)) - set(SLOTS)
             if unknown:
-                raise NaturaError(f"effect {effect.name!r} declares unknown frame slots {sorted(unknown)}: "
-                                  f"allowed {', '.join(SLOTS)}")
+                raise NaturaError(f"effect {effect.name!r} declares unknown frame slots "
+                                  f"{sorted(unknown)}: allowed {', '.join(SLOTS)}")
             for slot, need in effect.consumes.items():
                 if need == "required" and slot not in produced:
-                    raise NaturaError(f"scene {cls.name!r}: effect {effect.name!r} needs the frame slot {slot!r} "
-                                      f"({SLOTS[slot]}), which none of its effects produces: allowed a scene "
-                                      "that also has an effect producing it")
+                    raise NaturaError(f"scene {cls.name!r}: effect {effect.name!r} needs the frame "
+                                      f"slot {slot!r} ({SLOTS[slot]}), which none of its effects "
+                                      "produces: allowed a scene that also has an effect "
+                                      "producing it")
 
     @classmethod
     def declare_params(cls, library: ShaderLibrary) -> ParamSet:
@@ -118,8 +122,8 @@ class Scene:
     def frame(self, size: tuple[int, int], dt: float = 0.0) -> FrameContext:
         """Advance the simulation by ``dt`` seconds and return this frame's context."""
         self.time += dt
-        frame = FrameContext(size=(int(size[0]), int(size[1])), camera=self.camera, time=self.time, dt=dt, index=self.index,
-                             interactive=self.interactive)
+        frame = FrameContext(size=(int(size[0]), int(size[1])), camera=self.camera, time=self.time,
+                             dt=dt, index=self.index, interactive=self.interactive)
         self.index += 1
         for effect in self.active_instances():
             effect.update(frame, dt)

@@ -26,7 +26,8 @@ class KeyMap:
     help: tuple = ()  # (keys, description) rows for the panel and README
     #: named actions → the parameter action they stand for (``set:…`` / ``toggle:…``)
     actions: dict = field(default_factory=dict)
-    #: the parameter the held sun_up / sun_down actions move (degrees per second: the controller's sun_rate)
+    #: the parameter the held sun_up / sun_down actions move (degrees per second: the
+    #: controller's sun_rate)
     sun_parameter: str = "planet.sun_elevation"
 
     def action(self, key: str) -> str | None:

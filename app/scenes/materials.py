@@ -10,7 +10,8 @@ class MaterialsScene(Scene):
     name = "materials"
     order = 30
     title = "Procedural materials"
-    description = "the thesis's volumetric wood on a cube, a sphere and a torus; marble and granite (spec/004)"
+    description = ("the thesis's volumetric wood on a cube, a sphere and a torus; marble and "
+                   "granite (spec/004)")
     effects = (Materials,)
     default_camera = {"position": (0.0, 0.5, 3.1), "yaw": 0.0, "pitch": -8.0, "fov": 40.0}
     background = (0.02, 0.02, 0.025)

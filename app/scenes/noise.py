@@ -10,6 +10,7 @@ class NoiseScene(Scene):
     name = "noise"
     order = 50
     title = "Noise lab"
-    description = ("every noise function of glsl/common and the cloud bakes (shape, detail, weather map), "
-                   "tiled to show they are seamless (spec/001 §1.1, spec/000 §1.6, spec/004)")
+    description = ("every noise function of glsl/common and the cloud bakes (shape, detail, "
+                   "weather map), tiled to show they are seamless (spec/001 §1.1, spec/000 §1.6, "
+                   "spec/004)")
     effects = (Noise,)

@@ -1,7 +1,7 @@
 """Single scattering in a spherical exponential atmosphere — the CPU twin of the `planet` scene.
 
 Thesis: G. Iniesta Ovejero and J. Pérez Martínez, "Implementación sobre hardware gráfico de la
-dispersión de la luz en la atmósfera" (UCM, 2015), digested in ``spec/002-atmosphere.md``.
+dispersión de la luz en la atmósfera" (UCM, 2015), digested as spec/002.
 This module is numpy only (float64, vectorised over rays, no GL). It is
 
 * the **model** every GPU method shares: constants (§1.3, §7), phase functions (§1.2),
@@ -46,8 +46,8 @@ segment C→O::
 with A where the sun ray from P leaves the atmosphere, V the shadow-map visibility (§2.5), and
 ``L_out = L_0 · e^(−τ(C O))`` (§1.4). The sun is white with radiance ``sun_intensity``.
 
-Errata of the thesis fixed here (and in the GPU code; see also §6 of the digest)
---------------------------------------------------------------------------------
+Errata of the thesis fixed here (and in the GPU code; see also spec/002 §6)
+---------------------------------------------------------------------------
 1. Out-scattering multiplies by the transmittance e^(−τ), not by τ (§1.4 printed ``* τ``).
 2. The Earth normal is ``normalize(P − C_earth)`` (§2.3's ``point − cEarth / length(...)``).
 3. The Rayleigh *scattering* coefficient ``betaSR`` is β^s_R (§2.2 listed β^s_M twice).
@@ -111,7 +111,8 @@ def _rgb(name: str, value) -> _RGB:
     arr = np.broadcast_to(np.asarray(value, dtype=np.float64), (3,)) if np.ndim(value) == 0 \
         else np.asarray(value, dtype=np.float64)
     if arr.shape != (3,):
-        raise ParamError(f"atmosphere.{name}={value!r} is not three numbers: allowed R, G, B per metre")
+        raise ParamError(f"atmosphere.{name}={value!r} is not three numbers: "
+                         "allowed R, G, B per metre")
     return tuple(float(v) for v in arr)
 
 
@@ -160,8 +161,8 @@ class AtmosphereParams:
                 try:
                     object.__setattr__(self, f.name, float(getattr(self, f.name)))
                 except (TypeError, ValueError):
-                    raise ParamError(f"atmosphere.{f.name}={getattr(self, f.name)!r} is not a number: "
-                                     "allowed a finite number") from None
+                    raise ParamError(f"atmosphere.{f.name}={getattr(self, f.name)!r} "
+                                     "is not a number: allowed a finite number") from None
         self.validate()
 
     # -- validation --------------------------------------------------------------------------
@@ -329,8 +330,8 @@ def phase_mie(mu, g):
     """
     g = np.asarray(g, dtype=np.float64)
     if not np.all(np.abs(g) < 1.0):
-        raise ParamError(f"atmosphere.g={float(np.max(np.abs(g)))!r} is out of range: allowed |g| < 1 "
-                         "(thesis range [0.7, 0.999])")
+        raise ParamError(f"atmosphere.g={float(np.max(np.abs(g)))!r} is out of range: "
+                         "allowed |g| < 1 (thesis range [0.7, 0.999])")
     return phase_mie_cornette_shanks(mu, g)
 
 
@@ -386,7 +387,8 @@ class Segment(NamedTuple):
     hit: np.ndarray
 
 
-def atmosphere_segment(cam, dirs, max_dist, params: AtmosphereParams, clip_ground: bool = True) -> Segment:
+def atmosphere_segment(cam, dirs, max_dist, params: AtmosphereParams,
+                       clip_ground: bool = True) -> Segment:
     """The view segment clipped to the atmosphere (spec/002 §2.4 item 2; criterion 6).
 
     ``cam`` (3,) or (N, 3) planet-centred, ``dirs`` (N, 3) (normalised here), ``max_dist`` the
@@ -620,7 +622,8 @@ def _glsl_lut_source() -> str:
     scene's shaders include that file; tests compile it and compare it with this module)."""
     from .. import DEFAULT_SHADER_ROOT
 
-    return (DEFAULT_SHADER_ROOT / "atmosphere" / "optical_depth_lut.glsl").read_text(encoding="utf-8")
+    return (DEFAULT_SHADER_ROOT / "atmosphere" / "optical_depth_lut.glsl").read_text(
+        encoding="utf-8")
 
 
 #: The GLSL of the table: the sampler declaration and ``SunRayHitsGround``, ``OpticalDepthLutUv``,
@@ -699,9 +702,11 @@ class OpticalDepthLut:
     ~1e-12), so the table's only error is interpolation.
     """
 
-    def __init__(self, params: AtmosphereParams, n_height: int = 256, n_angle: int = 256, nodes: int = 24):
+    def __init__(self, params: AtmosphereParams, n_height: int = 256, n_angle: int = 256,
+                 nodes: int = 24):
         if n_height < 2 or n_angle < 2:
-            raise ParamError(f"optical-depth LUT size {n_angle}x{n_height} is too small: allowed at least 2x2")
+            raise ParamError(f"optical-depth LUT size {n_angle}x{n_height} is too small: "
+                             "allowed at least 2x2")
         self.params = params
         self.n_height = int(n_height)
         self.n_angle = int(n_angle)
@@ -848,8 +853,9 @@ def _integrate(cam, dirs, sun_dir, params: AtmosphereParams, max_dist, surface_c
     return Scattering(in_scatter, transmittance, surface * transmittance + in_scatter)
 
 
-def single_scattering(cam, dirs, sun_dir, params: AtmosphereParams, max_dist=None, surface_colour=None,
-                      steps: int = 30, inner_steps: int | None = None, lut: OpticalDepthLut | None = None,
+def single_scattering(cam, dirs, sun_dir, params: AtmosphereParams, max_dist=None,
+                      surface_colour=None, steps: int = 30, inner_steps: int | None = None,
+                      lut: OpticalDepthLut | None = None,
                       visibility: Callable[[np.ndarray], np.ndarray] | None = None,
                       pc_rule: str = "midpoint", clip_ground: bool = True) -> Scattering:
     """The thesis's midpoint Riemann sums (§1.7, §2.3) with the errata fixed — the numpy twin of
@@ -902,7 +908,8 @@ def reference(cam, dirs, sun_dir, params: AtmosphereParams, max_dist=None, surfa
 
 
 def convergence(cam, dirs, sun_dir, params: AtmosphereParams, ns=(10, 20, 30), n_ref: int = 1024,
-                max_dist=None, lut: OpticalDepthLut | None = None, pc_rule: str = "midpoint") -> dict:
+                max_dist=None, lut: OpticalDepthLut | None = None,
+                pc_rule: str = "midpoint") -> dict:
     """Criterion 8: error of the thesis's midpoint sum at N steps (outer and inner, as §2.3)
     against the same sum at ``n_ref`` steps, per N: the largest relative error over the rays and
     RGB channels of the in-scattered radiance. Returns {N: error}."""

@@ -2,10 +2,11 @@
 ``app.sim.noise`` — for small sizes (16³ takes well under a second; 128³ would take minutes).
 
 A spec is one of ``app.bakes.params``' ShapeBake, DetailBake or WeatherBake, read here only by
-attribute (this module stays below ``app.bakes``). Each ``*_reference(spec)`` returns the raw float64 channels the GPU writes into its RGBA32F
-volume, before :func:`app.bakes.core.finish` normalises and quantises them; the coordinates
-are formed in float32 exactly as the shaders form them (texel centre (g + 0.5) / size, times
-the period), then evaluated in float64 by the twins.
+attribute (this module stays below ``app.bakes``). Each ``*_reference(spec)`` returns the raw
+float64 channels the GPU writes into its RGBA32F volume, before :func:`app.bakes.core.finish`
+normalises and quantises them; the coordinates are formed in float32 exactly as the shaders
+form them (texel centre (g + 0.5) / size, times the period), then evaluated in float64 by the
+twins.
 """
 
 from __future__ import annotations
@@ -35,20 +36,23 @@ def _scaled(coords, factor) -> list[np.ndarray]:
 
 def _worley_channel(coords, cells: int, octaves: int, gain: float, seed: int) -> np.ndarray:
     p = _scaled(coords, cells)
-    return fractal.worley_fbm3_periodic(*p, cells, octaves=octaves, lacunarity=2, gain=gain, seed=seed & _U32)
+    return fractal.worley_fbm3_periodic(*p, cells, octaves=octaves, lacunarity=2, gain=gain,
+                                        seed=seed & _U32)
 
 
 def shape_reference(spec) -> np.ndarray:
     """(size, size, size, 4) float64: R Perlin–Worley, G/B/A inverted-Worley fBm."""
     coords = _grid3(spec.size)
     p = _scaled(coords, spec.base_cells)
-    perlin = fractal.perlin_fbm3_periodic(*p, spec.base_cells, octaves=spec.perlin_octaves, lacunarity=2,
-                                          gain=spec.gain, seed=spec.seed)
-    worley = fractal.worley_fbm3_periodic(*p, spec.base_cells, octaves=spec.base_worley_octaves, lacunarity=2,
-                                          gain=spec.gain, seed=(spec.seed * 8) & _U32)
+    perlin = fractal.perlin_fbm3_periodic(*p, spec.base_cells, octaves=spec.perlin_octaves,
+                                          lacunarity=2, gain=spec.gain, seed=spec.seed)
+    worley = fractal.worley_fbm3_periodic(*p, spec.base_cells, octaves=spec.base_worley_octaves,
+                                          lacunarity=2, gain=spec.gain,
+                                          seed=(spec.seed * 8) & _U32)
     channels = [fractal.perlin_worley_remap(perlin, worley)]
     for i, cells in enumerate((spec.cells_g, spec.cells_b, spec.cells_a), start=1):
-        channels.append(_worley_channel(coords, cells, spec.worley_octaves, spec.gain, spec.seed * 8 + i))
+        channels.append(_worley_channel(coords, cells, spec.worley_octaves, spec.gain,
+                                        spec.seed * 8 + i))
     return np.stack(channels, axis=-1)
 
 
@@ -82,7 +86,8 @@ def weather_noise(px, py, cells: int, lattice_offset=(0, 0), seed: int | None = 
 
 
 def weather_fbm(spec, qx: np.ndarray, qy: np.ndarray, lattice_offset=(0, 0)) -> np.ndarray:
-    """F_K(q) of weather_map.glsl: the layered tiling Perlin fBm at float32 points q (maps)."""
+    """F_K(q) of weather_map.glsl: the layered tiling Perlin fBm at float32 points q (maps);
+    spec/001 eq. 3.2, normalised by the sum of the amplitudes."""
     cells = spec.layer_cells()
     total, norm, amp = 0.0, 0.0, 1.0
     for i in range(spec.layers):

@@ -37,7 +37,8 @@ class Camera:
         if position is not None:
             pos = tuple(float(v) for v in position)
             if len(pos) != 3 or not all(math.isfinite(v) for v in pos):
-                raise UsageError(f"camera position {position!r} is not three finite numbers: allowed X,Y,Z in metres")
+                raise UsageError(f"camera position {position!r} is not three finite numbers: "
+                                 "allowed X,Y,Z in metres")
             self.position = pos
         if yaw is not None:
             if not math.isfinite(yaw):
@@ -45,7 +46,8 @@ class Camera:
             self.yaw = float(yaw) % 360.0
         if pitch is not None:
             if not (math.isfinite(pitch) and -90.0 <= pitch <= 90.0):
-                raise UsageError(f"camera pitch {pitch!r} is out of range: allowed [-90, 90] degrees")
+                raise UsageError(f"camera pitch {pitch!r} is out of range: "
+                                 "allowed [-90, 90] degrees")
             self.pitch = float(pitch)
         if fov is not None:
             if not (math.isfinite(fov) and 1.0 <= fov <= 170.0):
@@ -93,7 +95,8 @@ class Camera:
 
     def projection_matrix(self, aspect: float) -> np.ndarray:
         # pyrr builds the transposed (row-vector) form; transpose to M @ v.
-        return matrix44.create_perspective_projection(self.fov, aspect, self.near, self.far, dtype=np.float64).T
+        return matrix44.create_perspective_projection(self.fov, aspect, self.near, self.far,
+                                                      dtype=np.float64).T
 
     def ray_directions(self, width: int, height: int) -> np.ndarray:
         """World-space unit view directions through pixel centres, row 0 at the top."""
@@ -102,7 +105,8 @@ class Camera:
         aspect = width / height
         xs = ((np.arange(width) + 0.5) / width * 2.0 - 1.0) * t * aspect
         ys = (1.0 - (np.arange(height) + 0.5) / height * 2.0) * t
-        d = f[None, None, :] + xs[None, :, None] * r[None, None, :] + ys[:, None, None] * u[None, None, :]
+        d = (f[None, None, :] + xs[None, :, None] * r[None, None, :]
+             + ys[:, None, None] * u[None, None, :])
         return d / np.linalg.norm(d, axis=-1, keepdims=True)
 
     def uniforms(self, aspect: float) -> dict:
@@ -124,9 +128,11 @@ def parse_camera(text: str, camera: Camera | None = None) -> Camera:
     try:
         values = [float(p) for p in parts]
     except ValueError:
-        raise UsageError(f"--camera {text!r} is not numbers: allowed X,Y,Z[,YAW[,PITCH[,FOV]]]") from None
+        raise UsageError(f"--camera {text!r} is not numbers: "
+                         "allowed X,Y,Z[,YAW[,PITCH[,FOV]]]") from None
     if not 3 <= len(values) <= 6:
-        raise UsageError(f"--camera {text!r} has {len(values)} numbers: allowed X,Y,Z[,YAW[,PITCH[,FOV]]]")
+        raise UsageError(f"--camera {text!r} has {len(values)} numbers: "
+                         "allowed X,Y,Z[,YAW[,PITCH[,FOV]]]")
     cam.set(position=values[:3])
     names = ("yaw", "pitch", "fov")
     cam.set(**{n: v for n, v in zip(names, values[3:])})

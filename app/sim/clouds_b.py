@@ -1,5 +1,6 @@
 """Numpy twins of Cloud Model B's shader functions (glsl/clouds_b/clouds_b_model.glsl;
-spec/000 §1.6, annex A.3–A.8). Names follow the GLSL ``CloudsB…`` functions in snake case.
+spec/000 §1.6 and its annex A code listings). Names follow the GLSL ``CloudsB…`` functions in
+snake case.
 
 The noise lookups are passed in as callables (``volume(p) → (…, 4)``, ``detail(p) → (…, 3)``,
 ``coverage(p) → (…)``), so a test can evaluate the exact density and light march the shader
@@ -17,27 +18,29 @@ from .optics import henyey_greenstein, ray_box
 
 
 def ray_box_distance(bounds_min, bounds_max, origin, direction) -> np.ndarray:
-    """(A.4) (dstToBox, dstInsideBox), last axis; ``direction`` is passed as is (the fix: not
-    1/L) and zero components are allowed (replaced by ±1e-20 like the shader)."""
+    """spec/000 §A.4: (dstToBox, dstInsideBox), last axis; ``direction`` is passed as is (the
+    fix: not 1/L) and zero components are allowed (replaced by ±1e-20 like the shader)."""
     dst_a, dst_b = ray_box(origin, direction, bounds_min, bounds_max)
     to_box = np.maximum(0.0, dst_a)
     inside = np.maximum(0.0, dst_b - to_box)
     return np.stack([to_box, inside], axis=-1)
 
 
-def phase(cos_alpha, forward: float, back: float, base_brightness: float, phase_factor: float) -> np.ndarray:
-    """(A.3) P.z + P.w·(0.5·HG(cos α, P.x) + 0.5·HG(cos α, −P.y))."""
+def phase(cos_alpha, forward: float, back: float, base_brightness: float,
+          phase_factor: float) -> np.ndarray:
+    """spec/000 §A.3: P.z + P.w·(0.5·HG(cos α, P.x) + 0.5·HG(cos α, −P.y)), HG the
+    Henyey–Greenstein phase of spec/000 eq. 3.1."""
     hg = 0.5 * henyey_greenstein(cos_alpha, forward) + 0.5 * henyey_greenstein(cos_alpha, -back)
     return base_brightness + phase_factor * hg
 
 
 def beer(d) -> np.ndarray:
-    """(eq. 3.2)"""
+    """spec/000 eq. 3.2: Beer(d) = e^{−d}."""
     return np.exp(-np.asarray(d, dtype=np.float64))
 
 
 def powder(d) -> np.ndarray:
-    """(eq. 3.3)"""
+    """spec/000 eq. 3.3: Powder(d) = 1 − e^{−2d}."""
     return 1.0 - np.exp(-2.0 * np.asarray(d, dtype=np.float64))
 
 
@@ -77,7 +80,8 @@ class ModelB:
     # -- density ---------------------------------------------------------------------------
     def edge_weight(self, p) -> np.ndarray:
         p = np.asarray(p, dtype=np.float64)
-        lo, hi, fade = np.asarray(self.bounds_min), np.asarray(self.bounds_max), self.container_edge_fade_dst
+        lo, hi = np.asarray(self.bounds_min), np.asarray(self.bounds_max)
+        fade = self.container_edge_fade_dst
         edge_x = np.minimum(fade, np.minimum(p[..., 0] - lo[0], hi[0] - p[..., 0]))
         edge_z = np.minimum(fade, np.minimum(p[..., 2] - lo[2], hi[2] - p[..., 2]))
         return np.maximum(np.minimum(edge_x, edge_z), 0.0) / fade
@@ -102,7 +106,7 @@ class ModelB:
         return (0.5 * (hi - lo) + np.asarray(p, dtype=np.float64)) * self.cloud_scale * 0.001
 
     def sample_density(self, p) -> np.ndarray:
-        """(A.4/A.5) sampleDensity(p)."""
+        """sampleDensity(p) of spec/000 §A.4 and spec/000 §A.5."""
         p = np.asarray(p, dtype=np.float64)
         q = self.sample_position(p)
         off = np.asarray(self.cloud_offset, dtype=np.float64)
@@ -115,11 +119,12 @@ class ModelB:
         detail_fbm = self.detail(q + off * 0.2) @ wd
         erode = (1.0 - volume_fbm) ** 3
         detail_density = (1.0 - detail_fbm) * erode * self.detail_noise_multiplier
-        return np.where(volume_density > 0.0, volume_density - detail_density * self.density_multiplier, 0.0)
+        return np.where(volume_density > 0.0,
+                        volume_density - detail_density * self.density_multiplier, 0.0)
 
     # -- light -----------------------------------------------------------------------------
     def light_at_pos(self, p, toward_sun) -> np.ndarray:
-        """(A.6) lightAtPos with the fix (L passed to rayBoxDistance itself); p (…, 3)."""
+        """spec/000 §A.6: lightAtPos with the fix (L passed to rayBoxDistance itself); p (…, 3)."""
         p = np.array(p, dtype=np.float64)
         L = np.asarray(toward_sun, dtype=np.float64)
         d_in = ray_box_distance(self.bounds_min, self.bounds_max, p, L)[..., 1]

@@ -131,7 +131,8 @@ class Keyframes:
         try:
             data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
         except FileNotFoundError:
-            raise ParamError(f"sky keyframes {where!r} do not exist: allowed a TOML file like resources/sky/keyframes.toml") from None
+            raise ParamError(f"sky keyframes {where!r} do not exist: "
+                             "allowed a TOML file like resources/sky/keyframes.toml") from None
         except tomllib.TOMLDecodeError as exc:
             raise ParamError(f"sky keyframes {where!r} are not valid TOML: {exc}") from None
         return cls.from_dict(data, where)
@@ -140,7 +141,8 @@ class Keyframes:
     def from_dict(cls, data: dict, where: str = "keyframes") -> "Keyframes":
         raw = data.get("keyframe")
         if not isinstance(raw, list) or not raw:
-            raise ParamError(f"{where}: no [[keyframe]] tables: allowed one or more, each with hour and gradient")
+            raise ParamError(f"{where}: no [[keyframe]] tables: "
+                             "allowed one or more, each with hour and gradient")
         frames = []
         for i, kf in enumerate(raw):
             at = f"{where}: keyframe {i + 1}"
@@ -149,16 +151,20 @@ class Keyframes:
                 raise ParamError(f"{at}: hour {hour!r} is not allowed: allowed a number in [0, 24)")
             stops = kf.get("gradient")
             if not isinstance(stops, list) or not stops:
-                raise ParamError(f"{at}: gradient is missing: allowed a list of [elevation, \"#rrggbb\"]")
+                raise ParamError(f"{at}: gradient is missing: "
+                                 "allowed a list of [elevation, \"#rrggbb\"]")
             grad = []
             for stop in stops:
-                if not (isinstance(stop, list) and len(stop) == 2 and isinstance(stop[0], (int, float)) and 0 <= stop[0] <= 1):
-                    raise ParamError(f"{at}: gradient stop {stop!r} is not allowed: allowed [elevation in [0, 1], \"#rrggbb\"]")
+                if not (isinstance(stop, list) and len(stop) == 2
+                        and isinstance(stop[0], (int, float)) and 0 <= stop[0] <= 1):
+                    raise ParamError(f"{at}: gradient stop {stop!r} is not allowed: "
+                                     "allowed [elevation in [0, 1], \"#rrggbb\"]")
                 grad.append((float(stop[0]), _colour(stop[1], at)))
             grad.sort(key=lambda s: s[0])
             stars = kf.get("stars", 1.0)
             if not isinstance(stars, (int, float)) or not 0 <= stars <= 1:
-                raise ParamError(f"{at}: stars {stars!r} is not allowed: allowed a number in [0, 1]")
+                raise ParamError(f"{at}: stars {stars!r} is not allowed: "
+                                 "allowed a number in [0, 1]")
             frames.append(Keyframe(float(hour), grad, float(stars)))
         frames.sort(key=lambda k: k.hour)
         hours = [k.hour for k in frames]
@@ -175,7 +181,8 @@ class Keyframes:
 
         lines = [
             "# Sky colour by elevation, one keyframe every three hours (spec/000 §1.7, fig. 4.11).",
-            "# gradient: [elevation, colour] stops; elevation 0 = horizon, 1 = zenith; colours sRGB hex.",
+            "# gradient: [elevation, colour] stops; elevation 0 = horizon, 1 = zenith; "
+            "colours sRGB hex.",
             "# stars: how much of the star field shows (multiplies sky.star_intensity).",
         ]
         for k in self.frames:
@@ -218,7 +225,8 @@ class Keyframes:
         gradient at elevation i / (texels − 1). The GPU interpolates along elevation by linear
         filtering and across hours by mixing two rows (the thesis's suggested GPU move)."""
         u = np.linspace(0.0, 1.0, GRADIENT_TEXELS)
-        rows = [np.concatenate([k.evaluate(u), np.ones((GRADIENT_TEXELS, 1))], axis=1) for k in self.frames]
+        rows = [np.concatenate([k.evaluate(u), np.ones((GRADIENT_TEXELS, 1))], axis=1)
+                for k in self.frames]
         return np.stack(rows).astype(np.float32)
 
     def gradient_at(self, elevation_u: np.ndarray, hour: float) -> np.ndarray:
@@ -283,7 +291,8 @@ class DayNight:
     def state(self) -> DayNightState:
         sun = sun_direction(self.hour, self.ecliptic)
         moon = -sun  # opposite the sun, as in the thesis
-        sun_color = tuple(float(c) for c in np.asarray(self.sun_color) * self.sun_transmittance(sun[1]))
+        sun_color = tuple(float(c)
+                          for c in np.asarray(self.sun_color) * self.sun_transmittance(sun[1]))
         sun_light = Light("sun", sun, sun_color, light_fade(sun[1]))
         moon_light = Light("moon", moon, self.moon_color, self.moon_light * light_fade(moon[1]))
         main = sun_light if sun[1] >= moon[1] else moon_light

@@ -1,6 +1,6 @@
 """Numpy twins of method 4's LUT maths (glsl/atmosphere/hillaire/), in double precision.
 
-Used by tests/test_hillaire.py and available to benches: the transmittance-LUT parametrisation
+Used by the method-4 tests and available to benches: the transmittance-LUT parametrisation
 (Bruneton's (x_μ, x_r), as Hillaire 2020 §4), an accurate optical depth, the transmittance of
 any texel, and the Ψ_ms integral of one multiple-scattering texel (Hillaire 2020 §5.5) with
 exact sun transmittance. Same model as glsl/atmosphere/model.glsl: ρ_x(h) = P0 exp(−h/H_x).
@@ -121,11 +121,16 @@ def integrate_ray(m: Model, h0: float, mu: float, mu_s: float, nu: float, steps:
                   ms_lut=None, max_dist: float = math.inf):
     """Brute-force twin of HillaireIntegrateSegment: uniform midpoint steps, exact sun
     transmittance. Returns dict(rayleigh, mie, multiple, transfer, transmittance); ``ms_lut``
-    (h, μ_s) → Ψ rgb gives the multiple-scattering source (None: no multiple term)."""
+    (h, μ_s) → Ψ rgb gives the multiple-scattering source (None: no multiple term).
+
+    ``rayleigh`` + ``mie`` is the in-scattering of Hillaire 2020 eq. 6 without its phase and
+    ground term, ``transfer`` the inner integral of Hillaire 2020 eq. 8, ``multiple`` the
+    σ_s Ψ_ms source of Hillaire 2020 eq. 11."""
     seg = _segment(m, h0, mu)
     zero = np.zeros(3)
     if seg is None or min(seg[1], max_dist) <= seg[0]:
-        return {"rayleigh": zero, "mie": zero, "multiple": zero, "transfer": zero, "transmittance": np.ones(3)}
+        return {"rayleigh": zero, "mie": zero, "multiple": zero, "transfer": zero,
+                "transmittance": np.ones(3)}
     t0, t1 = seg[0], min(seg[1], max_dist)
     dt = (t1 - t0) / steps
     t = t0 + (np.arange(steps) + 0.5) * dt
@@ -151,10 +156,13 @@ def integrate_ray(m: Model, h0: float, mu: float, mu_s: float, nu: float, steps:
     return out
 
 
-def multiple_scattering_texel(m: Model, h: float, mu_s: float, directions: int = 8, steps: int = 400,
+def multiple_scattering_texel(m: Model, h: float, mu_s: float, directions: int = 8,
+                              steps: int = 400,
                               infinite: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """(Ψ_ms rgb, f_ms rgb) at altitude h and sun cosine μ_s — the same N × N direction grid as
-    multiscattering_lut.frag, exact sun transmittance, no ground albedo."""
+    multiscattering_lut.frag, exact sun transmittance, no ground albedo: L_2nd
+    (Hillaire 2020 eq. 5), f_ms (Hillaire 2020 eq. 8), F_ms = 1/(1 − f_ms) when ``infinite``
+    (Hillaire 2020 eq. 9, else F_ms = 1) and Ψ_ms = L_2nd F_ms (Hillaire 2020 eq. 10)."""
     n = directions
     L2 = np.zeros(3)
     f = np.zeros(3)

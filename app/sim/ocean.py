@@ -1,5 +1,5 @@
-"""Ocean waves on the CPU — the numpy reference of spec/000-maritime.md §1.1–1.3 (thesis chapter 2
-and §3 buoyancy queries; FFT ocean after Tessendorf 2001 and Horvath 2015, as in gasgiant's
+"""Ocean waves on the CPU — the numpy reference of spec/000 §1.1–1.3 (thesis chapter 2 and
+§3 buoyancy queries; FFT ocean after Tessendorf 2001 and Horvath 2015, as in gasgiant's
 FFT-Ocean which the thesis adopted).
 
 Frame: right-handed, y up; the sea surface is the (x, z) plane.  Grids are indexed ``[iz, ix]``
@@ -8,11 +8,13 @@ rad/m, angular frequencies in rad/s; ``g`` = 9.81 m/s².
 
 What each function implements
 -----------------------------
-* ``sine_wave_height`` / ``sine_wave_normal`` — eqs. 2.1–2.4: P = (x, A·sin(kx + ωt), z),
-  T = (1, kA·cos(kx+ωt), 0), B = ẑ, N = (−kA·cos(kx+ωt), 1, 0) normalised.
-* ``gerstner`` — eqs. 2.5–2.8 summed over waves: A = s/k, f = k·(D·(x,z)) − ω·t (+ phase);
-  P = (x + Σ D_x·A·cos f, Σ A·sin f, z + Σ D_z·A·cos f); T (2.7), B (2.8); the normal is
-  **B × T** (eq. 2.4 prints T × B, which points down in a right-handed y-up frame — erratum);
+* ``sine_wave_height`` / ``sine_wave_normal`` — the sine wave of spec/000 §1.1(a):
+  P = (x, A·sin(kx + ωt), z) (spec/000 eq. 2.1), T = (1, kA·cos(kx+ωt), 0), B = ẑ,
+  N = (−kA·cos(kx+ωt), 1, 0) normalised (spec/000 eq. 2.2).
+* ``gerstner`` — spec/000 §1.1(c) summed over waves: A = s/k, f = k·(D·(x,z)) − ω·t (+ phase);
+  P = (x + Σ D_x·A·cos f, Σ A·sin f, z + Σ D_z·A·cos f) (spec/000 eq. 2.5); T (spec/000 eq. 2.7),
+  B (spec/000 eq. 2.8); the normal is **B × T** (spec/000 eq. 2.4 prints T × B, which points
+  down in a right-handed y-up frame — erratum);
   the horizontal Jacobian det ∂(X,Z)/∂(x,z) (= 1 − s·sin f for one wave: loops where < 0).
   ``check_gerstner_steepness`` enforces 0 ≤ s ≤ 1 per wave (the thesis's bound; for several
   waves loops are only excluded when Σ s ≤ 1 — the Jacobian shows it).
@@ -31,19 +33,19 @@ What each function implements
   Ψ(k) = ½·α·k⁻⁴·exp(−1/(k·L_w)²)·cos²θ·(1 or ``against_wind`` behind the wind)/norm,
   L_w = U²/g (its k⁻³ tail then equals Pierson–Moskowitz's).
 * ``directional_spectrum`` — any of the three as a wavenumber spectrum Ψ(k_x, k_z) [m⁴],
-  ∫Ψ d²k = variance of η: Ψ = S(ω(k))·D(θ, ω)·(dω/dk)/k (the Jacobian factor of eq. 2.10,
+  ∫Ψ d²k = variance of η: Ψ = S(ω(k))·D(θ, ω)·(dω/dk)/k (the Jacobian factor of spec/000 eq. 2.10,
   with the finite-depth dispersion), times TMA when ``depth`` is finite, times the short-wave
   fade exp(−(k·ℓ)²) (Tessendorf's small-wave suppression; ℓ = ``short_wave_fade``, 0 = off).
-* ``initial_amplitudes`` — eq. 2.10, seeded: h₀(k) = (ξ₁ + iξ₂)/√2 · sqrt(½·Ψ(−k)·Δk²).
-  Two deliberate differences from the printed eq. 2.10: (1) the factor is ½, not 2 — with the
+* ``initial_amplitudes`` — spec/000 eq. 2.10, seeded: h₀(k) = (ξ₁ + iξ₂)/√2 · sqrt(½·Ψ(−k)·Δk²).
+  Two deliberate differences from the printed equation: (1) the factor is ½, not 2 — with the
   Hermitian pair below, var η = Σ(|h₀(k)|² + |h₀(−k)|²) must equal ∫Ψ d²k; with the printed 2
   Hs would come out twice too large (the Hs test checks this); (2) Ψ is sampled at −k because
   with η = Σ h·e^{ik·x} the term h₀(k)·e^{iωt} travels towards −k̂ — so the energy travels
   down-wind.  The k = 0 mode and the Nyquist row/column are zero (so i·k·h stays Hermitian).
-* ``evolve_amplitudes`` — eq. 2.11 with the conjugate the thesis dropped:
-  h(k,t) = h₀(k)·e^{iωt} + conj(h₀(−k))·e^{−iωt} (Tessendorf eq. 26): the field is real.
+* ``evolve_amplitudes`` — spec/000 eq. 2.11 with the conjugate the thesis dropped:
+  h(k,t) = h₀(k)·e^{iωt} + conj(h₀(−k))·e^{−iωt} (Tessendorf 2001 eq. 26): the field is real.
 * ``synthesize`` — inverse FFT (numpy.fft, η = N²·ifft2(h)) of the height, the choppy
-  displacement D = Σ i·(k/|k|)·h·e^{ik·x} (thesis §1.1(d), displaced point x + λ·D — crests
+  displacement D = Σ i·(k/|k|)·h·e^{ik·x} (spec/000 §1.1(d), displaced point x + λ·D — crests
   sharpen), the slopes ∂η/∂x = Σ i·k_x·h·e^{ik·x} (spectral derivatives), ∂D_x/∂x, ∂D_z/∂z,
   ∂D_x/∂z, and the Jacobian J = (1 + λ·D_x,x)(1 + λ·D_z,z) − λ²·D_x,z² that drives foam.
 * ``surface_normals`` — the thesis's slope formula s = (η_,x/(1 + λD_x,x), η_,z/(1 + λD_z,z)),
@@ -83,17 +85,18 @@ SPECTRA = ("phillips", "pierson_moskowitz", "jonswap")
 
 
 # ---------------------------------------------------------------------------------------------
-# Sine wave (eqs. 2.1–2.4)
+# Sine wave (spec/000 §1.1(a))
 # ---------------------------------------------------------------------------------------------
 
 
 def sine_wave_height(x, t: float, amplitude: float, wavenumber: float, omega: float):
-    """Eq. 2.1: y = A·sin(kx + ωt) [m] at x [m], time t [s]."""
+    """spec/000 eq. 2.1: y = A·sin(kx + ωt) [m] at x [m], time t [s]."""
     return amplitude * np.sin(wavenumber * np.asarray(x, dtype=float) + omega * t)
 
 
 def sine_wave_normal(x, t: float, amplitude: float, wavenumber: float, omega: float):
-    """Eq. 2.2–2.4: unit normal (−kA·cos(kx+ωt), 1, 0)/‖·‖, shape (..., 3)."""
+    """spec/000 eq. 2.2: unit normal (−kA·cos(kx+ωt), 1, 0)/‖·‖ = T × B normalised, with
+    T = ∂P/∂x = (1, kA·cos(kx+ωt), 0) and B = ẑ (spec/000 §1.1(a)); shape (..., 3)."""
     x = np.asarray(x, dtype=float)
     sx = amplitude * wavenumber * np.cos(wavenumber * x + omega * t)
     n = np.stack([-sx, np.ones_like(sx), np.zeros_like(sx)], axis=-1)
@@ -141,7 +144,7 @@ def phase_speed(k, depth: float = math.inf, g: float = G):
 
 
 # ---------------------------------------------------------------------------------------------
-# Gerstner waves (eqs. 2.5–2.8)
+# Gerstner waves (spec/000 §1.1(c))
 # ---------------------------------------------------------------------------------------------
 
 
@@ -158,9 +161,9 @@ class GerstnerWave:
 
 @dataclass
 class GerstnerSurface:
-    position: np.ndarray  # (..., 3) displaced point, eq. 2.5
-    tangent: np.ndarray  # (..., 3) ∂P/∂x, eq. 2.7
-    binormal: np.ndarray  # (..., 3) ∂P/∂z, eq. 2.8
+    position: np.ndarray  # (..., 3) displaced point, spec/000 eq. 2.5
+    tangent: np.ndarray  # (..., 3) ∂P/∂x, spec/000 eq. 2.7
+    binormal: np.ndarray  # (..., 3) ∂P/∂z, spec/000 eq. 2.8
     normal: np.ndarray  # (..., 3) unit B × T (upward)
     jacobian: np.ndarray  # (...,) det ∂(X, Z)/∂(x, z); < 0 → loops
 
@@ -184,7 +187,8 @@ def check_gerstner_steepness(waves: Sequence[GerstnerWave]) -> None:
 
 def gerstner(x, z, t: float, waves: Sequence[GerstnerWave], *, depth: float = math.inf,
              g: float = G, check: bool = True) -> GerstnerSurface:
-    """Sum of Gerstner waves at rest positions (x, z) [m], time t [s] (eqs. 2.5, 2.7, 2.8).
+    """Sum of Gerstner waves at rest positions (x, z) [m], time t [s]: spec/000 eq. 2.5,
+    spec/000 eq. 2.7, spec/000 eq. 2.8, and the normal B × T (spec/000 eq. 2.4, order fixed).
 
     ω comes from ``dispersion_omega`` (deep water: c = sqrt(g/k), as the thesis).  ``check=False``
     skips the steepness bound — only for tests and stability sweeps that need loops (s > 1).
@@ -410,7 +414,8 @@ def band_mask(kx, kz, band: tuple[float, float]):
 
 def initial_amplitudes(n: int, patch_size: float, params: SpectrumParams, *, seed: int = 0,
                        band: tuple[float, float] = (0.0, math.inf)):
-    """Eq. 2.10 (corrected): h₀(k) = (ξ₁+iξ₂)/√2·sqrt(½·Ψ(−k)·Δk²), |k| ∈ [band); complex (N, N).
+    """spec/000 eq. 2.10 (corrected): h₀(k) = (ξ₁+iξ₂)/√2·sqrt(½·Ψ(−k)·Δk²), |k| ∈ [band);
+    complex (N, N).
 
     k = 0 and the Nyquist row and column are zero.  Seeded with numpy's default_rng(seed)."""
     if n < 4 or n & (n - 1):
@@ -428,7 +433,7 @@ def initial_amplitudes(n: int, patch_size: float, params: SpectrumParams, *, see
 
 
 def evolve_amplitudes(h0, omega, t: float):
-    """Eq. 2.11 with the conjugate: h(k,t) = h₀(k)·e^{iωt} + conj(h₀(−k))·e^{−iωt}."""
+    """spec/000 eq. 2.11 with the conjugate: h(k,t) = h₀(k)·e^{iωt} + conj(h₀(−k))·e^{−iωt}."""
     e = np.exp(1j * omega * t)
     return h0 * e + np.conj(_negate_index(h0)) * np.conj(e)
 
@@ -500,7 +505,8 @@ def whitecap_coverage(wind_speed: float) -> float:
     return min(3.84e-6 * u10 ** 3.41, 0.5)
 
 
-def whitecap_thresholds(jacobians: Sequence[np.ndarray], coverage: float, shares: Sequence[float] | None = None):
+def whitecap_thresholds(jacobians: Sequence[np.ndarray], coverage: float,
+                        shares: Sequence[float] | None = None):
     """Foam threshold and ramp width per cascade, calibrated on samples of each cascade's
     Jacobian so that half-strength foam (J < T − w/2) covers its share of ``coverage``:
     w = std(J), T = quantile(J, share·coverage) + w/2 (shares equal unless given; they are
@@ -582,7 +588,7 @@ class WaterQuery:
 
 
 def invert_horizontal_displacement(displacement_fn: Callable, xq, zq, iterations: int = 3):
-    """Spec/000 §1.3: find x₀ with x₀ + D_xz(x₀) = x_q by x₀ ← x_q − D_xz(x₀) (x₀ = x_q first).
+    """spec/000 §1.3: find x₀ with x₀ + D_xz(x₀) = x_q by x₀ ← x_q − D_xz(x₀) (x₀ = x_q first).
 
     ``displacement_fn(x, z)`` → (..., 3) displacement (D_x, η, D_z).  Returns (x₀, z₀, D(x₀),
     residuals) with ``iterations + 1`` residual arrays (before any correction, after each)."""
@@ -616,9 +622,11 @@ class Cascade:
         return 2.0 * float(h2.sum()), 2.0 * float(((self.kx**2 + self.kz**2) * h2).sum())
 
     def expected_variance(self, params: "SpectrumParams") -> np.ndarray:
-        """Variance per mode expected of h₀ (both Hermitian halves): Ψ(−k)·Δk² where held, else 0."""
+        """Variance per mode expected of h₀ (both Hermitian halves): Ψ(−k)·Δk² where held,
+        else 0."""
         dk = 2.0 * math.pi / self.patch_size
-        return directional_spectrum(-self.kx, -self.kz, params) * band_mask(self.kx, self.kz, self.band) * dk * dk
+        return (directional_spectrum(-self.kx, -self.kz, params)
+                * band_mask(self.kx, self.kz, self.band) * dk * dk)
 
 
 class FFTOcean:
@@ -679,7 +687,7 @@ class FFTOcean:
 
 
 def floating_points_pose(query: Callable, points_x, points_z, probe_distance: float = 1.0):
-    """Fig. 3.1: averaged unit normal and displacement over floating points.
+    """spec/000 §1.3, fig. 3.1: averaged unit normal and displacement over floating points.
 
     ``query(x, z)`` → WaterQuery at world points.  For each point, the surface points P(p),
     P(p + x̂·δ), P(p + ẑ·δ) give Nᵢ = (P_z − P) × (P_x − P) (upward); returns

@@ -1,4 +1,4 @@
-"""The ocean against oceanography (issue 6, item 5), as figures a report can quote.
+"""The ocean against oceanography (beyond the thesis), as figures a report can quote.
 
 ``oceanography()`` measures, on the numpy reference (and on the GPU simulation when a
 measurement of it is given, through its read-back fields):
@@ -34,11 +34,13 @@ def pm_setup(wind: float, n: int = 256, direction: float = 0.0):
     """A fully developed PM sea on an N×N grid 10 peak wavelengths wide."""
     kp = oc.pierson_moskowitz_peak(wind) ** 2 / oc.G
     size = 10 * 2 * math.pi / kp
-    return oc.SpectrumParams(kind="pierson_moskowitz", wind_speed=wind, wind_direction=direction), size
+    return (oc.SpectrumParams(kind="pierson_moskowitz", wind_speed=wind,
+                              wind_direction=direction), size)
 
 
 def fields(p, size, n=256, t=3.0, lam=1.0, seed=0):
-    """One seeded sea on an N×N grid of side ``size`` at time t: (OceanFields, h(k, t), k_x, k_z)."""
+    """One seeded sea on an N×N grid of side ``size`` at time t:
+    (OceanFields, h(k, t), k_x, k_z)."""
     kx, kz = oc.wavenumber_grid(n, size)
     h0 = oc.initial_amplitudes(n, size, p, seed=seed)
     om = oc.dispersion_omega(np.hypot(kx, kz), p.depth)
@@ -46,14 +48,16 @@ def fields(p, size, n=256, t=3.0, lam=1.0, seed=0):
     return oc.synthesize(h, kx, kz, lam), h, kx, kz
 
 
-def phase_speed_error(depth: float, n: int = 64, size: float = 100.0, m: int = 3, dt: float = 0.8) -> float:
+def phase_speed_error(depth: float, n: int = 64, size: float = 100.0, m: int = 3,
+                      dt: float = 0.8) -> float:
     """Relative error of one mode's measured phase speed against the dispersion relation."""
     kx, kz = oc.wavenumber_grid(n, size)
     om = oc.dispersion_omega(np.hypot(kx, kz), depth)
     h0 = np.zeros((n, n), complex)
     h0[0, n - m] = 0.5  # h₀(k) travels toward −k̂: this mode goes +x
     k = 2 * math.pi * m / size
-    coef = [np.fft.fft2(oc.synthesize(oc.evolve_amplitudes(h0, om, t), kx, kz).height)[0, m] for t in (0.0, dt)]
+    coef = [np.fft.fft2(oc.synthesize(oc.evolve_amplitudes(h0, om, t), kx, kz).height)[0, m]
+            for t in (0.0, dt)]
     c = -np.angle(coef[1] / coef[0]) / (k * dt)
     ref = math.sqrt(oc.G / k * (1.0 if math.isinf(depth) else math.tanh(k * depth)))
     return abs(c / ref - 1.0)
@@ -74,7 +78,8 @@ def oceanography(gpu_hs=None, seed: int = 0) -> dict:
             row["hs_gpu"] = gpu_hs(p, size, seed + int(wind))
         out["hs"].append(row)
         cm = 0.003 + 5.12e-3 * wind
-        out["mss"].append({"wind": wind, "cox_munk": cm, "resolved": float(np.mean(f.slope_x**2 + f.slope_z**2)),
+        out["mss"].append({"wind": wind, "cox_munk": cm,
+                           "resolved": float(np.mean(f.slope_x**2 + f.slope_z**2)),
                            "ratio": float(np.mean(f.slope_x**2 + f.slope_z**2)) / cm})
     # wind alignment (JONSWAP, wind 10 m/s toward 0.5 rad)
     wd = 0.5
@@ -83,7 +88,8 @@ def oceanography(gpu_hs=None, seed: int = 0) -> dict:
     e = np.abs(oc.initial_amplitudes(256, 840.0, p, seed=seed + 1)) ** 2
     k = np.hypot(kx, kz)
     cos_t = np.where(k > 0, (kx * math.cos(wd) + kz * math.sin(wd)) / np.where(k > 0, k, 1), 0)
-    out["alignment_ratio"] = float(e[np.abs(cos_t) > 0.7].sum() / e[(np.abs(cos_t) < 0.3) & (k > 0)].sum())
+    out["alignment_ratio"] = float(e[np.abs(cos_t) > 0.7].sum()
+                                   / e[(np.abs(cos_t) < 0.3) & (k > 0)].sum())
     p, size = pm_setup(10.0, direction=wd)
     f0, *_ = fields(p, size, t=0.0, seed=seed)
     f1, *_ = fields(p, size, t=2.0, seed=seed)
@@ -97,10 +103,11 @@ def oceanography(gpu_hs=None, seed: int = 0) -> dict:
 
 
 def summary(report: dict) -> str:
-    lines = ["oceanography (issue 6, item 5):",
+    lines = ["oceanography:",
              "  wind  Hs 0.21U²/g  numpy (ratio)   gpu (ratio)   mss/Cox–Munk"]
     for hs, ms in zip(report["hs"], report["mss"]):
-        gpu = f"{hs['hs_gpu']:.3f} ({hs['hs_gpu'] / hs['hs_target']:.3f})" if "hs_gpu" in hs else "—"
+        gpu = (f"{hs['hs_gpu']:.3f} ({hs['hs_gpu'] / hs['hs_target']:.3f})" if "hs_gpu" in hs
+               else "—")
         lines.append(f"  {hs['wind']:4.0f}  {hs['hs_target']:10.3f}  {hs['hs_numpy']:.3f} "
                      f"({hs['hs_numpy'] / hs['hs_target']:.3f})   {gpu:14s}  {ms['ratio']:.3f}")
     pe = report["phase_speed_error"]
@@ -185,7 +192,8 @@ def shape_bins(sp: oc.SpectrumParams, ref: dict):
     (log k, direction) bin, directions measured from the wind (16 sectors)."""
     k_lo = max(ref["k_peak"] / 4.0, 1e-4) if math.isfinite(ref["k_peak"]) else 1e-3
     decades = math.log10(ref["k_ref"] / k_lo)
-    edges = np.geomspace(k_lo, ref["k_ref"], max(2, int(math.ceil(decades * SHAPE_BINS_PER_DECADE))) + 1)
+    edges = np.geomspace(k_lo, ref["k_ref"],
+                         max(2, int(math.ceil(decades * SHAPE_BINS_PER_DECADE))) + 1)
     k, th, psi, dk, dth = oc.polar_spectrum(sp, k_lo, ref["k_ref"], nk=800, nth=144)
     e = psi * (k * dk)[:, None] * dth
     kk = np.repeat(k[:, None], len(th), axis=1)
@@ -195,7 +203,8 @@ def shape_bins(sp: oc.SpectrumParams, ref: dict):
 
 def direction_histogram(k, theta_from_wind, energy, edges):
     ik = np.searchsorted(edges, k) - 1
-    it = np.floor((np.angle(np.exp(1j * theta_from_wind)) + math.pi) / (2 * math.pi) * SHAPE_DIRECTIONS)
+    it = np.floor((np.angle(np.exp(1j * theta_from_wind)) + math.pi) / (2 * math.pi)
+                  * SHAPE_DIRECTIONS)
     it = np.clip(it.astype(np.int64), 0, SHAPE_DIRECTIONS - 1)
     ok = (ik >= 0) & (ik < len(edges) - 1)
     hist = np.zeros((len(edges) - 1, SHAPE_DIRECTIONS))
@@ -209,8 +218,9 @@ def shape_distance(k, theta_travel, energy, sp: oc.SpectrumParams, bins) -> floa
     (log k, direction) bins and the spectrum's: how well a wave set fills the directional
     spectrum, whatever its Hs and mss."""
     edges, ref_hist = bins
-    hist = direction_histogram(np.asarray(k, float), np.asarray(theta_travel, float) - sp.wind_direction,
-                      np.asarray(energy, float), edges)
+    hist = direction_histogram(np.asarray(k, float),
+                               np.asarray(theta_travel, float) - sp.wind_direction,
+                               np.asarray(energy, float), edges)
     return 0.5 * float(np.abs(hist - ref_hist).sum())
 
 

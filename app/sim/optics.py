@@ -17,8 +17,8 @@ TINY = 1.0e-20
 
 
 def henyey_greenstein(cos_theta, g):
-    """spec/001 eq. 4.19: (1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2}), the cosine clamped into
-    [−1, 1] and the denominator kept above 1e-6 (``HenyeyGreenstein``)."""
+    """spec/001 eq. 4.19 (also spec/000 eq. 3.1): (1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2}),
+    the cosine clamped into [−1, 1] and the denominator kept above 1e-6 (``HenyeyGreenstein``)."""
     c = np.clip(np.asarray(cos_theta, dtype=np.float64), -1.0, 1.0)
     g = np.asarray(g, dtype=np.float64)
     denom = np.maximum(1.0 + g * g - 2.0 * g * c, 1e-6)

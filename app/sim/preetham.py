@@ -6,9 +6,9 @@ Every function here has a GLSL namesake (``Preetham…``) and the tests compare 
 
 Model, for a view direction at zenith angle θ and angle γ from the sun (sun zenith angle θs):
 
-* Perez et al. distribution (paper eq. 3):
+* Perez et al. distribution (Preetham 1999 eq. 3):
   F(θ, γ) = (1 + A·e^{B / cos θ}) · (1 + C·e^{D·γ} + E·cos²γ)
-* each of Y, x, y is its zenith value times the normalised distribution (eq. 4):
+* each of Y, x, y is its zenith value times the normalised distribution (Preetham 1999 eq. 4):
   Y = Y_z · F(θ, γ) / F(0, θs)
 * distribution coefficients, linear in turbidity T (appendix A.2, table "distribution
   coefficients for luminance Y and chromaticities x, y");
@@ -81,7 +81,7 @@ def perez_coefficients(turbidity: float) -> np.ndarray:
 
 
 def perez(cos_theta, gamma, coeffs) -> np.ndarray:
-    """F(θ, γ) (eq. 3) with cos θ clamped to ≥ 1e-3; ``coeffs`` = (A, B, C, D, E)."""
+    """F(θ, γ) (Preetham 1999 eq. 3) with cos θ clamped to ≥ 1e-3; ``coeffs`` = (A, B, C, D, E)."""
     a, b, c, d, e = coeffs
     ct = np.maximum(np.asarray(cos_theta, dtype=np.float64), MIN_COS_THETA)
     g = np.asarray(gamma, dtype=np.float64)
@@ -117,7 +117,8 @@ def twilight(sun_dir) -> float:
 
 
 def sky_xyY(directions, sun_dir, turbidity: float) -> np.ndarray:
-    """(…, 3) = (x, y, Y[kcd/m²]) toward unit ``directions`` (…, 3) for a unit ``sun_dir``."""
+    """(…, 3) = (x, y, Y[kcd/m²]) toward unit ``directions`` (…, 3) for a unit ``sun_dir``:
+    each of Y, x, y is Y_z · F(θ, γ) / F(0, θs) (Preetham 1999 eq. 4)."""
     d = np.asarray(directions, dtype=np.float64)
     s = np.asarray(sun_dir, dtype=np.float64)
     theta_s = model_sun_zenith(s)
@@ -149,7 +150,8 @@ def XYZ_to_linear_srgb(xyz) -> np.ndarray:
 def sky_rgb(directions, sun_dir, turbidity: float) -> np.ndarray:
     """Linear sRGB in kcd/m² (no exposure, no twilight), clamped ≥ 0 (sRGB cannot show every
     chromaticity: tiny negative components near the horizon are cut)."""
-    return np.maximum(XYZ_to_linear_srgb(xyY_to_XYZ(sky_xyY(directions, sun_dir, turbidity))), 0.0)
+    return np.maximum(XYZ_to_linear_srgb(xyY_to_XYZ(sky_xyY(directions, sun_dir, turbidity))),
+                      0.0)
 
 
 def air_mass(theta_s) -> np.ndarray:
@@ -160,8 +162,8 @@ def air_mass(theta_s) -> np.ndarray:
 
 
 def sun_transmittance(theta_s, turbidity: float) -> np.ndarray:
-    """Sun colour after the atmosphere at λ = (680, 550, 440) nm for linear R, G, B (appendix A.1:
-    Rayleigh τ_R = exp(−0.008735·λ^−4.08·m), aerosols τ_a = exp(−β·λ^−α·m), β = 0.04608·T −
+    """Sun colour after the atmosphere at λ = (680, 550, 440) nm for linear R, G, B (appendix
+    A.1: Rayleigh τ_R = exp(−0.008735·λ^−4.08·m), aerosols τ_a = exp(−β·λ^−α·m), β = 0.04608·T −
     0.04586, α = 1.3, λ in μm; ozone, gas and water terms left out). Yellow-white at noon,
     dim red at the horizon. Last axis: RGB."""
     m = air_mass(theta_s)[..., None]
@@ -180,8 +182,9 @@ def sun_disk(directions, sun_dir, radius_deg: float) -> np.ndarray:
     return t * t * (3.0 - 2.0 * t)
 
 
-def sky_radiance(directions, sun_dir, turbidity: float = 2.5, exposure: float = 0.05, disk: bool = True,
-                 disk_radius_deg: float = 0.27, disk_intensity: float = 200.0) -> np.ndarray:
+def sky_radiance(directions, sun_dir, turbidity: float = 2.5, exposure: float = 0.05,
+                 disk: bool = True, disk_radius_deg: float = 0.27,
+                 disk_intensity: float = 200.0) -> np.ndarray:
     """Twin of ``PreethamSkyRadiance``: exposure · (sky + disk) · twilight, linear RGB."""
     d = np.asarray(directions, dtype=np.float64)
     rgb = sky_rgb(d, sun_dir, turbidity)
@@ -193,6 +196,7 @@ def sky_radiance(directions, sun_dir, turbidity: float = 2.5, exposure: float = 
 
 
 def sun_direction(elevation_deg: float, azimuth_deg: float) -> np.ndarray:
-    """Unit vector toward the sun; azimuth 0° = north (−z), 90° = east (+x), like the camera's yaw."""
+    """Unit vector toward the sun; azimuth 0° = north (−z), 90° = east (+x), like the camera's
+    yaw."""
     e, a = math.radians(elevation_deg), math.radians(azimuth_deg)
     return np.array([math.sin(a) * math.cos(e), math.sin(e), -math.cos(a) * math.cos(e)])

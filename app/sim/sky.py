@@ -11,7 +11,7 @@ MIE_G = -0.990
 MIE_G2 = 0.9801
 
 def mie_phase(c, c2, sun_size: float = 0.05):
-    """(B.2) ``getMiePhase`` with the SunSize exponent and the 1e-4 clamp."""
+    """spec/000 eq. B.2: ``getMiePhase`` with the SunSize exponent and the 1e-4 clamp."""
     t = 1.0 + MIE_G2 - 2.0 * MIE_G * np.asarray(c, dtype=np.float64)
     t = np.maximum(t, 0.0) ** (sun_size**0.65 * 10.0)
     t = np.maximum(t, 1e-4)
@@ -19,7 +19,8 @@ def mie_phase(c, c2, sun_size: float = 0.05):
 
 
 def sun_term(cos_angle, sun_size: float = 0.05, intensity: float = 2.0):
-    """Sun disk value (per unit SunCol) at angle ``acos(cos_angle)`` from the sun (B.3)."""
+    """Sun disk value (per unit SunCol) at angle ``acos(cos_angle)`` from the sun
+    (spec/000 eq. B.3, ``calcSunAttenuation``, times SunIntensity)."""
     f = np.clip(np.asarray(cos_angle, dtype=np.float64), 0.0, 1.0) ** 5
     return mie_phase(-f, f * f, sun_size) * intensity
 
@@ -30,12 +31,16 @@ def smoothstep(e0, e1, x):
 
 
 def scattering_intensity_factor(sun_sin_elevation):
-    """scatInt = max(0.15, smoothstep(0.6, 0.0, sin elevation)), the reversed ramp by hand."""
+    """scatInt = max(0.15, smoothstep(0.6, 0.0, sin elevation)), the reversed ramp by hand
+    (spec/000 eq. B.4)."""
     return np.maximum(0.15, 1.0 - smoothstep(0.0, 0.6, sun_sin_elevation))
 
 
 def halo_term(cos_angle, sun_sin_elevation, scattering_intensity: float = 1.0):
-    return smoothstep(0.5, 1.5, cos_angle) * scattering_intensity * scattering_intensity_factor(sun_sin_elevation)
+    """Halo around the sun (per unit SunCol), the fragment shader's second sun term
+    (spec/000 eq. B.4)."""
+    return (smoothstep(0.5, 1.5, cos_angle) * scattering_intensity
+            * scattering_intensity_factor(sun_sin_elevation))
 
 
 def cubemap_face_direction(face: int, s, t) -> np.ndarray:
@@ -51,5 +56,5 @@ def cubemap_face_direction(face: int, s, t) -> np.ndarray:
 
 
 def elevation_u(directions: np.ndarray) -> np.ndarray:
-    """sphereUV.y = asin(p.y) / (π/2)."""
+    """sphereUV.y = asin(p.y) / (π/2), the sky gradient's coordinate (spec/000 eq. B.4)."""
     return np.arcsin(np.clip(directions[..., 1], -1.0, 1.0)) / (math.pi / 2)

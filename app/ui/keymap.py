@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 from ..scenes.keymaps import FLY, KeyMap
 
 # actions held down while the key is pressed
-HELD = {"forward", "back", "left", "right", "up", "down", "turn_left", "turn_right", "pitch_up", "pitch_down",
-        "sun_up", "sun_down", "fast"}
+HELD = {"forward", "back", "left", "right", "up", "down", "turn_left", "turn_right", "pitch_up",
+        "pitch_down", "sun_up", "sun_down", "fast"}
 
 
 @dataclass
@@ -82,5 +82,6 @@ class Controller:
         step = v * dt
         camera.rotate((("turn_right" in h) - ("turn_left" in h)) * self.turn_rate * dt,
                       (("pitch_up" in h) - ("pitch_down" in h)) * self.turn_rate * dt)
-        camera.move(forward=(("forward" in h) - ("back" in h)) * step, right=(("right" in h) - ("left" in h)) * step,
+        camera.move(forward=(("forward" in h) - ("back" in h)) * step,
+                    right=(("right" in h) - ("left" in h)) * step,
                     up=(("up" in h) - ("down" in h)) * step)

@@ -70,7 +70,8 @@ def param_widget(params: ParamSet, p: Param) -> bool:
 
 
 def params_panel(params: ParamSet, titles: dict[str, str], skip: set[str] = frozenset(),
-                 open_groups: set[str] = frozenset(), notes: dict[str, list[str]] | None = None) -> None:
+                 open_groups: set[str] = frozenset(),
+                 notes: dict[str, list[str]] | None = None) -> None:
     """One collapsing header per group, the groups in ``open_groups`` open at first; groups
     with a title (the scene's effects, Time, Output) come first. ``notes`` are lines an effect
     shows above its widgets (live figures, what the current method teaches)."""

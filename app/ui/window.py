@@ -12,7 +12,8 @@ Space              pause / resume time
 [ / ]              time of day −/+ 15 minutes
 Up / Down          sun up / down (planet scene)
 R                  reset the camera to the scene's default
-P or F12           screenshot (scene only, tone-mapped): screenshots/SCENE-NNNN.png, never overwrites
+P or F12           screenshot (scene only, tone-mapped): screenshots/SCENE-NNNN.png,
+                   never overwrites
 F1                 hide / show the panel
 Esc                quit
 =================  =========================================================
@@ -62,7 +63,8 @@ def _key_names(keys) -> dict:
 
 
 #: Unicode blocks the panel's text uses (thesis sections §, units m², Greek β θ Φ, − · → ≤ …).
-GLYPH_RANGES = [0x0020, 0x00FF, 0x0370, 0x03FF, 0x2000, 0x206F, 0x2070, 0x209F, 0x2190, 0x21FF, 0x2200, 0x22FF, 0]
+GLYPH_RANGES = [0x0020, 0x00FF, 0x0370, 0x03FF, 0x2000, 0x206F, 0x2070, 0x209F, 0x2190, 0x21FF,
+                0x2200, 0x22FF, 0]
 
 
 def _load_font(imgui) -> None:
@@ -99,8 +101,8 @@ def _create_window(size, title):
     last = None
     for version in ((4, 3), (3, 3)):
         try:
-            wnd = cls(title=title, gl_version=version, size=size, resizable=True, vsync=True, samples=0,
-                      cursor=True, visible=True, fullscreen=False)
+            wnd = cls(title=title, gl_version=version, size=size, resizable=True, vsync=True,
+                      samples=0, cursor=True, visible=True, fullscreen=False)
         except Exception as exc:  # pyglet.gl.ContextException
             last = exc
             continue
@@ -112,8 +114,8 @@ def _create_window(size, title):
 
 
 class NaturaWindow:
-    def __init__(self, scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720), shader_root=None,
-                 screenshot_dir: str | os.PathLike = "screenshots"):
+    def __init__(self, scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720),
+                 shader_root=None, screenshot_dir: str | os.PathLike = "screenshots"):
         from imgui_bundle import imgui
         from moderngl_window.integrations.imgui_bundle import ModernglWindowRenderer
 
@@ -200,7 +202,8 @@ class NaturaWindow:
             elif action == "toggle_time" and "time.playing" in p:
                 p.set("time.playing", not p["time.playing"])
             elif action in ("time_back", "time_forward") and "time.hour" in p:
-                p.set("time.hour", (p["time.hour"] + (0.25 if action == "time_forward" else -0.25)) % 24.0)
+                p.set("time.hour",
+                      (p["time.hour"] + (0.25 if action == "time_forward" else -0.25)) % 24.0)
             elif action == "toggle_mouse":
                 self.mouse_look = not self.mouse_look
                 self.wnd.mouse_exclusivity = self.mouse_look
@@ -210,7 +213,8 @@ class NaturaWindow:
                 h = self.home
                 self.scene.camera.set(position=h.position, yaw=h.yaw, pitch=h.pitch, fov=h.fov)
             elif action == "print_gl_version":
-                self._say(f"OpenGL {self.ctx.info.get('GL_VERSION')} — {self.session.gpu.caps.renderer}")
+                self._say(f"OpenGL {self.ctx.info.get('GL_VERSION')} — "
+                          f"{self.session.gpu.caps.renderer}")
             elif action == "print_camera":
                 c = self.scene.camera
                 self._say(f"camera ({c.position[0]:.2f}, {c.position[1]:.2f}, {c.position[2]:.2f}) "
@@ -271,7 +275,8 @@ class NaturaWindow:
         self._last_poll = now
         for prog in self.session.gpu.shaders.poll():
             if prog.errors:
-                self.messages.append(f"{prog.name}: reload failed, still showing the last good version")
+                self.messages.append(f"{prog.name}: reload failed, "
+                                     "still showing the last good version")
             else:
                 self.messages.append(f"{prog.name}: reloaded")
 
@@ -290,7 +295,8 @@ class NaturaWindow:
 
         self.wnd.use()
         ctx.viewport = (0, 0, *self.wnd.buffer_size)
-        draw_display(self.session.gpu, self.target.color, self.scene.exposure(), self.params["output.tonemap"])
+        draw_display(self.session.gpu, self.target.color, self.scene.exposure(),
+                     self.params["output.tonemap"])
 
     def show_progress(self, label: str, fraction: float) -> None:
         """Draw one frame with a progress bar while a long GPU job (a bake) runs."""
@@ -316,7 +322,8 @@ class NaturaWindow:
         for _ in range(100):  # another process may take the name between the check and the link
             path = next_free_path(self.screenshot_dir, self.scene.name, ".png")
             try:
-                write_png(path, self.target.read(), self.scene.exposure(), self.params["output.tonemap"])
+                write_png(path, self.target.read(), self.scene.exposure(),
+                          self.params["output.tonemap"])
             except FileExistsError:
                 continue
             except Exception as exc:
@@ -349,11 +356,14 @@ class NaturaWindow:
         gpu = self.session.gpu
         imgui.text(f"{gpu.caps.describe()}")
         ms = np.array(self.frame_ms, dtype=np.float32)
-        imgui.text(f"frame {ms[-1]:6.2f} ms   median {np.median(ms[ms > 0]) if (ms > 0).any() else 0:6.2f} ms")
-        imgui.plot_lines("##frametime", ms, scale_min=0.0, graph_size=(-1, 48), overlay_text=f"max {ms.max():.1f} ms")
+        imgui.text(f"frame {ms[-1]:6.2f} ms   "
+                   f"median {np.median(ms[ms > 0]) if (ms > 0).any() else 0:6.2f} ms")
+        imgui.plot_lines("##frametime", ms, scale_min=0.0, graph_size=(-1, 48),
+                         overlay_text=f"max {ms.max():.1f} ms")
         errors = gpu.shaders.errors()
         if errors or self.render_error:
-            imgui.text_colored(panel.ERROR_COLOUR, "Shader errors (the last good program keeps rendering):")
+            imgui.text_colored(panel.ERROR_COLOUR,
+                               "Shader errors (the last good program keeps rendering):")
             panel.error_list(errors + ([self.render_error] if self.render_error else []))
         if "time.hour" in self.params:
             playing = self.params["time.playing"]
@@ -363,13 +373,16 @@ class NaturaWindow:
             from ..sim.daynight import hour_label
 
             imgui.text(hour_label(self.params["time.hour"]))
-            changed, hour = imgui.slider_float("time of day##scrub", self.params["time.hour"], 0.0, 24.0, "%.2f h")
+            changed, hour = imgui.slider_float("time of day##scrub", self.params["time.hour"],
+                                               0.0, 24.0, "%.2f h")
             if changed:
                 self.params.set("time.hour", hour % 24.0)
         cam = self.scene.camera
-        imgui.text(f"camera ({cam.position[0]:.1f}, {cam.position[1]:.1f}, {cam.position[2]:.1f})  "
-                   f"yaw {cam.yaw:.0f}  pitch {cam.pitch:.0f}  speed {self.controller.speed:.1f} m/s"
-                   + (f"  turbo {self.controller.turbo_speed:g} m/s" if self.controller.turbo else ""))
+        imgui.text(f"camera ({cam.position[0]:.1f}, {cam.position[1]:.1f}, "
+                   f"{cam.position[2]:.1f})  yaw {cam.yaw:.0f}  pitch {cam.pitch:.0f}  "
+                   f"speed {self.controller.speed:.1f} m/s"
+                   + (f"  turbo {self.controller.turbo_speed:g} m/s" if self.controller.turbo
+                      else ""))
         changed, fov = imgui.slider_float("fov##camera", cam.fov, 10.0, 120.0, "%.0f deg")
         if changed:
             cam.set(fov=fov)
@@ -389,12 +402,14 @@ class NaturaWindow:
                 notes[e.name] = e.panel_notes()
             except Exception as exc:  # a figure that cannot be computed must not close the panel
                 notes[e.name] = [f"({exc})"]
-        panel.params_panel(self.params, titles, skip={"time.hour"}, open_groups=set(titles), notes=notes)
+        panel.params_panel(self.params, titles, skip={"time.hour"}, open_groups=set(titles),
+                           notes=notes)
         from ..sim.daynight import Keyframes
 
         for effect in self.scene.active_instances():
             for item in effect.panel_items():  # editors an effect offers besides its parameters
-                if isinstance(item, Keyframes) and imgui.collapsing_header("Sky keyframes (every 3 h)"):
+                if (isinstance(item, Keyframes)
+                        and imgui.collapsing_header("Sky keyframes (every 3 h)")):
                     panel.keyframes_panel(item)
                     if imgui.button("Save keyframes"):
                         self.save_keyframes(item)
@@ -447,8 +462,8 @@ class NaturaWindow:
         self.wnd.destroy()
 
 
-def run_window(scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720), shader_root=None,
-               frames: int | None = None) -> int:
+def run_window(scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720),
+               shader_root=None, frames: int | None = None) -> int:
     win = NaturaWindow(scene_name, params, camera, size, shader_root)
     try:
         win.run(frames)

@@ -1,6 +1,6 @@
 // =============================================================================================
 // The physical model shared by every atmosphere method — atmospheric-scattering thesis
-// (spec/002-atmosphere.md §1, constants §7) — in camera-relative coordinates.
+// (spec/002 §1, constants §7) — in camera-relative coordinates.
 //
 //   density        ρ_x(h) = P0 · exp(−h / H_x),  H_R = 7994 m, H_M = 1200 m                 (§1.3)
 //   extinction     β^ext_R = β^scatt_R = (5.8, 13.5, 33.1)·10⁻⁶ /m,

@@ -4,8 +4,8 @@
 // Sources
 // -------
 // * spec/001 texture table, "Detail": 3D, 32³, RGB, "three Worley noises of increasing
-//   frequency (d_r, d_g, d_b)", used by eq. 4.14 DetalleBase = 0.625 d_r + 0.25 d_g + 0.125 d_b;
-//   criteria B1-B5.
+//   frequency (d_r, d_g, d_b)", used by spec/001 eq. 4.14 DetalleBase = 0.625 d_r + 0.25 d_g
+//   + 0.125 d_b; criteria B1-B5.
 // * spec/000 §1.6 (NoiseSimulator): "Detail noise" RGB 64³, multi-frequency Worley per channel,
 //   tileable (27 wrapped neighbour cells); "writing to the detail texture's unused channel A
 //   runs a kernel that fills the whole channel with ones" — criterion 15: A is exactly 1.0.
@@ -17,7 +17,8 @@
 // Equations (uvw in [0, 1)³ the texel centre; one tile = one unit of uvw):
 //
 //   d_c = WorleyFbm(C_c uvw) = Σ_{i<n} G^i (1 - clamp(F1(2^i C_c uvw), 0, 1)) / Σ_{i<n} G^i
-//         with octave i wrapped with period C_c·2^i (tiles with period 1 in uvw)      (3.2)
+//         with octave i wrapped with period C_c·2^i (tiles with period 1 in uvw)
+//                                                                    (spec/001 eq. 3.2)
 //   C_r < C_g < C_b;  A = 1.0 (written as the literal 1.0: exact in every format)
 //
 // After the bake (app/bakes/core.py): R, G, B are stretched to [0, 1] by their min and max
@@ -32,7 +33,7 @@
 //   has 32 cells, one per texel — it reads as fine grain, and the frequency order of the
 //   channels still holds (tested). Fewer octaves or a larger size avoid it.
 // * Octave counts outside 1..16 are clamped (FbmOctaves); cells < 1 are clamped to 1.
-// Numpy twin: app/bakes/reference.py (detail_reference).
+// Numpy twin: app/sim/bakes.py (detail_reference).
 
 #include "noise_fbm.glsl"
 

@@ -18,7 +18,7 @@
 //
 // Equations (uvw in [0, 1)³ is the texel centre, so the tile is one unit of uvw):
 //
-//   fBm (3.2), normalised:  F(p) = Σ_{i<n} G^i noise(2^i p) / Σ_{i<n} G^i       (lacunarity 2)
+//   fBm (spec/001 eq. 3.2), normalised:  F(p) = Σ_{i<n} G^i noise(2^i p) / Σ_{i<n} G^i  (lacunarity 2)
 //   R = PW = clamp((P + 1 - W) / (2 - W), 0, 1),  P = clamp(0.5 + 0.5 PerlinFbm(B uvw), 0, 1),
 //                                                 W = WorleyFbm(B uvw)        (B = base period)
 //   G = WorleyFbm(C_g uvw),  B = WorleyFbm(C_b uvw),  A = WorleyFbm(C_a uvw)   (C_g < C_b < C_a)
@@ -49,7 +49,7 @@
 //   lies on octave i's lattice planes when B·2^i/N reduces to even/odd (at 132³, octave 3 of
 //   R: 24/132 = 2/11, planes through texels 5, 16, 27, ...); where three such planes cross,
 //   that one octave adds 0 — a few texels, invisible. At 128³ it never happens.
-// Numpy twin: app/bakes/reference.py (shape_reference), tested in tests/test_bakes.py.
+// Numpy twin: app/sim/bakes.py (shape_reference), which the bake tests compare with.
 
 #include "noise_fbm.glsl"
 

@@ -1,7 +1,10 @@
 #version 330 core
 // Cloud model A, the view march: spec/001 §1.5 (ray march, Algorithm "2"), §1.6 (light march,
-// Algorithm "3"), §1.7 (lighting, eqs. 4.18–4.23), after Häggström 2018 / Schneider 2015, with
-// the speed and light options the thesis left undone (issue 5 item 5).
+// Algorithm "3"), §1.7 (lighting), after Häggström 2018 / Schneider 2015, with the speed
+// options the thesis described but left undone (§1.5 items 2–4, as switches) and options
+// beyond it (multiple-scattering octaves, energy-conserving integration, ambient light).
+// Equations: spec/001 eq. 4.16 (via cloud_model.glsl), spec/001 eq. 4.17, spec/001 eq. 4.18,
+// spec/001 eq. 4.21, spec/001 eq. 4.22, spec/001 eq. 4.23.
 //
 // Output: the cloud layer, RGBA = (in-scattered radiance, premultiplied; view transmittance T).
 // glsl/common/layer_composite.frag lays it over whatever the scene drew: out = rgb + T · scene,
@@ -16,7 +19,7 @@
 // 2. View march: N = uSteps samples over the interval (the thesis's 64 by default), the first
 //    offset by an interleaved-gradient-noise jitter in [0, 1) of a step (Jimenez 2014, static
 //    per pixel — the thesis's blue-noise jitter against banding, §4); 0.5 (midpoints) with the
-//    jitter off. Each sample's density d (eq. 4.16, cloud_model.glsl) is an extinction
+//    jitter off. Each sample's density d (spec/001 eq. 4.16, cloud_model.glsl) is an extinction
 //    σ = k · d / L_ref per metre, L_ref = the thesis's light step 0.5 · (al_m − al_b) / 6 (so
 //    the light march's d_s below is the thesis's plain sum of 6 densities at the default
 //    settings) and k = uExtinction (the thesis's alpha, a plain sum of 64 samples, has no
@@ -28,20 +31,23 @@
 //    it does not depend on the view ray; midpoints), each displaced inside a cone by a fixed
 //    kernel vector in [−1, 1]³ times uConeSpread · distance, the texture LOD raised by
 //    uLightLodStep per sample, and shape-only (cheaper) samples once the accumulated d_s
-//    exceeds uCheapLightThreshold (0.3). The sums are accumulated (erratum §1.10 item 3).
-// 4. Lighting: E = L(b, d_s) · IOS(cos θ) (4.22, 4.21, 4.23), cos θ = light · view direction;
+//    exceeds uCheapLightThreshold (default 0.3). The sums are accumulated (erratum §1.10 item 3).
+// 4. Lighting: E = L(b, d_s) · IOS(cos θ) (spec/001 eq. 4.22, spec/001 eq. 4.21,
+//    spec/001 eq. 4.23), cos θ = light · view direction;
 //    optional multiple-scattering octaves (Wrenninge 2013, beyond the thesis):
 //       E = 2 (1 − e^(−2 b d_s)) · Σ_{i<n} B^i e^(−A^i b d_s) IOS(cos θ; c^i in_s, c^i out_s, c^i cs_i)
-//    with A ≤ B enforced (A ← min(A, B)) so energy does not grow; n = 1 is eq. 4.23 exactly.
-//    The in-scattered radiance is S = (E · uLightScale + uAmbient) · light radiance (ambient: beyond the thesis,
-//    0 gives the thesis's model, whose direct light is 0 where d_s = 0, erratum item 11).
+//    with A ≤ B enforced (A ← min(A, B)) so energy does not grow; n = 1 is spec/001 eq. 4.23
+//    exactly. The in-scattered radiance is S = (E · uLightScale + uAmbient) · light radiance
+//    (ambient: beyond the thesis, 0 gives the thesis's model, whose direct light is 0 where
+//    d_s = 0, erratum item 11).
 // 5. Integration over a step of length Δt:
 //       naive sum (the theses):          C += T · S · σ Δt
 //       energy-conserving (Hillaire 2016): C += T · S · (1 − e^(−σ Δt))
 //    (albedo 1, σ_s = σ_t); both converge to the same integral as Δt → 0.
-// Speed options (spec/001 §1.5 eq. 4.17 items 2–4), each a switch:
-//    distance steps:  Δt = Δt_0 + t · uStepGrowth (eq. 4.17, with the sample's distance t as
-//                     dist_inicio; uStepGrowth 0 or the switch off is the uniform march);
+// Speed options (spec/001 §1.5 items 2–4), each a switch:
+//    distance steps:  Δt = Δt_0 + t · uStepGrowth (spec/001 eq. 4.17, with the sample's
+//                     distance t as dist_inicio; uStepGrowth 0 or the switch off is the
+//                     uniform march);
 //    adaptive steps:  outside clouds, shape-only samples every uOutsideStepScale · Δt; on a
 //                     hit, step back and march at Δt with full samples until uExitAfterEmpty
 //                     empty samples in a row (shape-only density ≥ full density, so a skipped
@@ -75,12 +81,12 @@ uniform float uDetailScale;     // @param 1500 [50, 50000] step=50 unit=m §2 Ta
 uniform float uCloudHeight;     // @param 1 [0, 1] step=0.01 §1.4 multiplies the weather map's max height mc_a (the stratus map has "smaller" clouds)
 uniform int uSteps;             // @param 64 [1, 1024] §1.5 Muestras: view-ray samples over the container interval
 uniform int uLightSteps;        // @param 6 [0, 32] §1.6 light-march samples (0: no self-shadowing)
-uniform float uAbsorption;      // @param 6 [0, 50] step=0.1 §1.7 Absorción de luz b (eq. 4.18)
-uniform float uInScatter;       // @param 0.2 [0, 0.99] step=0.01 §1.7 In scatter in_s: HG g toward the camera (eq. 4.21)
-uniform float uOutScatter;      // @param 0.1 [0, 0.99] step=0.01 §1.7 Out scatter out_s: HG −g away (eq. 4.21)
-uniform float uInVsOut;         // @param 0.5 [0, 1] step=0.01 §1.7 In o Out Scatter ivo: blend of the two lobes (eq. 4.21)
-uniform float uSilverIntensity; // @param 3 [0, 10] step=0.05 §1.7 Silver intensity cs_i (eq. 4.20)
-uniform float uSilverExponent;  // @param 2 [0, 64] step=0.5 §1.7 Silver exponent cs_e: the silver lobe's spread (eq. 4.20)
+uniform float uAbsorption;      // @param 6 [0, 50] step=0.1 §1.7 Absorción de luz b (spec/001 eq. 4.18)
+uniform float uInScatter;       // @param 0.2 [0, 0.99] step=0.01 §1.7 In scatter in_s: HG g toward the camera (spec/001 eq. 4.21)
+uniform float uOutScatter;      // @param 0.1 [0, 0.99] step=0.01 §1.7 Out scatter out_s: HG −g away (spec/001 eq. 4.21)
+uniform float uInVsOut;         // @param 0.5 [0, 1] step=0.01 §1.7 In o Out Scatter ivo: blend of the two lobes (spec/001 eq. 4.21)
+uniform float uSilverIntensity; // @param 3 [0, 10] step=0.05 §1.7 Silver intensity cs_i (spec/001 eq. 4.20)
+uniform float uSilverExponent;  // @param 2 [0, 64] step=0.5 §1.7 Silver exponent cs_e: the silver lobe's spread (spec/001 eq. 4.20)
 
 // ---- light march and lighting details ------------------------------------------------------
 uniform float uLightStepFraction;    // @param 0.5 [0.05, 2] step=0.05 §1.6 light-ray length as a fraction of the layer thickness (thesis 0.5)
@@ -91,15 +97,15 @@ uniform float uAmbient;              // @param 0.3 [0, 4] step=0.01 beyond the t
 uniform float uLightScale;           // @param 10 [0, 100] step=0.1 direct light = E · this · light radiance (phase values are ~0.08/sr; the thesis remaps its sums instead)
 uniform float uExtinction;           // @param 3 [0, 100] step=0.1 view-ray extinction per unit density, in 1/L_ref (the thesis's alpha = Σ of its samples; see 2.)
 
-// ---- speed and accuracy options (issue 5 item 5) --------------------------------------------
+// ---- speed and accuracy options (beyond the thesis) ---------------------------------------------
 uniform bool uJitter;                // @param true §4 per-pixel jitter of the first sample against banding (off: midpoints)
 uniform bool uEnergyConserving;      // @param true Hillaire 2016 step integration (off: the theses' naive sum)
 uniform int uMsOctaves;              // @param 1 [1, 8] multiple-scattering octaves (Wrenninge; 1 = the thesis's single scattering)
 uniform float uMsA;                  // @param 0.5 [0, 1] step=0.01 octave extinction attenuation a (used as min(a, b))
 uniform float uMsB;                  // @param 0.5 [0, 1] step=0.01 octave contribution attenuation b
 uniform float uMsC;                  // @param 0.5 [0, 1] step=0.01 octave eccentricity attenuation c
-uniform bool uDistanceSteps;         // @param false §1.5 eq. 4.17: step grows with distance
-uniform float uStepGrowth;           // @param 0.02 [0, 1] step=0.005 §1.5 incr_dist: metres of step per metre of distance (eq. 4.17)
+uniform bool uDistanceSteps;         // @param false §1.5 spec/001 eq. 4.17: step grows with distance
+uniform float uStepGrowth;           // @param 0.02 [0, 1] step=0.005 §1.5 incr_dist: metres of step per metre of distance (spec/001 eq. 4.17)
 uniform bool uAdaptiveSteps;         // @param false §1.5 item 3: large shape-only steps outside clouds
 uniform float uOutsideStepScale;     // @param 3 [1, 16] step=0.5 §1.5 item 3: outside step / inside step
 uniform int uExitAfterEmpty;         // @param 6 [1, 64] §1.5 item 3: empty samples before large steps again
@@ -112,7 +118,7 @@ uniform float uBoxHalfSize;          // @param 30000 [100, 1000000] step=500 uni
 uniform float uPlanetRadius;         // @param 6371000 [1000, 100000000] step=1000 unit=m §1.5 spheres: planet radius R
 uniform int uContainer;              // 0 box, 1 the shell between two spheres (clouds.container)
 
-// ---- set by app/effects/clouds.py -------------------------------------------------------------
+// ---- set by app/effects/clouds/effect.py ------------------------------------------------------
 uniform vec3 uLightDir;          // unit, toward the light
 uniform vec3 uLightRadiance;     // linear (without uLightScale)
 uniform float uDensityLength;    // L_ref in metres (see 2. above)
@@ -143,13 +149,14 @@ float InterleavedGradientNoise(vec2 pixel) {
 
 vec3 PlanetCentre() { return vec3(0.0, -uPlanetRadius, 0.0); }
 
-// The height whose fraction eq. 4.4 takes: y in the box, radius − R in the shell.
+// The height whose fraction spec/001 eq. 4.4 takes: y in the box, radius − R in the shell.
 float LayerHeight(vec3 p) {
     return uContainer == 1 ? length(p - PlanetCentre()) - uPlanetRadius : p.y;
 }
 
-// Density at a world point (eqs. 4.4–4.16), with early outs that skip texture fetches where
-// the result is 0 anyway; withDetail false is the shape-only density.
+// Density at a world point (spec/001 §1.4: HeightFraction, then CloudDensityFromSamples, i.e.
+// spec/001 eq. 4.16, in cloud_model.glsl), with early outs that skip texture fetches where the
+// result is 0 anyway; withDetail false is the shape-only density.
 float SampleDensity(vec3 p, bool withDetail, float lod) {
     float h = LayerHeight(p);
     if (h <= uBaseHeight || h >= uMaxHeight) return 0.0;
@@ -180,7 +187,8 @@ float LightOpticalDepth(vec3 p) {
     return ds;
 }
 
-// E of eq. 4.23, with the multiple-scattering octaves when uMsOctaves > 1.
+// spec/001 eq. 4.23: E = L(b, d_s) · IOS(cos θ), with the powder L of spec/001 eq. 4.22 written
+// out, and the multiple-scattering octaves when uMsOctaves > 1.
 float LightEnergy(float ds, float cosTheta) {
     float b = uAbsorption;
     float powder = 2.0 * (1.0 - Beer(b, 2.0 * ds));

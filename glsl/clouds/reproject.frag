@@ -13,6 +13,16 @@
 //     3×3 block neighbourhood, which bounds ghosting; with everything still it is exact already,
 //     and clamping would only blur it (the clamp is measured by the bench).
 // Without a history (first frame, resize) the caller marches at full resolution instead.
+// Failure cases guarded:
+//   * a ray parallel to the base plane (|dir.y| < 1e-6) or missing the shell, or a camera
+//     inside / above the layer: a nominal 5 km entry distance (inside the shell: the far root,
+//     at least 1 m) — the reprojection depth is then only approximate;
+//   * reprojected point behind the previous camera (clip.w ≤ 0) or off its screen, and
+//     disocclusion (scene distance changed by more than 5 % + 1 m): the fresh upsampled sample;
+//   * sky in both frames (distance 1e30) is not a disocclusion; dot(dir, forward) is floored at
+//     1e-4 in the depth-to-distance conversion.
+// Remaining: the history is reprojected at the container entry, so cloud detail deep in the
+// layer smears slightly under fast camera motion (the clamp bounds it).
 // =============================================================================================
 #include "camera.glsl"
 

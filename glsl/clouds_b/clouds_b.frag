@@ -1,12 +1,12 @@
 #version 330 core
 // =============================================================================================
-// Cloud Model B, view march (spec/000 §1.6; thesis annex A.7/A.8, the fragment program of
+// Cloud Model B, view march (spec/000 §1.6; spec/000 §A.7 and §A.8, the fragment program of
 // "Clouds.shader"). The model (density, phase, light march) and its header are in
 // clouds_b_model.glsl.
 //
 // Output: rgb = lightEnergy · SunColor (the in-scattered light), a = transmittance. The effect
 // composites it over the scene with blending, out = background·a + rgb — the thesis's
-//   (A.8)  return float4(background·transmittance + lightEnergy·_SunColor, 1)
+//   §A.8   return float4(background·transmittance + lightEnergy·_SunColor, 1)
 // without reading the target it writes (see glsl/common/layer_composite.frag).
 //
 // Depth: the thesis's depth = LinearEyeDepth(depth)·|viewVector| with viewVector.z = −1, i.e.
@@ -63,7 +63,7 @@ void main() {
             lightEnergy += density * stepSize * transmittance * lightTransmittance * phaseValue
                          * CloudsBPowder(density);
             transmittance *= CloudsBBeer(density * stepSize * uLightAbsortionCloud);
-            if (transmittance < 0.01) break;  // early exit (A.7)
+            if (transmittance < 0.01) break;  // early exit (spec/000 §A.7)
         }
         dstTravelled += stepSize;
     }

@@ -1,13 +1,13 @@
 // =============================================================================================
-// Cloud Model B — the maritime thesis's volumetric clouds (spec/000-maritime.md §1.6; thesis
-// annex A.3–A.8, "Clouds.shader", after Schneider, "The real-time volumetric cloudscapes of
+// Cloud Model B — the maritime thesis's volumetric clouds (spec/000 §1.6; the thesis's annex
+// code listings of "Clouds.shader", after Schneider, "The real-time volumetric cloudscapes of
 // Horizon: Zero Dawn", SIGGRAPH'15). A box of cloud ray-marched at a fixed step.
 //
-// Equations (thesis numbers where it gives them, listing lines otherwise):
-//   (A.4)   rayBoxDistance: tmin = (boxMin − o)/d, tmax = (boxMax − o)/d, t1 = min, t2 = max,
+// Equations (thesis numbers where it gives them, annex listings otherwise):
+//   §A.4    rayBoxDistance: tmin = (boxMin − o)/d, tmax = (boxMax − o)/d, t1 = min, t2 = max,
 //           dstA = max(t1.x, t1.y, t1.z), dstB = min(t2.x, t2.y, t2.z),
 //           dstToBox = max(0, dstA), dstInsideBox = max(0, dstB − dstToBox)
-//   (A.4/5) sampleDensity(p):
+//   §A.4, §A.5  sampleDensity(p):
 //           samplePos = (halfSize + p)·CloudScale·0.001
 //           edgeWeight = min(min(Fade, dist to x walls), min(Fade, dist to z walls)) / Fade
 //           gradient = GradientNoise(planar xz uv of the box).r
@@ -17,13 +17,13 @@
 //           volumeDensity = volumeFBM + DensityThreshold·0.1
 //           if volumeDensity > 0:  detailFBM = dot(DetailNoise(samplePos + CloudOffset·0.2).rgb, W_d/ΣW_d)
 //              density = volumeDensity − (1 − detailFBM)·(1 − volumeFBM)³·DetailNoiseMultiplier·DensityMultiplier
-//   (3.1)   HG(cos θ, g) = (1 − g²) / (4π·(1 + g² − 2g·cos θ)^{3/2})
-//   (A.3)   phase(cos α) = P.z + P.w·(0.5·HG(cos α, P.x) + 0.5·HG(cos α, −P.y)),
+//   spec/000 eq. 3.1  HG(cos θ, g) = (1 − g²) / (4π·(1 + g² − 2g·cos θ)^{3/2})
+//   §A.3    phase(cos α) = P.z + P.w·(0.5·HG(cos α, P.x) + 0.5·HG(cos α, −P.y)),
 //           P = (Forward Scattering, Back Scattering, Base Brightness, Phase Factor)
-//   (3.2)   Beer(d) = exp(−d)            (3.3)  Powder(d) = 1 − exp(−2d)
-//   (A.6)   lightAtPos(p): march NumStepsLight midpoints from p to the box wall toward the sun,
+//   spec/000 eq. 3.2  Beer(d) = exp(−d);   spec/000 eq. 3.3  Powder(d) = 1 − exp(−2d)
+//   §A.6    lightAtPos(p): march NumStepsLight midpoints from p to the box wall toward the sun,
 //           T = exp(−τ·LightAbsortionSun), return DarknessThreshold + T·(1 − DarknessThreshold)
-//   (A.7/8) main march: E += ρ·step·T·lightAtPos·phase·Powder(ρ); T *= exp(−ρ·step·LightAbsortionCloud);
+//   §A.7, §A.8  main march: E += ρ·step·T·lightAtPos·phase·Powder(ρ); T *= exp(−ρ·step·LightAbsortionCloud);
 //           break when T < 0.01; output = background·T + E·SunColor
 //
 // Fixes against the thesis (spec/000 §1.6 and §5):
@@ -42,7 +42,7 @@
 //  * the main loop has a step cap (uMaxSteps) so a huge box cannot hang the GPU.
 // Failure cases left as the thesis has them: fixed-step banding (no jitter); powder takes the
 // density, not the optical depth; a step larger than the cloud features skips them.
-// Numpy twins: app/sim/clouds_maritime.py.
+// Numpy twins: app/sim/clouds_b.py.
 // =============================================================================================
 #include "math.glsl"
 #include "phase.glsl"
@@ -52,7 +52,7 @@ uniform vec3 uBoundsMin;               // @param (-1500, 1000, -1500) [-100000, 
 uniform vec3 uBoundsMax;               // @param (1500, 1400, 1500) [-100000, 100000] step=10 unit=m §1.6 _BoundsMax: cloud container, upper corner
 uniform float uCloudScale;             // @param 0.6 [0.01, 20] step=0.01 §1.6 Cloud Scale: noise tiles per km (samplePos = (halfSize + p)·scale·0.001)
 uniform float uDensityThreshold;       // @param -5 [-100, 10] step=0.05 §1.6 Density Threshold: added ×0.1 to the base shape (negative thins the clouds)
-uniform float uDensityMultiplier;      // @param 1 [0, 10] step=0.05 §1.6 Density Multiplier: weight of the detail erosion (A.4 line 26)
+uniform float uDensityMultiplier;      // @param 1 [0, 10] step=0.05 §1.6 Density Multiplier: weight of the detail erosion (§A.4 line 26)
 uniform float uDetailNoiseMultiplier;  // @param 0.5 [0, 10] step=0.05 §1.6 _DetailNoiseMultiplier: strength of the detail noise
 uniform float uContainerEdgeFadeDst;   // @param 200 [0.001, 100000] step=10 unit=m §1.6 Container Edge Fade: distance from the x/z walls over which density fades in
 uniform vec4 uVolumeNoiseWeight;       // @param (1, 0.48, 0.15, 0) [0, 10] step=0.01 §1.6 Volume Noise Weights: weight of each channel of the volume noise
@@ -76,8 +76,8 @@ uniform sampler3D uDetailNoise;   // detail noise, RGB (+ A = 1)
 uniform sampler2D uGradientNoise; // GradientSimulator's 2D coverage map, R used
 
 
-// (A.4) Distances along d to the box and through it: (dstToBox, dstInsideBox). d need not be
-// unit length (distances are in units of |d|); a zero component is allowed.
+// spec/000 §A.4, distances along d to the box and through it: (dstToBox, dstInsideBox). d need
+// not be unit length (distances are in units of |d|); a zero component is allowed.
 vec2 CloudsBRayBoxDistance(vec3 boundsMin, vec3 boundsMax, vec3 origin, vec3 dir) {
     vec2 t = RayBoxIntersect(origin, dir, boundsMin, boundsMax);
     float dstToBox = max(0.0, t.x);
@@ -97,16 +97,16 @@ vec2 CloudsBRayBoxDistanceThesis(vec3 boundsMin, vec3 boundsMax, vec3 origin, ve
     return vec2(dstToBox, max(0.0, dstB - dstToBox));
 }
 
-// (A.3) Two lobes blended 50/50, scaled by the phase factor, on the base brightness.
+// spec/000 §A.3: two lobes blended 50/50, scaled by the phase factor, on the base brightness.
 float CloudsBPhase(float cosAlpha) {
     float blend = 0.5;
-    float hg = HenyeyGreenstein(cosAlpha, uForwardScattering) * (1.0 - blend)  // (eq. 3.1)
+    float hg = HenyeyGreenstein(cosAlpha, uForwardScattering) * (1.0 - blend)  // spec/000 eq. 3.1
              + HenyeyGreenstein(cosAlpha, -uBackScattering) * blend;
     return uBaseBrightness + hg * uPhaseFactor;
 }
 
-float CloudsBBeer(float d) { return exp(-d); }                 // (eq. 3.2)
-float CloudsBPowder(float d) { return 1.0 - exp(-2.0 * d); }   // (eq. 3.3)
+float CloudsBBeer(float d) { return exp(-d); }                 // spec/000 eq. 3.2
+float CloudsBPowder(float d) { return 1.0 - exp(-2.0 * d); }   // spec/000 eq. 3.3
 
 float CloudsBRemap(float v, float a, float b, float c, float d) {
     return c + (v - a) * (d - c) / (b - a);
@@ -135,7 +135,7 @@ float CloudsBCoverage(vec3 p) {
     return texture(uGradientNoise, uv).r;
 }
 
-// (A.4/A.5) sampleDensity.
+// spec/000 §A.4, §A.5: sampleDensity.
 float CloudsBSampleDensity(vec3 p) {
     vec3 size = uBoundsMax - uBoundsMin;
     vec3 halfSize = size * 0.5;
@@ -159,7 +159,7 @@ float CloudsBSampleDensity(vec3 p) {
     return 0.0;
 }
 
-// (A.6) lightAtPos: transmittance toward the sun from p, floored at the darkness threshold.
+// spec/000 §A.6, lightAtPos: transmittance toward the sun from p, floored at the darkness threshold.
 // towardSun: unit vector from the scene toward the sun (the thesis's L = −_SunDir).
 float CloudsBLightAtPos(vec3 p, vec3 towardSun) {
     float dIn;

@@ -1,6 +1,6 @@
 // Direction of a cubemap texel, OpenGL face order +X, -X, +Y, -Y, +Z, -Z (GL spec table 8.19).
 // st in [-1, 1]^2 is the face coordinate with t growing downward in the stored image.
-// Twin: cubemap_face_direction in app/effects/sky.py.
+// Twin: cubemap_face_direction in app/sim/sky.py.
 vec3 CubemapFaceDirection(int face, vec2 st) {
     float s = st.x, t = st.y;
     vec3 d;

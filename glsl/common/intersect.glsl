@@ -1,5 +1,5 @@
 // =============================================================================================
-// Ray intersections with boxes and spheres (spec/001 §1.9 and Annex C; spec/000 annex A.4;
+// Ray intersections with boxes and spheres (spec/001 §1.9 and Annex C; spec/000 §A.4;
 // spec/002 §2.4 item 2): distances t along origin + t·dir.
 //
 // Failure cases guarded: axis-parallel rays (a direction component below 1e-20 in magnitude is

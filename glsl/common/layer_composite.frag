@@ -1,7 +1,8 @@
 #version 330 core
 // Compositing a participating-medium layer (both cloud models: spec/001 §1.7 "mixed with the sky
-// colour", spec/000 §1.6; issue 5 item 3): RGBA = (in-scattered radiance, premultiplied; view
-// transmittance T), over what the scene already drew (app/effects/layer.py draws it). The pass runs with blending
+// colour", spec/000 §1.6; the clouds as a separate layer over any scene is beyond the theses):
+// RGBA = (in-scattered radiance, premultiplied; view transmittance T), over what the scene
+// already drew (app/render/layers.py draws it). The pass runs with blending
 // (ONE, SRC_ALPHA) on colour and (ZERO, ONE) on alpha:
 //     out.rgb = layer.rgb + layer.a · scene.rgb,   out.a = scene.a
 // so where the clouds miss (rgb = 0, T = 1) the scene's value is kept exactly (criteria D2,

@@ -1,8 +1,10 @@
-// Small shared helpers. Twins in app/glsl_twins.py where tests need them.
+// Small shared helpers. Twins where tests need them: saturate is sat in app/sim/clouds.py;
+// SmoothStepDown(hi, lo, x) is smoothstep(hi, lo, x) in app/sim/sky.py.
 const float PI = 3.14159265358979;
 const float TWO_PI = 6.28318530717959;
 const float HALF_PI = 1.57079632679490;
 
+// spec/001 eq. 4.2: Sat(v) = clamp(v, 0, 1)
 float saturate(float x) { return clamp(x, 0.0, 1.0); }
 vec3 saturate(vec3 x) { return clamp(x, 0.0, 1.0); }
 

@@ -1,27 +1,30 @@
 // Fractal sums of noise: fBm, turbulence, inverted-Worley fBm and Perlin-Worley, each with a
 // tileable variant for bakes.
 //
-// Sources: fBm, spec/001 §1.1 eq. (3.1)/(3.2) (after Quilez); turbulence, Perlin 1985 (sum of
-// |noise|); Perlin-Worley, Schneider, "The real-time volumetric cloudscapes of Horizon: Zero
-// Dawn", SIGGRAPH 2015 (spec/001 §1.1 [INFERENCE] note: remap(perlin, worley - 1, 1, 0, 1);
-// table "Shape", channel R). The maritime thesis's weather map is a Perlin fBm
-// (spec/000 §1.6, GradientSimulator). Numpy twin: app/noise/fractal.py.
+// Sources: fBm, spec/001 §1.1, spec/001 eq. 3.1 and spec/001 eq. 3.2 (after Quilez);
+// turbulence, Perlin 1985 (sum of |noise|); Perlin-Worley, Schneider, "The real-time
+// volumetric cloudscapes of Horizon: Zero Dawn", SIGGRAPH 2015 (spec/001 §1.1 [INFERENCE]
+// note: remap(perlin, worley - 1, 1, 0, 1); table "Shape", channel R). The maritime thesis's
+// weather map is a Perlin fBm (spec/000 §1.6, GradientSimulator). Numpy twin:
+// app/sim/noise/fractal.py.
 // Needs noise_perlin.glsl and noise_worley.glsl (included here).
 //
 // Octave sums
 // -----------
 // With amplitudes a_0 = 1, a_i = G a_{i-1} (gain G) and frequencies f_0 = 1, f_i = L f_{i-1}
-// (lacunarity L); for a Hurst exponent H, G = L^-H (eq. 3.1 has L = 2, G = 2^-H, "usually
-// 1/2"; the Python side converts H):
+// (lacunarity L); for a Hurst exponent H, G = L^-H (spec/001 eq. 3.1 has L = 2, G = 2^-H,
+// "usually 1/2"; the Python side converts H):
 //
-//     Fbm(p)        = sum_{i<n} a_i noise(f_i p)               / sum_{i<n} a_i     (3.2)
+//     Fbm(p)        = sum_{i<n} a_i noise(f_i p)               / sum_{i<n} a_i
+//                                                            (normalised spec/001 eq. 3.2)
 //     Turbulence(p) = sum_{i<n} a_i |noise(f_i p)|             / sum_{i<n} a_i
 //     WorleyFbm(p)  = sum_{i<n} a_i (1 - clamp(F1(f_i p),0,1)) / sum_{i<n} a_i  in [0, 1]
 //
-// The division by sum a_i (eq. 3.2 is the bare sum) keeps each sum in its base noise's range:
-// one octave is exactly the base noise (spec/001 B5), and Perlin-Worley gets known ranges.
+// The division by sum a_i (spec/001 eq. 3.2 is the bare sum) keeps each sum in its base
+// noise's range: one octave is exactly the base noise (spec/001 B5), and Perlin-Worley gets
+// known ranges.
 //
-// Perlin-Worley (the exact formula, also in app.noise.fractal.perlin_worley_remap):
+// Perlin-Worley (the exact formula, also in app.sim.noise.fractal.perlin_worley_remap):
 //
 //     P  = clamp(0.5 + 0.5 PerlinFbm(p), 0, 1),   W = WorleyFbm(p)
 //     PW = clamp(remap(P, W - 1, 1, 0, 1), 0, 1) = clamp((P + 1 - W) / (2 - W), 0, 1)
@@ -38,7 +41,8 @@
 //   16 octaves of L = 2 float32 cannot resolve the detail anyway).
 // * High octaves multiply p: keep |p f_{n-1}| below ~2^16 (see noise_perlin.glsl).
 // * Integer lacunarity puts every octave's lattice through the integer points, where Perlin
-//   noise is 0 — so PerlinFbm is 0 at integer p (a property of eq. 3.1, kept for fidelity).
+//   noise is 0 — so PerlinFbm is 0 at integer p (a property of spec/001 eq. 3.1, kept for
+//   fidelity).
 // * The Perlin permutation texture (uPerlinPermutation) selects the Perlin seed; Worley sums
 //   take the uint seed argument; all octaves share them.
 
@@ -51,7 +55,7 @@
 
 int FbmOctaves(int octaves) { return clamp(octaves, 1, FBM_MAX_OCTAVES); }
 
-// ---- Perlin fBm and turbulence -------------------------------------------------------------
+// ---- Perlin fBm (spec/001 eq. 3.2, normalised) and turbulence ------------------------------
 
 float PerlinFbm3(vec3 p, int octaves, float lacunarity, float gain) {
     float sum = 0.0, norm = 0.0, amplitude = 1.0, frequency = 1.0;
@@ -150,7 +154,7 @@ float PerlinTurbulence2Periodic(vec2 p, ivec2 period, int octaves, int lacunarit
     return sum / norm;
 }
 
-// ---- inverted-Worley fBm -------------------------------------------------------------------
+// ---- inverted-Worley fBm (spec/001 eq. 3.2 over the inverted F1, normalised) ---------------
 
 float WorleyFbm3(vec3 p, int octaves, float lacunarity, float gain, uint seed) {
     float sum = 0.0, norm = 0.0, amplitude = 1.0, frequency = 1.0;

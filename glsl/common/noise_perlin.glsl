@@ -2,9 +2,9 @@
 //
 // Source: K. Perlin, "Improving Noise", SIGGRAPH 2002 — cited by the cloud thesis
 // (spec/001 §1.1, [35]) as the fix for fully random gradients, and by the maritime thesis
-// (spec/000 §1.6) for its Perlin weather map. Numpy twin: app/noise/gradient.py (perlin3,
+// (spec/000 §1.6) for its Perlin weather map. Numpy twin: app/sim/noise/gradient.py (perlin3,
 // perlin2, perlin3_periodic, perlin2_periodic), which reproduces Perlin's reference
-// ImprovedNoise to the last bit; tests/test_noise_gradient.py compares the two.
+// ImprovedNoise to the last bit; the gradient-noise tests compare the two.
 //
 // The model
 // ---------
@@ -35,7 +35,7 @@
 // and its mirror images); for the 2D set it is exactly 1 (cell centre, all four gradients
 // pointing at it). A given permutation stays below these bounds.
 //
-// The permutation lives in a texture the application binds (app/noise/gpu.py,
+// The permutation lives in a texture the application binds (app/render/noise.py,
 // GradientNoiseTextures): 256 x 1 R32F, texel i = P[i], read with texelFetch (no filtering).
 // Seed None or 0 is Perlin's own table; other seeds are numpy default_rng(seed).permutation.
 //
@@ -81,7 +81,7 @@ float PerlinGradient3(int hash, vec3 d) {
     return ((h & 1) == 0 ? u : -u) + ((h & 2) == 0 ? v : -v);
 }
 
-// The 2D gradient set, indexed by h & 7 (app.noise.gradient.GRADIENTS2).
+// The 2D gradient set, indexed by h & 7 (app.sim.noise.gradient.GRADIENTS2).
 const float PERLIN_SQRT2 = 1.41421356237310;
 const vec2 kPerlinGradients2[8] = vec2[8](
     vec2(PERLIN_SQRT2, 0.0), vec2(1.0, 1.0), vec2(0.0, PERLIN_SQRT2), vec2(-1.0, 1.0),

@@ -1,6 +1,6 @@
 // =============================================================================================
 // The procedural-wood thesis's lattice value noise, exactly as documented
-// (spec/004-procedural-wood.md §1.5–1.6; thesis §4.2 and §5.5–5.7).
+// (spec/004 §1.5–1.6; thesis §4.2 and §5.5–5.7).
 //
 //   hash  getPixel(i):  f = (i / 256) mod 1
 //                       pix = T(f.xy);  pix = T((pix.rg + f.yz) mod 1);  pix = T((pix.rg + f.zx) mod 1)
@@ -13,7 +13,7 @@
 //
 // Failure cases guarded: negative coordinates (floor-based wrap, no seam at 0); indices that
 // reach 256 (wrapped by the mod); depth outside 1…8 (clamped).
-// Twin: app/noise/value.py.
+// Twin: app/sim/noise/value.py.
 // =============================================================================================
 
 uniform sampler2D uValueNoiseTex;  // 256×256 RGBA8, texelFetch only

@@ -3,7 +3,7 @@
 // Source: S. Worley, "A cellular texture basis function", SIGGRAPH 1996 — the cloud thesis's
 // shape and detail channels (spec/001 §1.1, Worley [50], table "Shape"/"Detail", criteria
 // B2-B4) and the maritime thesis's NoiseSimulator (spec/000 §1.6: tileable, 9 / 27
-// neighbour cells, "the same point distribution shifted"). Numpy twin: app/noise/cellular.py
+// neighbour cells, "the same point distribution shifted"). Numpy twin: app/sim/noise/cellular.py
 // (worley3, worley2, worley3_periodic, worley2_periodic, ...).
 //
 // The model

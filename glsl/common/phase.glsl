@@ -3,7 +3,8 @@
 // steradian, as a function of cos θ between the light's travel direction and the view ray
 // (cos θ = 1: looking into the light). Each integrates to 1 over the sphere.
 //
-//   Henyey–Greenstein   (1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2})            (spec/001 eq. 4.19)
+//   Henyey–Greenstein   (1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2})            (spec/001 eq. 4.19,
+//                                                                             spec/000 eq. 3.1)
 //   Rayleigh            3/(16π) (1 + cos² θ)                                  (spec/002 §1.2)
 //   Cornette–Shanks     3(1 − g²)(1 + cos² θ) / (8π (2 + g²)(1 + g² − 2g cos θ)^{3/2})
 //                                                                            (spec/002 §1.2)
@@ -15,7 +16,8 @@
 // =============================================================================================
 #include "math.glsl"
 
-// spec/001 eq. 4.19, in 1/sr (g > 0 forward, g < 0 backward scattering)
+// spec/001 eq. 4.19 (the same function is spec/000 eq. 3.1), in 1/sr (g > 0 forward, g < 0
+// backward scattering)
 float HenyeyGreenstein(float cosTheta, float g) {
     float g2 = g * g;
     float denom = max(1.0 + g2 - 2.0 * g * ClampCosine(cosTheta), 1e-6);

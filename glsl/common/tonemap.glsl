@@ -1,5 +1,5 @@
-// Tone mapping for display. Twin: app/imageio.py (tonemap, linear_to_srgb); PNG files use the
-// twin, the window uses this file, tests/test_gl_core.py checks they agree.
+// Tone mapping for display. Twin: app/colour.py (tonemap, linear_to_srgb); PNG files use the
+// twin, the window uses this file, and a GL test of the display pass checks they agree.
 // Modes: 0 = ACES filmic (Narkowicz 2015 fit), 1 = Reinhard x/(1+x), 2 = clamp,
 // 3 = exponential 1 − e^(−x) (O'Neil's exposure, spec/002 §1.6).
 

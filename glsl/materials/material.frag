@@ -8,6 +8,14 @@
 // noise; BAKED_NOISE reads the wood's distortion noise from a 3D texture baked over the object's
 // box (wood_noise_bake.*) instead of evaluating it per pixel — the speed/accuracy trade the
 // bench measures.
+// Equations: the thesis numbers none; the wood is its ring function C∘g∘w (spec/004 §1.4,
+// wood.glsl), the noise its value noise (spec/004 §1.5, common/noise_value.glsl).
+// Failure cases guarded: ring aliasing under minification (uFilterRings box-filters the ring
+// over the pixel footprint from dFdx/dFdy of the radius; a zero footprint falls back to the
+// unfiltered ring); the thesis's colours are sRGB-authored and are linearised before lighting;
+// the interpolated normal is renormalised, and there is no highlight on faces turned from the
+// light. BAKED_NOISE is exact only at texel centres (trilinear between them) and clamps to the
+// edge outside the object box [-0.5, 0.5]³.
 // =============================================================================================
 #include "math.glsl"
 #include "material_noise.glsl"

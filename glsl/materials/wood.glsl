@@ -1,6 +1,6 @@
 // =============================================================================================
 // Wood growth rings as a volumetric procedural texture — procedural-wood thesis
-// (spec/004-procedural-wood.md §1.4, §1.6, §1.7; thesis §4.1 and ch. 5).
+// (spec/004 §1.4, §1.6, §1.7; thesis §4.1 and ch. 5).
 //
 //   noiseCoords  = pos · NoiseGridSize.xyz · NoiseGridSize.w
 //   distor       = (octaves(noiseCoords, RecDepth) − 0.5) · DistorFactor.xyz · DistorFactor.w

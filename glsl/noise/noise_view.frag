@@ -8,6 +8,12 @@
 // Values are written so that a PNG (clamp tone map) shows them unchanged.
 // Views: 0 shape, 1 detail, 2 weather, 3 Perlin, 4 Worley F1, 5 Worley F2 − F1, 6 Perlin fBm,
 // 7 turbulence, 8 Perlin–Worley, 9 value noise (thesis).
+// Equations: the fBm views are the normalised spec/001 eq. 3.2 (noise_fbm.glsl); the value
+// noise is spec/004 §1.5 (noise_value.glsl).
+// Failure cases: live functions use their periodic variants on fract(uv), so a seam between
+// tiles means broken tiling, not a display artefact — but the period is int(uScale), so a
+// fractional scale shows a seam by construction; octave counts are clamped by the noise
+// library; values outside [0, 1] (Perlin beyond ±1) are clamped by the sRGB round trip.
 // =============================================================================================
 #include "noise_fbm.glsl"
 #include "noise_value.glsl"

@@ -4,7 +4,8 @@
 // (spectrum_evolve.glsl):  fields0 = (η, λD_x, λD_z, ∂η/∂x),
 // fields1 = (∂η/∂z, λ∂D_x/∂x, λ∂D_z/∂z, λ∂D_x/∂z), from
 //
-//   c(k, x) = h(k,t)·e^{i k·x},  h(k,t) = h₀(k)e^{iωt} + conj h₀(−k)e^{−iωt}  (eq. 2.11 fixed)
+//   c(k, x) = h(k,t)·e^{i k·x},  h(k,t) = h₀(k)e^{iωt} + conj h₀(−k)e^{−iωt}
+//                                                             (spec/000 eq. 2.11, conjugate fixed)
 //   η = Σ Re c,  λD_x = Σ −λ(k_x/k) Im c,  ∂η/∂x = Σ −k_x Im c,  λ∂D_x/∂x = Σ −λ(k_x²/k) Re c, …
 //
 // Cost O(N²·modes) per cascade: for N ≤ 128 (benches, tests) only.

@@ -1,11 +1,12 @@
-// Spectrum evolution of the Tessendorf ocean — spec/000 §1.1(d)–(e), thesis eq. 2.11 with the
-// conjugate erratum fixed (Tessendorf 2001, eq. 26), and the packing of the eight field spectra
+// Spectrum evolution of the Tessendorf ocean — spec/000 §1.1(d)–(e), spec/000 eq. 2.11 with the
+// conjugate erratum fixed (Tessendorf 2001 eq. 26), and the packing of the eight field spectra
 // into four complex numbers for the inverse FFT; one cascade (one band of |k|) per pass.
-// h₀(k) is eq. 2.10 as corrected in app/sim/ocean.py (factor ½, Ψ sampled at −k), computed on
-// the CPU; ω(k) = sqrt(g·k·tanh(k·d)) (tanh, not the thesis's tan) in float64 on the CPU.  Numpy twin: app/sim/ocean.py
-// (evolve_amplitudes, synthesize).  Shared by spectrum_evolve.comp/.frag and direct_sum.*.
+// h₀(k) is spec/000 eq. 2.10 as corrected in app/sim/ocean.py (factor ½, Ψ sampled at −k),
+// computed on the CPU; ω(k) = sqrt(g·k·tanh(k·d)) (tanh, not the thesis's tan) in float64 on
+// the CPU.  Numpy twin: app/sim/ocean.py (evolve_amplitudes, synthesize).  Shared by
+// spectrum_evolve.comp/.frag and direct_sum.*.
 //
-//   h(k,t) = h₀(k)·e^{iωt} + conj(h₀(−k))·e^{−iωt}            (eq. 2.11, conjugate restored)
+//   h(k,t) = h₀(k)·e^{iωt} + conj(h₀(−k))·e^{−iωt}   (spec/000 eq. 2.11, conjugate restored)
 //
 // Field spectra (λ = choppiness, k = |k|; 1/k is 0 at k = 0):
 //   F0 = h (η)            F1 = iλ(k_x/k)h (λD_x)      F2 = iλ(k_z/k)h (λD_z)
@@ -44,7 +45,8 @@ vec2 ExpTwoPiINuT(vec2 nu, vec2 t) {
     return vec2(cos(angle), sin(angle));
 }
 
-// Eq. 2.11 (corrected): amp = (h₀(k), conj h₀(−k)), e = e^{iωt}.
+// spec/000 eq. 2.11 (corrected, Tessendorf 2001 eq. 26): amp = (h₀(k), conj h₀(−k)),
+// e = e^{iωt}.
 vec2 EvolvedAmplitude(vec4 amp, vec2 e) {
     return ComplexMul(amp.xy, e) + ComplexMul(amp.zw, vec2(e.x, -e.y));
 }

@@ -3,6 +3,14 @@
 // Normals come per pixel from the wave model at the interpolated rest point, filtered for the
 // pixel footprint. Seen from below (the camera under a wave), Snell's window shows the scene
 // behind (sky and clouds, a copy of the target) and total internal reflection the water.
+// Equations (in waves.glsl): the sine normal spec/000 eq. 2.2, the Gerstner tangents
+// spec/000 eq. 2.7 and spec/000 eq. 2.8 crossed as B × T (spec/000 eq. 2.4), the FFT normal
+// from the spectral slopes of spec/000 eq. 2.11 (§1.1(d)).
+// Failure cases guarded: normal aliasing at a distance (the footprint, floored at 1e-4 m,
+// removes the waves the pixel cannot show and hands their slope variance to the glitter);
+// a back face seen from above at grazing angles is a depth-test near-tie, not the underside
+// (only uViewMode decides, per pixel near the surface: the waterline); the refracted lookup
+// into the scene copy is clamped to the screen; negative radiance is clamped to 0.
 in vec2 vOff;
 in vec3 vRel;
 in float vHeight;

@@ -4,10 +4,12 @@
 // Rest points are given relative to the camera (off), and every phase that depends on the absolute
 // position is folded on the CPU in float64 (uSinePhase, uGerstnerB.y, uCascadeUV.xy), so float32
 // holds at any distance from the origin.
-//   0 = sine (eqs. 2.1–2.4): η = A·sin(k·D·x + ωt + φ), no horizontal motion, analytic normal
-//       (−kA·cos·D_x, 1, −kA·cos·D_z)/‖·‖ — the 1D normal of eq. 2.2 turned to the wind.
-//   1 = Gerstner (eqs. 2.5, 2.7, 2.8): P = x + Σ(D·A·cos f, A·sin f), f = k·D·x − ωt + φ; the
-//       normal is B × T (eq. 2.4 prints T × B, which points down in a right-handed y-up frame);
+//   0 = sine (spec/000 §1.1(a)): η = A·sin(k·D·x + ωt + φ), no horizontal motion, analytic
+//       normal (−kA·cos·D_x, 1, −kA·cos·D_z)/‖·‖ — the 1D normal of spec/000 eq. 2.2 turned to
+//       the wind.
+//   1 = Gerstner (spec/000 eq. 2.5, spec/000 eq. 2.7, spec/000 eq. 2.8): P = x + Σ(D·A·cos f,
+//       A·sin f), f = k·D·x − ωt + φ; the normal is B × T (spec/000 eq. 2.4 prints T × B, which
+//       points down in a right-handed y-up frame);
 //       foam where the horizontal Jacobian det ∂(X,Z)/∂(x,z) falls below the threshold (loops: < 0).
 //   2 = FFT (Tessendorf; §1.1(d)–(e)): up to four cascades of displacement (λD_x, η, λD_z, J),
 //       derivative (η_x, η_z, λD_x,x, λD_z,z) and foam textures, summed; normal by the thesis's
@@ -77,6 +79,7 @@ vec3 OceanDisplacement(vec2 off, float spacing) {
         float f = uSine.z * dot(uSine.xy, off) + uSinePhase.x * uTime + uSinePhase.y;
         d = vec3(0.0, uSine.w * sin(f), 0.0);
     } else if (uWaveModel == 1) {
+        // spec/000 eq. 2.5: the Gerstner position, summed over the waves
         for (int i = 0; i < uGerstnerCount; ++i) {
             vec4 a = uGerstnerA[i];
             float f = a.z * dot(a.xy, off) - uGerstnerB[i].x * uTime + uGerstnerB[i].y;
@@ -126,11 +129,12 @@ void OceanSurface(vec2 off, float footprint, out vec3 n, out float foam, out flo
         float keep = WaveKeep(TWO_PI / uSine.z, footprint);
         float s0 = uSine.z * uSine.w;
         float s = s0 * cos(f) * keep;
+        // spec/000 eq. 2.2, turned to the wave direction D
         n = normalize(vec3(-s * uSine.x, 1.0, -s * uSine.y));
         lostMss = 0.5 * s0 * s0 * (1.0 - keep * keep);
     } else if (uWaveModel == 1) {
-        vec3 t = vec3(1.0, 0.0, 0.0);  // eq. 2.7
-        vec3 b = vec3(0.0, 0.0, 1.0);  // eq. 2.8
+        vec3 t = vec3(1.0, 0.0, 0.0);  // spec/000 eq. 2.7
+        vec3 b = vec3(0.0, 0.0, 1.0);  // spec/000 eq. 2.8
         for (int i = 0; i < uGerstnerCount; ++i) {
             vec4 a = uGerstnerA[i];
             float f = a.z * dot(a.xy, off) - uGerstnerB[i].x * uTime + uGerstnerB[i].y;
@@ -141,6 +145,7 @@ void OceanSurface(vec2 off, float footprint, out vec3 n, out float foam, out flo
             b += vec3(-a.x * a.y * s * sf, a.y * s * cf, -a.y * a.y * s * sf);
             lostMss += 0.5 * uGerstnerB[i].z * uGerstnerB[i].z * (1.0 - keep * keep);
         }
+        // spec/000 eq. 2.4, as B × T (upward in a right-handed y-up frame)
         n = normalize(cross(b, t));
         float jac = t.x * b.z - t.z * b.x;
         foam = clamp((uFoamThreshold - jac) / max(uFoamWidth, 1e-3), 0.0, 1.0);

@@ -12,6 +12,15 @@
 // Output is linear radiance Color_out + Color_in; the thesis's exposure 1 − e^(−pupil·x) (§1.6)
 // is applied by the output tone map with the pupil factor computed per frame on the CPU.
 // Debug views (the thesis's figures): 1 = in-scattering on black, 2 = out-scattering on white.
+// Equations: the thesis numbers none; out- and in-scattering are spec/002 §1.4 and §1.5,
+// discretised as in §1.7 (atmosphere/inscatter.glsl), the sun's optical depth via §1.8's LUT.
+// Failure cases: method 1 keeps the thesis's own (the unclipped segment and its black horizon
+// band; rays into space end at uUniverseRadius); methods 2–4 guard rays that miss or only
+// graze the atmosphere (an empty or behind-the-camera segment: no in-scattering, T = 1); the
+// asin of the star lookup is clamped; float32 at planet scale: G-buffer positions are
+// camera-relative and the Earth centre relative to the camera comes from the CPU in double
+// precision; the analytic ground takes no shadow-map depth bias (it cannot shadow itself, see
+// GroundColor).
 // =============================================================================================
 #include "atmosphere/model.glsl"
 #include "camera.glsl"

@@ -7,6 +7,11 @@
 //   normal map, specular (N·H)^n; shadows enter as diffuse = min(shadow, diffuse) (§3.4).
 // Beyond the thesis: sunlight reaching the surface is attenuated by the transmittance toward
 // the sun (from the optical-depth LUT), so surfaces redden at sunset like the sky does.
+// Equations: the thesis numbers none (spec/002 §3.3, §3.4).
+// Failure cases guarded: shadow acne on surfaces turned from the sun (the bias grows with
+// 1 − N·L); a tangent not perpendicular to the normal (Gram–Schmidt before the normal map);
+// no specular highlight on faces turned away from the sun; a sun below this point's horizon
+// with no air (β = 0 lets the LUT transmit through the planet): the planet test zeroes it.
 // =============================================================================================
 #include "atmosphere/model.glsl"
 #include "atmosphere/optical_depth_lut.glsl"

@@ -2,6 +2,10 @@
 // Meshes of the planet scene (mountains, city block) in the local tangent frame at the scene
 // origin; positions are made camera-relative here (spec/002 §2.1: `obj` = model-space position,
 // here relative to the camera so float32 holds up from the ground to space).
+// Equations: none (the transform of spec/002 §2.1).
+// Failure cases guarded: float32 precision at planet scale — the camera's local position
+// comes from the CPU and positions are camera-relative before the rotation-only view ×
+// projection; normals and tangents are passed unnormalised (the fragment stage normalises).
 in vec3 in_position;
 in vec3 in_normal;
 in vec3 in_tangent;

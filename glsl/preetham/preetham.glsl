@@ -1,18 +1,20 @@
 // =============================================================================================
-// Preetham analytic daylight — cloud thesis (spec/001-clouds.md §1.8: the sky behind the clouds
+// Preetham analytic daylight — cloud thesis (spec/001 §1.8: the sky behind the clouds
 // is three.js Sky.js, "obtained from" Preetham, Shirley & Smits 1999, "A practical analytic
-// model for daylight", SIGGRAPH'99). This file is the paper's own model (its eq. 3–4 and
-// appendix A.2), not Sky.js's Rayleigh/Mie approximation.
+// model for daylight", SIGGRAPH'99). This file is the paper's own model (Preetham 1999 eq. 3,
+// Preetham 1999 eq. 4 and its appendix A.2), not Sky.js's Rayleigh/Mie approximation.
 //
 // For a view direction at zenith angle θ and angle γ from the sun (sun zenith angle θs):
-//   (eq. 3)  F(θ, γ) = (1 + A·exp(B / cos θ)) · (1 + C·exp(D·γ) + E·cos²γ)       Perez et al.
-//   (eq. 4)  Y = Y_z · F(θ, γ) / F(0, θs), and likewise x, y with their own A..E
-//   (A.2)    A..E = slope·T + offset, T = turbidity (table of distribution coefficients)
-//   (A.2)    Y_z = (4.0453·T − 4.9710)·tan χ − 0.2155·T + 2.4192   [kcd/m²],
+//   Preetham 1999 eq. 3:
+//            F(θ, γ) = (1 + A·exp(B / cos θ)) · (1 + C·exp(D·γ) + E·cos²γ)       Perez et al.
+//   Preetham 1999 eq. 4:
+//            Y = Y_z · F(θ, γ) / F(0, θs), and likewise x, y with their own A..E
+//   §A.2     A..E = slope·T + offset, T = turbidity (table of distribution coefficients)
+//   §A.2     Y_z = (4.0453·T − 4.9710)·tan χ − 0.2155·T + 2.4192   [kcd/m²],
 //            χ = (4/9 − T/120)·(π − 2θs)
-//   (A.2)    x_z = [T² T 1]·M_x·[θs³ θs² θs 1]ᵀ,  y_z = [T² T 1]·M_y·[θs³ θs² θs 1]ᵀ
+//   §A.2     x_z = [T² T 1]·M_x·[θs³ θs² θs 1]ᵀ,  y_z = [T² T 1]·M_y·[θs³ θs² θs 1]ᵀ
 //   xyY → XYZ: X = x/y·Y, Z = (1 − x − y)/y·Y;  XYZ → linear sRGB (D65 matrix)
-//   (A.1)    sun colour = exp(−0.008735·λ^−4.08·m) · exp(−β·λ^−1.3·m), β = 0.04608·T − 0.04586,
+//   §A.1     sun colour = exp(−0.008735·λ^−4.08·m) · exp(−β·λ^−1.3·m), β = 0.04608·T − 0.04586,
 //            m = 1/(cos θs + 0.15·(93.885 − θs°)^−1.253), λ = 0.68/0.55/0.44 μm for R/G/B
 //   output   = uExposure · twilight · (sky + sun disk)   (Y = 1 kcd/m² → 1.0 before exposure)
 //
@@ -39,7 +41,7 @@ const float PREETHAM_TWILIGHT_DEGREES = 6.0;
 
 struct PerezCoefficients { float A; float B; float C; float D; float E; };
 
-// (A.2) Distribution coefficients for luminance Y and chromaticities x, y.
+// Preetham 1999 §A.2: distribution coefficients for luminance Y and chromaticities x, y.
 PerezCoefficients PreethamCoefficientsY(float T) {
     return PerezCoefficients(0.1787 * T - 1.4630, -0.3554 * T + 0.4275, -0.0227 * T + 5.3251,
                              0.1206 * T - 2.5771, -0.0670 * T + 0.3703);
@@ -53,20 +55,21 @@ PerezCoefficients PreethamCoefficientsYChroma(float T) {
                              -0.0441 * T - 1.6537, -0.0109 * T + 0.0529);
 }
 
-// (eq. 3) Perez et al. sky distribution F(θ, γ), with the below-horizon guard on cos θ.
+// Preetham 1999 eq. 3: Perez et al. sky distribution F(θ, γ), with the below-horizon guard on
+// cos θ.
 float PreethamPerez(float cosTheta, float gamma, PerezCoefficients k) {
     float ct = max(cosTheta, PREETHAM_MIN_COS_THETA);
     float cg = cos(gamma);
     return (1.0 + k.A * exp(k.B / ct)) * (1.0 + k.C * exp(k.D * gamma) + k.E * cg * cg);
 }
 
-// (A.2) Zenith luminance Y_z in kcd/m².
+// Preetham 1999 §A.2: zenith luminance Y_z in kcd/m².
 float PreethamZenithLuminance(float T, float thetaS) {
     float chi = (4.0 / 9.0 - T / 120.0) * (PI - 2.0 * thetaS);
     return (4.0453 * T - 4.9710) * tan(chi) - 0.2155 * T + 2.4192;
 }
 
-// (A.2) Zenith chromaticity (x_z, y_z).
+// Preetham 1999 §A.2: zenith chromaticity (x_z, y_z).
 vec2 PreethamZenithChromaticity(float T, float thetaS) {
     vec3 t = vec3(T * T, T, 1.0);
     vec4 th = vec4(thetaS * thetaS * thetaS, thetaS * thetaS, thetaS, 1.0);
@@ -94,7 +97,7 @@ float PreethamTwilight(vec3 sunDir) {
     return smoothstep(-PREETHAM_TWILIGHT_DEGREES, 0.0, elevationDeg);
 }
 
-// (eq. 4) (x, y, Y) toward unit direction dir for turbidity T.
+// Preetham 1999 eq. 4: (x, y, Y) toward unit direction dir for turbidity T.
 vec3 PreethamSkyxyY(vec3 dir, vec3 sunDir, float T) {
     float thetaS;
     vec3 s = PreethamModelSun(sunDir, thetaS);
@@ -126,13 +129,13 @@ vec3 PreethamSkyRGB(vec3 dir, vec3 sunDir, float T) {
     return max(PreethamXYZToLinearSRGB(PreethamxyYToXYZ(PreethamSkyxyY(dir, sunDir, T))), vec3(0.0));
 }
 
-// (A.1) Relative optical mass m(θs), finite at θs = 90° (≈ 36.5).
+// Preetham 1999 §A.1: relative optical mass m(θs), finite at θs = 90° (≈ 36.5).
 float PreethamAirMass(float thetaS) {
     return 1.0 / (cos(thetaS) + 0.15 * pow(93.885 - degrees(thetaS), -1.253));
 }
 
-// (A.1) Sun colour through the atmosphere at λ = 680, 550, 440 nm (R, G, B): Rayleigh
-// exp(−0.008735·λ^−4.08·m) times aerosols exp(−β·λ^−1.3·m), β = 0.04608·T − 0.04586.
+// Preetham 1999 §A.1: sun colour through the atmosphere at λ = 680, 550, 440 nm (R, G, B):
+// Rayleigh exp(−0.008735·λ^−4.08·m) times aerosols exp(−β·λ^−1.3·m), β = 0.04608·T − 0.04586.
 vec3 PreethamSunTransmittance(float thetaS, float T) {
     const vec3 lambdaUm = vec3(0.680, 0.550, 0.440);
     float m = PreethamAirMass(thetaS);

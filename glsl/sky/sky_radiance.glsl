@@ -1,9 +1,12 @@
 // =============================================================================================
-// Procedural day–night sky — maritime thesis (spec/000-maritime.md §1.7; thesis annex B.1–B.4,
-// "ProceduralSkybox", after Unity's legacy procedural skybox).
+// Procedural day–night sky — maritime thesis (spec/000 §1.7; its annex B: the shader
+// properties of §B.1, then spec/000 eq. B.2, spec/000 eq. B.3 and spec/000 eq. B.4),
+// "ProceduralSkybox", after Unity's legacy procedural skybox.
 //
-// Radiance toward direction p is the additive sum of four terms (B.4, fragment shader):
-//   sun   = MiePhase(-f, f²) · SunIntensity · SunCol,  f = saturate(p·L_sun)^5          (B.2, B.3)
+// Radiance toward direction p is the additive sum of four terms (spec/000 eq. B.4, fragment
+// shader):
+//   sun   = MiePhase(-f, f²) · SunIntensity · SunCol,  f = saturate(p·L_sun)^5
+//                                                         (spec/000 eq. B.2, spec/000 eq. B.3)
 //           MiePhase(c, c²) = 1.5 · (1 − G²)/(2 + G²) · (1 + c²) / max(t^(SunSize^0.65·10), 1e-4),
 //           t = 1 + G² − 2G·c,  G = MIE_G = −0.99
 //   halo  = smoothstep(0.5, 1.5, p·L_sun) · SunCol · ScatteringIntensity · scatInt,
@@ -18,7 +21,7 @@
 //  * the 1e-4 clamp keeps the sun finite at its centre (peak 400.7 × SunCol at the defaults);
 //  * asin/atan2 arguments are clamped (a normalised vector can exceed 1 by rounding);
 //  * beyond the thesis (switchable): the Earth hides sun, moon and stars below the horizon.
-// Twin for tests: app/effects/sky.py (sun_term, halo_term, sky_radiance_numpy).
+// Twin for tests: app/sim/sky.py (mie_phase, sun_term, halo_term).
 // =============================================================================================
 #include "math.glsl"
 
@@ -46,7 +49,8 @@ uniform sampler2D uStarTex;
 uniform sampler2D uMoonTex;
 uniform float uGradientTexels;  // width of uSkyGradient
 
-// (B.2) Mie phase with the SunSize exponent; c = cos of the angle (with the sign flip of B.3).
+// spec/000 eq. B.2: Mie phase with the SunSize exponent; c = cos of the angle (with the sign
+// flip of spec/000 eq. B.3).
 float SkyMiePhase(float c, float c2) {
     float t = 1.0 + MIE_G2 - 2.0 * MIE_G * c;
     t = pow(max(t, 0.0), pow(uSunSize, 0.65) * 10.0);
@@ -54,7 +58,7 @@ float SkyMiePhase(float c, float c2) {
     return 1.5 * ((1.0 - MIE_G2) / (2.0 + MIE_G2)) * (1.0 + c2) / t;
 }
 
-// (B.3) calcSunAttenuation.
+// spec/000 eq. B.3: calcSunAttenuation.
 float SkySunAttenuation(vec3 p, vec3 towardSun) {
     float f = pow(saturate(dot(p, towardSun)), 5.0);
     return SkyMiePhase(-f, f * f);
@@ -67,7 +71,7 @@ vec3 SkyGradient(float elevationU) {
     return mix(a, b, uGradientMix);
 }
 
-// Radiance of the sky toward unit direction p (world space, y up).
+// spec/000 eq. B.4: radiance of the sky toward unit direction p (world space, y up).
 vec3 SkyRadiance(vec3 p) {
     vec2 sphereUV = vec2(atan(p.x, p.z) / TWO_PI, asin(ClampCosine(p.y)) / HALF_PI);
     float aboveHorizon = uHorizonOcclusion ? smoothstep(-0.01, 0.0, p.y) : 1.0;

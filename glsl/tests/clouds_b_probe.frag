@@ -1,7 +1,7 @@
 #version 330 core
-// Test probe for Cloud Model B (tests/test_clouds_b.py): evaluates the functions of
+// Test probe for Cloud Model B (used by the Model B tests): evaluates the functions of
 // glsl/clouds_b/clouds_b_model.glsl at the points of uPoints (one per pixel), so the tests
-// compare them with the numpy twins in app/sim/clouds_maritime.py.
+// compare them with the numpy twins in app/sim/clouds_b.py.
 //   uProbeMode 0: (CloudsBSampleDensity(p), envelope = height gradient · edge weight, 0, 0)
 //              1: (CloudsBLightAtPos(p, uProbeDir), 0, 0, 0)
 //              2: (CloudsBRayBoxDistance(uBoundsMin, uBoundsMax, p, uProbeDir), 0, 0)

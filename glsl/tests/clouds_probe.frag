@@ -1,7 +1,7 @@
 #version 330 core
-// Test probe for cloud model A (tests/test_clouds_a.py): evaluates the functions of
+// Test probe for cloud model A (used by the model A tests): evaluates the functions of
 // glsl/clouds/cloud_model.glsl per pixel on inputs read from three RGBA32F textures (A, B, C;
-// one test case per texel), so each can be compared with its numpy twin in app/effects/clouds.py.
+// one test case per texel), so each can be compared with its numpy twin in app/sim/clouds.py.
 //   uProbeMode 0: (RoundBottom(pa), RoundTop(pa, mca), DensityBottom(pa), DensityTop(pa)),  pa = A.x, mca = A.y
 //              1: (Remap(A.x, A.y, A.z, A.w, B.x), HeightFraction(B.y, B.z, B.w),
 //                  HeightDensity(C.x, C.y, C.z), saturate(C.w))

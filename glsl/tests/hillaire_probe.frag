@@ -1,5 +1,5 @@
 #version 330 core
-// Test probe for method 4 (tests/test_hillaire.py): evaluates the lookups of
+// Test probe for method 4 (used by the Hillaire tests): evaluates the lookups of
 // glsl/atmosphere/hillaire/hillaire_lookup.glsl per pixel of a small target, and a brute-force
 // reference of the same integral — uniform midpoint steps on the view ray, a nested midpoint
 // march toward the sun for T_sun (no transmittance LUT), the multiple-scattering source from the

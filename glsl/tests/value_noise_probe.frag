@@ -1,8 +1,8 @@
 #version 330 core
 // Test probe: evaluates the thesis's value noise at the points stored in uPoints (one per
-// pixel, RGB = x, y, z) and writes the result; tests/test_noise_value.py compares it with the
-// numpy twin. PROBE_DEPTH = 0 evaluates noise3, d ≥ 1 evaluates octaves(p, d); PROBE_PIXEL
-// evaluates getPixel at integer points.
+// pixel, RGB = x, y, z) and writes the result; the value-noise tests compare it with the
+// numpy twin (app/sim/noise/value.py). PROBE_DEPTH = 0 evaluates noise3, d ≥ 1 evaluates
+// octaves(p, d); PROBE_PIXEL evaluates getPixel at integer points.
 #include "noise_value.glsl"
 
 out vec4 fragColor;

@@ -54,7 +54,8 @@ def layer_of(module: str) -> str:
         return "render"
     if head in ("runtime", "imageio"):
         return "runtime"
-    raise ValueError(f"module {module} has no layer: add it to tests/unit/test_layers.py and docs/architecture.md")
+    raise ValueError(f"module {module} has no layer: add it to tests/unit/test_layers.py and "
+                     "docs/architecture.md")
 
 
 def module_name(path: Path) -> str:
@@ -68,7 +69,9 @@ def module_name(path: Path) -> str:
 def imports_of(path: Path) -> list[tuple[int, str]]:
     """(line, absolute module) of every import in the file, at any depth (lazy imports count)."""
     tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
-    package = module_name(path) if path.name == "__init__.py" else module_name(path).rpartition(".")[0]
+    package = module_name(path)
+    if path.name != "__init__.py":
+        package = package.rpartition(".")[0]
     out = []
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
@@ -99,7 +102,8 @@ def effect_package(module: str) -> str | None:
 
 def existing(module: str) -> bool:
     rel = Path(*module.split("."))
-    return (PROJECT_ROOT / rel).with_suffix(".py").is_file() or (PROJECT_ROOT / rel / "__init__.py").is_file()
+    return ((PROJECT_ROOT / rel).with_suffix(".py").is_file()
+            or (PROJECT_ROOT / rel / "__init__.py").is_file())
 
 
 def test_every_module_has_a_layer():
@@ -117,7 +121,8 @@ def test_no_module_imports_a_higher_layer():
                 continue
             there = layer_of(target)
             if there != here and there not in ALLOWED[here]:
-                bad.append(f"{path.relative_to(PROJECT_ROOT)}:{line}: {mod} ({here}) imports {target} ({there})")
+                bad.append(f"{path.relative_to(PROJECT_ROOT)}:{line}: {mod} ({here}) imports "
+                           f"{target} ({there})")
     assert not bad, "imports against the layers:\n" + "\n".join(bad)
 
 
@@ -137,7 +142,8 @@ def test_no_effect_imports_another_effect():
         for line, target in imports_of(path):
             theirs = effect_package(target)
             if theirs is not None and theirs != mine:
-                bad.append(f"{path.relative_to(PROJECT_ROOT)}:{line}: effect {mine!r} imports effect {theirs!r}")
+                bad.append(f"{path.relative_to(PROJECT_ROOT)}:{line}: effect {mine!r} imports "
+                           f"effect {theirs!r}")
     assert not bad, "effects meet through frame slots, never by import:\n" + "\n".join(bad)
 
 
@@ -149,11 +155,13 @@ def test_no_effect_reaches_into_the_scene():
             if not isinstance(node, ast.Attribute):
                 continue
             on_self = isinstance(node.value, ast.Name) and node.value.id == "self"
-            if (node.attr == "scene" and on_self) or node.attr in ("has_effect", "effect", "active_instances"):
+            lookup = node.attr in ("has_effect", "effect", "active_instances")
+            if (node.attr == "scene" and on_self) or lookup:
                 bad.append(f"{path.relative_to(PROJECT_ROOT)}:{node.lineno}: .{node.attr}")
     assert not bad, "\n".join(bad)
 
 
 def test_the_walker_sees_relative_and_lazy_imports():
     found = {mod for _, mod in imports_of(APP / "effects" / "ocean" / "sea.py")}
-    assert {"app.sim.ocean", "app.effects.ocean.params", "app.effects.ocean.fft"} <= found  # fft: lazy
+    # the FFT simulation is imported lazily, inside a method
+    assert {"app.sim.ocean", "app.effects.ocean.params", "app.effects.ocean.fft"} <= found

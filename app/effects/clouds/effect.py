@@ -1,10 +1,12 @@
 """Volumetric clouds, model A: the cloud thesis (spec/001, after Häggström 2018 / Schneider 2015).
 
-GPU side: ``glsl/clouds/cloud_model.glsl`` (density eqs. 4.4–4.16 with the errata of §1.10
-fixed, lighting eqs. 4.18–4.23, ray–box and ray–sphere), ``cloud_march.frag`` (view march,
-light march, the speed options; its header has the whole per-pixel algorithm) and
-``glsl/common/layer_composite.frag`` (app/effects/layer.py). Most tunables are ``// @param`` uniforms of ``cloud_march.frag``
-(``clouds.coverage``, ``clouds.steps``, ...); the ones that need the CPU are declared here.
+GPU side: ``glsl/clouds/cloud_model.glsl`` (the density model of spec/001 §1.2, §1.3 and §1.4
+with the errata of spec/001 §1.10 fixed, the lighting model of spec/001 §1.7, ray–box and
+ray–sphere from ``glsl/common/intersect.glsl``), ``cloud_march.frag`` (view march, light march,
+the speed options; its header has the whole per-pixel algorithm) and
+``glsl/common/layer_composite.frag`` (app/render/layers.py). Most tunables are ``// @param``
+uniforms of ``cloud_march.frag`` (``clouds.coverage``, ``clouds.steps``, ...); the ones that
+need the CPU are declared here.
 
 Per frame:
 
@@ -41,8 +43,8 @@ stratocumulus, stratus and the lighting preset. Two ways to use them:
 The thesis's "save image" control is the window's screenshot key (P / F12) and ``natura
 render``; its "resolution" is the window size or ``--size``.
 
-The numpy twins at the end of the module are what tests/test_clouds_a.py compares the shader
-helpers with.
+The numpy twins of the shader helpers, which the tests compare them with, are in
+app/sim/clouds.py.
 """
 
 from __future__ import annotations
@@ -92,28 +94,33 @@ class Clouds(Effect):
     def python_params(cls) -> list[Param]:
         s = SPEC
         return [
-            Param("clouds.preset", "cumulus", doc="apply resources/presets/clouds-<name>.toml when chosen "
-                  "(custom: nothing; the weather map's contrast is part of each preset)", kind="choice", choices=PRESETS, section=f"{s} §2"),
-            Param("clouds.reprojection", "window", doc="temporal reprojection: march 1 pixel of each 4×4 block per "
-                  "frame, reproject the rest (window = in the interactive window only; single renders are "
-                  "always full)", kind="choice", choices=REPROJECTION_MODES, section="issue 5 item 5"),
-            Param("clouds.container", "box", doc="Cubo o esfera: an axis-aligned box or the shell between two "
-                  "spheres", kind="choice", choices=CONTAINERS, section=f"{s} §1.5"),
-            Param("clouds.sun_from_sky", True, doc="take the light from the frame (a sky's main light) when there "
-                  "is one; off: clouds.sun_direction/colour/intensity", kind="bool", section=f"{s} §1.8"),
-            Param("clouds.sun_direction", (0.0, 0.5, -1.0), -1.0, 1.0, "direction toward the light when not "
-                  "from the sky (normalised; the zero vector is refused)", kind="vec3", step=0.01,
-                  section=f"{s} §1.8"),
-            Param("clouds.sun_color", (1.0, 0.96, 0.9), 0.0, 1.0, "light colour when not from the sky",
-                  kind="color", section=f"{s} §1.8"),
-            Param("clouds.sun_intensity", 1.0, 0.0, 100.0, "light intensity when not from the sky", step=0.05,
-                  section=f"{s} §1.8"),
-            Param("clouds.wind_speed", 10.0, 0.0, 500.0, "Velocidad: wind speed (0: identical frames)", step=0.5,
-                  unit="m/s", section=f"{s} §2"),
-            Param("clouds.wind_dir_x", 1.0, -1.0, 1.0, "Dirección eje X: wind direction along world x",
-                  step=0.01, section=f"{s} §2"),
-            Param("clouds.wind_dir_y", 0.0, -1.0, 1.0, "Dirección eje Y: wind direction along world z",
-                  step=0.01, section=f"{s} §2"),
+            Param("clouds.preset", "cumulus", doc="apply resources/presets/clouds-<name>.toml when "
+                  "chosen (custom: nothing; the weather map's contrast is part of each preset)",
+                  kind="choice", choices=PRESETS, section=f"{s} §2"),
+            Param("clouds.reprojection", "window", doc="temporal reprojection: march 1 pixel of "
+                  "each 4×4 block per frame, reproject the rest (window = in the interactive "
+                  "window only; single renders are always full)", kind="choice",
+                  choices=REPROJECTION_MODES,
+                  section="beyond the thesis: temporal reprojection (Schneider 2015)"),
+            Param("clouds.container", "box", doc="Cubo o esfera: an axis-aligned box or the shell "
+                  "between two spheres", kind="choice", choices=CONTAINERS, section=f"{s} §1.5"),
+            Param("clouds.sun_from_sky", True, doc="take the light from the frame (a sky's main "
+                  "light) when there is one; off: clouds.sun_direction/colour/intensity",
+                  kind="bool", section=f"{s} §1.8"),
+            Param("clouds.sun_direction", (0.0, 0.5, -1.0), -1.0, 1.0, "direction toward the light "
+                  "when not from the sky (normalised; the zero vector is refused)", kind="vec3",
+                  step=0.01, section=f"{s} §1.8"),
+            Param("clouds.sun_color", (1.0, 0.96, 0.9), 0.0, 1.0,
+                  "light colour when not from the sky", kind="color", section=f"{s} §1.8"),
+            Param("clouds.sun_intensity", 1.0, 0.0, 100.0, "light intensity when not from the sky",
+                  step=0.05, section=f"{s} §1.8"),
+            Param("clouds.wind_speed", 10.0, 0.0, 500.0,
+                  "Velocidad: wind speed (0: identical frames)", step=0.5, unit="m/s",
+                  section=f"{s} §2"),
+            Param("clouds.wind_dir_x", 1.0, -1.0, 1.0,
+                  "Dirección eje X: wind direction along world x", step=0.01, section=f"{s} §2"),
+            Param("clouds.wind_dir_y", 0.0, -1.0, 1.0,
+                  "Dirección eje Y: wind direction along world z", step=0.01, section=f"{s} §2"),
         ] + bakes.bake_params()
 
     def __init__(self, gpu, params):
@@ -137,7 +144,8 @@ class Clouds(Effect):
         try:
             data = tomllib.loads(path.read_text(encoding="utf-8"))
         except FileNotFoundError:
-            raise ParamError(f"clouds.preset={name!r}: {path} is missing: allowed {', '.join(PRESETS)}") from None
+            raise ParamError(f"clouds.preset={name!r}: {path} is missing: allowed "
+                             f"{', '.join(PRESETS)}") from None
         done = []
         for group, table in data.items():
             if not isinstance(table, dict):
@@ -166,26 +174,28 @@ class Clouds(Effect):
             radiance = np.asarray(light.radiance, dtype=np.float64)
         else:
             direction = np.asarray(p["clouds.sun_direction"], dtype=np.float64)
-            radiance = np.asarray(p["clouds.sun_color"], dtype=np.float64) * p["clouds.sun_intensity"]
+            radiance = (np.asarray(p["clouds.sun_color"], dtype=np.float64)
+                        * p["clouds.sun_intensity"])
         norm = float(np.linalg.norm(direction))
         if not math.isfinite(norm) or norm < 1e-9:
-            raise ParamError(f"clouds.sun_direction={tuple(direction)!r} is the zero vector: allowed any non-zero "
-                             "direction")
+            raise ParamError(f"clouds.sun_direction={tuple(direction)!r} is the zero vector: "
+                             "allowed any non-zero direction")
         self.light_dir = direction / norm
         self.light_radiance = radiance
 
     def wind_offset_m(self, time: float) -> np.ndarray:
         """How far the clouds have moved at ``time``, metres along world (x, z)."""
         p = self.params
-        return p["clouds.wind_speed"] * float(time) * np.array([p["clouds.wind_dir_x"], p["clouds.wind_dir_y"]])
+        return p["clouds.wind_speed"] * float(time) * np.array([p["clouds.wind_dir_x"],
+                                                                  p["clouds.wind_dir_y"]])
 
     def uniforms(self, frame) -> dict:
         """Everything the march needs besides the ``@param`` uniforms."""
         p = self.params
         base, top = p["clouds.base_height"], p["clouds.max_height"]
         if top - base < 1.0:
-            raise ParamError(f"clouds.max_height={top:g} is not above clouds.base_height={base:g} by at least 1 m: "
-                             "allowed max_height ≥ base_height + 1")
+            raise ParamError(f"clouds.max_height={top:g} is not above clouds.base_height={base:g} "
+                             "by at least 1 m: allowed max_height ≥ base_height + 1")
         wind = self.wind_offset_m(frame.time)
         cam = frame.camera
         return {
@@ -201,7 +211,8 @@ class Clouds(Effect):
 
     # -- textures --------------------------------------------------------------------------
     def texture_for(self, kind: str):
-        cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake, "weather": bakes.WeatherBake}[kind]
+        cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake,
+               "weather": bakes.WeatherBake}[kind]
         before = self.bakes.last
         texture = self.bakes.get(cls.from_values(self.params.values(cls.group)))
         if self.bakes.last is not before:
@@ -214,7 +225,8 @@ class Clouds(Effect):
         if self._own_layer is None or self._own_layer.size != size:
             if self._own_layer is not None:
                 self.gpu.free(self._own_layer)
-            self._own_layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4", depth=False)
+            self._own_layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4",
+                                              depth=False)
         return self._own_layer
 
     @property
@@ -224,18 +236,20 @@ class Clouds(Effect):
 
     # -- passes ----------------------------------------------------------------------------
     def render_layer(self, frame, target) -> None:
-        with frame.image_for(target).depth_values() as depth:  # the march and the resolve read depth values, not comparisons
+        # the march and the resolve read depth values, not comparisons
+        with frame.image_for(target).depth_values() as depth:
             mode = self.params["clouds.reprojection"]
             if mode == "on" or (mode == "window" and frame.interactive):
                 if self._reprojection is None:
                     self._reprojection = TemporalReprojection(self.gpu, self.name)
                 p = self.params
                 resolve = {"uContainer": CONTAINERS.index(p["clouds.container"]),
-                           "uBaseHeight": p["clouds.base_height"], "uPlanetRadius": p["clouds.planet_radius"],
+                           "uBaseHeight": p["clouds.base_height"],
+                           "uPlanetRadius": p["clouds.planet_radius"],
                            "uCamNear": float(frame.camera.near), "uCamFar": float(frame.camera.far)}
-                self._layer = self._reprojection.step(frame, target.size,
-                                                      lambda t, sub: self.march(frame, target, t, sub),
-                                                      resolve, depth, moving=p["clouds.wind_speed"] > 0)
+                self._layer = self._reprojection.step(
+                    frame, target.size, lambda t, sub: self.march(frame, target, t, sub),
+                    resolve, depth, moving=p["clouds.wind_speed"] > 0)
             else:
                 self._layer = self.layer_for(target.size)
                 self.march(frame, target, self._layer, (-1, -1))
@@ -249,7 +263,8 @@ class Clouds(Effect):
         # all bakes first, then the bindings: a bake run now uses texture units of its own
         weather, shape, detail = (self.texture_for(kind) for kind in ("weather", "shape", "detail"))
         depth = frame.image_for(target).depth
-        prog.bind_textures({"uWeather": weather, "uShape": shape, "uDetail": detail, "uSceneDepth": depth})
+        prog.bind_textures({"uWeather": weather, "uShape": shape, "uDetail": detail,
+                            "uSceneDepth": depth})
         self.apply_params(prog)
         prog.set_many(frame.camera_uniforms())
         prog.set_many(self.uniforms(frame))

@@ -1,4 +1,4 @@
-"""Temporal reprojection of the cloud layer (issue 5 item 5; Schneider 2015): each frame marches
+"""Temporal reprojection of the cloud layer (beyond the thesis; Schneider 2015): each frame marches
 one pixel of every 4×4 block at quarter size and reprojects the other fifteen from the previous
 frame (``glsl/clouds/reproject.frag``: container-entry reprojection, off-screen and disocclusion
 rejection, neighbourhood clamp). Without a history — the first frame, a resize, a jump of the
@@ -58,14 +58,17 @@ class TemporalReprojection:
         if not self._pair or self._pair[0].size != size:
             for h in self._pair:
                 h.free(self.gpu)
-            self._pair = [_History(self.gpu, self.owner, size), _History(self.gpu, self.owner, size)]
+            self._pair = [_History(self.gpu, self.owner, size),
+                          _History(self.gpu, self.owner, size)]
             if self._low is not None:
                 self.gpu.free(self._low)
             low = ((size[0] + 3) // 4, (size[1] + 3) // 4)
-            self._low = self.gpu.target(self.owner, "cloud quarter march", low, dtype="f4", depth=False)
+            self._low = self.gpu.target(self.owner, "cloud quarter march", low, dtype="f4",
+                                        depth=False)
             self._prev_view_proj = None
 
-    def step(self, frame, size, march, resolve_uniforms: dict, scene_depth=None, moving: bool = False):
+    def step(self, frame, size, march, resolve_uniforms: dict, scene_depth=None,
+             moving: bool = False):
         """One frame. ``march(target, block_sub)`` draws the cloud layer into ``target`` —
         ``block_sub`` (-1, -1) for a full-size march, else the 4×4-block pixel to march.
         ``moving``: the clouds themselves move (wind): clamp the history even if the camera is
@@ -74,7 +77,8 @@ class TemporalReprojection:
         cam = frame.camera
         view_proj = cam.projection_matrix(frame.aspect) @ cam.view_matrix()
         position = np.asarray(cam.position, dtype=np.float64)
-        jumped = self._prev_position is not None and np.linalg.norm(position - self._prev_position) > 500.0
+        jumped = (self._prev_position is not None
+                  and np.linalg.norm(position - self._prev_position) > 500.0)
         have_history = self._prev_view_proj is not None and not jumped
         src, dst = self._pair[0], self._pair[1]
         if have_history:
@@ -96,7 +100,8 @@ class TemporalReprojection:
             "uHasSceneDepth": scene_depth is not None, "uSub": sub, "uFullFresh": not have_history,
             "uPrevViewProj": self._prev_view_proj if have_history else np.identity(4),
             "uClampHistory": bool(moving or not have_history
-                                  or not np.allclose(view_proj, self._prev_view_proj, rtol=0.0, atol=1e-9)),
+                                  or not np.allclose(view_proj, self._prev_view_proj, rtol=0.0,
+                                                     atol=1e-9)),
         })
         dst.fbo.use()
         self.gpu.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)

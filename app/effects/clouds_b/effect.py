@@ -1,7 +1,9 @@
-"""Cloud Model B: the maritime thesis's volumetric clouds (spec/000 §1.6, annex A.3–A.8).
+"""Cloud Model B: the maritime thesis's volumetric clouds (spec/000 §1.6; annex listings
+spec/000 §A.3, §A.4, §A.5, §A.6, §A.7, §A.8).
 
 A box of cloud ray-marched at a fixed step over the scene, with the thesis's inspector
-parameters (``clouds_b.*``, from the ``@param`` uniforms of ``glsl/clouds_b/clouds_b_model.glsl``):
+parameters (``clouds_b.*``, from the ``@param`` uniforms of
+``glsl/clouds_b/clouds_b_model.glsl``):
 container bounds and edge fade, cloud scale, density threshold and multipliers, volume and
 detail noise weights, the two-lobe phase (forward/back scattering, base brightness, phase
 factor), darkness threshold, light absorption toward the sun and through the cloud, light
@@ -30,7 +32,7 @@ How a scene composes it:
   blends it into the image: target = target·a + rgb (the thesis's background·transmittance +
   lightEnergy·SunColor). The target's alpha and depth are kept.
 
-The numpy twins of the shader functions are in :mod:`app.sim.clouds_maritime`.
+The numpy twins of the shader functions are in :mod:`app.sim.clouds_b`.
 """
 
 from __future__ import annotations
@@ -58,30 +60,31 @@ class CloudsB(Effect):
     spec = "spec/000"
     programs = (CLOUDS_B, LAYER_COMPOSITE)
     stages = (Stage.VOLUMES,)
-    consumes = {"main_light": "optional", "sun": "optional", "wind": "optional", "image": "optional"}
+    consumes = {"main_light": "optional", "sun": "optional", "wind": "optional",
+                "image": "optional"}
 
     @classmethod
     def python_params(cls) -> list[Param]:
         s = "spec/000 §1.6"
         return [
-            Param("clouds_b.volume_resolution", 132, 8, 256, "Volume Resolution: texels per side of the volume "
-                  "(shape) noise", kind="int", unit="texels", section=s),
-            Param("clouds_b.detail_resolution", 64, 8, 256, "Detail Resolution: texels per side of the detail noise",
-                  kind="int", unit="texels", section=s),
-            Param("clouds_b.gradient_resolution", 512, 8, 4096, "Resolution of GradientSimulator's coverage map",
-                  kind="int", unit="texels", section=s),
-            Param("clouds_b.cloud_offset", (0.0, 0.0, 0.0), -1.0e6, 1.0e6, "_CloudOffset at time 0 (noise units; "
-                  "the wind adds to it)", kind="vec3", step=0.01, section=s),
-            Param("clouds_b.wind_speed", 5.0, 0.0, 200.0, "wind speed: the base shape drifts this fast",
-                  step=0.5, unit="m/s", section=s),
-            Param("clouds_b.wind_direction", 90.0, 0.0, 360.0, "direction the wind blows toward: 0 = north (−z), "
-                  "90 = east (+x)", step=1.0, unit="°", section=s),
-            Param("clouds_b.sun_elevation", 35.0, -90.0, 90.0, "sun elevation when no effect before sets a light",
-                  step=0.1, unit="°", section=s),
-            Param("clouds_b.sun_azimuth", 135.0, 0.0, 360.0, "sun azimuth when no effect before sets a light "
-                  "(0 = north, 90 = east)", step=0.5, unit="°", section=s),
-            Param("clouds_b.sun_color", (1.0, 1.0, 1.0), 0.0, 100.0, "_SunColor when no effect before sets a light",
-                  kind="vec3", step=0.01, section=s),
+            Param("clouds_b.volume_resolution", 132, 8, 256, "Volume Resolution: texels per side "
+                  "of the volume (shape) noise", kind="int", unit="texels", section=s),
+            Param("clouds_b.detail_resolution", 64, 8, 256, "Detail Resolution: texels per side of "
+                  "the detail noise", kind="int", unit="texels", section=s),
+            Param("clouds_b.gradient_resolution", 512, 8, 4096, "Resolution of GradientSimulator's "
+                  "coverage map", kind="int", unit="texels", section=s),
+            Param("clouds_b.cloud_offset", (0.0, 0.0, 0.0), -1.0e6, 1.0e6, "_CloudOffset at time 0 "
+                  "(noise units; the wind adds to it)", kind="vec3", step=0.01, section=s),
+            Param("clouds_b.wind_speed", 5.0, 0.0, 200.0, "wind speed: the base shape drifts this "
+                  "fast", step=0.5, unit="m/s", section=s),
+            Param("clouds_b.wind_direction", 90.0, 0.0, 360.0, "direction the wind blows toward: 0 "
+                  "= north (−z), 90 = east (+x)", step=1.0, unit="°", section=s),
+            Param("clouds_b.sun_elevation", 35.0, -90.0, 90.0, "sun elevation when no effect "
+                  "before sets a light", step=0.1, unit="°", section=s),
+            Param("clouds_b.sun_azimuth", 135.0, 0.0, 360.0, "sun azimuth when no effect before "
+                  "sets a light (0 = north, 90 = east)", step=0.5, unit="°", section=s),
+            Param("clouds_b.sun_color", (1.0, 1.0, 1.0), 0.0, 100.0, "_SunColor when no effect "
+                  "before sets a light", kind="vec3", step=0.01, section=s),
         ]
 
     def __init__(self, gpu, params):
@@ -104,8 +107,8 @@ class CloudsB(Effect):
         """_CloudOffset at ``time_s``: base offset − wind·t·CloudScale·0.01, so the base shape
         (sampled at samplePos + offset·0.1, samplePos = (halfSize + p)·CloudScale·0.001) moves
         with the wind in metres per second."""
-        return twin.wind_offset(self.params["clouds_b.cloud_offset"], self.wind_velocity(frame), time_s,
-                                self.params["clouds_b.cloud_scale"])
+        return twin.wind_offset(self.params["clouds_b.cloud_offset"], self.wind_velocity(frame),
+                                time_s, self.params["clouds_b.cloud_scale"])
 
     def update(self, frame, dt: float) -> None:
         self.cloud_offset = self.offset_at(frame.time, frame)
@@ -138,7 +141,8 @@ class CloudsB(Effect):
         if self._layer is None or self._layer.size != tuple(size):
             if self._layer is not None:
                 self.gpu.free(self._layer)
-            self._layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4", depth=False)
+            self._layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4",
+                                          depth=False)
         return self._layer
 
     # -- passes ----------------------------------------------------------------------------
@@ -149,19 +153,22 @@ class CloudsB(Effect):
         layer = self.layer(target.size)
         # all bakes first, then the bindings: a bake run now uses texture units of its own
         shape, detail, weather = (self.texture(kind) for kind in ("shape", "detail", "weather"))
-        with frame.image_for(target).depth_values() as depth:  # the stored depth, not a shadow comparison
+        # the stored depth, not a shadow comparison
+        with frame.image_for(target).depth_values() as depth:
             self._march(frame, prog, layer, shape, detail, weather, depth)
 
     def _march(self, frame, prog, layer, shape, detail, weather, depth) -> None:
         ctx = self.gpu.ctx
-        prog.bind_textures({"uVolumeNoise": shape, "uDetailNoise": detail, "uGradientNoise": weather,
-                            "uSceneDepth": depth})
+        prog.bind_textures({"uVolumeNoise": shape, "uDetailNoise": detail,
+                            "uGradientNoise": weather, "uSceneDepth": depth})
         light_dir, light_color = self.light(frame)
         cam = frame.camera
         prog.set_many(frame.camera_uniforms())
         prog.set_many({
-            "uHasDepth": depth is not None, "uCameraNear": float(cam.near), "uCameraFar": float(cam.far),
-            "uLightDir": tuple(float(v) for v in light_dir), "uLightColor": tuple(float(v) for v in light_color),
+            "uHasDepth": depth is not None, "uCameraNear": float(cam.near),
+            "uCameraFar": float(cam.far),
+            "uLightDir": tuple(float(v) for v in light_dir),
+            "uLightColor": tuple(float(v) for v in light_color),
             "uCloudOffset": tuple(float(v) for v in self.cloud_offset),
             "uCoverageShift": tuple(float(v) for v in self.coverage_shift),
         })
@@ -175,7 +182,8 @@ class CloudsB(Effect):
 
     def passes(self, frame, target) -> list[Pass]:
         return [Pass("clouds_b.march", lambda: self.march(frame, target), Stage.VOLUMES),
-                Pass("clouds_b.composite", lambda: self.composite(frame, target), Stage.VOLUMES)]
+                Pass("clouds_b.composite", lambda: self.composite(frame, target),
+                     Stage.VOLUMES)]
 
     def read_layer(self) -> np.ndarray:
         """(h, w, 4) float32 of the last cloud layer: rgb in-scattered light, a transmittance."""

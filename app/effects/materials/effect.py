@@ -3,8 +3,8 @@ marble and granite, with a switch between the thesis's value noise and Perlin's 
 
 The thesis's property table (spec/004 §2) is the ``wood`` parameter group, with its names and
 defaults; each Vector property keeps its four components and its effective scale is xyz·w.
-The ring, noise and colour code is in ``glsl/materials/``; numpy twins of the wood chain are at
-the end of this module (tests compare them with the GPU).
+The ring, noise and colour code is in ``glsl/materials/``; numpy twins of the wood chain are in
+``app/sim/materials.py`` (tests compare them with the GPU).
 """
 
 from __future__ import annotations
@@ -29,7 +29,8 @@ MATERIAL = ProgramSpec("materials/material")
 MATERIAL_OBJECT_POS = ProgramSpec("materials/material", defines=(("OUTPUT_OBJECT_POSITION", 1),))
 MATERIAL_RADIUS = ProgramSpec("materials/material", defines=(("OUTPUT_RING_RADIUS", 1),))
 MATERIAL_BAKED = ProgramSpec("materials/material", defines=(("BAKED_NOISE", 1),))
-MATERIAL_BAKED_RADIUS = ProgramSpec("materials/material", defines=(("BAKED_NOISE", 1), ("OUTPUT_RING_RADIUS", 1)))
+MATERIAL_BAKED_RADIUS = ProgramSpec("materials/material",
+                                    defines=(("BAKED_NOISE", 1), ("OUTPUT_RING_RADIUS", 1)))
 WOOD_BAKE_COMPUTE = ProgramSpec("materials/wood_noise_bake", requires_compute=True)
 WOOD_BAKE_FRAGMENT = ProgramSpec("materials/wood_noise_bake", vert="common/fullscreen.vert",
                                  frag="materials/wood_noise_bake.frag")
@@ -39,7 +40,8 @@ LAYOUT = {
     "cube": (cube, (-1.45, 0.0, 0.0), ((1.0, 1.0, 0.0), 35.0)),
     "sphere": (uv_sphere, (0.0, 0.0, 0.0), ((0.0, 1.0, 0.0), 0.0)),
     "torus": (torus, (1.45, 0.0, 0.0), ((1.0, 0.0, 0.0), 55.0)),
-    "slice": (slice_quad, (0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), 0.0)),  # mesh built at materials.slice_y
+    # the slice's mesh is built at materials.slice_y
+    "slice": (slice_quad, (0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), 0.0)),
 }
 
 
@@ -64,67 +66,80 @@ class Materials(Effect):
     former_names = ("material",)
     title = "Procedural materials"
     spec = "spec/004"
-    programs = (MATERIAL, MATERIAL_OBJECT_POS, MATERIAL_RADIUS, MATERIAL_BAKED, MATERIAL_BAKED_RADIUS,
-                WOOD_BAKE_COMPUTE, WOOD_BAKE_FRAGMENT)
+    programs = (MATERIAL, MATERIAL_OBJECT_POS, MATERIAL_RADIUS, MATERIAL_BAKED,
+                MATERIAL_BAKED_RADIUS, WOOD_BAKE_COMPUTE, WOOD_BAKE_FRAGMENT)
     extra_groups = ("wood", "marble", "granite")
 
     @classmethod
     def python_params(cls) -> list[Param]:
         w = "spec/004 §2"
         return [
-            Param("materials.material", "wood", doc="which material: the thesis's wood, or marble / granite",
-                  kind="choice", choices=MATERIALS, section="spec/004 §1.4"),
-            Param("materials.noise", "value", doc="value = the thesis's lattice value noise; gradient = Perlin 2002",
-                  kind="choice", choices=NOISES, section="spec/004 §1.5"),
-            Param("materials.objects", "all", doc="which meshes to draw (slice = the y = 0 cross-section, fig. 7)",
-                  kind="choice", choices=OBJECTS),
-            Param("materials.filter_rings", False, doc="box-filter the ring edges over the pixel footprint (anti-aliasing)",
-                  kind="bool"),
-            Param("materials.lighting", False, doc="Blinn–Phong lighting (the thesis renders unlit)", kind="bool"),
-            Param("materials.light_dir", (0.5, 0.8, 0.45), -1.0, 1.0, "direction toward the light", kind="vec3"),
+            Param("materials.material", "wood", doc="which material: the thesis's wood, or "
+                  "marble / granite", kind="choice", choices=MATERIALS, section="spec/004 §1.4"),
+            Param("materials.noise", "value", doc="value = the thesis's lattice value noise; "
+                  "gradient = Perlin 2002", kind="choice", choices=NOISES, section="spec/004 §1.5"),
+            Param("materials.objects", "all", doc="which meshes to draw (slice = the y = 0 "
+                  "cross-section, fig. 7)", kind="choice", choices=OBJECTS),
+            Param("materials.filter_rings", False, doc="box-filter the ring edges over the pixel "
+                  "footprint (anti-aliasing)", kind="bool"),
+            Param("materials.lighting", False,
+                  doc="Blinn–Phong lighting (the thesis renders unlit)", kind="bool"),
+            Param("materials.light_dir", (0.5, 0.8, 0.45), -1.0, 1.0, "direction toward the light",
+                  kind="vec3"),
             Param("materials.light_color", (1.0, 1.0, 1.0), 0.0, 4.0, "light colour", kind="vec3"),
             Param("materials.ambient", 0.3, 0.0, 1.0, "ambient light"),
             Param("materials.specular", 0.15, 0.0, 1.0, "specular strength"),
             Param("materials.shininess", 32.0, 1.0, 512.0, "Blinn–Phong exponent"),
             Param("materials.spin", 0.0, 0.0, 360.0, "turntable speed", unit="deg/s"),
-            Param("materials.slice_y", 0.0, -0.5, 0.5, "height of the cross-section (objects = slice)", unit="object units",
-                  section="spec/004 §1.4"),
+            Param("materials.slice_y", 0.0, -0.5, 0.5, "height of the cross-section (objects = "
+                  "slice)", unit="object units", section="spec/004 §1.4"),
             # the thesis's property table (spec/004 §2), names and defaults as documented
             Param("wood.vol_tex_scale", (1.0, 1.0, 1.0, 10.0), 0.0, 1000.0,
-                  "_VolTexScale: scale before the ring texture (effective xyz·w; ring period 1/w)", kind="vec4", section=w),
+                  "_VolTexScale: scale before the ring texture (effective xyz·w; ring period 1/w)",
+                  kind="vec4", section=w),
             Param("wood.noise_grid_size", (0.2, 1.0, 1.0, 10.0), 0.0, 1000.0,
                   "_NoiseGridSize: lattice cells per object unit (xyz·w)", kind="vec4", section=w),
             Param("wood.distor_factor", (1.0, 1.0, 1.0, 0.5), 0.0, 100.0,
                   "_DistorFactor: scale of the distortion vector (xyz·w)", kind="vec4", section=w),
             Param("wood.texture_2d_image_size", (1.0, 1.0, 1.0, 256.0), 0.0, 4096.0,
                   "_Texture2DImageSize: wrap of the noise input (xyz·w)", kind="vec4", section=w),
-            Param("wood.inner_color", (0.75, 0.5, 0.25), 0.0, 1.0, "_InnerColor: innermost, lighter ring colour",
-                  kind="color", section=w, srgb=True),
-            Param("wood.outer_color", (0.5, 0.25, 0.0), 0.0, 1.0, "_OuterColor: outermost, darker ring colour",
-                  kind="color", section=w, srgb=True),
-            Param("wood.rec_depth", 3, 1, 8, "_RecDepth: octaves of the noise", kind="int", section=w),
-            Param("wood.noise_seed", 1, 0, 2**31 - 1, "seed of the 256×256 random noise source (_Noise)",
-                  kind="int", section=w),
+            Param("wood.inner_color", (0.75, 0.5, 0.25), 0.0, 1.0,
+                  "_InnerColor: innermost, lighter ring colour", kind="color", section=w,
+                  srgb=True),
+            Param("wood.outer_color", (0.5, 0.25, 0.0), 0.0, 1.0,
+                  "_OuterColor: outermost, darker ring colour", kind="color", section=w, srgb=True),
+            Param("wood.rec_depth", 3, 1, 8, "_RecDepth: octaves of the noise", kind="int",
+                  section=w),
+            Param("wood.noise_seed", 1, 0, 2**31 - 1,
+                  "seed of the 256×256 random noise source (_Noise)", kind="int", section=w),
             # marble and granite: beyond the thesis
             Param("marble.scale", 2.5, 0.01, 100.0, "frequency of the turbulence in object space"),
             Param("marble.vein_frequency", 2.0, 0.0, 50.0, "veins per object unit along x"),
             Param("marble.turbulence", 2.2, 0.0, 20.0, "how far turbulence pushes the veins"),
-            Param("marble.sharpness", 0.35, 0.05, 8.0, "exponent of the vein profile (small = thin dark veins)"),
+            Param("marble.sharpness", 0.35, 0.05, 8.0,
+                  "exponent of the vein profile (small = thin dark veins)"),
             Param("marble.octaves", 5, 1, 10, "octaves of turbulence", kind="int"),
-            Param("marble.base_color", (0.93, 0.92, 0.88), 0.0, 1.0, "marble colour", kind="color", srgb=True),
-            Param("marble.vein_color", (0.28, 0.3, 0.34), 0.0, 1.0, "vein colour", kind="color", srgb=True),
+            Param("marble.base_color", (0.93, 0.92, 0.88), 0.0, 1.0, "marble colour", kind="color",
+                  srgb=True),
+            Param("marble.vein_color", (0.28, 0.3, 0.34), 0.0, 1.0, "vein colour", kind="color",
+                  srgb=True),
             Param("granite.scale", 18.0, 0.01, 400.0, "frequency of the grains in object space"),
             Param("granite.octaves", 4, 1, 10, "octaves of fBm", kind="int"),
-            Param("granite.threshold", 0.22, 0.0, 1.0, "fBm level beyond which a grain is dark or light"),
-            Param("granite.dark_color", (0.12, 0.11, 0.11), 0.0, 1.0, "dark grains", kind="color", srgb=True),
-            Param("granite.matrix_color", (0.62, 0.56, 0.54), 0.0, 1.0, "matrix", kind="color", srgb=True),
-            Param("granite.light_color", (0.9, 0.88, 0.86), 0.0, 1.0, "light grains", kind="color", srgb=True),
+            Param("granite.threshold", 0.22, 0.0, 1.0,
+                  "fBm level beyond which a grain is dark or light"),
+            Param("granite.dark_color", (0.12, 0.11, 0.11), 0.0, 1.0, "dark grains", kind="color",
+                  srgb=True),
+            Param("granite.matrix_color", (0.62, 0.56, 0.54), 0.0, 1.0, "matrix", kind="color",
+                  srgb=True),
+            Param("granite.light_color", (0.9, 0.88, 0.86), 0.0, 1.0, "light grains", kind="color",
+                  srgb=True),
         ]
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
         self._meshes: dict[str, Mesh] = {}
-        self._value_tex = self.keyed(lambda seed: value_noise_texture(gpu, self.name, seed), release=gpu.free)
+        self._value_tex = self.keyed(lambda seed: value_noise_texture(gpu, self.name, seed),
+                                     release=gpu.free)
         self._gradient = None
 
     def meshes(self) -> list[tuple[str, Mesh]]:
@@ -134,7 +149,8 @@ class Materials(Effect):
         for n in names:
             key = (n, self.params["materials.slice_y"]) if n == "slice" else n
             if key not in self._meshes:
-                data = slice_quad(self.params["materials.slice_y"]) if n == "slice" else LAYOUT[n][0]()
+                data = (slice_quad(self.params["materials.slice_y"]) if n == "slice"
+                        else LAYOUT[n][0]())
                 self._meshes[key] = Mesh(self.gpu, self.name, data)
             out.append((n, self._meshes[key]))
         return out
@@ -177,7 +193,8 @@ class Materials(Effect):
                 value = p[prm.name]
                 if prm.srgb:
                     value = tuple(float(v) for v in srgb_to_linear(np.asarray(value)))
-                out["u" + group.capitalize() + "".join(s.capitalize() for s in prm.short.split("_"))] = value
+                out["u" + group.capitalize()
+                    + "".join(s.capitalize() for s in prm.short.split("_"))] = value
         # the thesis lerps the ring colours as display values (Unity's gamma colour space);
         # the shader converts the result to linear radiance
         out["uInnerColor"] = p["wood.inner_color"]
@@ -192,15 +209,16 @@ class Materials(Effect):
             prog.bind_textures(self._noise_textures())
             prog.set_many(self.uniforms())
 
-        result = bake_volume(self.gpu, self.name, f"wood noise {size}³", (size, size, size), WOOD_BAKE_COMPUTE,
-                             WOOD_BAKE_FRAGMENT, setup, use_compute)
+        result = bake_volume(self.gpu, self.name, f"wood noise {size}³", (size, size, size),
+                             WOOD_BAKE_COMPUTE, WOOD_BAKE_FRAGMENT, setup, use_compute)
         result.texture.repeat_x = result.texture.repeat_y = result.texture.repeat_z = False
         return result
 
     def draw(self, frame, target, spec: ProgramSpec = MATERIAL, view_proj: np.ndarray | None = None,
              baked=None) -> None:
-        """Draw the meshes; ``view_proj`` replaces the camera's (tests look at the slice from above);
-        ``baked`` is a noise volume from :meth:`bake_noise` for the BAKED_NOISE variants."""
+        """Draw the meshes; ``view_proj`` replaces the camera's (tests look at the slice from
+        above); ``baked`` is a noise volume from :meth:`bake_noise` for the BAKED_NOISE
+        variants."""
         ctx = self.gpu.ctx
         prog = self.program(spec)
         prog.bind_textures({**self._noise_textures(), "uBakedNoise": baked})

@@ -26,20 +26,25 @@ class Noise(Effect):
     name = "noise"
     title = "Noise lab"
     spec = "spec/001"
-    programs = (NOISE_VIEW,) + tuple(spec for p in bakes.PROGRAMS.values() for spec in (p.compute, p.fragment))
+    programs = (NOISE_VIEW,) + tuple(spec for p in bakes.PROGRAMS.values()
+                                     for spec in (p.compute, p.fragment))
     extra_groups = ("bake_shape", "bake_detail", "bake_weather")
     stages = (Stage.BACKGROUND,)
 
     @classmethod
     def python_params(cls) -> list[Param]:
         return [
-            Param("noise.view", "shape", doc="what to show: a bake (shape, detail, weather) or a live function",
-                  kind="choice", choices=VIEWS, section="spec/001 §1.1"),
-            Param("noise.channel", "r", doc="channel of a bake (rgb: all three)", kind="choice", choices=CHANNELS),
-            Param("noise.slice", 0.0, 0.0, 1.0, "z of the slice through a volume or a live 3D function"),
+            Param("noise.view", "shape", doc="what to show: a bake (shape, detail, weather) or a "
+                  "live function", kind="choice", choices=VIEWS, section="spec/001 §1.1"),
+            Param("noise.channel", "r", doc="channel of a bake (rgb: all three)", kind="choice",
+                  choices=CHANNELS),
+            Param("noise.slice", 0.0, 0.0, 1.0,
+                  "z of the slice through a volume or a live 3D function"),
             Param("noise.animate", False, doc="move the slice through the volume", kind="bool"),
-            Param("noise.tiles", 2.0, 1.0, 8.0, "repeats across the screen height (seams would show here)"),
-            Param("noise.scale", 4.0, 1.0, 32.0, "lattice cells per tile of the live functions", step=1.0),
+            Param("noise.tiles", 2.0, 1.0, 8.0,
+                  "repeats across the screen height (seams would show here)"),
+            Param("noise.scale", 4.0, 1.0, 32.0, "lattice cells per tile of the live functions",
+                  step=1.0),
             Param("noise.octaves", 4, 1, 8, "octaves of the live fractal sums", kind="int"),
         ] + bakes.bake_params()
 
@@ -49,7 +54,8 @@ class Noise(Effect):
         self._extra: dict[str, object] = {}  # value-noise table, permutation textures
 
     def texture_for(self, kind: str):
-        cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake, "weather": bakes.WeatherBake}[kind]
+        cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake,
+               "weather": bakes.WeatherBake}[kind]
         return self.bakes.get(cls.from_values(self.params.values(cls.group)))
 
     @property
@@ -82,10 +88,12 @@ class Noise(Effect):
             if "gradient" not in self._extra:
                 self._extra["gradient"] = GradientNoiseTextures(self.gpu, self.name)
             textures.update(self._extra["gradient"].textures(None))
-        # every sampler gets a unit of its own, bound or not: two sampler types on one unit fail the draw
+        # every sampler gets a unit of its own, bound or not: two sampler types on one unit fail
+        # the draw
         prog.bind_textures(textures)
         prog.set_many({
-            "uView": VIEWS.index(view), "uChannel": CHANNELS.index(p["noise.channel"]), "uSlice": p["noise.slice"],
+            "uView": VIEWS.index(view), "uChannel": CHANNELS.index(p["noise.channel"]),
+            "uSlice": p["noise.slice"],
             "uTiles": p["noise.tiles"], "uAspect": frame.aspect, "uScale": p["noise.scale"],
             "uOctaves": p["noise.octaves"],
         })

@@ -1,7 +1,7 @@
-"""The open sea of the maritime thesis (spec/000 §1.1–1.3): three wave models switchable live —
-sine (eqs. 2.1–2.4), a sum of Gerstner waves (eqs. 2.5–2.8) and the cascaded FFT ocean
-(Tessendorf; §1.1(d)–(e)) — rendered with the sky's reflection probe, the main light's glitter,
-foam, an underwater view, and water-height queries for floating objects.
+"""The open sea of the maritime thesis (spec/000 §1.1, §1.2, §1.3): three wave models switchable
+live — sine (spec/000 §1.1(a)), a sum of Gerstner waves (spec/000 §1.1(c)) and the cascaded FFT
+ocean (Tessendorf; spec/000 §1.1(d) and (e)) — rendered with the sky's reflection probe, the
+main light's glitter, foam, an underwater view, and water-height queries for floating objects.
 
 What lives where (``app/effects/ocean/``)
 * ``effect.py`` — the effect: per-frame update, the surface and underwater passes, panel notes;
@@ -40,7 +40,7 @@ from .uniforms import OceanUniforms
 SURFACE = ProgramSpec("ocean/surface")
 FAR = fullscreen("ocean/far")
 UNDERWATER = fullscreen("ocean/underwater")
-# the GPU simulation's programs (app/effects/ocean_fft.py, app/gpu/fft.py), listed so that
+# the GPU simulation's programs (app/effects/ocean/fft.py, app/gpu/fft.py), listed so that
 # `natura shaders check` compiles them and their @param annotations are found
 SIMULATION = (
     ProgramSpec("ocean/spectrum_evolve", comp="ocean/spectrum_evolve.comp", requires_compute=True),
@@ -48,7 +48,8 @@ SIMULATION = (
     ProgramSpec("ocean/direct_sum", comp="ocean/direct_sum.comp", requires_compute=True),
     ProgramSpec("ocean/fft_radix2", comp="ocean/fft_radix2.comp", requires_compute=True,
                 defines=(("FFT_N", 256), ("FFT_HALF_N", 128), ("FFT_LOG2N", 8))),
-    fullscreen("ocean/spectrum_evolve"), fullscreen("ocean/ocean_finalize"), fullscreen("ocean/direct_sum"),
+    fullscreen("ocean/spectrum_evolve"), fullscreen("ocean/ocean_finalize"),
+    fullscreen("ocean/direct_sum"),
     ProgramSpec("ocean/fft_stage", vert="common/fullscreen.vert", frag="ocean/fft_stage.frag",
                 defines=(("FFT_COUNT", 2),)),
 )
@@ -106,8 +107,10 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         if model == "fft":
             self._ensure_fft()
             thresholds = self.foam_thresholds()
-            self.sim.update(frame.time, p["ocean.choppiness"], dt, foam_threshold=[t for t, _ in thresholds],
-                            foam_decay_time=p["ocean.foam_decay"], foam_width=[w for _, w in thresholds])
+            self.sim.update(frame.time, p["ocean.choppiness"], dt,
+                            foam_threshold=[t for t, _ in thresholds],
+                            foam_decay_time=p["ocean.foam_decay"],
+                            foam_width=[w for _, w in thresholds])
             self.sim.request_readback()
             got = self.sim.poll_readback()  # the previous frame's request: no stall
             if got is not None:
@@ -141,10 +144,11 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         return self._flat_env
 
     LESSONS = {
-        "sine": "Sine (eqs. 2.1–2.4): one wave with analytic normals — cheap, but it repeats "
+        "sine": "Sine (spec/000 §1.1(a)): one wave with analytic normals — cheap, but it repeats "
                 "every wavelength and a lone sine never looks like the sea.",
-        "gerstner": "Gerstner (eqs. 2.5–2.8): waves drawn from the spectrum, crests sharpened by "
-                    "horizontal motion; each wave's steepness s = k·A must stay ≤ 1 or the crests loop.",
+        "gerstner": "Gerstner (spec/000 §1.1(c)): waves drawn from the spectrum, crests sharpened "
+                    "by horizontal motion; each wave's steepness s = k·A must stay ≤ 1 or the "
+                    "crests loop.",
         "fft": "FFT (Tessendorf): every wave of the spectrum on a grid, per cascade; choppy "
                "displacement, foam where the Jacobian folds; tiles repeat only at their size.",
     }
@@ -152,14 +156,15 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     def panel_notes(self) -> list[str]:
         model = self.params["ocean.model"]
         lines = [self.LESSONS[model]]
-        lines.append(f"Hs {self.significant_height():.2f} m · slope variance {self.resolved_mss:.4f} "
-                     f"(Cox–Munk {self.cox_munk_mss():.4f})")
+        lines.append(f"Hs {self.significant_height():.2f} m · slope variance "
+                     f"{self.resolved_mss:.4f} (Cox–Munk {self.cox_munk_mss():.4f})")
         if model == "fft" and self.sim is not None:
-            lines.append(f"N {self.fft_size()} × {len(self.patch_sizes())} cascades ({self.sim.path}); "
-                         f"queries lag one frame (t = {self.query_time if self.query_time is not None else '—'})")
+            lines.append(f"N {self.fft_size()} × {len(self.patch_sizes())} cascades "
+                         f"({self.sim.path}); queries lag one frame (t = "
+                         f"{self.query_time if self.query_time is not None else '—'})")
         if self.mesh.built:
-            lines.append(f"mesh: {self.drawn_triangles:,} of {self.mesh_triangles:,} triangles drawn"
-                         + ("; camera under water" if self.underwater else ""))
+            lines.append(f"mesh: {self.drawn_triangles:,} of {self.mesh_triangles:,} triangles "
+                         "drawn" + ("; camera under water" if self.underwater else ""))
         return lines
 
     # -- passes ----------------------------------------------------------------------------
@@ -216,11 +221,12 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         textures["uSceneCopy"] = scene_copy
         prog.bind_textures(textures)
         prog.set_many({"uViewProjRel": vp, "uCameraPos": tuple(frame.camera.position),
-                       "uViewport": tuple(float(s) for s in target.size), "uViewMode": self.view_mode(),
+                       "uViewport": tuple(float(s) for s in target.size),
+                       "uViewMode": self.view_mode(),
                        "uInvViewProjRel": np.linalg.inv(vp)})
         p = self.params
-        self.mesh.draw(prog, frame.camera, frame.aspect, p["ocean.mesh_segments"], p["ocean.mesh_inner"],
-                       p["ocean.mesh_extent"], p["ocean.mesh_cull"])
+        self.mesh.draw(prog, frame.camera, frame.aspect, p["ocean.mesh_segments"],
+                       p["ocean.mesh_inner"], p["ocean.mesh_extent"], p["ocean.mesh_cull"])
         if frame.camera.position[1] > 0.0:
             far = self.program(FAR)
             textures = self.wave_uniforms(far)
@@ -254,7 +260,8 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         stage = self.stage()
         out = [Pass("ocean.surface", lambda: self.render_surface(frame, target), stage)]
         if self.may_be_underwater():
-            out.append(Pass("ocean.underwater", lambda: self.render_underwater(frame, target), stage))
+            out.append(Pass("ocean.underwater", lambda: self.render_underwater(frame, target),
+                            stage))
         return out
 
     def bench_passes(self, frame, target) -> list[Pass]:
@@ -264,8 +271,9 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
             p = self.params
             thresholds = self.foam_thresholds()
             out.insert(0, Pass("ocean.simulate", lambda: self.sim.update(
-                frame.time, p["ocean.choppiness"], frame.dt, foam_threshold=[t for t, _ in thresholds],
-                foam_decay_time=p["ocean.foam_decay"], foam_width=[w for _, w in thresholds]), self.stage()))
+                frame.time, p["ocean.choppiness"], frame.dt,
+                foam_threshold=[t for t, _ in thresholds], foam_decay_time=p["ocean.foam_decay"],
+                foam_width=[w for _, w in thresholds]), self.stage()))
         return out
 
     def release(self) -> None:

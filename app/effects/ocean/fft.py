@@ -1,12 +1,12 @@
-"""The GPU side of the FFT ocean (Tessendorf 2001; spec/000 §1.1(d)–(e), §1.3): spectrum
+"""The GPU side of the FFT ocean (Tessendorf 2001; spec/000 §1.1(d), §1.1(e), §1.3): spectrum
 evolution, inverse FFT and the fields the surface samples, for 1–4 cascades.  The numpy
 reference is ``app/sim/ocean.py`` (``evolve_amplitudes``, ``synthesize``, ``foam_step``); the
-tests compare the two field by field (``tests/test_ocean_gpu.py``).
+tests compare the two field by field (``tests/**/test_ocean_gpu*.py``).
 
 Per frame, :meth:`GpuOceanSim.update` runs three stages (also callable one by one for benches,
 see :meth:`GpuOceanSim.stages`):
 
-1. **evolve** (``glsl/ocean/spectrum_evolve.*``) — eq. 2.11 with the conjugate restored,
+1. **evolve** (``glsl/ocean/spectrum_evolve.*``) — spec/000 eq. 2.11 with the conjugate restored,
    h(k,t) = h₀(k)e^{iωt} + conj h₀(−k)e^{−iωt}, and the eight field spectra (η, λD_x, λD_z,
    ∂η/∂x, ∂η/∂z, λ∂D_x/∂x, λ∂D_z/∂z, λ∂D_x/∂z) packed as four complex fields in two RGBA32F
    textures per cascade (each field's spectrum is Hermitian, so the packing is exact);
@@ -153,22 +153,26 @@ class GpuOceanSim:
         self._fft = GpuFFT(gpu, owner, n, count=2 * count, use_compute=self.use_compute)
         zeros = np.zeros((n, n), dtype=np.float32).tobytes()
         for i in range(count):
-            self._h0.append(self._own(gpu.texture(owner, f"ocean h0 {i}", size, 4, dtype="f4", filter=nearest)))
-            self._freq.append(self._own(gpu.texture(owner, f"ocean frequency {i}", size, 2, dtype="f4",
-                                                    filter=nearest)))
-            self._wave.append(self._own(gpu.texture(owner, f"ocean wave vector {i}", size, 2, dtype="f4",
-                                                    filter=nearest)))
+            self._h0.append(self._own(gpu.texture(owner, f"ocean h0 {i}", size, 4, dtype="f4",
+                                                  filter=nearest)))
+            self._freq.append(self._own(gpu.texture(owner, f"ocean frequency {i}", size, 2,
+                                                    dtype="f4", filter=nearest)))
+            self._wave.append(self._own(gpu.texture(owner, f"ocean wave vector {i}", size, 2,
+                                                    dtype="f4", filter=nearest)))
             for lst, name in ((self.disp, "displacement"), (self.deriv, "derivatives")):
                 tex = self._own(gpu.texture(owner, f"ocean {name} {i}", size, 4, dtype="f4",
-                                            filter=(moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR), repeat=True))
+                                            filter=(moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR),
+                                            repeat=True))
                 tex.build_mipmaps()  # allocate every level now: image units need a complete texture
                 lst.append(tex)
-            pair = [self._own(gpu.texture(owner, f"ocean foam {i}", size, 1, data=zeros, dtype="f4", repeat=True))]
+            pair = [self._own(gpu.texture(owner, f"ocean foam {i}", size, 1, data=zeros,
+                                          dtype="f4", repeat=True))]
             if not self.use_compute:
-                pair.append(self._own(gpu.texture(owner, f"ocean foam {i} (ping-pong)", size, 1, data=zeros,
-                                                  dtype="f4", repeat=True)))
+                pair.append(self._own(gpu.texture(owner, f"ocean foam {i} (ping-pong)", size, 1,
+                                                  data=zeros, dtype="f4", repeat=True)))
                 fields = self._fft.textures[2 * i: 2 * i + 2]
-                self._evolve_fbo.append(self._own(gpu.framebuffer(owner, f"ocean spectrum {i}", fields)))
+                self._evolve_fbo.append(self._own(gpu.framebuffer(owner, f"ocean spectrum {i}",
+                                                                  fields)))
                 self._finalize_fbo.append([
                     self._own(gpu.framebuffer(owner, f"ocean finalize {i}.{j}",
                                               [self.disp[i], self.deriv[i], pair[j]]))
@@ -185,12 +189,14 @@ class GpuOceanSim:
         n = check_fft_size(n)
         cascades = list(cascades)
         if not 1 <= len(cascades) <= MAX_CASCADES:
-            raise ParamError(f"ocean.cascades: {len(cascades)} is outside the allowed range [1, {MAX_CASCADES}]")
+            raise ParamError(f"ocean.cascades: {len(cascades)} is outside the allowed range "
+                             f"[1, {MAX_CASCADES}]")
         for i, c in enumerate(cascades):
             for name in ("h0", "omega", "kx", "kz"):
                 shape = np.shape(getattr(c, name))
                 if shape != (n, n):
-                    raise ParamError(f"ocean.cascade {i}: {name} has shape {shape}, expected ({n}, {n})")
+                    raise ParamError(f"ocean.cascade {i}: {name} has shape {shape}, expected "
+                                     f"({n}, {n})")
         if self.n != n or self.cascade_count != len(cascades):
             self._free_arrays()
             self._allocate(n, len(cascades))
@@ -286,15 +292,18 @@ class GpuOceanSim:
         neither decays nor grows it.  ``update_foam=False`` carries foam over unchanged."""
         self._require()
         thresholds = self._per_cascade(foam_threshold, "ocean.foam_threshold")
-        widths = thresholds if foam_width is None else self._per_cascade(foam_width, "ocean.foam_width")
+        widths = (thresholds if foam_width is None
+                  else self._per_cascade(foam_width, "ocean.foam_width"))
         for value in thresholds:
             if not (math.isfinite(value) and value > 0):
-                raise ParamError(f"ocean.foam_threshold: {value} is outside the allowed range (0, inf)")
+                raise ParamError(f"ocean.foam_threshold: {value} is outside the allowed range "
+                                 "(0, inf)")
         for value in widths:
             if not (math.isfinite(value) and value > 0):
                 raise ParamError(f"ocean.foam_width: {value} is outside the allowed range (0, inf)")
         if not (foam_decay_time > 0):  # inf is allowed: foam never decays
-            raise ParamError(f"ocean.foam_decay_time: {foam_decay_time} s is outside the allowed range (0, inf]")
+            raise ParamError(f"ocean.foam_decay_time: {foam_decay_time} s is outside the allowed "
+                             "range (0, inf]")
         dt = float(dt) if (dt == dt and dt > 0) else 0.0
         decay = math.exp(-dt / foam_decay_time)
         prog = self._program(FINALIZE)
@@ -347,7 +356,8 @@ class GpuOceanSim:
             raise ParamError(f"{what}: {len(values)} values for {self.cascade_count} cascades")
         return values
 
-    def stages(self, t: float = 1.0, choppiness: float = 1.0, dt: float = 1.0 / 60.0) -> dict[str, Callable]:
+    def stages(self, t: float = 1.0, choppiness: float = 1.0,
+               dt: float = 1.0 / 60.0) -> dict[str, Callable]:
         """Named callables of the three stages, for timing them separately."""
         return {
             "ocean.evolve": lambda: self.evolve(t, choppiness),
@@ -369,19 +379,25 @@ class GpuOceanSim:
             width = max(1, min(count, MODE_ROW))
             rows = max(1, -(-count // width))
             data = np.zeros((rows * width, 3, 4), dtype=np.float32)
-            nu_hi, nu_lo = split_hi_lo(np.asarray(c.omega, dtype=np.float64)[iz, ix] / (2.0 * np.pi))
-            data[:count, 0] = np.stack([h0.real[iz, ix], h0.imag[iz, ix], h0m.real[iz, ix], h0m.imag[iz, ix]], -1)
-            data[:count, 1] = np.stack([np.asarray(c.kx)[iz, ix], np.asarray(c.kz)[iz, ix], nu_hi, nu_lo], -1)
+            nu_hi, nu_lo = split_hi_lo(np.asarray(c.omega, dtype=np.float64)[iz, ix]
+                                       / (2.0 * np.pi))
+            data[:count, 0] = np.stack([h0.real[iz, ix], h0.imag[iz, ix],
+                                        h0m.real[iz, ix], h0m.imag[iz, ix]], -1)
+            data[:count, 1] = np.stack([np.asarray(c.kx)[iz, ix], np.asarray(c.kz)[iz, ix],
+                                        nu_hi, nu_lo], -1)
             data[:count, 2, 0] = ix
             data[:count, 2, 1] = iz
-            tex = self._own(self.gpu.texture(self.owner, f"ocean direct-sum modes {i}", (3 * width, rows), 4,
-                                             data=data.reshape(rows, width * 3, 4).tobytes(), dtype="f4",
+            tex = self._own(self.gpu.texture(self.owner, f"ocean direct-sum modes {i}",
+                                             (3 * width, rows), 4,
+                                             data=data.reshape(rows, width * 3, 4).tobytes(),
+                                             dtype="f4",
                                              filter=(moderngl.NEAREST, moderngl.NEAREST)))
             tex.extra = {"modes": count, "width": width}
             self._modes.append(tex)
         if self._phase_table is None:
             self._phase_table = self._own(self.gpu.texture(
-                self.owner, "ocean direct-sum phases", (n, 1), 2, data=twiddle_table(n, n).tobytes(), dtype="f4",
+                self.owner, "ocean direct-sum phases", (n, 1), 2,
+                data=twiddle_table(n, n).tobytes(), dtype="f4",
                 filter=(moderngl.NEAREST, moderngl.NEAREST)))
 
     def mode_counts(self) -> list[int]:
@@ -425,7 +441,8 @@ class GpuOceanSim:
         foam = np.frombuffer(self.foam[i].read(), dtype=np.float32).reshape(n, n)
         fields1 = self._fft.read(2 * i + 1)
         return {
-            "height": disp[..., 1].copy(), "disp_x": disp[..., 0].copy(), "disp_z": disp[..., 2].copy(),
+            "height": disp[..., 1].copy(), "disp_x": disp[..., 0].copy(),
+            "disp_z": disp[..., 2].copy(),
             "jacobian": disp[..., 3].copy(),
             "slope_x": deriv[..., 0].copy(), "slope_z": deriv[..., 1].copy(),
             "ddx_dx": deriv[..., 2].copy(), "ddz_dz": deriv[..., 3].copy(),
@@ -440,13 +457,15 @@ class GpuOceanSim:
         self._require()
         if not self._pbo:
             nbytes = self.n * self.n * 16
-            self._pbo = [[self._own(self.gpu.buffer(self.owner, f"ocean readback {slot}.{i}", bytes(nbytes)))
+            self._pbo = [[self._own(self.gpu.buffer(self.owner, f"ocean readback {slot}.{i}",
+                                                    bytes(nbytes)))
                           for i in range(self.cascade_count)] for slot in range(2)]
         slot = self._rb_next
         self._rb_next = 1 - slot
         for tex, buf in zip(self.disp, self._pbo[slot]):
             tex.read_into(buf, level=0)
-        self._rb_previous = self._rb_pending  # an older unread request is dropped (its slot is reused next)
+        # an older unread request is dropped (its slot is reused next)
+        self._rb_previous = self._rb_pending
         self._rb_pending = (self.time, slot)
 
     def poll_readback(self):
@@ -460,7 +479,8 @@ class GpuOceanSim:
         if self._rb_previous is not None:
             t, slot = self._rb_previous
             n = self.n
-            arrays = [np.frombuffer(buf.read(), dtype=np.float32).reshape(n, n, 4).copy() for buf in self._pbo[slot]]
+            arrays = [np.frombuffer(buf.read(), dtype=np.float32).reshape(n, n, 4).copy()
+                      for buf in self._pbo[slot]]
             self._rb_latest = (t, arrays)
             self._rb_previous = None
         return self._rb_latest

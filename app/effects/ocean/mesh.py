@@ -44,7 +44,8 @@ def polar_grid(segments: int, inner: float, extent: float):
         b = 1 + nj * nr + rings  # ring i at θ_{j+1}
         fan = np.array([[0, 1 + nj * nr, 1 + j * nr]])
         quads = np.concatenate([np.stack([a, b, b + 1], axis=1)[:, None],
-                                np.stack([a, b + 1, a + 1], axis=1)[:, None]], axis=1).reshape(-1, 3)
+                                np.stack([a, b + 1, a + 1], axis=1)[:, None]],
+                               axis=1).reshape(-1, 3)
         wedges.append(np.concatenate([fan, quads]))
     # (θ grows from +x toward +z, so θ_j → θ_{j+1} → outward is counter-clockwise seen from +y)
     return vertices, np.concatenate(wedges).astype("u4").ravel()
@@ -85,7 +86,8 @@ class OceanMesh:
     def __init__(self, effect):
         self.gpu = effect.gpu
         self.owner = effect.name
-        self._buffers = effect.keyed(self._make, release=lambda objs: [self.gpu.free(o) for o in objs])
+        self._buffers = effect.keyed(self._make,
+                                     release=lambda objs: [self.gpu.free(o) for o in objs])
         self.triangles = 0  # in the whole mesh
         self.drawn = 0  # in the last draw
 
@@ -103,7 +105,8 @@ class OceanMesh:
         return (self.gpu.buffer(self.owner, "mesh vertices", verts.tobytes()),
                 self.gpu.buffer(self.owner, "mesh indices", idx.tobytes()))
 
-    def draw(self, prog, camera, aspect: float, segments: int, inner: float, extent: float, cull: bool) -> None:
+    def draw(self, prog, camera, aspect: float, segments: int, inner: float, extent: float,
+             cull: bool) -> None:
         """Draw the grid with ``prog`` (attribute ``in_polar``): every wedge, or with ``cull``
         only those :func:`visible_wedges` finds."""
         vbo, ibo = self.buffers(segments, inner, extent)

@@ -23,62 +23,69 @@ def wind_vector(direction_deg: float) -> np.ndarray:
 def ocean_params() -> list[Param]:
     s1, s2, s3 = "spec/000 §1.1", "spec/000 §1.2", "spec/000 §1.3"
     return [
-        Param("ocean.model", "fft", doc="wave model: sine (eqs. 2.1–2.4), gerstner (eqs. 2.5–2.8) or fft "
-              "(Tessendorf cascades)", kind="choice", choices=MODELS, section=s1),
-        Param("ocean.spectrum", "jonswap", doc="sea spectrum for the FFT and the Gerstner set: Phillips, "
-              "Pierson–Moskowitz or JONSWAP (with TMA in finite depth)", kind="choice", choices=oc.SPECTRA,
+        Param("ocean.model", "fft", doc="wave model: sine (spec/000 §1.1(a)), gerstner "
+              "(spec/000 §1.1(c)) or fft (Tessendorf cascades)", kind="choice", choices=MODELS,
+              section=s1),
+        Param("ocean.spectrum", "jonswap", doc="sea spectrum for the FFT and the Gerstner set: "
+              "Phillips, Pierson–Moskowitz or JONSWAP (with TMA in finite depth)", kind="choice",
+              choices=oc.SPECTRA, section=s1 + "(d)"),
+        Param("ocean.wind", 10.0, 0.0, 40.0, "wind speed at 19.5 m (10 m for Phillips)", step=0.1,
+              unit="m/s", section=s1 + "(d)"),
+        Param("ocean.wind_direction", 90.0, 0.0, 360.0, "direction the wind blows toward: 0 = "
+              "north (−z), 90 = east (+x)", step=1.0, unit="°", section=s1 + "(d)"),
+        Param("ocean.fetch", 100.0, 1.0, 2000.0, "JONSWAP fetch: distance the wind has blown over "
+              "water", step=1.0, unit="km", section=s1 + "(d)"),
+        Param("ocean.gamma", 3.3, 1.0, 7.0, "JONSWAP peak enhancement γ", step=0.1,
               section=s1 + "(d)"),
-        Param("ocean.wind", 10.0, 0.0, 40.0, "wind speed at 19.5 m (10 m for Phillips)", step=0.1, unit="m/s",
+        Param("ocean.depth", 1000.0, 1.0, 10000.0, "water depth d: dispersion ω² = g·k·tanh(k·d) "
+              "and the TMA correction", step=1.0, unit="m", section=s1 + "(d)"),
+        Param("ocean.short_wave_fade", 0.01, 0.0, 1.0, "Tessendorf's small-wave suppression length "
+              "ℓ: spectrum × exp(−(k·ℓ)²)", step=0.001, unit="m", section=s1 + "(d)"),
+        Param("ocean.choppiness", 1.0, 0.0, 4.0, "choppiness λ: horizontal displacement x + λ·D "
+              "(crests sharpen; the surface folds where the Jacobian < 0)", step=0.05,
               section=s1 + "(d)"),
-        Param("ocean.wind_direction", 90.0, 0.0, 360.0, "direction the wind blows toward: 0 = north (−z), "
-              "90 = east (+x)", step=1.0, unit="°", section=s1 + "(d)"),
-        Param("ocean.fetch", 100.0, 1.0, 2000.0, "JONSWAP fetch: distance the wind has blown over water",
-              step=1.0, unit="km", section=s1 + "(d)"),
-        Param("ocean.gamma", 3.3, 1.0, 7.0, "JONSWAP peak enhancement γ", step=0.1, section=s1 + "(d)"),
-        Param("ocean.depth", 1000.0, 1.0, 10000.0, "water depth d: dispersion ω² = g·k·tanh(k·d) and the TMA "
-              "correction", step=1.0, unit="m", section=s1 + "(d)"),
-        Param("ocean.short_wave_fade", 0.01, 0.0, 1.0, "Tessendorf's small-wave suppression length ℓ: "
-              "spectrum × exp(−(k·ℓ)²)", step=0.001, unit="m", section=s1 + "(d)"),
-        Param("ocean.choppiness", 1.0, 0.0, 4.0, "choppiness λ: horizontal displacement x + λ·D (crests "
-              "sharpen; the surface folds where the Jacobian < 0)", step=0.05, section=s1 + "(d)"),
-        Param("ocean.fft_size", "256", doc="FFT grid N per cascade", kind="choice", choices=FFT_SIZES,
-              section=s1 + "(e)"),
-        Param("ocean.cascades", 3, 1, 4, "number of cascades (non-overlapping wavenumber bands)", kind="int",
-              section=s1 + "(e)"),
-        Param("ocean.patch_sizes", (250.0, 17.0, 5.0, 1.5), 0.1, 5000.0, "tile size L of each cascade, "
-              "strictly decreasing (the upstream's 250 / 17 / 5 m)", kind="vec4", step=0.1, unit="m",
-              section=s1 + "(e)"),
-        Param("ocean.fft_path", "auto", doc="GPU FFT path: compute shaders (GL 4.3), fragment passes (GL 3.3) "
-              "or auto (compute on a GPU that has it; fragment on software renderers, where it is faster)", kind="choice", choices=("auto", "compute", "fragment"),
-              section=s1 + "(d)"),
-        Param("ocean.seed", 0, 0, 1_000_000, "random seed of the wave amplitudes and phases", kind="int"),
-        Param("ocean.foam_mode", "whitecaps", doc="whitecaps: foam thresholds set per cascade so foam covers "
-              "Monahan & O'Muircheartaigh's fraction of the sea for the wind (beyond the thesis); jacobian: "
-              "the upstream's fixed threshold (ocean.foam_threshold)", kind="choice",
-              choices=("whitecaps", "jacobian"), section=s2),
-        Param("ocean.foam_threshold", 0.5, 0.01, 1.0, "jacobian mode: foam appears where the Jacobian drops "
-              "below this", step=0.01, section=s2),
+        Param("ocean.fft_size", "256", doc="FFT grid N per cascade", kind="choice",
+              choices=FFT_SIZES, section=s1 + "(e)"),
+        Param("ocean.cascades", 3, 1, 4, "number of cascades (non-overlapping wavenumber bands)",
+              kind="int", section=s1 + "(e)"),
+        Param("ocean.patch_sizes", (250.0, 17.0, 5.0, 1.5), 0.1, 5000.0, "tile size L of each "
+              "cascade, strictly decreasing (the upstream's 250 / 17 / 5 m)", kind="vec4",
+              step=0.1, unit="m", section=s1 + "(e)"),
+        Param("ocean.fft_path", "auto", doc="GPU FFT path: compute shaders (GL 4.3), fragment "
+              "passes (GL 3.3) or auto (compute on a GPU that has it; fragment on software "
+              "renderers, where it is faster)", kind="choice",
+              choices=("auto", "compute", "fragment"), section=s1 + "(d)"),
+        Param("ocean.seed", 0, 0, 1_000_000, "random seed of the wave amplitudes and phases",
+              kind="int"),
+        Param("ocean.foam_mode", "whitecaps", doc="whitecaps: foam thresholds set per cascade so "
+              "foam covers Monahan & O'Muircheartaigh's fraction of the sea for the wind (beyond "
+              "the thesis); jacobian: the upstream's fixed threshold (ocean.foam_threshold)",
+              kind="choice", choices=("whitecaps", "jacobian"), section=s2),
+        Param("ocean.foam_threshold", 0.5, 0.01, 1.0, "jacobian mode: foam appears where the "
+              "Jacobian drops below this", step=0.01, section=s2),
         Param("ocean.foam_decay", 2.0, 0.05, 30.0, "foam fades as e^(−t/τ): τ", step=0.05, unit="s",
               section=s2),
         Param("ocean.foam_amount", 1.0, 0.0, 4.0, "foam strength", step=0.05, section=s2),
-        Param("ocean.sine_amplitude", 0.5, 0.0, 10.0, "sine wave amplitude A (eq. 2.1)", step=0.01, unit="m",
-              section=s1 + "(a)"),
-        Param("ocean.sine_wavelength", 20.0, 0.1, 500.0, "sine wavelength 2π/k (ω from the dispersion "
-              "relation)", step=0.1, unit="m", section=s1 + "(a)"),
-        Param("ocean.gerstner_waves", 16, 1, 64, "number of Gerstner waves, drawn from the spectrum (same Hs "
-              "and peak period as the FFT sea)", kind="int", section=s1 + "(c)"),
-        Param("ocean.gerstner_steepness", 1.0, 0.0, 20.0, "scales every Gerstner wave's amplitude, so its "
-              "steepness s = k·A; each wave must keep s ≤ 1", step=0.05, section=s1 + "(c)"),
-        Param("ocean.subgrid_slopes", True, doc="beyond the thesis: the glitter lobe gets the slope variance "
-              "the grid cannot hold (Cox–Munk minus what is resolved)", kind="bool", section=s2),
-        Param("ocean.mesh_segments", 256, 32, 1024, "angular segments of the polar surface mesh (its density)",
-              kind="int", section=s1),
-        Param("ocean.mesh_inner", 0.25, 0.01, 10.0, "radius of the mesh's first ring", step=0.01, unit="m",
-              section=s1),
-        Param("ocean.mesh_extent", 3000.0, 50.0, 50000.0, "radius of the surface mesh; beyond it the sea is "
-              "an analytic plane to the horizon", step=10.0, unit="m", section=s1),
-        Param("ocean.mesh_cull", True, doc="draw only the wedges of the surface mesh the camera can see",
-              kind="bool", section=s1),
+        Param("ocean.sine_amplitude", 0.5, 0.0, 10.0, "sine wave amplitude A (spec/000 eq. 2.1)",
+              step=0.01, unit="m", section=s1 + "(a)"),
+        Param("ocean.sine_wavelength", 20.0, 0.1, 500.0, "sine wavelength 2π/k (ω from the "
+              "dispersion relation)", step=0.1, unit="m", section=s1 + "(a)"),
+        Param("ocean.gerstner_waves", 16, 1, 64, "number of Gerstner waves, drawn from the "
+              "spectrum (same Hs and peak period as the FFT sea)", kind="int", section=s1 + "(c)"),
+        Param("ocean.gerstner_steepness", 1.0, 0.0, 20.0, "scales every Gerstner wave's "
+              "amplitude, so its steepness s = k·A; each wave must keep s ≤ 1", step=0.05,
+              section=s1 + "(c)"),
+        Param("ocean.subgrid_slopes", True, doc="beyond the thesis: the glitter lobe gets the "
+              "slope variance the grid cannot hold (Cox–Munk minus what is resolved)", kind="bool",
+              section=s2),
+        Param("ocean.mesh_segments", 256, 32, 1024, "angular segments of the polar surface mesh "
+              "(its density)", kind="int", section=s1),
+        Param("ocean.mesh_inner", 0.25, 0.01, 10.0, "radius of the mesh's first ring", step=0.01,
+              unit="m", section=s1),
+        Param("ocean.mesh_extent", 3000.0, 50.0, 50000.0, "radius of the surface mesh; beyond it "
+              "the sea is an analytic plane to the horizon", step=10.0, unit="m", section=s1),
+        Param("ocean.mesh_cull", True, doc="draw only the wedges of the surface mesh the camera "
+              "can see", kind="bool", section=s1),
         Param("ocean.query_iterations", 3, 0, 10, "corrections of the water-height inversion (the "
               "upstream's 3)", kind="int", section=s3),
     ]

@@ -42,7 +42,8 @@ class WaterQueries:
             eta = a * np.sin(k * (d[0] * x + d[1] * z) - w * self.time)
             out = np.stack([np.zeros_like(eta), eta, np.zeros_like(eta)], axis=-1)
         elif model == "gerstner":
-            surf = oc.gerstner(x, z, self.time, self.gerstner_waves(), depth=self.params["ocean.depth"])
+            surf = oc.gerstner(x, z, self.time, self.gerstner_waves(),
+                               depth=self.params["ocean.depth"])
             out = surf.position - np.stack([x, np.zeros_like(x), z], axis=-1)
         else:
             if self._readback is None:
@@ -76,8 +77,10 @@ class WaterQueries:
         e = self._difference_step()
         px1, px0 = self.displacement(x0 + e, z0), self.displacement(x0 - e, z0)
         pz1, pz0 = self.displacement(x0, z0 + e), self.displacement(x0, z0 - e)
-        t = np.stack([2 * e + px1[..., 0] - px0[..., 0], px1[..., 1] - px0[..., 1], px1[..., 2] - px0[..., 2]], -1)
-        b = np.stack([pz1[..., 0] - pz0[..., 0], pz1[..., 1] - pz0[..., 1], 2 * e + pz1[..., 2] - pz0[..., 2]], -1)
+        t = np.stack([2 * e + px1[..., 0] - px0[..., 0], px1[..., 1] - px0[..., 1],
+                      px1[..., 2] - px0[..., 2]], -1)
+        b = np.stack([pz1[..., 0] - pz0[..., 0], pz1[..., 1] - pz0[..., 1],
+                      2 * e + pz1[..., 2] - pz0[..., 2]], -1)
         n = np.cross(b, t)
         n /= np.linalg.norm(n, axis=-1, keepdims=True)
         return oc.WaterQuery(d[..., 1], d, n, x0, z0, res)

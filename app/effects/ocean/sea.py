@@ -18,7 +18,8 @@ class SeaState:
         p = self.params
         d = wind_vector(p["ocean.wind_direction"])
         return oc.SpectrumParams(kind=p["ocean.spectrum"], wind_speed=p["ocean.wind"],
-                                 wind_direction=math.atan2(d[1], d[0]), fetch=p["ocean.fetch"] * 1000.0,
+                                 wind_direction=math.atan2(d[1], d[0]),
+                                 fetch=p["ocean.fetch"] * 1000.0,
                                  gamma=p["ocean.gamma"], depth=p["ocean.depth"],
                                  short_wave_fade=p["ocean.short_wave_fade"])
 
@@ -30,14 +31,17 @@ class SeaState:
 
     def gerstner_waves(self) -> list[oc.GerstnerWave]:
         p = self.params
-        key = (self.spectrum_params(), p["ocean.gerstner_waves"], p["ocean.gerstner_steepness"], p["ocean.seed"])
+        key = (self.spectrum_params(), p["ocean.gerstner_waves"], p["ocean.gerstner_steepness"],
+               p["ocean.seed"])
         if key != self._waves_key:
-            waves = oc.gerstner_waves_from_spectrum(key[0], key[1], seed=key[3], steepness_scale=key[2])
+            waves = oc.gerstner_waves_from_spectrum(key[0], key[1], seed=key[3],
+                                                    steepness_scale=key[2])
             worst = max(range(len(waves)), key=lambda i: waves[i].steepness)
             if waves[worst].steepness > 1.0:
                 limit = key[2] / waves[worst].steepness
                 raise ParamError(
-                    f"ocean.gerstner_steepness={key[2]:g} makes wave {worst} ({waves[worst].wavelength:.3g} m) "
+                    f"ocean.gerstner_steepness={key[2]:g} makes wave {worst} "
+                    f"({waves[worst].wavelength:.3g} m) "
                     f"reach steepness s = {waves[worst].steepness:.3g}: allowed 0 ≤ s ≤ 1 per wave "
                     f"(loops at the crests), so at most {limit:.3g} for this sea")
             oc.check_gerstner_steepness(waves)
@@ -61,7 +65,8 @@ class SeaState:
 
     def _ensure_fft(self) -> None:
         path = self.params["ocean.fft_path"]
-        key = (self.spectrum_params(), self.fft_size(), tuple(self.patch_sizes()), self.params["ocean.seed"])
+        key = (self.spectrum_params(), self.fft_size(), tuple(self.patch_sizes()),
+               self.params["ocean.seed"])
         if self.sim is not None and self._sim_path != path:
             self._release_fft()
         if key == self._sim_key:

@@ -57,7 +57,8 @@ class OceanUniforms:
             prog.set("uFoamWeight", [weight] * 4)
             prog.set("uCascades", len(sizes))
             textures = {}
-            for kind, held in (("uDisp", self.sim.disp), ("uDeriv", self.sim.deriv), ("uFoam", self.sim.foam)):
+            for kind, held in (("uDisp", self.sim.disp), ("uDeriv", self.sim.deriv),
+                               ("uFoam", self.sim.foam)):
                 for i in range(4):
                     textures[f"{kind}{i}"] = held[min(i, len(sizes) - 1)]
             return textures
@@ -66,12 +67,14 @@ class OceanUniforms:
     def shading_uniforms(self, prog, frame, env) -> dict:
         """Set the shading uniforms; returns the environment cubemap by sampler name."""
         p = self.params
-        subgrid = max(self.cox_munk_mss() - self.resolved_mss, 0.0) if p["ocean.subgrid_slopes"] else 0.0
+        subgrid = (max(self.cox_munk_mss() - self.resolved_mss, 0.0) if p["ocean.subgrid_slopes"]
+                   else 0.0)
         prog.set_many({"uEnvironmentLods": float(max(0, int(math.log2(env.size[0])))),
                        "uSubgridMss": subgrid, "uSeaHs": max(self.significant_height(), 1e-3)})
         if frame.main_light is not None:
             prog.set_many(frame.light_uniforms())
         else:
-            prog.set_many({"uMainLightDir": (0.0, 0.7071, 0.7071), "uMainLightRadiance": (1.0, 1.0, 1.0)})
+            prog.set_many({"uMainLightDir": (0.0, 0.7071, 0.7071),
+                           "uMainLightRadiance": (1.0, 1.0, 1.0)})
         self.apply_params(prog)
         return {"uEnvironment": env}

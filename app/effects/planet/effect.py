@@ -1,10 +1,10 @@
 """The `planet` scene's effect: atmospheric scattering from the ground to space
-(spec/002-atmosphere.md), in the thesis's three approximations plus Hillaire 2020.
+(spec/002), in the thesis's three approximations plus Hillaire 2020.
 
 Per frame:
 
 1. shadow stage: the shadow map from the sun — re-rendered only when the sun direction (or the
-   map size) changed (§3.1, §4.2) — published as ``frame.shadows["sun"]``;
+   map size) changed (spec/002 §3.1, §4) — published as ``frame.shadows["sun"]``;
 2. opaque stage: surfaces (mountains, city block) into a G-buffer: colour and camera-relative
    position;
 3. fog stage: one full-screen scattering pass that finds what each pixel sees (G-buffer, the
@@ -38,8 +38,9 @@ METHODS = ("brute_force", "lut", "shadowed", "hillaire")
 DEBUG_VIEWS = ("final", "in_scatter", "out_scatter")
 SURFACES = ("by_method", "texture", "phong")
 
-COMPOSITE = {m: ProgramSpec("planet/composite", vert="common/fullscreen.vert", frag="planet/composite.frag",
-                            defines=(("METHOD", i + 1),)) for i, m in enumerate(METHODS)}
+COMPOSITE = {m: ProgramSpec("planet/composite", vert="common/fullscreen.vert",
+                            frag="planet/composite.frag", defines=(("METHOD", i + 1),))
+             for i, m in enumerate(METHODS)}
 SURFACE = ProgramSpec("planet/surface")
 SHADOW_DEPTH = ProgramSpec("planet/shadow_depth")
 
@@ -54,7 +55,7 @@ pupil = atm.pupil
 
 
 def light_view_proj(sun_dir: np.ndarray) -> np.ndarray:
-    """Orthographic projection along the sun over the mountains and the city (§3.1)."""
+    """Orthographic projection along the sun over the mountains and the city (spec/002 §3.1)."""
     return directional_view_proj(sun_dir, SHADOW_CENTRE, SHADOW_HALF, 30000.0, 60000.0)
 
 
@@ -62,7 +63,8 @@ class Planet(Effect):
     name = "planet"
     title = "Atmospheric scattering"
     spec = "spec/002"
-    programs = tuple(COMPOSITE.values()) + (SURFACE, SHADOW_DEPTH) + tuple(hillaire.HillaireLuts.programs)
+    programs = (tuple(COMPOSITE.values()) + (SURFACE, SHADOW_DEPTH)
+                + tuple(hillaire.HillaireLuts.programs))
     extra_groups = ("atmosphere", "hillaire")
     stages = (Stage.SHADOW, Stage.OPAQUE, Stage.FOG)
     produces = frozenset({"exposure", "shadows"})
@@ -71,47 +73,59 @@ class Planet(Effect):
     def python_params(cls) -> list[Param]:
         s = "spec/002"
         return atm.params_list() + hillaire.params() + [
-            Param("planet.method", "shadowed", doc="1 brute force · 2 optical-depth LUT · 3 LUT + shadows "
-                  "(light shafts) · 4 Hillaire 2020 multiple scattering", kind="choice", choices=METHODS,
-                  section=f"{s} §2"),
-            Param("planet.n_steps", 30, 1, 512, "N_STEPS of the view-ray midpoint sum (methods 1–3)", kind="int",
+            Param("planet.method", "shadowed", doc="1 brute force · 2 optical-depth LUT · 3 LUT + "
+                  "shadows (light shafts) · 4 Hillaire 2020 multiple scattering", kind="choice",
+                  choices=METHODS, section=f"{s} §2"),
+            Param("planet.n_steps", 30, 1, 512,
+                  "N_STEPS of the view-ray midpoint sum (methods 1–3)", kind="int",
                   section=f"{s} §1.7"),
-            Param("planet.inner_steps", 30, 1, 512, "steps of the brute-force sun integral (method 1)", kind="int",
+            Param("planet.inner_steps", 30, 1, 512, "steps of the brute-force sun integral (method "
+                  "1)", kind="int", section=f"{s} §2.3"),
+            Param("planet.pc_rule", "midpoint", doc="depth from the camera to each sample: "
+                  "midpoint (half the current step) or thesis (the whole step, as its code: ~50 % "
+                  "error on the horizon at N = 30)", kind="choice", choices=("midpoint", "thesis"),
                   section=f"{s} §2.3"),
-            Param("planet.pc_rule", "midpoint", doc="depth from the camera to each sample: midpoint (half the "
-                  "current step) or thesis (the whole step, as its code: ~50 % error on the horizon at N = 30)",
-                  kind="choice", choices=("midpoint", "thesis"), section=f"{s} §2.3"),
-            Param("planet.lut_height", 256, 8, 2048, "optical-depth LUT rows (height)", kind="int", section=f"{s} §1.8"),
-            Param("planet.lut_angle", 256, 8, 2048, "optical-depth LUT columns (cos Φ)", kind="int", section=f"{s} §1.8"),
-            Param("planet.shadow_map_size", 4096, 64, 8192, "shadow-map resolution (texels per side)", kind="int",
-                  section=f"{s} §3.1"),
-            Param("planet.shadow_filter", True, doc="Gaussian-weighted bilinear neighbourhood filter (off: nearest, "
-                  "unfiltered)", kind="bool", section=f"{s} §3.2"),
-            Param("planet.shadow_bias", 0.0004, 0.0, 0.01, "depth bias of the shadow comparison", step=0.0001,
-                  section=f"{s} §3.1"),
-            Param("planet.surface", "by_method", doc="surface shading: by_method (texture for methods 1–2 as the "
-                  "thesis, Phong for 3–4), texture, or phong", kind="choice", choices=SURFACES, section=f"{s} §3.3"),
-            Param("planet.anisotropy", 0, 0, 16, "anisotropic filtering of surface textures (0 = auto: 8 on a "
-                  "hardware GPU, off on a software renderer, where it costs ~30× the surface pass)", kind="int"),
-            Param("planet.normal_mapping", True, doc="normal maps in Phong shading", kind="bool", section=f"{s} §3.3"),
-            Param("planet.ka", 0.25, 0.0, 1.0, "Phong ambient factor (times the texture colour)", section=f"{s} §3.3"),
+            Param("planet.lut_height", 256, 8, 2048, "optical-depth LUT rows (height)", kind="int",
+                  section=f"{s} §1.8"),
+            Param("planet.lut_angle", 256, 8, 2048, "optical-depth LUT columns (cos Φ)", kind="int",
+                  section=f"{s} §1.8"),
+            Param("planet.shadow_map_size", 4096, 64, 8192, "shadow-map resolution (texels per "
+                  "side)", kind="int", section=f"{s} §3.1"),
+            Param("planet.shadow_filter", True, doc="Gaussian-weighted bilinear neighbourhood "
+                  "filter (off: nearest, unfiltered)", kind="bool", section=f"{s} §3.2"),
+            Param("planet.shadow_bias", 0.0004, 0.0, 0.01, "depth bias of the shadow comparison",
+                  step=0.0001, section=f"{s} §3.1"),
+            Param("planet.surface", "by_method", doc="surface shading: by_method (texture for "
+                  "methods 1–2 as the thesis, Phong for 3–4), texture, or phong", kind="choice",
+                  choices=SURFACES, section=f"{s} §3.3"),
+            Param("planet.anisotropy", 0, 0, 16, "anisotropic filtering of surface textures (0 = "
+                  "auto: 8 on a hardware GPU, off on a software renderer, where it costs ~30× the "
+                  "surface pass)", kind="int"),
+            Param("planet.normal_mapping", True, doc="normal maps in Phong shading", kind="bool",
+                  section=f"{s} §3.3"),
+            Param("planet.ka", 0.25, 0.0, 1.0, "Phong ambient factor (times the texture colour)",
+                  section=f"{s} §3.3"),
             Param("planet.kd", 1.0, 0.0, 2.0, "Phong diffuse factor", section=f"{s} §3.3"),
             Param("planet.ks", 0.15, 0.0, 1.0, "Phong specular factor", section=f"{s} §3.3"),
             Param("planet.shininess", 24.0, 1.0, 256.0, "Phong exponent", section=f"{s} §3.3"),
-            Param("planet.sun_elevation", 35.0, -90.0, 90.0, "sun elevation (Up/Down keys)", unit="deg",
+            Param("planet.sun_elevation", 35.0, -90.0, 90.0, "sun elevation (Up/Down keys)",
+                  unit="deg", section=f"{s} §4"),
+            Param("planet.sun_azimuth", 180.0, 0.0, 360.0, "sun azimuth (0 north, 90 east)",
+                  unit="deg"),
+            Param("planet.auto_sun", False, doc="move the sun automatically (M key)", kind="bool",
                   section=f"{s} §4"),
-            Param("planet.sun_azimuth", 180.0, 0.0, 360.0, "sun azimuth (0 north, 90 east)", unit="deg"),
-            Param("planet.auto_sun", False, doc="move the sun automatically (M key)", kind="bool", section=f"{s} §4"),
             Param("planet.sun_speed", 3.0, 0.0, 90.0, "automatic sun speed", unit="deg/s"),
-            Param("planet.pupil", True, doc="variable exposure: darker looking at the sun", kind="bool",
-                  section=f"{s} §1.6"),
-            Param("planet.debug_view", "final", doc="final image, in-scattering on black, or out-scattering on white",
-                  kind="choice", choices=DEBUG_VIEWS, section=f"{s} §1.4–1.5"),
-            Param("planet.sun_disk", True, doc="draw the sun's disk (beyond the thesis, which shows only the Mie halo)",
-                  kind="bool"),
-            Param("planet.star_intensity", 0.08, 0.0, 5.0, "brightness of the stars on the universe sphere"),
-            Param("planet.universe_radius", 1.0e7, 1.0e5, 1.0e9, "radius of the universe sphere method 1 "
-                  "integrates to", unit="m", section=f"{s} §2.4"),
+            Param("planet.pupil", True, doc="variable exposure: darker looking at the sun",
+                  kind="bool", section=f"{s} §1.6"),
+            Param("planet.debug_view", "final", doc="final image, in-scattering on black, or "
+                  "out-scattering on white", kind="choice", choices=DEBUG_VIEWS,
+                  section=f"{s} §1.4, §1.5"),
+            Param("planet.sun_disk", True, doc="draw the sun's disk (beyond the thesis, which "
+                  "shows only the Mie halo)", kind="bool"),
+            Param("planet.star_intensity", 0.08, 0.0, 5.0,
+                  "brightness of the stars on the universe sphere"),
+            Param("planet.universe_radius", 1.0e7, 1.0e5, 1.0e9, "radius of the universe sphere "
+                  "method 1 integrates to", unit="m", section=f"{s} §2.4"),
         ]
 
     def __init__(self, gpu, params):
@@ -185,9 +199,10 @@ class Planet(Effect):
             ibo = self.gpu.buffer(self.name, f"{name} indices", idx.tobytes())
             self._meshes.append((name, vbo, ibo))
         self._textures = (
-            self.gpu.texture(self.name, "albedo", (256, 256), 4, albedo_texture().tobytes(), dtype="f1", repeat=True),
-            self.gpu.texture(self.name, "normal map", (256, 256), 4, normal_texture().tobytes(), dtype="f1",
-                             repeat=True),
+            self.gpu.texture(self.name, "albedo", (256, 256), 4, albedo_texture().tobytes(),
+                             dtype="f1", repeat=True),
+            self.gpu.texture(self.name, "normal map", (256, 256), 4, normal_texture().tobytes(),
+                             dtype="f1", repeat=True),
         )
         for tex in self._textures:
             tex.build_mipmaps()
@@ -195,8 +210,8 @@ class Planet(Effect):
         from ...sim.textures import star_field
 
         stars = star_field(7)
-        self._stars = self.gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1, stars.tobytes(),
-                                       repeat=True)
+        self._stars = self.gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1,
+                                       stars.tobytes(), repeat=True)
 
     def _draw_meshes(self, prog, depth_only: bool = False) -> None:
         layout = ("3f 32x", "in_position") if depth_only else \
@@ -216,7 +231,8 @@ class Planet(Effect):
     def _build_lut(self, key):
         size = key[-2:]
         data = atm.OpticalDepthLut(self.model(), n_height=size[1], n_angle=size[0]).table
-        lut = self.gpu.texture(self.name, "optical depth LUT", size, 2, data.astype("f4").tobytes(), dtype="f4")
+        lut = self.gpu.texture(self.name, "optical depth LUT", size, 2, data.astype("f4").tobytes(),
+                               dtype="f4")
         lut.repeat_x = lut.repeat_y = False
         return lut
 
@@ -296,7 +312,8 @@ class Planet(Effect):
         cam = frame.camera
         from pyrr import matrix44
 
-        proj = matrix44.create_perspective_projection(cam.fov, frame.aspect, near, 5.0e7, dtype=np.float64).T
+        proj = matrix44.create_perspective_projection(cam.fov, frame.aspect, near, 5.0e7,
+                                                      dtype=np.float64).T
         view = cam.view_matrix()
         view[:3, 3] = 0.0  # rotation only: positions are camera-relative
         return proj @ view
@@ -313,11 +330,13 @@ class Planet(Effect):
         aniso = p["planet.anisotropy"] or (1 if self.gpu.caps.software else 8)
         for tex in self._textures:
             tex.anisotropy = float(aniso)
-        prog.bind_textures({**textures, "uAlbedo": self._textures[0], "uNormalMap": self._textures[1]})
+        prog.bind_textures({**textures, "uAlbedo": self._textures[0],
+                            "uNormalMap": self._textures[1]})
         fbo.use()  # the shadow map may have been rendered just now
         prog.set_many({
             "uTextureTile": 40.0, "uShading": self.shading(),
-            "uNormalMapping": p["planet.normal_mapping"], "uKs": p["planet.ks"], "uShininess": p["planet.shininess"],
+            "uNormalMapping": p["planet.normal_mapping"], "uKs": p["planet.ks"],
+            "uShininess": p["planet.shininess"],
             "uViewProj": self.projection(frame),
         })
         ctx.enable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
@@ -372,9 +391,10 @@ class Planet(Effect):
         out = []
         if self.uses_shadows():
             out.append(Pass("planet.shadow_map", lambda: self.shadow_stage(frame), Stage.SHADOW))
-        out.append(Pass("planet.surfaces", lambda: self.render_surfaces(frame, target.size), Stage.OPAQUE))
-        out.append(Pass(f"planet.scattering[{self.method()}]", lambda: self.render_composite(frame, target),
-                        Stage.FOG))
+        out.append(Pass("planet.surfaces", lambda: self.render_surfaces(frame, target.size),
+                        Stage.OPAQUE))
+        out.append(Pass(f"planet.scattering[{self.method()}]",
+                        lambda: self.render_composite(frame, target), Stage.FOG))
         return out
 
     def bench_passes(self, frame, target) -> list[Pass]:

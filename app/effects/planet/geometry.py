@@ -25,8 +25,8 @@ def _pack(pos, nor, tan, uv, idx):
     return verts, idx.astype("u4")
 
 
-def mountains(radius: float, size: float = 20000.0, grid: int = 192, centre=(0.0, -17000.0), peak: float = 2400.0,
-              seed: int = 5):
+def mountains(radius: float, size: float = 20000.0, grid: int = 192, centre=(0.0, -17000.0),
+              peak: float = 2400.0, seed: int = 5):
     """A ridged fBm heightfield (size × size metres) whose base follows the sphere."""
     n = grid + 1
     xs = np.linspace(-size / 2, size / 2, n) + centre[0]
@@ -53,7 +53,8 @@ def mountains(radius: float, size: float = 20000.0, grid: int = 192, centre=(0.0
     return _pack(pos, nor.reshape(-1, 3), tan.reshape(-1, 3), uv, idx)
 
 
-def boxes(radius: float, count: int = 24, centre=(0.0, -400.0), spread: float = 180.0, seed: int = 11):
+def boxes(radius: float, count: int = 24, centre=(0.0, -400.0), spread: float = 180.0,
+          seed: int = 11):
     """A small city block: boxes of random footprint and height on the sphere."""
     rng = np.random.default_rng(seed)
     pos, nor, tan, uv, idx = [], [], [], [], []
@@ -86,7 +87,8 @@ def boxes(radius: float, count: int = 24, centre=(0.0, -400.0), spread: float = 
                     tan.append(t_)
                     uv.append((p[a1], p[a2]))
                 quad = [start, start + 1, start + 2, start, start + 2, start + 3]
-                if np.dot(np.cross(pos[start + 1] - pos[start], pos[start + 2] - pos[start]), n_) < 0:
+                if np.dot(np.cross(pos[start + 1] - pos[start], pos[start + 2] - pos[start]),
+                          n_) < 0:
                     quad = [start, start + 2, start + 1, start, start + 3, start + 2]
                 idx += quad
     return _pack(np.array(pos), np.array(nor), np.array(tan), np.array(uv), np.array(idx))

@@ -36,7 +36,7 @@ Conventions, and what differs from Hillaire's paper (all documented in the GLSL 
 * no ozone layer (the thesis has none), ground albedo 0 by default (the thesis has no ground
   reflection in the sky), planet shadow as a hard test (the LUT transmittance is ~0 there).
 
-Limits (measured in tests/test_hillaire.py): the sky lookup is within 2 % of a brute-force
+Limits (measured in tests/**/test_hillaire*.py): the sky lookup is within 2 % of a brute-force
 march's peak everywhere tested, the worst at rays grazing the ground horizon from altitude; the
 volume's 32 rows blur the horizon row of the image (trilinear filtering between a column that
 meets the ground and one that does not) — columns are therefore not clipped at the ground, which
@@ -70,12 +70,13 @@ MULTISCATTERING = fullscreen("atmosphere/hillaire/multiscattering_lut")
 SKYVIEW = fullscreen("atmosphere/hillaire/skyview_lut")
 AERIAL_FRAGMENT = fullscreen("atmosphere/hillaire/aerial_perspective")
 AERIAL_COMPUTE = ProgramSpec("atmosphere/hillaire/aerial_perspective_compute",
-                             comp="atmosphere/hillaire/aerial_perspective.comp", requires_compute=True)
+                             comp="atmosphere/hillaire/aerial_perspective.comp",
+                             requires_compute=True)
 #: a minimal composite (sky, lit ground sphere, aerial perspective): how to call the lookups
 PREVIEW = fullscreen("atmosphere/hillaire/preview")
 #: every program of method 4, for ``natura shaders check`` (via the scene's effect)
-PROGRAMS: tuple[ProgramSpec, ...] = (TRANSMITTANCE, MULTISCATTERING, SKYVIEW, AERIAL_FRAGMENT, AERIAL_COMPUTE,
-                                     PREVIEW)
+PROGRAMS: tuple[ProgramSpec, ...] = (TRANSMITTANCE, MULTISCATTERING, SKYVIEW, AERIAL_FRAGMENT,
+                                     AERIAL_COMPUTE, PREVIEW)
 
 #: model.glsl uniforms the transmittance and multiple-scattering LUTs depend on
 STATIC_UNIFORMS = ("uBottomRadius", "uTopRadius", "uBetaRayleigh", "uBetaMieScatter", "uBetaMieExt",
@@ -85,13 +86,14 @@ FRAME_UNIFORMS = ("uEarthCenter", "uCameraRadius", "uSunDir", "uSunIntensity", "
 
 #: the LUT samplers bind() sets, in the order of LUT_NAMES
 LUT_NAMES = ("transmittance", "multiscattering", "skyview0", "skyview1", "ap0", "ap1")
-SAMPLERS = ("uHillaireTransmittanceLut", "uHillaireMultiScatteringLut", "uHillaireSkyViewRayleighMs",
-            "uHillaireSkyViewMie", "uHillaireApRayleighMs", "uHillaireApMie")
+SAMPLERS = ("uHillaireTransmittanceLut", "uHillaireMultiScatteringLut",
+            "uHillaireSkyViewRayleighMs", "uHillaireSkyViewMie", "uHillaireApRayleighMs",
+            "uHillaireApMie")
 
 #: the camera above the top by this fraction of the atmosphere's height: lookups fully marched
 SPACE_BLEND = 0.1
 
-#: spec/002 §7 defaults (thesis constants; radii per §9)
+#: spec/002 §7 defaults (thesis constants; radii per spec/002 §9)
 BOTTOM_RADIUS = 6_360_000.0
 ATMOSPHERE_HEIGHT = 60_000.0
 BETA_RAYLEIGH = (5.8e-6, 13.5e-6, 33.1e-6)
@@ -116,16 +118,18 @@ def params() -> list[Param]:
           kind="int", section=f"{s} §4"),
         p("ms_size", 32, 4, 256, "multiple-scattering LUT size, μ_s × h (paper 32 × 32)",
           kind="int", unit="px", section=f"{s} §5.5"),
-        p("ms_directions", 64, 1, 4096, "directions of the Ψ_ms sphere integral, rounded down to N² "
-          "(paper 64)", kind="int", section=f"{s} §5.5"),
+        p("ms_directions", 64, 1, 4096, "directions of the Ψ_ms sphere integral, rounded down to "
+          "N² (paper 64)", kind="int", section=f"{s} §5.5"),
         p("ms_steps", 20, 2, 500, "samples per direction of the Ψ_ms integral (paper 20)",
           kind="int", section=f"{s} §5.5"),
         Param(f"{GROUP}.multiple_scattering", True, doc="add the multiple-scattering term σ_s Ψ_ms "
-              "(off: single scattering only, the thesis's integral)", kind="bool", section=f"{s} §5.5"),
+              "(off: single scattering only, the thesis's integral)", kind="bool",
+              section=f"{s} §5.5"),
         Param(f"{GROUP}.ms_infinite", True, doc="all orders through F_ms = 1/(1 − f_ms) "
-              "(off: second order only, F_ms = 1)", kind="bool", section=f"{s} §5.5 eq. 9"),
-        p("ground_albedo", 0.0, 0.0, 1.0, "Lambertian ground albedo seen by Ψ_ms (0: the thesis has "
-          "no ground reflection)", step=0.01, section=f"{s} §5.5 eq. 6"),
+              "(off: second order only, F_ms = 1)", kind="bool",
+              section=f"{s} §5.5; Hillaire 2020 eq. 9"),
+        p("ground_albedo", 0.0, 0.0, 1.0, "Lambertian ground albedo seen by Ψ_ms (0: the thesis "
+          "has no ground reflection)", step=0.01, section=f"{s} §5.5; Hillaire 2020 eq. 6"),
         p("skyview_width", 192, 8, 2048, "sky-view LUT width (azimuth; paper 192)",
           kind="int", unit="px", section=f"{s} §5.3"),
         p("skyview_height", 108, 4, 2048, "sky-view LUT height (latitude, even; paper 108)",
@@ -137,8 +141,10 @@ def params() -> list[Param]:
         p("ap_slices", 32, 2, 512, "aerial-perspective depth slices (paper 32)",
           kind="int", section=f"{s} §5.4"),
         p("ap_range", 128_000.0, 1000.0, 2_000_000.0, "distance of the last slice; slices are "
-          "quadratic in distance, the lookup marches past it", step=1000.0, unit="m", section=f"{s} §5.4"),
-        p("ap_substeps", 2, 1, 64, "samples per aerial-perspective slice", kind="int", section=f"{s} §5.4"),
+          "quadratic in distance, the lookup marches past it", step=1000.0, unit="m",
+          section=f"{s} §5.4"),
+        p("ap_substeps", 2, 1, 64, "samples per aerial-perspective slice", kind="int",
+          section=f"{s} §5.4"),
         p("march_steps", 32, 2, 2000, "samples of the per-pixel march used from space and past "
           "the volume's range", kind="int", section=f"{s} §6"),
     ]
@@ -165,22 +171,27 @@ class CameraFrame:
     def from_camera(cls, camera, aspect: float, height: float | None = None) -> CameraFrame:
         """From an :class:`app.sim.camera.Camera` (basis() and fov in degrees)."""
         r, u, f = camera.basis()
-        return cls(tuple(r), tuple(u), tuple(f), math.tan(math.radians(camera.fov) / 2.0), float(aspect), height)
+        return cls(tuple(r), tuple(u), tuple(f), math.tan(math.radians(camera.fov) / 2.0),
+                   float(aspect), height)
 
     @classmethod
     def from_uniforms(cls, values: Mapping[str, Any], height: float | None = None) -> CameraFrame:
-        """From camera.glsl uniform values (uCamRight, uCamUp, uCamForward, uTanHalfFov, uAspect)."""
-        return cls(tuple(values["uCamRight"]), tuple(values["uCamUp"]), tuple(values["uCamForward"]),
-                   float(values["uTanHalfFov"]), float(values["uAspect"]), height)
+        """From camera.glsl uniform values (uCamRight, uCamUp, uCamForward, uTanHalfFov,
+        uAspect)."""
+        return cls(tuple(values["uCamRight"]), tuple(values["uCamUp"]),
+                   tuple(values["uCamForward"]), float(values["uTanHalfFov"]),
+                   float(values["uAspect"]), height)
 
     def uniforms(self) -> dict[str, Any]:
         return {"uCamRight": tuple(map(float, self.right)), "uCamUp": tuple(map(float, self.up)),
-                "uCamForward": tuple(map(float, self.forward)), "uTanHalfFov": float(self.tan_half_fov),
+                "uCamForward": tuple(map(float, self.forward)),
+                "uTanHalfFov": float(self.tan_half_fov),
                 "uAspect": float(self.aspect), "uCameraPos": (0.0, 0.0, 0.0)}
 
 
-def model_uniforms(altitude: float = 2.0, sun_elevation_deg: float = 90.0, sun_azimuth_deg: float = 0.0,
-                   up=(0.0, 1.0, 0.0), **overrides) -> dict[str, Any]:
+def model_uniforms(altitude: float = 2.0, sun_elevation_deg: float = 90.0,
+                   sun_azimuth_deg: float = 0.0, up=(0.0, 1.0, 0.0),
+                   **overrides) -> dict[str, Any]:
     """model.glsl uniform values with the spec/002 §7 constants for a camera at ``altitude``
     metres above the bottom sphere (the planet centre straight below along ``up``) and the sun
     at the given elevation and azimuth (0° = −z, 90° = +x, as app.sim.camera's yaw).
@@ -249,7 +260,8 @@ class HillaireLuts:
         self.params = params
         self.use_compute = gpu.caps.compute if use_compute is None else bool(use_compute)
         self.measure = measure
-        self.builds = {"transmittance": 0, "multiscattering": 0, "skyview": 0, "aerial_perspective": 0}
+        self.builds = {"transmittance": 0, "multiscattering": 0, "skyview": 0,
+                       "aerial_perspective": 0}
         self.timings: dict[str, float] = {}
         self._textures: dict[str, Any] = {}
         self._fbos: dict[str, Any] = {}
@@ -293,7 +305,8 @@ class HillaireLuts:
             self.gpu.free(tex)
         zeros = bytes(16 * math.prod(size))  # defined contents even before a pass writes them
         if len(size) == 3:
-            tex = self.gpu.texture3d(self.owner, f"hillaire {name}", size, 4, data=zeros, dtype="f4", repeat=False)
+            tex = self.gpu.texture3d(self.owner, f"hillaire {name}", size, 4, data=zeros,
+                                     dtype="f4", repeat=False)
         else:
             tex = self.gpu.texture(self.owner, f"hillaire {name}", size, 4, data=zeros, dtype="f4")
         self._textures[name] = tex
@@ -455,10 +468,12 @@ class HillaireLuts:
             raise KeyError(f"HillaireLuts.update: model uniforms missing: {', '.join(missing)}")
         v = self.value
         return (tuple(_freeze(u[k]) for k in STATIC_UNIFORMS), self.sizes()["transmittance"],
-                self.sizes()["multiscattering"], int(v("transmittance_steps")), self.ms_directions(),
-                int(v("ms_steps")), float(v("ground_albedo")), bool(v("ms_infinite")))
+                self.sizes()["multiscattering"], int(v("transmittance_steps")),
+                self.ms_directions(), int(v("ms_steps")), float(v("ground_albedo")),
+                bool(v("ms_infinite")))
 
-    def update(self, uniforms: Mapping[str, Any], camera_frame: CameraFrame | Mapping[str, Any]) -> None:
+    def update(self, uniforms: Mapping[str, Any],
+               camera_frame: CameraFrame | Mapping[str, Any]) -> None:
         """Bring the LUTs up to date for this frame: the transmittance and multiple-scattering
         LUTs when the model changed, the sky-view LUT and the volume always (unless the camera
         is so far above the atmosphere that the lookups only march).
@@ -466,7 +481,8 @@ class HillaireLuts:
         ``uniforms``: model.glsl uniform values (see the module doc). ``camera_frame``: a
         :class:`CameraFrame`, or a mapping of camera.glsl uniform values."""
         self._uniforms = {k: v for k, v in uniforms.items()}
-        frame = camera_frame if isinstance(camera_frame, CameraFrame) else CameraFrame.from_uniforms(camera_frame)
+        frame = (camera_frame if isinstance(camera_frame, CameraFrame)
+                 else CameraFrame.from_uniforms(camera_frame))
         self._camera = frame
         bottom = float(self._uniforms["uBottomRadius"])
         top = float(self._uniforms["uTopRadius"])
@@ -485,7 +501,8 @@ class HillaireLuts:
             self.build_skyview()
             self.build_aerial_perspective()
         else:  # the lookups only march; keep valid (empty) textures bound
-            for name, size in (("skyview0", self.sizes()["skyview"]), ("skyview1", self.sizes()["skyview"]),
+            for name, size in (("skyview0", self.sizes()["skyview"]),
+                               ("skyview1", self.sizes()["skyview"]),
                                ("ap0", self.sizes()["aerial_perspective"]),
                                ("ap1", self.sizes()["aerial_perspective"])):
                 self._texture(name, size)

@@ -5,7 +5,8 @@ exposure, sun disk) and ``sky.frag`` (one full-screen pass). CPU side: the numpy
 ``app.sim.preetham`` (every GLSL function has a namesake there; the tests compare them per
 pixel).
 
-How a scene composes it — it is a drop-in alternative to the day–night :class:`~app.effects.sky.Sky`:
+How a scene composes it — it is a drop-in alternative to the day–night
+:class:`~app.effects.sky.Sky`:
 
 * **stage**: the background (it overwrites every pixel of the target); listed after a
   day–night ``Sky`` if the scene has both (then Preetham only replaces the picture, see below)
@@ -14,8 +15,9 @@ How a scene composes it — it is a drop-in alternative to the day–night :clas
   that sun is used and the frame is left as it is; otherwise the sun comes from this effect's
   ``preetham.sun_elevation`` / ``preetham.sun_azimuth`` and ``update()`` fills ``frame.sun`` and
   ``frame.main_light`` (colour = the sun's transmittance through the atmosphere, paper appendix
-  A.1 — yellow-white at noon, dim red at sunset; intensity = ``preetham.sun_intensity`` times the day–night sky's horizon fade,
-  so the light goes out smoothly 2° below the horizon) — the same interface as ``Sky``;
+  A.1 — yellow-white at noon, dim red at sunset; intensity = ``preetham.sun_intensity`` times
+  the day–night sky's horizon fade, so the light goes out smoothly 2° below the horizon) — the
+  same interface as ``Sky``;
 * **draw()** draws the sky into the target (linear radiance, alpha 1) with the depth test
   off; it reads nothing from the target. A later cloud pass composites over this picture.
 
@@ -53,13 +55,14 @@ class Preetham(Effect):
         s = "spec/001 §1.8"
         return [
             Param("preetham.sun_elevation", 45.0, -90.0, 90.0,
-                  "sun elevation when no day–night sky runs before this effect (Sky.js 'inclination')",
-                  step=0.1, unit="°", section=s),
+                  "sun elevation when no day–night sky runs before this effect (Sky.js "
+                  "'inclination')", step=0.1, unit="°", section=s),
             Param("preetham.sun_azimuth", 180.0, 0.0, 360.0,
                   "sun azimuth, 0 = north (−z), 90 = east (+x), when no day–night sky sets the sun",
                   step=0.5, unit="°", section=s),
             Param("preetham.sun_intensity", 1.0, 0.0, 20.0,
-                  "main-light intensity of the sun when this effect sets the lights", step=0.05, section=s),
+                  "main-light intensity of the sun when this effect sets the lights", step=0.05,
+                  section=s),
         ]
 
     def __init__(self, gpu, params):
@@ -69,7 +72,8 @@ class Preetham(Effect):
 
     # -- CPU -------------------------------------------------------------------------------
     def own_sun_direction(self) -> np.ndarray:
-        return model.sun_direction(self.params["preetham.sun_elevation"], self.params["preetham.sun_azimuth"])
+        return model.sun_direction(self.params["preetham.sun_elevation"],
+                                   self.params["preetham.sun_azimuth"])
 
     def update(self, frame, dt: float) -> None:
         if frame.sun is not None:  # a day–night sky ran first: follow its sun
@@ -79,9 +83,10 @@ class Preetham(Effect):
         self.owns_sun = True
         sun = self.own_sun_direction()
         self.sun_direction = sun
-        colour = tuple(float(c) for c in model.sun_transmittance(model.model_sun_zenith(sun),
-                                                                    self.params["preetham.turbidity"]))
-        light = Light("sun", sun, colour, self.params["preetham.sun_intensity"] * light_fade(sun[1]))
+        colour = tuple(float(c) for c in model.sun_transmittance(
+            model.model_sun_zenith(sun), self.params["preetham.turbidity"]))
+        light = Light("sun", sun, colour,
+                      self.params["preetham.sun_intensity"] * light_fade(sun[1]))
         frame.sun = light
         frame.main_light = light
 
@@ -96,8 +101,9 @@ class Preetham(Effect):
         draw_fullscreen(prog)
 
     def radiance_numpy(self, directions) -> np.ndarray:
-        """The twin of what :meth:`render` draws toward ``directions`` (…, 3)."""
+        """The twin of what :meth:`draw` draws toward ``directions`` (…, 3)."""
         p = self.params
-        return model.sky_radiance(directions, self.sun_direction, p["preetham.turbidity"], p["preetham.exposure"],
+        return model.sky_radiance(directions, self.sun_direction, p["preetham.turbidity"],
+                                  p["preetham.exposure"],
                                   p["preetham.sun_disk"], p["preetham.sun_disk_radius"],
                                   p["preetham.sun_disk_intensity"])

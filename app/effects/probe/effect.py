@@ -1,4 +1,5 @@
-"""A mirror ball showing the sky's environment cubemap (the thesis's reflection probe).
+"""A mirror ball showing the sky's environment cubemap (the thesis's reflection probe,
+spec/000 §1.7).
 
 It reads the frame's ``environment`` slot (required: the scene must have a sky that produces
 it), so the cubemap exists only in scenes that reflect something, and is re-rendered only when

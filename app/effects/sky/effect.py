@@ -10,8 +10,8 @@ reflection probe, rendered "only when needed".
 Slots: produces ``hour``, ``sun``, ``moon``, ``main_light`` (sun by day, moon by night) and
 ``environment``.
 
-CPU side: ``app.sim.daynight`` (hour, sun and moon, keyframes). The numpy functions at the end
-of this module are the twins the tests compare the shader with.
+CPU side: ``app.sim.daynight`` (hour, sun and moon, keyframes). The numpy twins the tests
+compare the shader with are in ``app/sim/sky.py``.
 """
 
 from __future__ import annotations
@@ -47,23 +47,26 @@ class Sky(Effect):
     def python_params(cls) -> list[Param]:
         s = "spec/000 §1.7"
         return [
-            Param("time.hour", 12.0, 0.0, 24.0, "hour of day (SkyboxController.Time), wraps into [0, 24)",
-                  step=0.05, unit="h", section=s),
-            Param("time.playing", False, doc="time advances (SkyboxController.IsPlaying)", kind="bool", section=s),
-            Param("time.speed", 0.25, 0.0, 24.0, "hours of sky time per second (Planet Rotation Speed)",
-                  step=0.01, unit="h/s", section=s),
+            Param("time.hour", 12.0, 0.0, 24.0, "hour of day (SkyboxController.Time), wraps into "
+                  "[0, 24)", step=0.05, unit="h", section=s),
+            Param("time.playing", False, doc="time advances (SkyboxController.IsPlaying)",
+                  kind="bool", section=s),
+            Param("time.speed", 0.25, 0.0, 24.0, "hours of sky time per second (Planet Rotation "
+                  "Speed)", step=0.01, unit="h/s", section=s),
             Param("sky.ecliptic", (0.0, 0.6, -1.0), -1.0, 1.0,
-                  "Earth's rotation axis (Ecliptic): tilt toward north (−z) sets the noon sun height",
-                  kind="vec3", step=0.01, section=s),
-            Param("sky.moon_light", 0.08, 0.0, 1.0, "main-light intensity of the moon relative to the sun",
-                  step=0.01, section=s),
+                  "Earth's rotation axis (Ecliptic): tilt toward north (−z) sets the noon sun "
+                  "height", kind="vec3", step=0.01, section=s),
+            Param("sky.moon_light", 0.08, 0.0, 1.0, "main-light intensity of the moon relative to "
+                  "the sun", step=0.01, section=s),
             Param("sky.sun_extinction", (0.0, 0.0, 0.0), 0.0, 2.0,
-                  "beyond the thesis: zenith optical depth per channel (R, G, B) that reddens the sun and the main "
-                  "light toward the horizon (Kasten–Young air mass, relative to the zenith); 0 = the thesis's "
-                  "constant colour", kind="vec3", step=0.01, section=s),
-            Param("sky.star_seed", 7, 0, 2**31 - 1, "seed of the procedural star field", kind="int", section=s),
-            Param("sky.cubemap_size", 128, 8, 2048, "environment cubemap face size (reflection probe)",
-                  kind="int", step=8, unit="px", section=s),
+                  "beyond the thesis: zenith optical depth per channel (R, G, B) that reddens the "
+                  "sun and the main light toward the horizon (Kasten–Young air mass, relative to "
+                  "the zenith); 0 = the thesis's constant colour", kind="vec3", step=0.01,
+                  section=s),
+            Param("sky.star_seed", 7, 0, 2**31 - 1, "seed of the procedural star field", kind="int",
+                  section=s),
+            Param("sky.cubemap_size", 128, 8, 2048, "environment cubemap face size (reflection "
+                  "probe)", kind="int", step=8, unit="px", section=s),
         ]
 
     def __init__(self, gpu, params, keyframes: Keyframes | None = None):
@@ -76,7 +79,8 @@ class Sky(Effect):
         self._stars = self.keyed(self._make_stars, release=gpu.free)
         self._moon = self.keyed(self._make_moon, release=gpu.free)
         #: the environment cubemaps (with and without the sun), remade when their size changes
-        self._cubes = {sun: self.keyed(lambda size, sun=sun: self._make_cube(size, sun), release=gpu.free)
+        self._cubes = {sun: self.keyed(lambda size, sun=sun: self._make_cube(size, sun),
+                                       release=gpu.free)
                        for sun in (True, False)}
         self._cube_rendered: dict[bool, tuple | None] = {True: None, False: None}
         self._probe = _SkyProbe(self)
@@ -103,7 +107,8 @@ class Sky(Effect):
             self.params.set("time.hour", dn.hour)
         self.state = dn.state()
         frame.hour = self.state.hour
-        frame.sun, frame.moon, frame.main_light = self.state.sun, self.state.moon, self.state.main_light
+        frame.sun, frame.moon, frame.main_light = (self.state.sun, self.state.moon,
+                                                   self.state.main_light)
         frame.environment = self._probe
 
     def panel_items(self) -> list:
@@ -119,17 +124,19 @@ class Sky(Effect):
             else:
                 if self._gradient is not None:
                     gpu.free(self._gradient)
-                self._gradient = gpu.texture(self.name, "sky gradient keyframes", (data.shape[1], data.shape[0]), 4,
-                                             data.tobytes())
+                self._gradient = gpu.texture(self.name, "sky gradient keyframes",
+                                             (data.shape[1], data.shape[0]), 4, data.tobytes())
             self._gradient_version = self.keyframes.version
 
     def _make_stars(self, seed: int):
         stars = star_field(seed)
-        return self.gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1, stars.tobytes(), repeat=True)
+        return self.gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1,
+                                stars.tobytes(), repeat=True)
 
     def _make_moon(self, _key):
         moon = moon_texture()
-        return self.gpu.texture(self.name, "moon", (moon.shape[1], moon.shape[0]), 4, moon.tobytes())
+        return self.gpu.texture(self.name, "moon", (moon.shape[1], moon.shape[0]), 4,
+                                moon.tobytes())
 
     def _bind(self, prog) -> None:
         st = self.state
@@ -182,7 +189,8 @@ class Sky(Effect):
         return self._cubes[sun].built
 
     def _make_cube(self, size: int, sun: bool):
-        cube = self.gpu.texture_cube(self.name, "environment" if sun else "environment without the sun", size)
+        cube = self.gpu.texture_cube(self.name,
+                                     "environment" if sun else "environment without the sun", size)
         cube.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
         self._cube_rendered[sun] = None
         return cube
@@ -203,13 +211,15 @@ class Sky(Effect):
             prog.program.run(groups, groups, 6)
             ctx.memory_barrier()
         else:
-            face_target = self.gpu.target(self.name, "cubemap face", (size, size), dtype="f4", depth=False)
+            face_target = self.gpu.target(self.name, "cubemap face", (size, size), dtype="f4",
+                                          depth=False)
             try:
                 for face in range(6):
                     face_target.use()
                     prog.set("uFace", face)
                     draw_fullscreen(prog)
-                    raw = np.frombuffer(face_target.fbo.read(components=4, dtype="f4"), dtype=np.float32)
+                    raw = np.frombuffer(face_target.fbo.read(components=4, dtype="f4"),
+                                        dtype=np.float32)
                     cube.write(face, raw.astype(np.float16).tobytes())
             finally:
                 self.gpu.free(face_target)
@@ -230,9 +240,11 @@ class Sky(Effect):
     def bench_passes(self, frame, target) -> list[Pass]:
         out = self.passes(frame, target)
         if self._cubes[True].built:
-            out.append(Pass("sky.cubemap", lambda: self.environment(frame, force=True), Stage.ENVIRONMENT))
+            out.append(Pass("sky.cubemap", lambda: self.environment(frame, force=True),
+                            Stage.ENVIRONMENT))
         if self._cubes[False].built:
-            out.append(Pass("sky.cubemap (no sun)", lambda: self.environment(frame, force=True, sun=False),
+            out.append(Pass("sky.cubemap (no sun)",
+                            lambda: self.environment(frame, force=True, sun=False),
                             Stage.ENVIRONMENT))
         return out
 

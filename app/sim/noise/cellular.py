@@ -14,8 +14,8 @@ The model, for a point p in the unit lattice:
   where the true value exceeds 1 (rare, clustered points) the result is the distance to the
   nearest (second nearest) of the visited points — identical on CPU and GPU;
 * helpers: F2 − F1 (cell borders, 0 on the Voronoi edges) and the inverted F1,
-  1 − clamp(F1, 0, 1), which is 1 exactly at feature points (spec/001 B4) — the billowy
-  pattern of the cloud theses;
+  1 − clamp(F1, 0, 1), which is 1 exactly at feature points (spec/001 §6, criterion B4) — the
+  billowy pattern of the cloud theses;
 * periodic variant: the cell index is wrapped modulo an integer period before it is hashed,
   while the distance uses the unwrapped neighbour position, so the pattern tiles with that
   period and the 3ⁿ search "sees the same point distribution shifted" across the wrap
@@ -63,7 +63,8 @@ def pcg4d(x, y, z, w) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
             z = z + x * y
             w = w + y * z
             if i == 0:
-                x, y, z, w = x ^ (x >> _U32(16)), y ^ (y >> _U32(16)), z ^ (z >> _U32(16)), w ^ (w >> _U32(16))
+                x, y, z, w = (x ^ (x >> _U32(16)), y ^ (y >> _U32(16)),
+                              z ^ (z >> _U32(16)), w ^ (w >> _U32(16)))
     return x, y, z, w
 
 
@@ -111,7 +112,8 @@ def _as_period(period, n: int) -> np.ndarray | None:
         return None
     per = np.broadcast_to(np.asarray(period, dtype=np.int64), (n,)).copy()
     if np.any(per < 1):
-        raise ValueError(f"Worley period {tuple(per)} has an entry below 1: allowed positive integers")
+        raise ValueError(f"Worley period {tuple(per)} has an entry below 1: "
+                         "allowed positive integers")
     return per
 
 

@@ -1,19 +1,21 @@
 """Fractal sums of noise — numpy twin of ``glsl/common/noise_fbm.glsl``.
 
-Sources: fBm as spec/001 §1.1 eq. 3.1/3.2 (after Quilez); turbulence (Perlin 1985, the sum of
-|noise|); Perlin–Worley as in Schneider, "The real-time volumetric cloudscapes of Horizon: Zero
-Dawn", SIGGRAPH 2015 (spec/001 §1.1 [INFERENCE] note and table "Shape R"; spec/000 §1.6).
+Sources: fBm as spec/001 eq. 3.1 and spec/001 eq. 3.2 (spec/001 §1.1, after Quilez);
+turbulence (Perlin 1985, the sum of |noise|); Perlin–Worley as in Schneider, "The real-time
+volumetric cloudscapes of Horizon: Zero Dawn", SIGGRAPH 2015 (spec/001 §1.1 [INFERENCE] note
+and table "Shape R"; spec/000 §1.6).
 
 Octave sums, with a_0 = 1, a_i = G·a_{i−1} (gain G) and f_0 = 1, f_i = L·f_{i−1}
-(lacunarity L); G = L^(−H) when the Hurst exponent H is given instead (eq. 3.1 with L = 2):
+(lacunarity L); G = L^(−H) when the Hurst exponent H is given instead (spec/001 eq. 3.1 with
+L = 2):
 
-    fbm(p)        = Σ_{i<n} a_i · noise(f_i p) / Σ_{i<n} a_i                (3.2, normalised)
+    fbm(p)        = Σ_{i<n} a_i · noise(f_i p) / Σ_{i<n} a_i      (spec/001 eq. 3.2, normalised)
     turbulence(p) = Σ_{i<n} a_i · |noise(f_i p)| / Σ_{i<n} a_i
     worley_fbm(p) = Σ_{i<n} a_i · (1 − clamp(F1(f_i p), 0, 1)) / Σ_{i<n} a_i   ∈ [0, 1]
 
-The division by Σ a_i (our choice; eq. 3.1 is the bare sum) keeps each sum in its base noise's
-range, so one octave is exactly the base noise (spec/001 B5) and the Perlin–Worley remap below
-sees inputs of known range.
+The division by Σ a_i (our choice; spec/001 eq. 3.1 is the bare sum) keeps each sum in its base
+noise's range, so one octave is exactly the base noise (spec/001 §6, criterion B5) and the
+Perlin–Worley remap below sees inputs of known range.
 
 Perlin–Worley (exact formula used here and in GLSL ``PerlinWorleyRemap``):
 
@@ -29,12 +31,13 @@ Tileable variants (for bakes): the lattice or cell index of octave i wraps with 
 base_period · L^i, which needs an integer lacunarity L; the sum then tiles with
 ``base_period`` in p on every axis.
 
-Seeds: Perlin sums take ``seed`` as a permutation seed (``app.noise.gradient.permutation``:
+Seeds: Perlin sums take ``seed`` as a permutation seed (``app.sim.noise.gradient.permutation``:
 None/0 = Perlin's table); Worley sums take it as the uint32 hash seed (None = 0). Perlin–Worley
 uses the same ``seed`` for both. All octaves share the seed.
 
-Known artefact of eq. 3.1 with integer lacunarity: Perlin noise is 0 at lattice points and
-the lattices of all octaves contain the integer points, so Perlin fBm is 0 at every integer p.
+Known artefact of spec/001 eq. 3.1 with integer lacunarity: Perlin noise is 0 at lattice points
+and the lattices of all octaves contain the integer points, so Perlin fBm is 0 at every
+integer p.
 """
 
 from __future__ import annotations
@@ -47,7 +50,8 @@ from . import cellular, gradient
 
 
 def gain_for(lacunarity: float = 2.0, gain: float | None = None, H: float | None = None) -> float:
-    """The octave gain G: ``gain`` if given, else L^(−H) if ``H`` is given, else 1/2."""
+    """The octave gain G: ``gain`` if given, else L^(−H) if ``H`` is given, else 1/2
+    (G = 2^(−H) of spec/001 eq. 3.2)."""
     if gain is not None and H is not None:
         raise ValueError("give the fBm gain or its Hurst exponent H, not both")
     if H is not None:
@@ -75,7 +79,8 @@ def _int_lacunarity(lacunarity) -> int:
 
 def octave_sum(noise: Callable[..., np.ndarray], coords, octaves: int = 5, lacunarity: float = 2.0,
                gain: float | None = None, H: float | None = None) -> np.ndarray:
-    """Σ a_i noise(f_i·coords, i) / Σ a_i — the generic form of every sum in this module.
+    """Σ a_i noise(f_i·coords, i) / Σ a_i — the generic form of every sum in this module
+    (spec/001 eq. 3.2, normalised).
 
     ``noise(scaled_coords, i)`` gets the coordinates already multiplied by f_i and the octave
     index (for per-octave periods)."""
@@ -96,17 +101,20 @@ def octave_sum(noise: Callable[..., np.ndarray], coords, octaves: int = 5, lacun
 def perlin_fbm3(x, y, z, octaves: int = 5, lacunarity: float = 2.0, gain: float | None = None,
                 H: float | None = None, seed: int | None = None) -> np.ndarray:
     """Normalised fBm of ``perlin3``; twin of GLSL ``PerlinFbm3``."""
-    return octave_sum(lambda c, i: gradient.perlin3(*c, seed=seed), (x, y, z), octaves, lacunarity, gain, H)
+    return octave_sum(lambda c, i: gradient.perlin3(*c, seed=seed), (x, y, z),
+                      octaves, lacunarity, gain, H)
 
 
 def perlin_fbm2(x, y, octaves: int = 5, lacunarity: float = 2.0, gain: float | None = None,
                 H: float | None = None, seed: int | None = None) -> np.ndarray:
     """Normalised fBm of ``perlin2``; twin of GLSL ``PerlinFbm2``."""
-    return octave_sum(lambda c, i: gradient.perlin2(*c, seed=seed), (x, y), octaves, lacunarity, gain, H)
+    return octave_sum(lambda c, i: gradient.perlin2(*c, seed=seed), (x, y),
+                      octaves, lacunarity, gain, H)
 
 
-def perlin_turbulence3(x, y, z, octaves: int = 5, lacunarity: float = 2.0, gain: float | None = None,
-                       H: float | None = None, seed: int | None = None) -> np.ndarray:
+def perlin_turbulence3(x, y, z, octaves: int = 5, lacunarity: float = 2.0,
+                       gain: float | None = None, H: float | None = None,
+                       seed: int | None = None) -> np.ndarray:
     """Σ a_i |perlin3(f_i p)| / Σ a_i ≥ 0; twin of GLSL ``PerlinTurbulence3``."""
     return octave_sum(lambda c, i: np.abs(gradient.perlin3(*c, seed=seed)), (x, y, z),
                       octaves, lacunarity, gain, H)
@@ -187,7 +195,8 @@ def worley_fbm3_periodic(x, y, z, period, octaves: int = 3, lacunarity: int = 2,
     lac = _int_lacunarity(lacunarity)
     per = _periods(period, 3, lac)
     return octave_sum(
-        lambda c, i: cellular.worley_inverted_f1(cellular.worley3_periodic(*c, per(i), seed=seed)[0]),
+        lambda c, i: cellular.worley_inverted_f1(
+            cellular.worley3_periodic(*c, per(i), seed=seed)[0]),
         (x, y, z), octaves, lac, gain, H)
 
 
@@ -198,7 +207,8 @@ def worley_fbm2_periodic(x, y, period, octaves: int = 3, lacunarity: int = 2,
     lac = _int_lacunarity(lacunarity)
     per = _periods(period, 2, lac)
     return octave_sum(
-        lambda c, i: cellular.worley_inverted_f1(cellular.worley2_periodic(*c, per(i), seed=seed)[0]),
+        lambda c, i: cellular.worley_inverted_f1(
+            cellular.worley2_periodic(*c, per(i), seed=seed)[0]),
         (x, y), octaves, lac, gain, H)
 
 

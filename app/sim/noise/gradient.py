@@ -95,7 +95,8 @@ def seed_key(seed: int | None) -> int:
         return 0
     seed = int(seed)
     if seed < 0:
-        raise ValueError(f"noise seed {seed} is negative: allowed 0 (Perlin's table) or a positive integer")
+        raise ValueError(f"noise seed {seed} is negative: "
+                         "allowed 0 (Perlin's table) or a positive integer")
     return seed
 
 
@@ -103,7 +104,8 @@ def permutation(seed: int | None = None) -> np.ndarray:
     """The permutation table of 0..255 (int64, length 256) for ``seed``.
 
     ``None`` or 0: Perlin's published table; otherwise ``default_rng(seed).permutation(256)``.
-    This is exactly what the GPU texture ``uPerlinPermutation`` holds (``app.noise.gpu``)."""
+    This is exactly what the GPU texture ``uPerlinPermutation`` holds
+    (``app.render.noise.GradientNoiseTextures``)."""
     key = seed_key(seed)
     table = _permutation_cache.get(key)
     if table is None:
@@ -141,7 +143,8 @@ def _grad2(h, x, y):
 def _as_period(period, n: int) -> np.ndarray:
     per = np.broadcast_to(np.asarray(period, dtype=np.int64), (n,)).copy()
     if np.any(per < 1):
-        raise ValueError(f"noise period {tuple(per)} has an entry below 1: allowed positive integers")
+        raise ValueError(f"noise period {tuple(per)} has an entry below 1: "
+                         "allowed positive integers")
     return per
 
 

@@ -17,14 +17,17 @@
 //   * the transmittance LUT parametrisation (Hillaire §4 uses Bruneton & Neyret 2008 / Bruneton
 //     2017's): x_r = ρ/H_top, x_μ = (d − d_min)/(d_max − d_min), d_min = r_top − r,
 //     d_max = ρ + H_top, H_top = sqrt(r_top² − R²); it covers every ray that does not hit the
-//     ground, so sun transmittance = LUT × (sun above the local horizon)   (Hillaire §4, eq. 1);
-//   * the multiple-scattering LUT lookup Ψ_ms(h, μ_s) (Hillaire §5.5, eqs. 5–10);
+//     ground, so sun transmittance = LUT × (sun above the local horizon)
+//     (Hillaire 2020 §4, Hillaire 2020 eq. 1);
+//   * the multiple-scattering LUT lookup Ψ_ms(h, μ_s) (Hillaire 2020 §5.5; the LUT itself is
+//     built, equation by equation, in multiscattering_lut.frag);
 //   * the view-ray integrator shared by the sky-view, aerial-perspective and fallback marches:
 //         L(ν) = E_sun ∫ T_view(t) [ T_sun(t) (σ_R(t) P_R(ν) + σ_M(t) P_M(ν)) + σ_s(t) Ψ_ms(t) ] dt
-//     (Hillaire eq. 1 with S = single + multiple, eq. 11), where E_sun = uSunIntensity — the
-//     thesis's "lightSun", which plays the role of a sun *illuminance*: phase functions are per
-//     steradian, so E·σ·p is a radiance per metre. The single-scattering part is exactly the
-//     integral of the thesis's method 1 (spec/002 §1.5) with V ≡ 1.
+//     (Hillaire 2020 eq. 1 with S = single + multiple, Hillaire 2020 eq. 11), where
+//     E_sun = uSunIntensity — the thesis's "lightSun", which plays the role of a sun
+//     *illuminance*: phase functions are per steradian, so E·σ·p is a radiance per metre. The
+//     single-scattering part is exactly the integral of the thesis's method 1 (spec/002 §1.5)
+//     with V ≡ 1.
 //     The integrator returns the Rayleigh and Mie integrals *without* their phase functions:
 //     ν is constant along a ray, so the phase is applied per pixel by the lookup, exactly —
 //     the sharp Mie halo (G = 0.76) never goes through a LUT's bilinear filter.
@@ -164,7 +167,7 @@ vec3 HillaireSunTransmittanceAt(float h, float muS) {
     return HillaireRayHitsGround(h, muS) ? vec3(0.0) : HillaireTransmittanceToTop(h, muS);
 }
 
-// Ψ_ms(h, μ_s) per unit sun intensity (Hillaire eq. 10), uv linear in μ_s and in h.
+// Ψ_ms(h, μ_s) per unit sun intensity (Hillaire 2020 eq. 10), uv linear in μ_s and in h.
 vec3 HillaireMultipleScatteringAt(float h, float muS) {
     vec2 n = vec2(textureSize(uHillaireMultiScatteringLut, 0));
     vec2 unit = clamp(vec2(muS * 0.5 + 0.5, h / HillaireAtmosphereHeight()), 0.0, 1.0);
@@ -177,7 +180,7 @@ struct HillaireInScatter {
     vec3 rayleigh;      // ∫ T_view T_sun β_R ρ_R dt          (no phase, per unit sun intensity)
     vec3 mie;           // ∫ T_view T_sun β^s_M ρ_M dt        (no phase)
     vec3 multiple;      // ∫ T_view σ_s Ψ_ms dt               (isotropic, per unit sun intensity)
-    vec3 transfer;      // ∫ T_view σ_s dt                    (f_ms integrand, Hillaire eq. 8)
+    vec3 transfer;      // ∫ T_view σ_s dt                    (f_ms integrand, Hillaire 2020 eq. 8)
     vec3 opticalDepth;  // ∫ σ_t dt from the start of the segment
 };
 

@@ -1,7 +1,7 @@
 // =============================================================================================
 // Method 4 — what a scene's composite pass calls (Hillaire 2020 §5.3 sky-view lookup, §5.4
 // aerial-perspective lookup, §4 transmittance, §6 space views). Include this file; bind the LUTs
-// with HillaireLuts.bind(program, first_unit) (app/effects/atmosphere_hillaire.py), which also
+// with HillaireLuts.bind(program, first_unit) (app/effects/planet/hillaire.py), which also
 // sets every uHillaire* uniform below. The scene sets, as for methods 1–3, the model uniforms of
 // glsl/atmosphere/model.glsl (uEarthCenter, uCameraRadius, radii, β, H, P0, G, uSunIntensity,
 // uSunDir) and the camera uniforms of glsl/common/camera.glsl (uCamRight/Up/Forward,

@@ -5,17 +5,19 @@
 // unit intensity, integrate over the sphere of directions ω (N × N stratified, uniform in cos θ
 // and φ, weight 4π/N² each) with the isotropic phase p_u = 1/(4π) for both scattering events:
 //
-//   L_2nd   = ∫_Ω L'(x, −ω) p_u dω,                                             (eq. 5)
-//   L'(x,v) = ∫_0^{t_end} T(x, x+tv) σ_s(x+tv) p_u T_sun(x+tv) dt
-//             + T(x, x+t_g v) · (albedo/π) · max(μ_s,ground, 0) · T_sun,ground   (eqs. 6–7)
-//   f_ms    = ∫_Ω [ ∫_0^{t_end} T(x, x+tv) σ_s(x+tv) dt ] p_u dω                 (eq. 8)
-//   F_ms    = 1 + f_ms + f_ms² + … = 1/(1 − f_ms)                                (eq. 9)
-//   Ψ_ms    = L_2nd F_ms                                                          (eq. 10)
+//   L_2nd   = ∫_Ω L'(x, −ω) p_u dω,                                  (Hillaire 2020 eq. 5)
+//   L'(x,v) = ∫_0^{t_end} T(x, x+tv) σ_s(x+tv) p_u T_sun(x+tv) dt    (Hillaire 2020 eq. 6)
+//             + T(x, x+t_g v) · (albedo/π) · max(μ_s,ground, 0) · T_sun,ground
+//                                                                   (Hillaire 2020 eq. 7)
+//   f_ms    = ∫_Ω [ ∫_0^{t_end} T(x, x+tv) σ_s(x+tv) dt ] p_u dω     (Hillaire 2020 eq. 8)
+//   F_ms    = 1 + f_ms + f_ms² + … = 1/(1 − f_ms)                    (Hillaire 2020 eq. 9)
+//   Ψ_ms    = L_2nd F_ms                                             (Hillaire 2020 eq. 10)
 //
 // Ψ_ms is per unit sun intensity; the sky-view, aerial-perspective and fallback marches add
-// E_sun σ_s(x) Ψ_ms(h, μ_s) to the source term (eq. 11). uHillaireMsInfinite = 0 keeps only the
-// second order (F_ms = 1). uHillaireGroundAlbedo is 0 by default: the thesis's model has no ground
-// reflection, so method 4 differs from methods 1–3 by multiple scattering only.
+// E_sun σ_s(x) Ψ_ms(h, μ_s) to the source term (Hillaire 2020 eq. 11). uHillaireMsInfinite = 0
+// keeps only the second order (F_ms = 1). uHillaireGroundAlbedo is 0 by default: the thesis's
+// model has no ground reflection, so method 4 differs from methods 1–3 by multiple scattering
+// only.
 // Output: rgb Ψ_ms, a = mean f_ms (a diagnostic).
 //
 // Failure cases: directions into the ground from h = 0 (empty segment, only the ground term),

@@ -4,7 +4,8 @@
 // (skyview.glsl), integrate the view ray from the camera (or from the atmosphere's entry point
 // when the camera is above the top, §6) to the top or the ground:
 //
-//   L = E_sun ∫ T_view [ T_sun (σ_R P_R(ν) + σ_M P_M(ν)) + σ_s Ψ_ms ] dt     (eqs. 1, 11)
+//   L = E_sun ∫ T_view [ T_sun (σ_R P_R(ν) + σ_M P_M(ν)) + σ_s Ψ_ms ] dt
+//                                            (Hillaire 2020 eq. 1, Hillaire 2020 eq. 11)
 //
 // Target 0: rgb = P_R(ν) ∫T T_sun σ_R + ∫T σ_s Ψ_ms (per unit E_sun), a = mean T_view;
 // target 1: rgb = ∫T T_sun σ_M (no phase) — the lookup multiplies by P_M(ν) of the pixel, so

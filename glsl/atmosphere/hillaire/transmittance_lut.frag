@@ -10,7 +10,7 @@
 // Gauss–Legendre reference the relative error in τ is ≤ 2·10⁻⁵ at 40 samples for every
 // (h, μ) tested, where 40 uniform samples give 6 % (vertical Mie from the ground).
 //
-// Rebuilt only when β, H, P0 or the radii change (app/effects/atmosphere_hillaire.py).
+// Rebuilt only when β, H, P0 or the radii change (app/effects/planet/hillaire.py).
 // Failure cases: rays that hit the ground are not in this table (its μ range stops at the
 // tangent ray); callers multiply by the planet-shadow test. x_r = 1 is the top, where T = 1.
 // =============================================================================================
