@@ -1,4 +1,5 @@
-"""Drives a real Natura window (run under Xvfb by tests/test_window.py) and prints JSON results.
+"""Drives a real Natura window (run under Xvfb by tests/window/test_window.py) and prints JSON
+results.
 
 It feeds the window's own event handlers, so it exercises the same code as a person at the
 keyboard: fly keys, mouse look, pause, screenshots, live shader edits on a copy of glsl/.
@@ -34,7 +35,8 @@ def main(work: str) -> int:
     os.chdir(work_dir)
     out: dict = {}
     params = scene_params("sky", shader_root=shaders, sets=["time.hour=10"])
-    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (320, 180), shaders, screenshot_dir="shots")
+    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (320, 180), shaders,
+                         screenshot_dir="shots")
     k = win.wnd.keys
     mods = win.wnd.modifiers
     w, h = win.wnd.buffer_size
@@ -101,7 +103,8 @@ def main(work: str) -> int:
     good = frag.read_text()
     before = screen()
     atomic_write(frag, good.replace("fragColor = vec4(SkyRadiance(CameraRayDirection(vUV)), 1.0);",
-                                    "fragColor = vec4(SkyRadiance(CameraRayDirection(vUV)) * vec3(1.0, 0.0, 0.0), 1.0);"))
+                                    "fragColor = vec4(SkyRadiance(CameraRayDirection(vUV))"
+                                    " * vec3(1.0, 0.0, 0.0), 1.0);"))
     time.sleep(W.POLL_SECONDS + 0.05)
     frames(2)
     edited = screen()
@@ -126,8 +129,10 @@ def main(work: str) -> int:
     radiance = shaders / "sky" / "sky_radiance.glsl"
     text = radiance.read_text()
     text = text.replace("uniform float uBelowHorizon;",
-                        "uniform float uNightTint; // @param 0.5 [0, 1] a student's new knob\nuniform float uBelowHorizon;")
-    text = text.replace("    return sky + (sun", "    sky *= 1.0 + 0.0 * uNightTint;\n    return sky + (sun")
+                        "uniform float uNightTint; // @param 0.5 [0, 1] a student's new knob\n"
+                        "uniform float uBelowHorizon;")
+    text = text.replace("    return sky + (sun",
+                        "    sky *= 1.0 + 0.0 * uNightTint;\n    return sky + (sun")
     atomic_write(radiance, text)
     time.sleep(W.POLL_SECONDS + 0.05)
     frames(2)
@@ -154,7 +159,8 @@ def bake_progress(work: str) -> int:
     win.frame(1 / 60)
     win.wnd.swap_buffers()
     eff = win.scene.effect("noise")
-    out = {"progress_frames": win.progress_frames, "cache": eff.last_bake.cache, "path": eff.last_bake.path}
+    out = {"progress_frames": win.progress_frames, "cache": eff.last_bake.cache,
+           "path": eff.last_bake.path}
     win.close()
     print("RESULT " + json.dumps(out))
     return 0
@@ -167,7 +173,8 @@ def ocean_models(work: str) -> int:
     from app.scenes import get_scene
     from app.ui import window as W
 
-    params = scene_params("ocean", sets=["ocean.fft_size=64", "ocean.mesh_segments=96", "time.hour=17"])
+    params = scene_params("ocean", sets=["ocean.fft_size=64", "ocean.mesh_segments=96",
+                                         "time.hour=17"])
     win = W.NaturaWindow("ocean", params, get_scene("ocean").new_camera(), (320, 180))
     w, h = win.wnd.buffer_size
     win.show_panel = False

@@ -1,0 +1,26 @@
+"""`natura bench clouds`: the accuracy table of the cloud marchers and its equal-error chart."""
+
+from __future__ import annotations
+
+from app.runtime import open_session, scene_params
+
+
+def test_clouds_sweep_reports_table_and_equal_error(gl_ctx, tmp_path, monkeypatch):
+    from app.bench import clouds as cbench
+
+    monkeypatch.setenv("NATURA_CACHE", str(tmp_path / "cache"))
+    sets = ["time.hour=10", "bake_shape.size=32", "bake_detail.size=16", "bake_weather.size=64"]
+    session = open_session("clouds", scene_params("clouds", sets=sets), ctx=gl_ctx)
+    try:
+        acc = cbench.accuracy(session, size=(48, 27), warmup=0, repeat=1)
+        tab = cbench.table(session, sizes=((32, 32),), warmup=0, repeat=1)
+    finally:
+        session.release()
+    rows = {r["config"]: r for r in acc["rows"]}
+    uniform = [rows[f"uniform {n} steps (thesis marcher)"]["mean"] for n in (16, 64, 256)]
+    assert uniform[0] > uniform[1] > uniform[2]  # more steps, closer to the 512-step reference
+    assert rows["energy-conserving"]["mean"] < rows["uniform 64 steps (thesis marcher)"]["mean"]
+    assert len(tab["rows"]) == 3 and {r["preset"] for r in tab["rows"]} == set(cbench.PRESETS)
+    report = {"renderer": "test", "sweep": {"accuracy": acc, "table": tab}}
+    cbench.chart(report, tmp_path / "c.png")
+    assert (tmp_path / "c.png").stat().st_size > 10000 and "equal error" in cbench.summary(report)

@@ -1,0 +1,48 @@
+"""`natura bench materials`: the materials speed/accuracy sweep and its chart."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+from app.bench import materials as mbench
+from app.runtime import open_session, scene_params
+
+
+def test_materials_sweep_orders_methods_sensibly(gl_ctx, tmp_path):
+    session = open_session("materials", scene_params("materials"), ctx=gl_ctx)
+    try:
+        sweep = mbench.sweep(session, (96, 54), warmup=1, repeat=3, bake_sizes=(8, 32))
+    finally:
+        session.release()
+    oc = sweep["octave_cost"]
+    for kind in ("value", "gradient"):  # timings are reported, not asserted (they vary with load)
+        assert len(oc[kind]["ms_by_depth"]) == 8 and min(oc[kind]["ms_by_depth"]) > 0
+    rows = sweep["baked_vs_per_pixel"]["rows"]
+    assert rows[0]["method"] == "per-pixel" and rows[0]["noise_mean"] == 0.0
+    baked = {r["size"]: r for r in rows[1:]}
+    # a finer bake is closer to per-pixel noise
+    assert baked[32]["noise_mean"] < baked[8]["noise_mean"]
+    assert baked[32]["noise_p99"] < baked[8]["noise_p99"]
+    rings = sweep["ring_edges"]
+    assert rings["filtered"]["mean_error"] < 0.5 * rings["hard"]["mean_error"]
+    report = {"renderer": "test", "sweep": sweep}
+    chart = tmp_path / "chart.png"
+    mbench.chart(report, chart)
+    assert chart.stat().st_size > 10000
+    assert "ms per octave" in mbench.summary(report)
+
+
+def test_cli_bench_writes_json_and_chart(tmp_path):
+    out = tmp_path / "m.json"
+    proc = subprocess.run([sys.executable, "-m", "app.cli", "bench", "materials", "--size", "64x36",
+                           "--repeat", "2", "--warmup", "1", "--out", str(out)],
+                          capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    report = json.loads(out.read_text())
+    assert {"materials", "frame", "reference.fullscreen",
+            "reference.clear"} <= set(report["passes"])
+    assert all(t["median_ms"] > 0 for t in report["passes"].values())
+    assert len(report["sweep"]["baked_vs_per_pixel"]["rows"]) == 1 + len(mbench.BAKE_SIZES)
+    assert out.with_suffix(".png").stat().st_size > 10000

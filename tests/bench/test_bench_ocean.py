@@ -1,0 +1,118 @@
+"""`natura bench ocean`: the three speed/accuracy sweeps at tiny settings (issue 6, item 6).
+
+Timings are reported, never asserted (they vary with load); the accuracy figures are."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from app.bench import ocean as obench
+from app.errors import UsageError
+from app.runtime import open_session, scene_params
+
+SIZE = (64, 36)
+
+
+@pytest.fixture(scope="module")
+def tiny_report(gl_ctx):
+    session = open_session("ocean", scene_params("ocean"), ctx=gl_ctx)
+    try:
+        sweep = obench.sweep(session, SIZE, warmup=0, repeat=1, fft_sizes=(64,), cascades=(1, 2),
+                             gerstner_counts=(8,), fft_compare=(64, 2), direct_sizes=(16,),
+                             direct_extra=None)
+        restored = session.params["ocean.model"], session.params["ocean.cascades"]
+    finally:
+        session.release()
+    return {"renderer": "test", "sweep": sweep, "restored": restored}
+
+
+def test_json_structure(tiny_report):
+    s = tiny_report["sweep"]
+    assert tiny_report["restored"] == ("fft", 3)  # the session's parameters are put back
+    assert {"renderer", "view_size", "wind", "spectrum", "patch_sizes", "reference", "fft",
+            "gerstner", "direct_sum"} <= set(s)
+    assert s["view_size"] == list(SIZE) and s["spectrum"] == "jonswap"
+    json.dumps(s)  # everything serialises
+    rows = s["fft"]["rows"]
+    assert [(r["fft_size"], r["cascades"]) for r in rows] == [(64, 1), (64, 2)]
+    for r in rows:
+        assert r["ms_frame"] > 0 and r["ms_sim"] > 0
+        assert {"mss_deficit", "hs_error", "mss_deficit_expected", "hs_error_expected",
+                "bands"} <= set(r)
+    g = s["gerstner"]["rows"]
+    assert [r["model"] for r in g] == ["gerstner", "fft"] and g[0]["waves"] == 8
+    assert all(r["ms_frame"] > 0 and r["tp_s"] > 0 for r in g)
+    d = s["direct_sum"]["rows"]
+    assert [r["fft_size"] for r in d] == [16] and d[0]["ms_fft"] > 0 and d[0]["ms_direct"] > 0
+    assert d[0]["speedup"] == pytest.approx(d[0]["ms_direct"] / d[0]["ms_fft"])
+
+
+def test_cascades_reduce_the_slope_deficit(tiny_report):
+    rows = {r["cascades"]: r for r in tiny_report["sweep"]["fft"]["rows"]}
+    assert 0 < rows[2]["mss_deficit"] < rows[1]["mss_deficit"] < 1
+    assert rows[2]["mss_deficit_expected"] < rows[1]["mss_deficit_expected"]
+
+
+def test_gerstner_has_the_spectrum_hs(tiny_report):
+    g = tiny_report["sweep"]["gerstner"]["rows"][0]
+    assert g["hs_error"] < 0.01
+    assert g["hs"] == pytest.approx(tiny_report["sweep"]["reference"]["hs"], rel=0.01)
+
+
+def test_direct_sum_matches_fft(tiny_report):
+    r = tiny_report["sweep"]["direct_sum"]["rows"][0]
+    assert r["modes"] > 0 and r["max_abs_eta"] > 0
+    assert r["rel_diff"] < 1e-3
+
+
+def test_refused_cascades_are_skipped(gl_ctx):
+    session = open_session("ocean", scene_params("ocean"), ctx=gl_ctx)
+    try:
+        # N = 64 cannot reach 1 m from 250 m
+        session.params.set("ocean.patch_sizes", (250.0, 1.0, 0.5, 0.2))
+        out = obench.fft_sweep(session, SIZE, fft_sizes=(64,), cascades=(2,), warmup=0, repeat=1)
+    finally:
+        session.release()
+    (row,) = out["rows"]
+    assert "cannot hold the band" in row["skipped"] and "ms_frame" not in row
+
+
+def test_sizes_option_names_fft_sizes():
+    assert obench._fft_sizes_from([(128, 128), (64, 64), (640, 360)]) == (64, 128)
+    with pytest.raises(UsageError, match="NxN pairs"):
+        obench._fft_sizes_from([(640, 360)])
+
+
+def test_chart_and_summary(tiny_report, tmp_path):
+    path = tmp_path / "o.png"
+    obench.chart(tiny_report, path)
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 10000
+    text = obench.summary(tiny_report)
+    for title in obench.TITLES.values():
+        assert title in text
+
+
+@pytest.mark.slow  # ~35 s on llvmpipe: the default sweep at 64×36
+def test_cli_bench_ocean(tmp_path):
+    from app.cli import main
+
+    out = tmp_path / "o.json"
+    assert main(["bench", "ocean", "--size", "64x36", "--repeat", "1", "--warmup", "0",
+                 "--out", str(out)]) == 0
+    report = json.loads(out.read_text())
+    assert {"ocean.surface", "frame"} <= set(report["passes"])
+    s = report["sweep"]
+    assert s["fft"]["fft_sizes"] == list(obench.FFT_SIZES)
+    assert len(s["fft"]["rows"]) == len(obench.FFT_SIZES) * len(obench.CASCADES)
+    assert [r["waves"] for r in s["gerstner"]["rows"][:-1]] == list(obench.GERSTNER_COUNTS)
+    assert [r["fft_size"] for r in s["direct_sum"]["rows"]][:3] == list(obench.DIRECT_SIZES)
+    assert out.with_suffix(".png").stat().st_size > 10000
+
+
+def test_fft_fills_the_directional_spectrum_better_than_few_gerstner_waves(tiny_report):
+    g, f = tiny_report["sweep"]["gerstner"]["rows"]
+    assert 0.0 <= f["shape_distance"] < 0.3 < g["shape_distance"] <= 1.0
+    assert "oceanography" in tiny_report["sweep"]
+    assert "Cox–Munk" in obench.summary(tiny_report)

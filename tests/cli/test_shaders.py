@@ -1,0 +1,67 @@
+"""`natura shaders`: every project program compiles through the CLI, a broken copy fails the
+check with file:line, and `shaders copy` never overwrites.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from app import DEFAULT_SHADER_ROOT, PROJECT_ROOT
+from app.gpu.shaders import SHADER_ENV
+
+# ---- the project's own shaders, through the CLI ------------------------------------------------
+
+def natura(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
+    env = dict(os.environ if env is None else env)
+    env.pop(SHADER_ENV, None)
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(PROJECT_ROOT), env.get("PYTHONPATH")]))
+    cmd = [sys.executable, "-c", "from app.cli import main; raise SystemExit(main())", *args]
+    return subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True, timeout=120)
+
+
+def test_every_project_program_compiles(tmp_path):
+    r = natura("shaders", "check", cwd=tmp_path)
+    assert r.returncode == 0, r.stdout + r.stderr
+    for name in ("sky/sky", "sky/sky_face", "probe/mirror_ball", "common/constant"):
+        assert any(line.split()[:2] in (["ok", name], ["skip", f"{name}:"])
+                   for line in r.stdout.splitlines()), r.stdout
+    assert "ok" in r.stdout
+    # no file:line errors
+    assert not any(":" in line.split()[0] for line in r.stdout.splitlines() if line.strip())
+
+
+def test_a_broken_copy_fails_the_check_with_file_and_line(tmp_path):
+    copy = tmp_path / "my-shaders"
+    r = natura("shaders", "copy", str(copy), cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    radiance = copy / "sky" / "sky_radiance.glsl"
+    original = (DEFAULT_SHADER_ROOT / "sky" / "sky_radiance.glsl").read_text()
+    assert radiance.read_text() == original
+    bad_line = len(original.splitlines()) + 1
+    with radiance.open("a") as f:
+        f.write("float nataraBroken() { return not_declared_anywhere; }\n")
+
+    r = natura("shaders", "check", "--shaders", str(copy), cwd=tmp_path)
+    assert r.returncode == 1, r.stdout + r.stderr
+    errors = [line for line in r.stdout.splitlines() if f"sky_radiance.glsl:{bad_line}:" in line]
+    assert errors, r.stdout
+    assert all(line.startswith("my-shaders/sky/sky_radiance.glsl:") for line in errors)
+    assert any("not_declared_anywhere" in line for line in errors)
+    # programs that don't include the file still compile
+    assert "ok   probe/mirror_ball" in r.stdout
+
+    # the default shaders are untouched and still pass
+    assert (DEFAULT_SHADER_ROOT / "sky" / "sky_radiance.glsl").read_text() == original
+
+
+def test_shaders_copy_never_overwrites(tmp_path):
+    dest = tmp_path / "exists"
+    dest.mkdir()
+    (dest / "keep.txt").write_text("mine")
+    r = natura("shaders", "copy", str(dest), cwd=tmp_path)
+    assert r.returncode == 2
+    assert len(r.stderr.strip().splitlines()) == 1 and "already exists" in r.stderr
+    assert sorted(p.name for p in dest.iterdir()) == ["keep.txt"]

@@ -1,0 +1,36 @@
+"""Natural vignetting: the image darkens toward its corners as cos⁴ θ (the example effect of
+docs/architecture.md; shader ``glsl/vignette/vignette.frag``)."""
+
+from __future__ import annotations
+
+import moderngl
+
+from app.effects.base import Effect
+from app.frame import Stage
+from app.gpu.programs import draw_fullscreen, fullscreen
+
+VIGNETTE = fullscreen("vignette/vignette")
+
+
+class Vignette(Effect):
+    name = "vignette"  # its parameter group, GLSL folder and test file are named alike
+    title = "Natural vignetting"
+    programs = (VIGNETTE,)  # `natura shaders check` compiles it; its @param becomes vignette.amount
+    stages = (Stage.POST,)  # on the finished radiance, after fog
+    consumes = {"image": "required"}  # it darkens the image the earlier stages drew
+
+    def draw(self, frame, target) -> None:
+        prog = self.program(VIGNETTE)
+        self.apply_params(prog)  # every @param uniform of the effect: uAmount
+        prog.set_many(frame.camera_uniforms())
+        ctx = self.gpu.ctx
+        target.use()
+        ctx.disable(moderngl.DEPTH_TEST)
+        ctx.enable(moderngl.BLEND)
+        # image = image · factor (alpha kept)
+        ctx.blend_func = (moderngl.ZERO, moderngl.SRC_COLOR, moderngl.ZERO, moderngl.ONE)
+        try:
+            draw_fullscreen(prog)
+        finally:
+            ctx.blend_func = moderngl.DEFAULT_BLENDING
+            ctx.disable(moderngl.BLEND)

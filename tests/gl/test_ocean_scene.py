@@ -1,0 +1,307 @@
+"""The `ocean` scene (issue 6; spec/000 §1.1–1.3 and §6 criteria 32–34): the three wave models on
+the GPU against the numpy reference (through the depth buffer), water-height queries, the polar
+mesh and the far plane, reflections of the sky, the main light, the underwater view (stability
+sweeps: tests/stability/test_ocean_stability.py). Renders are small (≤ 160×90) to keep llvmpipe
+fast.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from app.effects.ocean.params import wind_vector
+from app.errors import ParamError
+from app.sim import ocean as oc
+from app.sim.camera import Camera
+from tests.helpers.ocean import Shot
+
+
+@pytest.fixture
+def shot(gl_ctx):
+    made = []
+
+    def _make(sets=(), camera=None, size=(96, 54)):
+        s = Shot(gl_ctx, sets, camera, size)
+        made.append(s)
+        return s
+
+    yield _make
+    for s in made:
+        s.close()
+
+
+# -- GPU geometry against numpy ------------------------------------------------------------------
+
+@pytest.mark.parametrize("model", ["sine", "gerstner", "fft"])
+def test_gpu_surface_height_matches_the_numpy_query(shot, model):
+    """Looking straight down from 30 m, the depth buffer's distance at the centre pixel is the
+    camera height minus the water height there: GPU displacement = numpy reference."""
+    cam = Camera(position=(3.0, 30.0, -7.0), yaw=0.0, pitch=-89.9, fov=10.0)
+    s = shot(("ocean.model=" + model, "ocean.wind=12", "ocean.sine_amplitude=1.5"), cam,
+             size=(33, 33))
+    for _ in range(3):  # FFT queries lag one frame: let the readback catch up on a still sea
+        s.frame(dt=0.0)
+    dist = s.distance()[16, 16]
+    q = s.ocean.water(np.array(3.0), np.array(-7.0))
+    gpu_height = 30.0 - dist
+    assert abs(gpu_height - float(q.height)) < 0.05 + 0.02 * abs(float(q.height))
+    if model == "sine":
+        a, k, w = s.ocean.sine_wave()
+        d = wind_vector(s.ocean.params["ocean.wind_direction"])
+        assert float(q.height) == pytest.approx(
+            a * math.sin(k * (3.0 * d[0] - 7.0 * d[1]) - w * s.ocean.time), abs=1e-9)
+
+
+def test_gerstner_query_matches_the_numpy_inversion_and_normals_point_up(shot):
+    s = shot(("ocean.model=gerstner", "ocean.wind=15"))
+    s.frame()
+    rng = np.random.default_rng(3)
+    x, z = rng.uniform(-40, 40, 64), rng.uniform(-40, 40, 64)
+    q = s.ocean.water(x, z, iterations=6)
+    assert np.all(q.residuals[-1] < 1e-3)
+    surf = oc.gerstner(q.rest_x, q.rest_z, s.ocean.time, s.ocean.gerstner_waves())
+    np.testing.assert_allclose(surf.position[..., 1], q.height, atol=1e-9)
+    assert np.all(q.normal[..., 1] > 0)
+    np.testing.assert_allclose(np.einsum("...i,...i", q.normal, surf.normal), 1.0, atol=2e-3)
+
+
+def test_fft_query_lags_one_frame_and_matches_the_reference(shot):
+    s = shot(("ocean.model=fft", "ocean.wind=12", "ocean.cascades=2"))
+    s.frame(dt=0.0)
+    assert s.ocean.query_time is None  # nothing read back yet: flat water, documented
+    s.frame(dt=0.5)
+    assert s.ocean.query_time == pytest.approx(0.0)  # the sea of the previous frame
+    s.frame(dt=0.5)
+    assert s.ocean.query_time == pytest.approx(0.5)
+    ref = oc.FFTOcean(s.ocean.spectrum_params(), n=64, patch_sizes=s.ocean.patch_sizes(),
+                      choppiness=1.0, seed=s.ocean.params["ocean.seed"])
+    ref.update(0.5)
+    rng = np.random.default_rng(5)
+    x, z = rng.uniform(-30, 30, 50), rng.uniform(-30, 30, 50)
+    got = s.ocean.water(x, z)
+    want = ref.water_height(x, z)
+    scale = float(np.max(np.abs(want.height)))
+    assert np.max(np.abs(got.height - want.height)) < 2e-3 * scale + 1e-4
+
+
+# -- the scene -----------------------------------------------------------------------------------
+
+def test_sine_and_gerstner_allocate_nothing_of_the_fft(shot):
+    s = shot(("ocean.model=gerstner",))
+    s.frame()
+    names = [a.name for a in s.session.gpu.owned_by("ocean")]
+    assert s.ocean.sim is None
+    assert not any("fft" in n.lower() or "spectrum" in n.lower() for n in names), names
+    s.ocean.params.set("ocean.model", "fft")
+    s.frame()
+    assert s.ocean.sim is not None
+    s.ocean.params.set("ocean.model", "sine")
+    s.frame()
+    assert s.ocean.sim is None, "leaving the FFT frees its textures"
+
+
+def test_switching_models_live_changes_the_sea(shot):
+    cam = Camera(position=(0.0, 6.0, 0.0), yaw=90.0, pitch=-20.0, fov=60.0)
+    s = shot(("ocean.wind=12",), cam)
+    images = {}
+    for model in ("sine", "gerstner", "fft"):
+        s.ocean.params.set("ocean.model", model)
+        images[model] = s.frame()[0]
+    for a, b in (("sine", "gerstner"), ("gerstner", "fft"), ("sine", "fft")):
+        assert np.mean(np.abs(images[a] - images[b])) > 1e-3, (a, b)
+
+
+def test_gerstner_steepness_over_one_is_refused_with_the_limit(shot):
+    s = shot(("ocean.model=gerstner", "ocean.gerstner_steepness=20", "ocean.wind=20"))
+    with pytest.raises(ParamError,
+                       match=r"ocean.gerstner_steepness=20 .* allowed 0 ≤ s ≤ 1 per wave"):
+        s.frame()
+
+
+def test_far_plane_covers_the_sea_to_the_horizon_from_altitude(shot):
+    cam = Camera(position=(0.0, 400.0, 0.0), yaw=30.0, pitch=-10.0, fov=60.0, far=200000.0)
+    s = shot(("ocean.model=fft", "ocean.mesh_extent=600"), cam, size=(80, 45))
+    s.frame()
+    dist = s.distance()
+    dirs = cam.ray_directions(80, 45)
+    below = dirs[..., 1] < -0.003
+    assert below.sum() > 1000
+    assert np.all(np.isfinite(dist[below])), (
+        "every ray that meets the sea finds water (mesh or far plane)")
+    assert np.all(~np.isfinite(dist[dirs[..., 1] > 0.003])), "no water above the horizon"
+
+
+def test_ocean_reflects_the_sky_over_a_day_and_without_the_probe_it_changes(shot):
+    """Criterion 32: mean sea colour follows mean sky colour (Pearson r > 0.8); turning the
+    reflection cubemap off changes the sea measurably."""
+    cam = Camera(position=(0.0, 5.0, 0.0), yaw=45.0, pitch=0.0, fov=60.0, far=200000.0)
+    s = shot(("ocean.model=gerstner",), cam, size=(64, 36))
+    sky_means, sea_means = [], []
+    dirs = cam.ray_directions(64, 36)
+    for hour in np.arange(0.0, 24.0, 2.0):
+        s.ocean.params.set("time.hour", float(hour))
+        img, _ = s.frame()
+        sky = img[dirs[..., 1] > 0.05].mean()
+        sea = img[dirs[..., 1] < -0.05].mean()
+        sky_means.append(sky)
+        sea_means.append(sea)
+    r = np.corrcoef(sky_means, sea_means)[0, 1]
+    assert r > 0.8, r
+    s.ocean.params.set("time.hour", 12.0)
+    on = s.frame()[0][dirs[..., 1] < -0.05].mean(axis=0)
+    s.ocean.params.set("ocean.reflections", False)
+    off = s.frame()[0][dirs[..., 1] < -0.05].mean(axis=0)
+    assert np.max(np.abs(on - off) / np.maximum(on, 1e-6)) > 0.1
+
+
+def test_main_light_glitter_follows_the_moon_at_night_and_the_sun_by_day(shot):
+    """Criterion 34: one light: the brightest sea pixel lies toward the main light's azimuth."""
+    for hour in (16.0, 4.0):
+        s = shot(("ocean.model=fft", f"time.hour={hour}", "ocean.wind=6"), size=(96, 54))
+        s.frame()
+        light = s.scene.last_frame.main_light
+        cam = s.scene.camera
+        flat = np.array([light.direction[0], 0.0, light.direction[2]])
+        cam.look_at_direction(flat / np.linalg.norm(flat))
+        cam.set(pitch=-8.0)
+        img, frame = s.frame()
+        dirs = cam.ray_directions(96, 54)
+        sea = dirs[..., 1] < -0.01
+        lum = img.mean(-1)
+        lum[~sea] = -1
+        iy, ix = np.unravel_index(np.argmax(lum), lum.shape)
+        assert abs(ix - 48) < 12, (hour, ix)  # in the column of the light
+        assert frame.main_light.name == ("sun" if hour == 16.0 else "moon")
+
+
+def test_underwater_fog_pulls_toward_the_fog_colour_and_clouds_show_through(shot):
+    """Criterion 33."""
+    up = Camera(position=(0.0, -4.0, 0.0), yaw=0.0, pitch=60.0, fov=60.0, far=200000.0)
+    s = shot(("ocean.model=gerstner", "time.hour=12", "scene.clouds=b",
+              "clouds_b.volume_resolution=32", "clouds_b.detail_resolution=16",
+              "clouds_b.gradient_resolution=64"), up, size=(64, 36))
+    assert s.ocean.params["scene.clouds"] == "b"
+    with_clouds, _ = s.frame()
+    assert s.ocean.underwater
+    s.ocean.params.set("scene.clouds", "off")
+    without, _ = s.frame()
+    assert np.mean(np.abs(with_clouds - without)) > 1e-3, "clouds seen through Snell's window"
+    # the open deep below is pure fog light: murky water pulls the view up toward it, clear
+    # water shows the sky through Snell's window
+    s.scene.camera.set(pitch=-80.0)
+    fog = s.frame()[0].reshape(-1, 3).mean(0)
+    s.scene.camera.set(pitch=60.0)
+    s.ocean.params.set("ocean.underwater_clarity", 1.0)
+    clear = s.frame()[0].reshape(-1, 3).mean(0)
+    s.ocean.params.set("ocean.underwater_clarity", 0.02)
+    murky = s.frame()[0].reshape(-1, 3).mean(0)
+    assert np.linalg.norm(murky - fog) < 0.5 * np.linalg.norm(clear - fog)
+    assert np.linalg.norm(murky - fog) < 0.5 * np.linalg.norm(fog)
+
+
+def test_camera_exactly_at_the_surface_shows_a_waterline(shot):
+    cam = Camera(position=(0.0, 0.0, 0.0), yaw=90.0, pitch=0.0, fov=70.0)
+    s = shot(("ocean.model=sine", "ocean.sine_amplitude=0.0"), cam, size=(64, 36))
+    img, _ = s.frame()
+    assert np.all(np.isfinite(img))
+    top, bottom = img[:14].mean(), img[22:].mean()
+    assert s.ocean.view_mode() == 2
+    assert top > 2.0 * bottom, "sky above the waterline, fogged water below"
+
+
+def test_reflection_probe_is_rendered_only_when_the_sky_changes(shot):
+    s = shot(("ocean.model=sine",))
+    sky = s.scene.effect("sky")
+    for _ in range(4):
+        s.frame(dt=0.1)
+    assert sky.environment_renders == 1, "the ocean's probe renders once for a still sky"
+    s.ocean.params.set("time.hour", 15.0)
+    s.frame(dt=0.1)
+    assert sky.environment_renders == 2
+    assert not sky.has_cubemap(sun=True), (
+        "the sky's own cubemap (with the sun) is not made for the ocean")
+
+
+def test_foam_shows_where_the_fft_surface_is_compressed(shot):
+    cam = Camera(position=(0.0, 12.0, 0.0), yaw=90.0, pitch=-35.0, fov=60.0)
+    s = shot(("ocean.wind=25", "ocean.choppiness=2", "time.hour=12", "ocean.foam_amount=0"), cam)
+    no_foam = s.frame(dt=0.1)[0]
+    fields = s.ocean.sim.read_fields(0)
+    assert fields["foam"].max() > 0.5 and fields["jacobian"].min() < 0.5
+    s.ocean.params.set("ocean.foam_amount", 2.0)
+    foam = s.frame(dt=0.1)[0]
+    assert foam.mean() > no_foam.mean() * 1.02
+
+
+def test_fft_paths_draw_the_same_sea(shot):
+    cam = Camera(position=(0.0, 8.0, 0.0), yaw=60.0, pitch=-20.0, fov=60.0)
+    s = shot(("ocean.wind=12", "ocean.fft_path=compute"), cam)
+    a = s.frame()[0]
+    assert s.ocean.sim.path == "compute"
+    s.ocean.params.set("ocean.fft_path", "fragment")
+    b = s.frame()[0]
+    assert s.ocean.sim.path == "fragment"
+    assert np.max(np.abs(a - b)) < 1e-3 * max(float(a.max()), 1.0)
+
+
+@pytest.mark.parametrize("yaw,pitch", [(0.0, -2.0), (93.0, -20.0), (181.0, 10.0), (359.5, -40.0),
+                                       (270.0, -89.0)])
+def test_drawing_only_the_visible_wedges_changes_no_pixel(shot, yaw, pitch):
+    cam = Camera(position=(1.0, 5.0, 2.0), yaw=yaw, pitch=pitch, fov=60.0)
+    s = shot(("ocean.model=gerstner", "ocean.mesh_segments=128"), cam, size=(64, 36))
+    culled = s.frame()[0]
+    drawn = s.ocean.drawn_triangles
+    s.ocean.params.set("ocean.mesh_cull", False)
+    full = s.frame()[0]
+    assert np.array_equal(culled, full)
+    if pitch > -60:
+        assert drawn < 0.5 * s.ocean.mesh_triangles
+
+
+def test_panel_notes_name_the_lesson_and_the_live_figures(shot):
+    s = shot(("ocean.model=gerstner",))
+    s.frame()
+    notes = s.ocean.panel_notes()
+    assert "steepness" in notes[0] and any("Hs" in n and "Cox–Munk" in n for n in notes)
+    s.ocean.params.set("ocean.model", "fft")
+    s.frame()
+    assert any("queries lag one frame" in n for n in s.ocean.panel_notes())
+
+
+@pytest.mark.parametrize("wind", [10.0, 20.0])
+def test_whitecap_foam_covers_monahans_fraction(shot, wind):
+    """Beyond the thesis: in whitecap mode each cascade's foam threshold is calibrated on its own
+    Jacobian so that foam covers Monahan & O'Muircheartaigh's W = 3.84e-6·U^3.41 (shared
+    57/29/14 % over three cascades). Measured here per cascade on the GPU's foam texture."""
+    s = shot((f"ocean.wind={wind}", "ocean.fft_size=128"))
+    s.frame(dt=0.0)  # no accumulation yet: the foam is the source alone
+    target = oc.whitecap_coverage(wind)
+    shares = np.array([1.0, 0.5, 0.25]) / 1.75
+    for i, share in enumerate(shares):
+        covered = float((s.ocean.sim.read_fields(i)["foam"] > 0.5).mean())
+        assert covered == pytest.approx(target * share, rel=0.35, abs=2e-4), (i, covered,
+                                                                             target * share)
+    # the upstream's fixed threshold (J < 0.5) foams far less than a real sea at these winds
+    j = shot((f"ocean.wind={wind}", "ocean.fft_size=128", "ocean.foam_mode=jacobian"))
+    j.frame(dt=0.0)
+    assert (max(float((j.ocean.sim.read_fields(i)["foam"] > 0.5).mean()) for i in range(3))
+            < 0.5 * target * shares[0])
+
+
+def test_clouds_below_the_camera_cover_the_sea(shot):
+    """Flying above the maritime thesis's cloud layer (1000–1400 m), the clouds hide the sea."""
+    cam = Camera(position=(0.0, 2500.0, 2600.0), yaw=0.0, pitch=-35.0, fov=60.0, far=200000.0)
+    small = ("clouds_b.volume_resolution=32", "clouds_b.detail_resolution=16",
+             "clouds_b.gradient_resolution=64", "ocean.model=sine", "time.hour=12")
+    s = shot(small + ("scene.clouds=b",), cam, size=(64, 36))
+    with_clouds, _ = s.frame()
+    drawn = [p.name.split(".")[0] for p in s.scene.passes(s.scene.last_frame, s.target)]
+    assert list(dict.fromkeys(drawn)) == ["sky", "ocean", "clouds_b"]
+    s.ocean.params.set("scene.clouds", "off")
+    without, _ = s.frame()
+    dirs = cam.ray_directions(64, 36)
+    sea = dirs[..., 1] < -0.3
+    assert np.mean(np.abs(with_clouds[sea] - without[sea])) > 0.02

@@ -1,0 +1,108 @@
+"""Key maps as plain Python (spec/002 §9 criterion 9: the thesis's annex bindings)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from app.params import Param, ParamSet
+from app.scenes.keymaps import FLY
+from app.scenes.planet import ATMOSPHERE_THESIS
+from app.sim.camera import Camera
+from app.ui.keymap import Controller
+
+
+def test_w_moves_forward_by_speed_times_dt():
+    for keymap in (FLY, ATMOSPHERE_THESIS):
+        c = Controller(keymap=keymap, speed=5.0)
+        cam = Camera(position=(0, 2, 0), yaw=30, pitch=10)
+        p0 = np.array(cam.position)
+        c.press("W")
+        c.update(cam, 0.5)
+        c.release("W")
+        c.update(cam, 0.5)
+        assert np.allclose(np.array(cam.position) - p0, cam.forward() * 2.5)
+
+
+def test_thesis_bindings():
+    c = Controller(keymap=ATMOSPHERE_THESIS, speed=5.0, turbo_speed=1000.0)
+    cam = Camera(position=(0, 2, 0), yaw=0, pitch=0)
+    c.press("SPACE")
+    c.update(cam, 1.0)
+    c.release("SPACE")
+    assert cam.position[1] == pytest.approx(7.0)
+    c.press("LEFT_CTRL")
+    c.update(cam, 0.4)
+    c.release("LEFT_CTRL")
+    assert cam.position[1] == pytest.approx(5.0)
+    c.press("E")
+    c.update(cam, 0.5)
+    c.release("E")
+    assert cam.yaw == pytest.approx(30.0)  # turn right at 60°/s
+    c.press("R")
+    c.update(cam, 0.25)
+    c.release("R")
+    assert cam.pitch == pytest.approx(15.0)
+    c.press("Z")
+    assert c.turbo
+    c.press("PLUS")
+    assert c.turbo_speed == 2000.0
+    c.press("MINUS")
+    c.press("MINUS")
+    assert c.turbo_speed == 500.0
+    c.press("ASTERISK")
+    assert c.turbo_speed == 50000.0
+    c.press("SLASH")
+    assert c.turbo_speed == 500.0
+    p = np.array(cam.position)
+    c.press("W")
+    c.update(cam, 0.1)
+    c.release("W")
+    assert np.linalg.norm(np.array(cam.position) - p) == pytest.approx(50.0)  # turbo speed
+    c.press("T")  # camera controls off
+    p = np.array(cam.position)
+    c.press("W")
+    c.update(cam, 1.0)
+    assert np.allclose(cam.position, p)
+    c.press("T")
+    events = [a for a, _ in c.take_events()]
+    c.press("M")
+    c.press("V")
+    c.press("P")
+    c.press("O")
+    c.press("ESCAPE")
+    assert [a for a, _ in c.take_events()] == ["toggle_auto_sun", "print_gl_version",
+                                              "print_camera", "toggle_mouse", "quit"]
+    assert all(a == "print" for a in events)
+
+
+def test_up_down_move_the_sun():
+    params = ParamSet([Param("planet.sun_elevation", 10.0, -90.0, 90.0, "sun")])
+    c = Controller(keymap=ATMOSPHERE_THESIS, sun_rate=10.0)
+    cam = Camera()
+    c.press("UP")
+    c.update(cam, 1.5, params)
+    c.release("UP")
+    assert params["planet.sun_elevation"] == pytest.approx(25.0)
+    c.press("DOWN")
+    c.update(cam, 20.0, params)
+    assert params["planet.sun_elevation"] == -90.0  # clamped
+
+
+def test_release_of_unbound_key_and_unknown_key_are_harmless():
+    c = Controller(keymap=FLY)
+    assert c.press("NUMBER_7") is None
+    c.release("NUMBER_7")
+    assert c.held == set()
+
+
+def test_ocean_keys_pick_the_wave_model_and_keep_the_fly_keys():
+    from app.scenes.ocean import OCEAN
+
+    c = Controller(OCEAN)
+    for key, model in (("NUMBER_1", "sine"), ("NUMBER_2", "gerstner"), ("NUMBER_3", "fft")):
+        c.press(key)
+        c.release(key)
+        assert c.take_events() == [(f"set:ocean.model={model}", None)]
+    assert all(OCEAN.action(k) == a for k, a in FLY.bindings.items())
+    assert any("Gerstner" in row[1] for row in OCEAN.help)

@@ -1,0 +1,43 @@
+"""The `ocean` scene's numpy side (issue 6): the polar mesh and the whitecap foam calibration."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from app.effects.ocean.mesh import polar_grid
+from app.sim import ocean as oc
+
+# -- mesh ----------------------------------------------------------------------------------------
+
+def test_polar_grid_covers_the_disc_facing_up_without_degenerate_cells():
+    verts, idx = polar_grid(128, 0.25, 3000.0)
+    r, th = verts[:, 0].astype(float), verts[:, 1].astype(float)
+    p = np.stack([r * np.cos(th), np.zeros_like(r), r * np.sin(th)], axis=1)
+    tri = idx.reshape(-1, 3)
+    a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+    ny = np.cross(b - a, c - a)[:, 1]
+    assert np.all(ny > 0), "every triangle faces up (front faces are the top of the sea)"
+    area = 0.5 * ny.sum()
+    polygon = 0.5 * 128 * 3000.0**2 * math.sin(2 * math.pi / 128)  # the outer ring is a 128-gon
+    assert abs(area / polygon - 1.0) < 1e-6
+    assert r.max() == pytest.approx(3000.0)
+    # cells stay about square: radial step / tangential step within [0.5, 2] beyond the first ring
+    radii = np.unique(r)
+    ratio = np.diff(radii)[1:-1] / (radii[1:-2] * 2 * math.pi / 128)
+    assert ratio.min() > 0.5 and ratio.max() < 2.0
+
+
+def test_whitecap_thresholds_are_calibrated_quantiles():
+    rng = np.random.default_rng(0)
+    jac = [1.0 + 0.2 * rng.standard_normal(200_000), 1.0 + 0.05 * rng.standard_normal(200_000),
+           np.ones(10)]
+    (t0, w0), (t1, w1), (t2, _) = oc.whitecap_thresholds(jac, 0.03, shares=[2, 1, 1])
+    assert w0 == pytest.approx(0.2, rel=0.01) and w1 == pytest.approx(0.05, rel=0.01)
+    assert np.mean(jac[0] < t0 - w0 / 2) == pytest.approx(0.015, rel=0.05)
+    assert np.mean(jac[1] < t1 - w1 / 2) == pytest.approx(0.0075, rel=0.05)
+    assert t2 <= 1e-3, "a flat cascade makes no foam"
+    assert oc.whitecap_coverage(0.0) == 0.0 and oc.whitecap_coverage(12.0) == pytest.approx(
+        3.84e-6 * (12 / 1.075) ** 3.41)
