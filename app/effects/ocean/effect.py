@@ -74,13 +74,11 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
         self.sim = None  # GpuOceanSim, only for the FFT model
-        self._foam_key = None
-        self._foam: list[tuple[float, float]] = []
+        self._foam = self.keyed(self._calibrate_foam)  # (threshold, width) per cascade
         self._sim_path = None
         self._sim_key = None
         self._fft_ref: oc.FFTOcean | None = None
-        self._waves: list[oc.GerstnerWave] = []
-        self._waves_key = None
+        self._waves = self.keyed(self._draw_waves)
         self.mesh = OceanMesh(self)
         self._scene_copy = ColourCopy(gpu, self.name, "scene copy")
         self._color_copy = ColourCopy(gpu, self.name, "color copy")
@@ -121,7 +119,7 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
             self.query_time = frame.time
             if model == "gerstner":
                 self.gerstner_waves()
-                self.resolved_mss = oc.gerstner_moments(self._waves)["mss"]
+                self.resolved_mss = oc.gerstner_moments(self.gerstner_waves())["mss"]
             else:
                 a, k, _ = self.sine_wave()
                 self.resolved_mss = 0.5 * (k * a) ** 2

@@ -24,28 +24,27 @@ class FoamCalibration:
             t = p["ocean.foam_threshold"]
             return [(t, t)] * (len(self.cascade_bands) if model == "fft" and self.cascade_bands
                                else 1)
-        key = (model, p["ocean.choppiness"], p["ocean.wind"],
-               self._sim_key if model == "fft" else self._waves_key)
-        if key != self._foam_key:
-            coverage = oc.whitecap_coverage(p["ocean.wind"])
-            if model == "fft" and self._fft_ref is not None:
-                lam = p["ocean.choppiness"]
-                if self._fft_ref.time is None:
-                    self._fft_ref.update(0.0)
-                jacs = [(1 + lam * c.fields.ddx_dx) * (1 + lam * c.fields.ddz_dz)
-                        - (lam * c.fields.ddx_dz) ** 2
-                        for c in self._fft_ref.cascades]
-            elif model == "gerstner":
-                waves = self.gerstner_waves()
-                span = 2.0 * max(w.wavelength for w in waves)
-                g = np.linspace(0.0, span, 192)
-                x, z = np.meshgrid(g, g)
-                jacs = [oc.gerstner(x, z, 0.0, waves, check=False).jacobian]
-            else:
-                jacs = [np.ones(4)]  # the sine wave has no horizontal motion: no foam
-            # whitecaps break mostly on the long waves: each finer cascade gets half the foam of
-            # the one before (57 / 29 / 14 % of the coverage for three)
-            self._foam = oc.whitecap_thresholds(jacs, coverage,
-                                                shares=[0.5**i for i in range(len(jacs))])
-            self._foam_key = key
-        return self._foam
+        return self._foam.get((model, p["ocean.choppiness"], p["ocean.wind"],
+                               self._sim_key if model == "fft" else self._waves.key))
+
+    def _calibrate_foam(self, key) -> list[tuple[float, float]]:
+        """The whitecap calibration for ``key`` = (model, choppiness, wind, sea state)."""
+        model, lam, wind, _ = key
+        coverage = oc.whitecap_coverage(wind)
+        if model == "fft" and self._fft_ref is not None:
+            if self._fft_ref.time is None:
+                self._fft_ref.update(0.0)
+            jacs = [(1 + lam * c.fields.ddx_dx) * (1 + lam * c.fields.ddz_dz)
+                    - (lam * c.fields.ddx_dz) ** 2
+                    for c in self._fft_ref.cascades]
+        elif model == "gerstner":
+            waves = self.gerstner_waves()
+            span = 2.0 * max(w.wavelength for w in waves)
+            g = np.linspace(0.0, span, 192)
+            x, z = np.meshgrid(g, g)
+            jacs = [oc.gerstner(x, z, 0.0, waves, check=False).jacobian]
+        else:
+            jacs = [np.ones(4)]  # the sine wave has no horizontal motion: no foam
+        # whitecaps break mostly on the long waves: each finer cascade gets half the foam of
+        # the one before (57 / 29 / 14 % of the coverage for three)
+        return oc.whitecap_thresholds(jacs, coverage, shares=[0.5**i for i in range(len(jacs))])

@@ -30,23 +30,23 @@ class SeaState:
         return int(self.params["ocean.fft_size"])
 
     def gerstner_waves(self) -> list[oc.GerstnerWave]:
+        """The Gerstner set drawn from the spectrum, redrawn when the sea state changes."""
         p = self.params
-        key = (self.spectrum_params(), p["ocean.gerstner_waves"], p["ocean.gerstner_steepness"],
-               p["ocean.seed"])
-        if key != self._waves_key:
-            waves = oc.gerstner_waves_from_spectrum(key[0], key[1], seed=key[3],
-                                                    steepness_scale=key[2])
-            worst = max(range(len(waves)), key=lambda i: waves[i].steepness)
-            if waves[worst].steepness > 1.0:
-                limit = key[2] / waves[worst].steepness
-                raise ParamError(
-                    f"ocean.gerstner_steepness={key[2]:g} makes wave {worst} "
-                    f"({waves[worst].wavelength:.3g} m) "
-                    f"reach steepness s = {waves[worst].steepness:.3g}: allowed 0 ≤ s ≤ 1 per wave "
-                    f"(loops at the crests), so at most {limit:.3g} for this sea")
-            oc.check_gerstner_steepness(waves)
-            self._waves, self._waves_key = waves, key
-        return self._waves
+        return self._waves.get((self.spectrum_params(), p["ocean.gerstner_waves"],
+                                p["ocean.gerstner_steepness"], p["ocean.seed"]))
+
+    def _draw_waves(self, key) -> list[oc.GerstnerWave]:
+        waves = oc.gerstner_waves_from_spectrum(key[0], key[1], seed=key[3], steepness_scale=key[2])
+        worst = max(range(len(waves)), key=lambda i: waves[i].steepness)
+        if waves[worst].steepness > 1.0:
+            limit = key[2] / waves[worst].steepness
+            raise ParamError(
+                f"ocean.gerstner_steepness={key[2]:g} makes wave {worst} "
+                f"({waves[worst].wavelength:.3g} m) "
+                f"reach steepness s = {waves[worst].steepness:.3g}: allowed 0 ≤ s ≤ 1 per wave "
+                f"(loops at the crests), so at most {limit:.3g} for this sea")
+        oc.check_gerstner_steepness(waves)
+        return waves
 
     def sine_wave(self) -> tuple[float, float, float]:
         """(amplitude, wavenumber, ω) of the sine model; ω from the dispersion relation."""
