@@ -132,10 +132,6 @@ class SceneImage:
         """The depth texture (None for a target without depth)."""
         return getattr(self.target, "depth", None)
 
-    @property
-    def size(self) -> tuple[int, int]:
-        return self.target.size
-
     @contextlib.contextmanager
     def depth_values(self) -> Iterator[Any]:
         """The depth texture sampled as values (its compare mode off) for the duration, then

@@ -12,6 +12,9 @@ from app.gpu.device import Gpu
 from app.runtime import open_session, render_frames, scene_params
 from app.sim.camera import Camera
 
+#: fixtures a domain's GL tests and its stability sweeps share (tests/helpers/fixtures.py)
+pytest_plugins = ["tests.helpers.fixtures"]
+
 TESTS = Path(__file__).resolve().parent
 #: the folders under tests/ and the marker each gives its tests (registered in pyproject.toml)
 LAYERS = ("unit", "gl", "stability", "bench", "cli", "window")

@@ -44,11 +44,6 @@ class Keyed(Generic[T]):
             self.builds += 1
         return self.value  # type: ignore[return-value]
 
-    def invalidate(self) -> None:
-        """Rebuild on the next :meth:`get` (the value is kept until then)."""
-        if self.key is not _UNSET:
-            self.key = _UNSET
-
     def clear(self) -> None:
         """Release the value (if any) and forget the key."""
         if self.value is not None and self._release is not None:

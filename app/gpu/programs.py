@@ -43,7 +43,19 @@ def fullscreen(frag_name: str, **kw: Any) -> ProgramSpec:
     return ProgramSpec(frag_name, vert=FULLSCREEN_VERT, frag=f"{frag_name}.frag", **kw)
 
 
-def draw_fullscreen(prog: Program) -> None:
-    """Draw the full-screen triangle with ``prog`` into the bound framebuffer (GL state —
-    depth test, blending, viewport — is the caller's)."""
-    prog.vao().render(moderngl.TRIANGLES, vertices=3)
+def draw_fullscreen(prog: Program, blend: tuple[int, int, int, int] | None = None) -> None:
+    """Draw the full-screen triangle with ``prog`` into the bound framebuffer. ``blend``
+    (source and destination factors for colour, then for alpha) blends the pass over what the
+    framebuffer holds, and blending is off again afterwards; other GL state (depth test,
+    viewport) is the caller's."""
+    if blend is None:
+        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+        return
+    ctx = prog.library.ctx
+    ctx.enable(moderngl.BLEND)
+    ctx.blend_func = blend  # type: ignore[assignment]  # 2 or 4 factors
+    try:
+        prog.vao().render(moderngl.TRIANGLES, vertices=3)
+    finally:
+        ctx.blend_func = moderngl.DEFAULT_BLENDING  # type: ignore[assignment]
+        ctx.disable(moderngl.BLEND)

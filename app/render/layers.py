@@ -18,10 +18,4 @@ def composite_layer(effect, layer_texture, target) -> None:
     prog.bind_textures({"uCloudLayer": layer_texture})
     target.use()
     ctx.disable(moderngl.DEPTH_TEST)
-    ctx.enable(moderngl.BLEND)
-    ctx.blend_func = (moderngl.ONE, moderngl.SRC_ALPHA, moderngl.ZERO, moderngl.ONE)
-    try:
-        draw_fullscreen(prog)
-    finally:
-        ctx.blend_func = moderngl.DEFAULT_BLENDING
-        ctx.disable(moderngl.BLEND)
+    draw_fullscreen(prog, blend=(moderngl.ONE, moderngl.SRC_ALPHA, moderngl.ZERO, moderngl.ONE))

@@ -144,14 +144,16 @@ class Scene:
     def passes(self, frame: FrameContext, target) -> list[Pass]:
         """Every active effect's passes for this frame, stage by stage (stable: within a stage
         in the scene's order). Sets the frame's ``image`` slot to ``target``."""
-        frame.image = SceneImage(target)
-        out = [p for effect in self.active_instances() for p in effect.passes(frame, target)]
-        return sorted(out, key=lambda p: p.stage)
+        return self._staged(frame, target, "passes")
 
     def bench_passes(self, frame: FrameContext, target) -> list[Pass]:
         """What ``natura bench`` times, stage by stage (see :meth:`Effect.bench_passes`)."""
+        return self._staged(frame, target, "bench_passes")
+
+    def _staged(self, frame: FrameContext, target, method: str) -> list[Pass]:
         frame.image = SceneImage(target)
-        out = [p for effect in self.active_instances() for p in effect.bench_passes(frame, target)]
+        out = [p for effect in self.active_instances()
+               for p in getattr(effect, method)(frame, target)]
         return sorted(out, key=lambda p: p.stage)
 
     def release(self) -> None:

@@ -6,22 +6,11 @@ from __future__ import annotations
 
 import moderngl
 import numpy as np
-import pytest
 
 from app.sim import atmosphere as atm
 
 
-@pytest.fixture(scope="module")
-def model() -> atm.AtmosphereParams:
-    return atm.AtmosphereParams()
-
-
-@pytest.fixture(scope="module")
-def lut(model) -> atm.OpticalDepthLut:
-    return atm.OpticalDepthLut(model)
-
-
-def test_glsl_twin_of_the_lut_lookup(gl_ctx, lut, model):
+def test_glsl_twin_of_the_lut_lookup(gl_ctx, atmosphere_lut, atmosphere_model):
     """``GLSL_LUT_UV`` evaluated on the GL context equals the numpy twin (uv and depths)."""
     ctx = gl_ctx
     vs = ("#version 330 core\nvoid main() { vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);"
@@ -34,9 +23,9 @@ def test_glsl_twin_of_the_lut_lookup(gl_ctx, lut, model):
           "  fragColor = vec4(OpticalDepthLutUv(q.x, q.y), OpticalDepthToSun(q.x, q.y)); }")
     side = 32
     rng = np.random.default_rng(5)
-    h = rng.uniform(0.0, model.top_height, side * side).astype(np.float32)
+    h = rng.uniform(0.0, atmosphere_model.top_height, side * side).astype(np.float32)
     mu = rng.uniform(-1.0, 1.0, side * side).astype(np.float32)
-    h[:side], mu[:side] = np.linspace(0, model.top_height, side), 1.0
+    h[:side], mu[:side] = np.linspace(0, atmosphere_model.top_height, side), 1.0
     points = np.zeros((side * side, 4), np.float32)
     points[:, 0], points[:, 1] = h, mu
     objs = []
@@ -44,7 +33,7 @@ def test_glsl_twin_of_the_lut_lookup(gl_ctx, lut, model):
         prog = ctx.program(vertex_shader=vs, fragment_shader=fs)
         src = ctx.texture((side, side), 4, points.tobytes(), dtype="f4")
         src.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        tex = ctx.texture(lut.size, 2, lut.table.tobytes(), dtype="f4")
+        tex = ctx.texture(atmosphere_lut.size, 2, atmosphere_lut.table.tobytes(), dtype="f4")
         tex.repeat_x = tex.repeat_y = False
         out = ctx.texture((side, side), 4, dtype="f4")
         fbo = ctx.framebuffer([out])
@@ -54,7 +43,7 @@ def test_glsl_twin_of_the_lut_lookup(gl_ctx, lut, model):
         tex.use(1)
         prog["uPoints"] = 0
         prog["uOpticalDepthLut"] = 1
-        for name, value in model.uniforms().items():
+        for name, value in atmosphere_model.uniforms().items():
             if name in prog:
                 prog[name].value = value
         fbo.use()
@@ -65,9 +54,9 @@ def test_glsl_twin_of_the_lut_lookup(gl_ctx, lut, model):
         for o in objs:
             o.release()
     h64, mu64 = h.astype(np.float64), mu.astype(np.float64)
-    assert np.max(np.abs(res[:, :2] - lut.uv(h64, mu64)) * 256) < 0.01       # texels
-    ground = atm.sun_ray_hits_ground(h64, mu64, model)
+    assert np.max(np.abs(res[:, :2] - atmosphere_lut.uv(h64, mu64)) * 256) < 0.01       # texels
+    ground = atm.sun_ray_hits_ground(h64, mu64, atmosphere_model)
     assert np.array_equal(res[:, 2] >= 1e11, ground)
-    want = lut.optical_depth_to_sun(h64, mu64)
+    want = atmosphere_lut.optical_depth_to_sun(h64, mu64)
     sky = ~ground
     assert np.allclose(res[sky, 2:], want[sky], rtol=2e-3, atol=1e-3)

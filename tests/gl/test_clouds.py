@@ -30,16 +30,12 @@ from app.scenes.base import Scene
 from app.sim import clouds as cl
 from app.sim import optics
 from app.sim.camera import Camera
-from tests.helpers.clouds import FIXED_LIGHT, SIZE, Rig, alpha, default_camera, finite, luminance
+from tests.helpers.clouds import FIXED_LIGHT, SIZE, alpha, default_camera, finite, luminance
+
+#: the cloud bakes of this module go to a cache of their own
+pytestmark = pytest.mark.usefixtures("isolated_bake_cache")
 
 PROBE = fullscreen("tests/clouds_probe")
-
-
-@pytest.fixture(scope="module", autouse=True)
-def bake_cache(tmp_path_factory):
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("NATURA_CACHE", str(tmp_path_factory.mktemp("natura-cache")))
-        yield
 
 
 # ---- probe rig -----------------------------------------------------------------------------
@@ -77,20 +73,6 @@ def probe(gl_ctx):
 
     yield run
     gpu.release()
-
-
-@pytest.fixture
-def rig(gl_ctx):
-    rigs = []
-
-    def make(sets=(), camera=None, scene="clouds"):
-        r = Rig(gl_ctx, list(FIXED_LIGHT) + list(sets), camera, scene)
-        rigs.append(r)
-        return r
-
-    yield make
-    for r in rigs:
-        r.release()
 
 
 def test_height_helpers_match_twins(probe):
@@ -226,8 +208,8 @@ def test_ray_box_and_sphere(probe):
 
 # ---- C: coverage, density, misses ------------------------------------------------------------
 
-def test_zero_coverage_and_zero_density_show_the_sky_exactly(rig):
-    r = rig()
+def test_zero_coverage_and_zero_density_show_the_sky_exactly(clouds_rig):
+    r = clouds_rig()
     for key, value in (("coverage", 0.0), ("density", 0.0)):
         r.set(coverage=0.4, density=1.0).set(**{key: value})
         image, layer, sky = r.render(background=True)
@@ -239,8 +221,8 @@ def test_zero_coverage_and_zero_density_show_the_sky_exactly(rig):
     assert alpha(layer).max() > 0.5  # the same view has clouds otherwise
 
 
-def test_coverage_and_density_responses(rig):
-    r = rig(["clouds.steps=32"])
+def test_coverage_and_density_responses(clouds_rig):
+    r = clouds_rig(["clouds.steps=32"])
     fractions = []
     for c in (0.2, 0.4, 0.6, 0.8, 1.0):
         _, layer = r.set(coverage=c).render()
@@ -258,10 +240,10 @@ def test_coverage_and_density_responses(rig):
     assert all(b >= a for a, b in zip(opaque, opaque[1:])), opaque  # D4
 
 
-def test_misses_show_the_sky_exactly(rig):
+def test_misses_show_the_sky_exactly(clouds_rig):
     # camera below the layer looking down and up: downward rays miss the box
     cam = Camera(position=(0.0, 300.0, 0.0), yaw=0.0, pitch=0.0, fov=90.0, far=200000.0)
-    r = rig(["clouds.coverage=0.8"], camera=cam)
+    r = clouds_rig(["clouds.coverage=0.8"], camera=cam)
     image, layer, sky = r.render(background=True)
     dirs = cam.ray_directions(*SIZE)
     down = dirs[..., 1] < -1e-3
@@ -273,10 +255,10 @@ def test_misses_show_the_sky_exactly(rig):
     assert (~clear).sum() > 50
 
 
-def test_presets_order_coverage_and_height(rig):
+def test_presets_order_coverage_and_height(clouds_rig):
     # top-down, as criterion C asks; the thin stratus sheet counts where alpha > 0.02
     cam = Camera(position=(0.0, 20000.0, 0.0), yaw=0.0, pitch=-90.0, fov=60.0, far=200000.0)
-    r = rig(["clouds.steps=32"], camera=cam)
+    r = clouds_rig(["clouds.steps=32"], camera=cam)
     fractions = {}
     for name in ("cumulus", "stratocumulus", "stratus"):
         r.set(preset=name)
@@ -287,7 +269,7 @@ def test_presets_order_coverage_and_height(rig):
     assert fractions["cumulus"] < fractions["stratocumulus"] < fractions["stratus"], fractions  # C8
     assert r.params["clouds.cloud_height"] < 1.0  # stratus: "smaller" clouds (lower mc_a)
     # a value given explicitly survives the first application of a preset; "custom" applies nothing
-    r2 = rig(["clouds.preset=stratus", "clouds.density=0.7"])
+    r2 = clouds_rig(["clouds.preset=stratus", "clouds.density=0.7"])
     r2.render()
     assert r2.params["clouds.coverage"] == 1.0 and r2.params["clouds.density"] == 0.7
     r2.set(preset="custom", coverage=0.3)
@@ -295,9 +277,9 @@ def test_presets_order_coverage_and_height(rig):
     assert r2.params["clouds.coverage"] == 0.3
 
 
-def test_box_and_spheres_both_render_clouds(rig):
+def test_box_and_spheres_both_render_clouds(clouds_rig):
     for container in ("box", "spheres"):
-        r = rig(["clouds.preset=cumulus", f"clouds.container={container}"])
+        r = clouds_rig(["clouds.preset=cumulus", f"clouds.container={container}"])
         image, layer = r.render()
         assert finite(image, layer)
         assert (alpha(layer) > 0.1).mean() > 0.02, container  # D5
@@ -305,8 +287,8 @@ def test_box_and_spheres_both_render_clouds(rig):
 
 # ---- D: steps and the speed options ---------------------------------------------------------
 
-def test_converges_with_steps_for_both_integrations(rig):
-    r = rig(["clouds.coverage=0.7", "clouds.jitter=false"])
+def test_converges_with_steps_for_both_integrations(clouds_rig):
+    r = clouds_rig(["clouds.coverage=0.7", "clouds.jitter=false"])
     for energy in (True, False):
         r.set(energy_conserving=energy)
         ref = r.set(steps=256).render()[1]
@@ -315,8 +297,8 @@ def test_converges_with_steps_for_both_integrations(rig):
         assert errors[-1] < 0.25 * errors[0]
 
 
-def test_distance_and_adaptive_stepping(rig):
-    r = rig(["clouds.coverage=0.7", "clouds.steps=64", "clouds.jitter=false"])
+def test_distance_and_adaptive_stepping(clouds_rig):
+    r = clouds_rig(["clouds.coverage=0.7", "clouds.steps=64", "clouds.jitter=false"])
     uniform = r.render()[1]
     zero = r.set(distance_steps=True, step_growth=0.0).render()[1]
     assert np.array_equal(zero, uniform)  # D6: incr_dist = 0 is the uniform march
@@ -330,8 +312,8 @@ def test_distance_and_adaptive_stepping(rig):
         assert np.abs(alpha(img) - alpha(ref)).mean() <= 0.02, options  # D6 (P)
 
 
-def test_jitter_trades_banding_for_noise(rig):
-    r = rig(["clouds.coverage=0.7", "clouds.steps=8"])
+def test_jitter_trades_banding_for_noise(clouds_rig):
+    r = clouds_rig(["clouds.coverage=0.7", "clouds.steps=8"])
     smooth = r.set(jitter=False).render(size=(96, 54))[1]
     noisy = r.set(jitter=True).render(size=(96, 54))[1]
     # high-frequency energy (pixel-to-pixel differences) rises with the jitter
@@ -341,8 +323,8 @@ def test_jitter_trades_banding_for_noise(rig):
     assert hf(noisy) > hf(smooth)
 
 
-def test_multiple_scattering_octaves_brighten_but_stay_bounded(rig):
-    r = rig(["clouds.coverage=0.7", "clouds.steps=32"])
+def test_multiple_scattering_octaves_brighten_but_stay_bounded(clouds_rig):
+    r = clouds_rig(["clouds.coverage=0.7", "clouds.steps=32"])
     one = r.set(ms_octaves=1).render()[1]
     four = r.set(ms_octaves=4).render()[1]
     assert np.array_equal(alpha(one), alpha(four))  # the view transmittance does not change
@@ -354,8 +336,8 @@ def test_multiple_scattering_octaves_brighten_but_stay_bounded(rig):
 
 # ---- E: lighting -----------------------------------------------------------------------------
 
-def test_absorption_darkens(rig):
-    r = rig(["clouds.coverage=0.7", "clouds.steps=32", "clouds.ambient=0"])
+def test_absorption_darkens(clouds_rig):
+    r = clouds_rig(["clouds.coverage=0.7", "clouds.steps=32", "clouds.ambient=0"])
     lums = []
     _, base = r.set(absorption=1.0).render()
     mask = alpha(base) > 0.5
@@ -366,9 +348,9 @@ def test_absorption_darkens(rig):
     assert all(y < x for x, y in zip(lums, lums[1:])), lums  # E1
 
 
-def test_silver_lining_brighter_toward_the_sun(rig):
+def test_silver_lining_brighter_toward_the_sun(clouds_rig):
     # the camera looks north and up; the sun in view (behind the clouds) or behind the camera
-    r = rig(["clouds.coverage=0.6", "clouds.steps=48", "clouds.jitter=false"])
+    r = clouds_rig(["clouds.coverage=0.6", "clouds.steps=48", "clouds.jitter=false"])
     fwd = default_camera().forward()
     toward = fwd.copy()
     away = np.array([-fwd[0], fwd[1], -fwd[2]])  # same elevation, opposite azimuth
@@ -395,11 +377,11 @@ def phase_correlation(a, b):
     return (dy - h if dy > h // 2 else dy), (dx - w if dx > w // 2 else dx)
 
 
-def test_wind_moves_the_clouds_by_speed_times_time(rig):
+def test_wind_moves_the_clouds_by_speed_times_time(clouds_rig):
     # top-down: 200 km above the layer, narrow fov, so the layer is nearly orthographic
     cam = Camera(position=(0.0, 202000.0, 0.0), yaw=0.0, pitch=-90.0, fov=8.0, far=1.0e6)
     size = (96, 96)
-    r = rig(["clouds.coverage=0.8", "clouds.steps=24", "clouds.jitter=false",
+    r = clouds_rig(["clouds.coverage=0.8", "clouds.steps=24", "clouds.jitter=false",
              "clouds.box_half_size=1000000", "clouds.max_distance=1000000", "clouds.wind_speed=100",
              "clouds.wind_dir_x=0.6", "clouds.wind_dir_y=-0.8", "clouds.weather_scale=8000"],
             camera=cam)
@@ -413,8 +395,8 @@ def test_wind_moves_the_clouds_by_speed_times_time(rig):
     assert abs(dx - shift[0]) <= 1.0 and abs(dy - shift[1]) <= 1.0, (dy, dx, shift)  # F2
 
 
-def test_speed_zero_gives_identical_frames(rig):
-    r = rig(["clouds.coverage=0.7", "clouds.steps=16", "clouds.wind_speed=0"])
+def test_speed_zero_gives_identical_frames(clouds_rig):
+    r = clouds_rig(["clouds.coverage=0.7", "clouds.steps=16", "clouds.wind_speed=0"])
     frames = [r.render(dt=0.0 if i == 0 else 0.5) for i in range(3)]
     assert all(np.array_equal(frames[0][0], f[0]) for f in frames[1:])  # F1
     r.set(wind_speed=20.0)
@@ -475,8 +457,8 @@ def test_clouds_behind_opaque_geometry_are_hidden(gl_ctx):
         gpu.release()
 
 
-def test_panel_controls_exist_and_change_the_image(rig):
-    r = rig(["clouds.preset=lighting", "clouds.steps=24"])
+def test_panel_controls_exist_and_change_the_image(clouds_rig):
+    r = clouds_rig(["clouds.preset=lighting", "clouds.steps=24"])
     base_image = r.render()[0]
     changes = {"coverage": 0.7, "density": 2.0, "base_height": 1000.0, "max_height": 5000.0,
                "weather_scale": 12000.0, "shape_scale": 4000.0, "detail_scale": 600.0,

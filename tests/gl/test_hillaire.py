@@ -23,20 +23,13 @@ from app.sim import optics
 from tests.helpers.hillaire import SIZE, TOP, Rig
 
 
-@pytest.fixture(scope="module")
-def rig(gl_ctx):
-    r = Rig(gl_ctx)
-    yield r
-    r.release()
-
-
-def sky(rig: Rig, **kw) -> np.ndarray:
-    return rig.update(**kw).probe(0)[..., :3]
+def sky(hillaire_rig: Rig, **kw) -> np.ndarray:
+    return hillaire_rig.update(**kw).probe(0)[..., :3]
 
 
 # ---- declarations -------------------------------------------------------------------------------
 
-def test_params_and_programs(rig):
+def test_params_and_programs(hillaire_rig):
     ps = {p.name: p for p in params()}
     assert all(p.group == "hillaire" for p in ps.values())
     # the paper's sizes are the defaults
@@ -47,16 +40,16 @@ def test_params_and_programs(rig):
             ps["hillaire.skyview_height"].default) == (192, 108)
     assert ps["hillaire.ap_size"].default == 32 and ps["hillaire.ap_slices"].default == 32
     for spec in PROGRAMS:
-        if spec.requires_compute and not rig.gpu.caps.compute:
+        if spec.requires_compute and not hillaire_rig.gpu.caps.compute:
             continue
-        rig.gpu.shaders.program(spec.name, dict(spec.defines), **spec.stages())
+        hillaire_rig.gpu.shaders.program(spec.name, dict(spec.defines), **spec.stages())
 
 
 # ---- transmittance LUT --------------------------------------------------------------------------
 
-def test_transmittance_lut_matches_numpy_optical_depth(rig):
-    rig.update()
-    lut = rig.luts.read("transmittance")[..., :3].astype(float)
+def test_transmittance_lut_matches_numpy_optical_depth(hillaire_rig):
+    hillaire_rig.update()
+    lut = hillaire_rig.luts.read("transmittance")[..., :3].astype(float)
     ref = twin.transmittance_lut(twin.Model(), 64, 16)
     rel = np.abs(lut - ref) / ref
     assert rel.max() <= 1e-3, rel.max()
@@ -68,9 +61,9 @@ def test_transmittance_lut_matches_numpy_optical_depth(rig):
 
 # ---- multiple-scattering LUT --------------------------------------------------------------------
 
-def test_multiscattering_lut_finite_positive_and_matches_numpy(rig):
-    rig.update()
-    ms = rig.luts.read("multiscattering")
+def test_multiscattering_lut_finite_positive_and_matches_numpy(hillaire_rig):
+    hillaire_rig.update()
+    ms = hillaire_rig.luts.read("multiscattering")
     assert np.isfinite(ms).all() and (ms >= 0).all()
     assert (ms[..., 3] < 1).all() and ms[..., 3].max() > 0.05  # f_ms: a fraction, not nothing
     n = 16
@@ -86,46 +79,46 @@ def test_multiscattering_lut_finite_positive_and_matches_numpy(rig):
     assert ms[0, 15, 2] > ms[0, 15, 1] > ms[0, 15, 0]
 
 
-def test_multiple_scattering_adds_light(rig):
+def test_multiple_scattering_adds_light(hillaire_rig):
     """single < single + second order < single + all orders (F_ms = 1/(1 − f_ms))."""
     try:
-        rig.set("multiple_scattering", False)
-        single = sky(rig, sun_el=30.0, pitch=20.0)
-        rig.set("multiple_scattering", True)
-        rig.set("ms_infinite", False)
-        second = sky(rig, sun_el=30.0, pitch=20.0)
-        rig.set("ms_infinite", True)
-        every = sky(rig, sun_el=30.0, pitch=20.0)
+        hillaire_rig.set("multiple_scattering", False)
+        single = sky(hillaire_rig, sun_el=30.0, pitch=20.0)
+        hillaire_rig.set("multiple_scattering", True)
+        hillaire_rig.set("ms_infinite", False)
+        second = sky(hillaire_rig, sun_el=30.0, pitch=20.0)
+        hillaire_rig.set("ms_infinite", True)
+        every = sky(hillaire_rig, sun_el=30.0, pitch=20.0)
     finally:
-        rig.set("multiple_scattering", True)
-        rig.set("ms_infinite", True)
+        hillaire_rig.set("multiple_scattering", True)
+        hillaire_rig.set("ms_infinite", True)
     assert (second > single).all() and (every > second).all()
     gain = every.mean() / single.mean()
     assert 1.02 < gain < 2.0, gain
     # after sunset the sky keeps only multiply scattered light from the lit air far away
-    rig.set("multiple_scattering", False)
+    hillaire_rig.set("multiple_scattering", False)
     try:
-        dusk_single = sky(rig, altitude=2.0, sun_el=-4.0, pitch=40.0)
+        dusk_single = sky(hillaire_rig, altitude=2.0, sun_el=-4.0, pitch=40.0)
     finally:
-        rig.set("multiple_scattering", True)
-    dusk = sky(rig, altitude=2.0, sun_el=-4.0, pitch=40.0)
+        hillaire_rig.set("multiple_scattering", True)
+    dusk = sky(hillaire_rig, altitude=2.0, sun_el=-4.0, pitch=40.0)
     assert dusk.mean() > dusk_single.mean()
 
 
 # ---- sky view -----------------------------------------------------------------------------------
 
-def test_noon_sky_is_blue(rig):
-    img = sky(rig, sun_el=90.0, pitch=45.0)
+def test_noon_sky_is_blue(hillaire_rig):
+    img = sky(hillaire_rig, sun_el=90.0, pitch=45.0)
     r, g, b = img.reshape(-1, 3).mean(0)
     assert b > g > r and b / r >= 1.5
 
 
-def test_sunset_horizon_reddens(rig):
+def test_sunset_horizon_reddens(hillaire_rig):
     def horizon_band(sun_el):
-        img = sky(rig, sun_el=sun_el, pitch=3.0, yaw=0.0, sun_az=0.0, fov=20.0)
-        d = rig.directions()
+        img = sky(hillaire_rig, sun_el=sun_el, pitch=3.0, yaw=0.0, sun_az=0.0, fov=20.0)
+        d = hillaire_rig.directions()
         elev = np.degrees(np.arcsin(d[..., 1]))
-        sun = np.asarray(rig.u["uSunDir"])
+        sun = np.asarray(hillaire_rig.u["uSunDir"])
         away = np.degrees(np.arccos(np.clip(d @ sun, -1, 1))) > 5.0
         band = (elev > 0.0) & (elev < 3.0) & away
         assert band.sum() > 10
@@ -147,10 +140,10 @@ CASES = [  # altitude m, sun elevation °, view pitch °
 
 
 @pytest.mark.parametrize("altitude, sun_el, pitch", CASES)
-def test_sky_radiance_matches_brute_force_march(rig, altitude, sun_el, pitch):
-    rig.update(altitude=altitude, sun_el=sun_el, pitch=pitch)
-    lut = rig.probe(0)[..., :3]
-    ref = rig.probe(4)[..., :3]
+def test_sky_radiance_matches_brute_force_march(hillaire_rig, altitude, sun_el, pitch):
+    hillaire_rig.update(altitude=altitude, sun_el=sun_el, pitch=pitch)
+    lut = hillaire_rig.probe(0)[..., :3]
+    ref = hillaire_rig.probe(4)[..., :3]
     peak = ref.max()
     assert peak > 0.05
     err = np.abs(lut - ref)
@@ -159,17 +152,17 @@ def test_sky_radiance_matches_brute_force_march(rig, altitude, sun_el, pitch):
     assert (err[lit] / ref[lit]).mean() < 0.015
 
 
-def test_single_scattering_matches_numpy_integral(rig):
+def test_single_scattering_matches_numpy_integral(hillaire_rig):
     """With multiple scattering off, method 4 is the thesis's single-scattering integral."""
-    rig.set("multiple_scattering", False)
+    hillaire_rig.set("multiple_scattering", False)
     try:
-        rig.update(altitude=2.0, sun_el=20.0, pitch=10.0, yaw=30.0)
-        img = rig.probe(0)[..., :3]
+        hillaire_rig.update(altitude=2.0, sun_el=20.0, pitch=10.0, yaw=30.0)
+        img = hillaire_rig.probe(0)[..., :3]
     finally:
-        rig.set("multiple_scattering", True)
-    d = rig.directions()
+        hillaire_rig.set("multiple_scattering", True)
+    d = hillaire_rig.directions()
     up = np.array([0.0, 1.0, 0.0])
-    sun = np.asarray(rig.u["uSunDir"])
+    sun = np.asarray(hillaire_rig.u["uSunDir"])
     m = twin.Model()
     for iy, ix in ((2, 3), (8, 16), (10, 28)):
         v = d[iy, ix]
@@ -182,22 +175,22 @@ def test_single_scattering_matches_numpy_integral(rig):
 
 # ---- aerial perspective -------------------------------------------------------------------------
 
-def test_aerial_perspective_monotone_and_accurate(rig):
-    rig.update(altitude=500.0, sun_el=25.0, pitch=40.0)  # every ray of the frame climbs
+def test_aerial_perspective_monotone_and_accurate(hillaire_rig):
+    hillaire_rig.update(altitude=500.0, sun_el=25.0, pitch=40.0)  # every ray of the frame climbs
     distances = [50.0, 1000.0, 8000.0, 30000.0, 90000.0, 120000.0, 200000.0]
-    aps = [rig.probe(1, d) for d in distances]
+    aps = [hillaire_rig.probe(1, d) for d in distances]
     for near, far in itertools.pairwise(aps):  # up to float noise where the rays have left the air
         assert (far[..., :3] >= near[..., :3] * (1 - 1e-3)).all()
         assert (far[..., 3] <= near[..., 3] + 1e-3).all()
     assert aps[-1][..., 3].max() < aps[0][..., 3].min()
     for d, ap in zip(distances, aps):
-        ref = rig.probe(5, d)
+        ref = hillaire_rig.probe(5, d)
         peak = ref[..., :3].max()
         assert np.abs(ap[..., :3] - ref[..., :3]).max() <= 0.02 * peak + 1e-6, d
         assert np.abs(ap[..., 3] - ref[..., 3]).max() <= 0.01, d
     # per-channel transmittance: the LUT ratio against the brute force's optical depth
-    ref = rig.probe(5, 30000.0)
-    rgb = rig.probe(2, 30000.0)[..., :3]
+    ref = hillaire_rig.probe(5, 30000.0)
+    rgb = hillaire_rig.probe(2, 30000.0)[..., :3]
     assert np.abs(rgb.mean(-1) - ref[..., 3]).max() < 0.01
     assert (rgb[..., 0] > rgb[..., 1]).all() and (rgb[..., 1] > rgb[..., 2]).all()
 
@@ -220,15 +213,15 @@ def test_aerial_perspective_compute_and_fragment_paths_agree(gl_ctx):
         assert np.allclose(x, y, rtol=1e-5, atol=1e-9)
 
 
-def test_sun_transmittance(rig):
-    rig.update(altitude=2.0, sun_el=90.0, pitch=-30.0)
-    zenith = rig.probe(3, 0.0)[..., :3]
+def test_sun_transmittance(hillaire_rig):
+    hillaire_rig.update(altitude=2.0, sun_el=90.0, pitch=-30.0)
+    zenith = hillaire_rig.probe(3, 0.0)[..., :3]
     assert np.allclose(zenith, (0.930, 0.874, 0.748), atol=0.006)
-    rig.update(altitude=2.0, sun_el=-3.0, pitch=-30.0)
-    assert np.abs(rig.probe(3, 0.0)[..., :3]).max() == 0.0  # in the planet's shadow
+    hillaire_rig.update(altitude=2.0, sun_el=-3.0, pitch=-30.0)
+    assert np.abs(hillaire_rig.probe(3, 0.0)[..., :3]).max() == 0.0  # in the planet's shadow
     # a point 20 km up, seen from the ground, still sees the sun 3° below our horizon
-    rig.update(altitude=2.0, sun_el=-3.0, pitch=89.0, fov=1.0)
-    assert rig.probe(3, 20000.0)[..., :3].min() > 0.0
+    hillaire_rig.update(altitude=2.0, sun_el=-3.0, pitch=89.0, fov=1.0)
+    assert hillaire_rig.probe(3, 20000.0)[..., :3].min() > 0.0
 
 
 # ---- LUT life -----------------------------------------------------------------------------------
@@ -252,12 +245,12 @@ def test_static_luts_rebuild_only_when_the_model_changes(gl_ctx):
         r.release()
 
 
-def test_horizon_band_has_no_dark_row(rig):
+def test_horizon_band_has_no_dark_row(hillaire_rig):
     """No dark row just above the horizon (spec/002 §3.2.3 artifact), sun low."""
-    rig.update(altitude=2.0, sun_el=3.0, pitch=0.0, fov=10.0)
-    img = rig.probe(0)[..., :3]
+    hillaire_rig.update(altitude=2.0, sun_el=3.0, pitch=0.0, fov=10.0)
+    img = hillaire_rig.probe(0)[..., :3]
     lum = img @ np.array([0.2126, 0.7152, 0.0722])
-    elev = np.degrees(np.arcsin(rig.directions()[..., 1]))
+    elev = np.degrees(np.arcsin(hillaire_rig.directions()[..., 1]))
     rows = [lum[i].mean() for i in range(SIZE[1]) if elev[i, 16] > 0.0]
     for i in range(1, len(rows) - 1):
         assert rows[i] >= 0.25 * min(rows[i - 1], rows[i + 1])

@@ -24,20 +24,9 @@ from tests.helpers.noise import HUGE_EXPR, _huge_twin, _reference_noise, f32, gl
 RNG = np.random.default_rng(20021)
 
 
-@pytest.fixture(scope="module")
-def probe(gl_ctx):
-    gpu = Gpu(gl_ctx)
-    if not gpu.caps.compute:
-        pytest.skip(f"the noise probe needs compute shaders; {gpu.caps.describe()}")
-    p = NoiseProbe(gpu, owner="noise-test")
-    yield p
-    p.release()
-    gpu.release()
-
-
-def test_glsl_perlin_reproduces_reference_values(probe):
+def test_glsl_perlin_reproduces_reference_values(noise_probe):
     pts = np.array([(3.14, 42, 7), (-4.2, 10, 6), (0.5, 0.5, 0.5)])
-    got = glsl(probe, "PerlinNoise3(P.xyz)", pts)[:, 0]
+    got = glsl(noise_probe, "PerlinNoise3(P.xyz)", pts)[:, 0]
     # the GPU gets the float32 coordinates: compare with the reference at those
     ref = [_reference_noise(*q) for q in f32(pts)]
     assert np.abs(got - ref).max() < 1e-5
@@ -140,29 +129,30 @@ PERIODIC_FRACTAL_CASES = {
 
 
 @pytest.mark.parametrize("name", list(CASES))
-def test_glsl_matches_twin(probe, name):
+def test_glsl_matches_twin(noise_probe, name):
     expr, twin, span, tol, kw = CASES[name]
     pts = _pts(3000, -span, span)
     want = np.asarray(twin(pts), dtype=np.float64).reshape(len(pts), -1)
-    got = glsl(probe, expr, pts, **kw)[:, :want.shape[1]]
+    got = glsl(noise_probe, expr, pts, **kw)[:, :want.shape[1]]
     err = np.abs(got - want).max()
     assert err < tol, f"{name}: max |GLSL − numpy| = {err:.3g}"
 
 
 @pytest.mark.parametrize("name", list(FRACTAL_CASES) + list(PERIODIC_FRACTAL_CASES))
-def test_glsl_fractal_sums_match_twin(probe, name):
+def test_glsl_fractal_sums_match_twin(noise_probe, name):
     expr, twin = {**FRACTAL_CASES, **PERIODIC_FRACTAL_CASES}[name]
     pts = _pts(1500, -16, 16)
     want = twin(pts)
-    got = glsl(probe, expr, pts, perlin_seed=7, seed=7, period=(3, 5, 4, 1), **FRACTAL_KW)[:, 0]
+    got = glsl(noise_probe, expr, pts, perlin_seed=7, seed=7, period=(3, 5, 4, 1),
+               **FRACTAL_KW)[:, 0]
     err = np.abs(got - want).max()
     assert err < 2e-5, f"{name}: max |GLSL − numpy| = {err:.3g}"
 
 
-def test_glsl_fbm_with_non_dyadic_lacunarity_matches_twin(probe):
+def test_glsl_fbm_with_non_dyadic_lacunarity_matches_twin(noise_probe):
     pts = _pts(1500, -2, 2)
     kw = {"octaves": 5, "lacunarity": 2.5, "gain": 0.45}
-    got = glsl(probe, "vec2(PerlinFbm3(P.xyz, uProbeOctaves, uProbeLacunarity, uProbeGain),"
+    got = glsl(noise_probe, "vec2(PerlinFbm3(P.xyz, uProbeOctaves, uProbeLacunarity, uProbeGain),"
                       " WorleyFbm3(P.xyz, uProbeOctaves, uProbeLacunarity, uProbeGain,"
                       " uProbeSeed))",
                pts, seed=1, **kw)
@@ -172,9 +162,9 @@ def test_glsl_fbm_with_non_dyadic_lacunarity_matches_twin(probe):
 
 # ---- Perlin properties ---------------------------------------------------------------------------
 
-def test_zero_at_lattice_points(probe):
+def test_zero_at_lattice_points(noise_probe):
     pts = f32(RNG.integers(-300, 300, (500, 3)))
-    got = glsl(probe, "vec4(PerlinNoise3(P.xyz), PerlinNoise2(P.xy),"
+    got = glsl(noise_probe, "vec4(PerlinNoise3(P.xyz), PerlinNoise2(P.xy),"
                       " PerlinNoise3Periodic(P.xyz, ivec3(5)),"
                       " PerlinNoise2Periodic(P.xy, ivec2(7)))", pts)
     assert np.all(got == 0.0)
@@ -193,7 +183,7 @@ def _cell_bound3(f):
     return total
 
 
-def test_the_stated_bounds_hold(probe):
+def test_the_stated_bounds_hold(noise_probe):
     # The bound itself: maximise over the cell (grid, then a pattern search).
     g = np.linspace(0, 1, 41)
     grid = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
@@ -215,13 +205,14 @@ def test_the_stated_bounds_hold(probe):
     # The noise stays inside them (GLSL, many points, several seeds) and uses most of the range.
     pts = f32(RNG.uniform(-128, 128, (100_000, 3)))
     for seed in (None, 1, 2):
-        got = glsl(probe, "vec2(PerlinNoise3(P.xyz), PerlinNoise2(P.xy))", pts, perlin_seed=seed)
+        got = glsl(noise_probe, "vec2(PerlinNoise3(P.xyz), PerlinNoise2(P.xy))", pts,
+                   perlin_seed=seed)
         assert np.abs(got[:, 0]).max() <= gradient.PERLIN3_BOUND
         assert np.abs(got[:, 1]).max() <= gradient.PERLIN2_BOUND + 1e-6
         assert np.abs(got[:, 0]).max() > 0.75 and np.abs(got[:, 1]).max() > 0.75
 
 
-def test_continuous_in_value_and_gradient_across_cell_faces(probe):
+def test_continuous_in_value_and_gradient_across_cell_faces(noise_probe):
     h = 2.0**-8  # exact in float32
     n = 400
     base = RNG.uniform(-50, 50, (n, 3))
@@ -235,7 +226,8 @@ def test_continuous_in_value_and_gradient_across_cell_faces(probe):
             offs = np.zeros((5, 1, 3))
             offs[:, 0, axis] = np.array([-2, -1, 0, 1, 2]) * h
             pts = f32((at[None] + offs).reshape(-1, 3))
-            v = glsl(probe, "vec2(PerlinNoise3(P.xyz), PerlinNoise2(P.xy))", pts).reshape(5, n, 4)
+            v = glsl(noise_probe, "vec2(PerlinNoise3(P.xyz), PerlinNoise2(P.xy))",
+                     pts).reshape(5, n, 4)
             cols = (0, 1) if axis < 2 else (0,)
             for c in cols:
                 left = (v[2, :, c] - v[1, :, c]) / h
@@ -263,7 +255,7 @@ def _wedge_energy(img, band, half=22.5):
     return out
 
 
-def test_no_axis_bias_in_the_power_spectrum(probe):
+def test_no_axis_bias_in_the_power_spectrum(noise_probe):
     # 256² samples, 4 per lattice unit (64 cells across), four seeds; the energy in angular
     # sectors (±22.5°) around k_x, k_y and both diagonals, for frequencies between ¼ and 1 of
     # the lattice frequency (where the noise's energy lives; above it the square lattice's
@@ -274,7 +266,7 @@ def test_no_axis_bias_in_the_power_spectrum(probe):
     pts = np.stack([xx.ravel(), yy.ravel()], 1)
     sums = {}
     for seed in (None, 1, 2, 3):
-        v = glsl(probe, "vec3(PerlinNoise2(P.xy), PerlinNoise3(vec3(P.xy, 0.3)),"
+        v = glsl(noise_probe, "vec3(PerlinNoise2(P.xy), PerlinNoise3(vec3(P.xy, 0.3)),"
                         " PerlinNoise3(vec3(P.x, 0.3, P.y)))",
                  pts, perlin_seed=seed)
         for c, name in enumerate(("2D", "3D xy slice", "3D xz slice")):
@@ -288,28 +280,28 @@ def test_no_axis_bias_in_the_power_spectrum(probe):
         assert all(abs(r - 1) <= 0.15 for r in ratios.values()), (name, ratios)
 
 
-def test_seed_changes_output(probe):
+def test_seed_changes_output(noise_probe):
     pts = f32(RNG.uniform(-40, 40, (4000, 3)))
-    a = glsl(probe, "vec2(PerlinNoise3(P.xyz), PerlinNoise2(P.xy))", pts, perlin_seed=None)
-    b = glsl(probe, "vec2(PerlinNoise3(P.xyz), PerlinNoise2(P.xy))", pts, perlin_seed=1)
-    c = glsl(probe, "vec2(PerlinNoise3(P.xyz), PerlinNoise2(P.xy))", pts, perlin_seed=0)
+    a = glsl(noise_probe, "vec2(PerlinNoise3(P.xyz), PerlinNoise2(P.xy))", pts, perlin_seed=None)
+    b = glsl(noise_probe, "vec2(PerlinNoise3(P.xyz), PerlinNoise2(P.xy))", pts, perlin_seed=1)
+    c = glsl(noise_probe, "vec2(PerlinNoise3(P.xyz), PerlinNoise2(P.xy))", pts, perlin_seed=0)
     assert np.array_equal(a, c)  # None and 0 both name Perlin's table
     for k in range(2):
         assert abs(np.corrcoef(a[:, k], b[:, k])[0, 1]) < 0.1
-    w0 = glsl(probe, "WorleyNoise3(P.xyz, uProbeSeed)", pts, seed=0)
-    w1 = glsl(probe, "WorleyNoise3(P.xyz, uProbeSeed)", pts, seed=1)
+    w0 = glsl(noise_probe, "WorleyNoise3(P.xyz, uProbeSeed)", pts, seed=0)
+    w1 = glsl(noise_probe, "WorleyNoise3(P.xyz, uProbeSeed)", pts, seed=1)
     assert abs(np.corrcoef(w0[:, 0], w1[:, 0])[0, 1]) < 0.1
 
 
-def test_large_and_negative_coordinates_match_the_twin_below_2_24(probe):
+def test_large_and_negative_coordinates_match_the_twin_below_2_24(noise_probe):
     pts = f32([(1e6 + 0.25, -1e6 - 0.75, 3e6 + 0.5), (-4e6 - 0.5, 5e6 + 0.5, -7e6),
                (-0.25, -1e-30, -7.75), (2.0**23 + 0.5, 0.5, -0.5),
                (-(2.0**23) - 1.5, 12345.678, -98765.4375)])
-    got = glsl(probe, HUGE_EXPR, pts)
+    got = glsl(noise_probe, HUGE_EXPR, pts)
     assert np.abs(got - _huge_twin(pts)).max() < 1e-5
 
 
-def test_periodic_perlin_tiles_and_256_is_the_plain_noise(probe):
+def test_periodic_perlin_tiles_and_256_is_the_plain_noise(noise_probe):
     pts = f32(RNG.uniform(-20, 20, (2000, 3)))
     per = np.array([3, 5, 4])
     for axis in range(3):
@@ -318,17 +310,18 @@ def test_periodic_perlin_tiles_and_256_is_the_plain_noise(probe):
         assert np.abs(gradient.perlin3_periodic(*shifted.T, per)
                       - gradient.perlin3_periodic(*pts.T, per)).max() < 1e-12
     assert np.array_equal(gradient.perlin3_periodic(*pts.T, 256), gradient.perlin3(*pts.T))
-    got = glsl(probe, "vec2(PerlinNoise3Periodic(P.xyz, ivec3(256)), PerlinNoise3(P.xyz))", pts)
+    got = glsl(noise_probe, "vec2(PerlinNoise3Periodic(P.xyz, ivec3(256)), PerlinNoise3(P.xyz))",
+               pts)
     assert np.abs(got[:, 0] - got[:, 1]).max() < 1e-6
     with pytest.raises(ValueError, match="period"):
         gradient.perlin3_periodic(0.5, 0.5, 0.5, 0)
 
 
-def test_inverted_f1_is_one_at_feature_points_and_falls_with_distance(probe):
+def test_inverted_f1_is_one_at_feature_points_and_falls_with_distance(noise_probe):
     cells = RNG.integers(-40, 40, (300, 3))
     fx, fy, fz = cellular.feature_point3(*cells.T, seed=3)
     feature = np.stack([fx, fy, fz], 1)
-    got = glsl(probe, "vec2(WorleyInvertedF1(WorleyNoise3(P.xyz, uProbeSeed)),"
+    got = glsl(noise_probe, "vec2(WorleyInvertedF1(WorleyNoise3(P.xyz, uProbeSeed)),"
                       " WorleyNoise3(P.xyz, uProbeSeed).x)",
                f32(feature), seed=3)
     assert got[:, 0].min() >= 1.0 - 1.0 / 255.0  # spec/001 B4: 1 ± 1/255
@@ -338,7 +331,7 @@ def test_inverted_f1_is_one_at_feature_points_and_falls_with_distance(probe):
     direction /= np.linalg.norm(direction, axis=1, keepdims=True)
     values = []
     for r in (0.0, 0.02, 0.04, 0.06):
-        values.append(glsl(probe, "WorleyInvertedF1(WorleyNoise3(P.xyz, uProbeSeed))",
+        values.append(glsl(noise_probe, "WorleyInvertedF1(WorleyNoise3(P.xyz, uProbeSeed))",
                            f32(feature + r * direction), seed=3)[:, 0])
     values = np.array(values)
     assert np.all(np.diff(values, axis=0) <= 1e-5)
@@ -346,13 +339,14 @@ def test_inverted_f1_is_one_at_feature_points_and_falls_with_distance(probe):
     # 2D: the same at the 2D feature points
     cells2 = RNG.integers(-40, 40, (200, 2))
     p2 = np.stack(cellular.feature_point2(*cells2.T, seed=3), 1)
-    got2 = glsl(probe, "WorleyInvertedF1(WorleyNoise2(P.xy, uProbeSeed))", f32(p2), seed=3)[:, 0]
+    got2 = glsl(noise_probe, "WorleyInvertedF1(WorleyNoise2(P.xy, uProbeSeed))", f32(p2),
+                seed=3)[:, 0]
     assert got2.min() >= 1.0 - 1.0 / 255.0
 
 
-def test_f1_below_f2_and_search_exact_where_f1_below_one(probe):
+def test_f1_below_f2_and_search_exact_where_f1_below_one(noise_probe):
     pts = f32(RNG.uniform(-30, 30, (3000, 3)))
-    got = glsl(probe, "vec4(WorleyNoise3(P.xyz, 0u), WorleyNoise2(P.xy, 0u))", pts)
+    got = glsl(noise_probe, "vec4(WorleyNoise3(P.xyz, 0u), WorleyNoise2(P.xy, 0u))", pts)
     assert np.all(got[:, 0] <= got[:, 1]) and np.all(got[:, 2] <= got[:, 3])
     assert np.all(got[:, 1] - got[:, 0] >= 0)
     # brute force over 5×5×5 cells: the 27-cell search is exact wherever F1 (F2) < 1
@@ -375,18 +369,18 @@ def _seam_ratio(img: np.ndarray, axis: int) -> float:
     return float(np.percentile(wrap, 99) / np.percentile(interior, 99))
 
 
-def test_periodic_worley_has_no_seams(probe):
+def test_periodic_worley_has_no_seams(noise_probe):
     # 2D: 128² samples over period 8 cells; 3D: 32³ samples over period 4 cells.
     s2 = (np.arange(128) + 0.5) / 16.0
     yy, xx = np.meshgrid(s2, s2, indexing="ij")
     p2 = np.stack([xx.ravel(), yy.ravel()], 1)
-    v2 = glsl(probe, "vec3(WorleyInvertedF1(WorleyNoise2Periodic(P.xy, ivec2(8), 5u)),"
+    v2 = glsl(noise_probe, "vec3(WorleyInvertedF1(WorleyNoise2Periodic(P.xy, ivec2(8), 5u)),"
                      " WorleyInvertedF1(WorleyNoise2(P.xy, 5u)),"
                      " PerlinFbm2Periodic(P.xy, ivec2(8), 4, 2, 0.5))", p2)
     s3 = (np.arange(32) + 0.5) / 8.0
     zz, yy3, xx3 = np.meshgrid(s3, s3, s3, indexing="ij")
     p3 = np.stack([xx3.ravel(), yy3.ravel(), zz.ravel()], 1)
-    v3 = glsl(probe, "vec2(WorleyInvertedF1(WorleyNoise3Periodic(P.xyz, ivec3(4), 5u)),"
+    v3 = glsl(noise_probe, "vec2(WorleyInvertedF1(WorleyNoise3Periodic(P.xyz, ivec3(4), 5u)),"
                      " WorleyInvertedF1(WorleyNoise3(P.xyz, 5u)))", p3)
     periodic2 = v2[:, 0].reshape(128, 128)
     plain2 = v2[:, 1].reshape(128, 128)
@@ -409,7 +403,7 @@ def test_periodic_worley_has_no_seams(probe):
         assert np.allclose(cellular.worley3_periodic(*moved.T, (3, 4, 5), seed=2), base, atol=1e-12)
 
 
-def test_worley_fbm_channel_frequencies_rise_with_cell_count(probe):
+def test_worley_fbm_channel_frequencies_rise_with_cell_count(noise_probe):
     # Like the shape texture's G < B < A channels: 32³ tiles of inverted-Worley fBm with 2, 4
     # and 8 cells per period: more zero crossings, more gradient energy, higher spectral centroid.
     s = (np.arange(32) + 0.5) / 32.0
@@ -418,7 +412,7 @@ def test_worley_fbm_channel_frequencies_rise_with_cell_count(probe):
     expr = ("vec3(WorleyFbm3Periodic(P.xyz * 2.0, ivec3(2), 3, 2, 0.5, 9u),"
             " WorleyFbm3Periodic(P.xyz * 4.0, ivec3(4), 3, 2, 0.5, 9u),"
             " WorleyFbm3Periodic(P.xyz * 8.0, ivec3(8), 3, 2, 0.5, 9u))")
-    v = glsl(probe, expr, pts)
+    v = glsl(noise_probe, expr, pts)
     crossings, energy, centroid = [], [], []
     k = np.fft.fftfreq(32) * 32
     kz, ky, kx = np.meshgrid(k, k, k, indexing="ij")
@@ -437,36 +431,36 @@ def test_worley_fbm_channel_frequencies_rise_with_cell_count(probe):
     assert centroid[0] < centroid[1] < centroid[2], centroid
 
 
-def test_turbulence_is_non_negative(probe):
+def test_turbulence_is_non_negative(noise_probe):
     pts = f32(RNG.uniform(-40, 40, (20000, 3)))
-    got = glsl(probe, "vec4(PerlinTurbulence3(P.xyz, 5, 2.0, 0.5),"
+    got = glsl(noise_probe, "vec4(PerlinTurbulence3(P.xyz, 5, 2.0, 0.5),"
                       " PerlinTurbulence2(P.xy, 5, 2.0, 0.5),"
                       " PerlinTurbulence3Periodic(P.xyz, ivec3(4), 5, 2, 0.5),"
                       " PerlinTurbulence2Periodic(P.xy, ivec2(4), 5, 2, 0.5))", pts)
     assert got.min() >= 0.0 and got.max() <= gradient.PERLIN3_BOUND
 
 
-def test_tileable_sums_tile(probe):
+def test_tileable_sums_tile(noise_probe):
     pts = f32(RNG.uniform(-6, 6, (3000, 3)))
     per = np.array([2, 3, 4])
     expr = ("vec4(PerlinFbm3Periodic(P.xyz, ivec3(2, 3, 4), 5, 2, 0.5),"
             " PerlinTurbulence3Periodic(P.xyz, ivec3(2, 3, 4), 5, 2, 0.5),"
             " WorleyFbm3Periodic(P.xyz, ivec3(2, 3, 4), 3, 2, 0.5, 1u),"
             " PerlinWorley3Periodic(P.xyz, ivec3(2, 3, 4), 3, 3, 0.5, 1u))")
-    base = glsl(probe, expr, pts)
+    base = glsl(noise_probe, expr, pts)
     for axis in range(3):
         moved = pts.copy()
         moved[:, axis] += per[axis]
-        assert np.abs(glsl(probe, expr, moved) - base).max() < 2e-5
+        assert np.abs(glsl(noise_probe, expr, moved) - base).max() < 2e-5
     expr2 = ("vec4(PerlinFbm2Periodic(P.xy, ivec2(2, 3), 5, 2, 0.5),"
              " PerlinTurbulence2Periodic(P.xy, ivec2(2, 3), 5, 2, 0.5),"
              " WorleyFbm2Periodic(P.xy, ivec2(2, 3), 3, 2, 0.5, 1u),"
              " PerlinWorley2Periodic(P.xy, ivec2(2, 3), 3, 2, 0.5, 1u))")
-    base2 = glsl(probe, expr2, pts)
+    base2 = glsl(noise_probe, expr2, pts)
     for axis in range(2):
         moved = pts.copy()
         moved[:, axis] += per[axis]
-        assert np.abs(glsl(probe, expr2, moved) - base2).max() < 2e-5
+        assert np.abs(glsl(noise_probe, expr2, moved) - base2).max() < 2e-5
 
 
 # ---- the GPU helpers -----------------------------------------------------------------------------
@@ -496,12 +490,12 @@ def test_probe_compiles_extra_includes(gl_ctx):
     gpu = Gpu(gl_ctx)
     if not gpu.caps.compute:
         pytest.skip("needs compute shaders")
-    probe = NoiseProbe(gpu, owner="probe-extra", includes=("math.glsl",))
+    noise_probe = NoiseProbe(gpu, owner="probe-extra", includes=("math.glsl",))
     try:
-        got = probe.evaluate("vec2(saturate(P.x), PerlinNoise2(P.xy))",
+        got = noise_probe.evaluate("vec2(saturate(P.x), PerlinNoise2(P.xy))",
                              [(-1.0, 0.5), (0.25, 0.5), (3.0, 0.5)])
         assert got[:, 0].tolist() == [0.0, 0.25, 1.0]
         assert np.abs(got[:, 1] - gradient.perlin2([-1.0, 0.25, 3.0], 0.5)).max() < 1e-6
     finally:
-        probe.release()
+        noise_probe.release()
         gpu.release()

@@ -16,31 +16,15 @@ from app.effects.ocean.params import wind_vector
 from app.errors import ParamError
 from app.sim import ocean as oc
 from app.sim.camera import Camera
-from tests.helpers.ocean import Shot
-
-
-@pytest.fixture
-def shot(gl_ctx):
-    made = []
-
-    def _make(sets=(), camera=None, size=(96, 54)):
-        s = Shot(gl_ctx, sets, camera, size)
-        made.append(s)
-        return s
-
-    yield _make
-    for s in made:
-        s.close()
-
 
 # -- GPU geometry against numpy ------------------------------------------------------------------
 
 @pytest.mark.parametrize("model", ["sine", "gerstner", "fft"])
-def test_gpu_surface_height_matches_the_numpy_query(shot, model):
+def test_gpu_surface_height_matches_the_numpy_query(ocean_shot, model):
     """Looking straight down from 30 m, the depth buffer's distance at the centre pixel is the
     camera height minus the water height there: GPU displacement = numpy reference."""
     cam = Camera(position=(3.0, 30.0, -7.0), yaw=0.0, pitch=-89.9, fov=10.0)
-    s = shot(("ocean.model=" + model, "ocean.wind=12", "ocean.sine_amplitude=1.5"), cam,
+    s = ocean_shot(("ocean.model=" + model, "ocean.wind=12", "ocean.sine_amplitude=1.5"), cam,
              size=(33, 33))
     for _ in range(3):  # FFT queries lag one frame: let the readback catch up on a still sea
         s.frame(dt=0.0)
@@ -55,8 +39,8 @@ def test_gpu_surface_height_matches_the_numpy_query(shot, model):
             a * math.sin(k * (3.0 * d[0] - 7.0 * d[1]) - w * s.ocean.time), abs=1e-9)
 
 
-def test_gerstner_query_matches_the_numpy_inversion_and_normals_point_up(shot):
-    s = shot(("ocean.model=gerstner", "ocean.wind=15"))
+def test_gerstner_query_matches_the_numpy_inversion_and_normals_point_up(ocean_shot):
+    s = ocean_shot(("ocean.model=gerstner", "ocean.wind=15"))
     s.frame()
     rng = np.random.default_rng(3)
     x, z = rng.uniform(-40, 40, 64), rng.uniform(-40, 40, 64)
@@ -68,8 +52,8 @@ def test_gerstner_query_matches_the_numpy_inversion_and_normals_point_up(shot):
     np.testing.assert_allclose(np.einsum("...i,...i", q.normal, surf.normal), 1.0, atol=2e-3)
 
 
-def test_fft_query_lags_one_frame_and_matches_the_reference(shot):
-    s = shot(("ocean.model=fft", "ocean.wind=12", "ocean.cascades=2"))
+def test_fft_query_lags_one_frame_and_matches_the_reference(ocean_shot):
+    s = ocean_shot(("ocean.model=fft", "ocean.wind=12", "ocean.cascades=2"))
     s.frame(dt=0.0)
     assert s.ocean.query_time is None  # nothing read back yet: flat water, documented
     s.frame(dt=0.5)
@@ -89,8 +73,8 @@ def test_fft_query_lags_one_frame_and_matches_the_reference(shot):
 
 # -- the scene -----------------------------------------------------------------------------------
 
-def test_sine_and_gerstner_allocate_nothing_of_the_fft(shot):
-    s = shot(("ocean.model=gerstner",))
+def test_sine_and_gerstner_allocate_nothing_of_the_fft(ocean_shot):
+    s = ocean_shot(("ocean.model=gerstner",))
     s.frame()
     names = [a.name for a in s.session.gpu.owned_by("ocean")]
     assert s.ocean.sim is None
@@ -103,9 +87,9 @@ def test_sine_and_gerstner_allocate_nothing_of_the_fft(shot):
     assert s.ocean.sim is None, "leaving the FFT frees its textures"
 
 
-def test_switching_models_live_changes_the_sea(shot):
+def test_switching_models_live_changes_the_sea(ocean_shot):
     cam = Camera(position=(0.0, 6.0, 0.0), yaw=90.0, pitch=-20.0, fov=60.0)
-    s = shot(("ocean.wind=12",), cam)
+    s = ocean_shot(("ocean.wind=12",), cam)
     images = {}
     for model in ("sine", "gerstner", "fft"):
         s.ocean.params.set("ocean.model", model)
@@ -114,16 +98,16 @@ def test_switching_models_live_changes_the_sea(shot):
         assert np.mean(np.abs(images[a] - images[b])) > 1e-3, (a, b)
 
 
-def test_gerstner_steepness_over_one_is_refused_with_the_limit(shot):
-    s = shot(("ocean.model=gerstner", "ocean.gerstner_steepness=20", "ocean.wind=20"))
+def test_gerstner_steepness_over_one_is_refused_with_the_limit(ocean_shot):
+    s = ocean_shot(("ocean.model=gerstner", "ocean.gerstner_steepness=20", "ocean.wind=20"))
     with pytest.raises(ParamError,
                        match=r"ocean.gerstner_steepness=20 .* allowed 0 ≤ s ≤ 1 per wave"):
         s.frame()
 
 
-def test_far_plane_covers_the_sea_to_the_horizon_from_altitude(shot):
+def test_far_plane_covers_the_sea_to_the_horizon_from_altitude(ocean_shot):
     cam = Camera(position=(0.0, 400.0, 0.0), yaw=30.0, pitch=-10.0, fov=60.0, far=200000.0)
-    s = shot(("ocean.model=fft", "ocean.mesh_extent=600"), cam, size=(80, 45))
+    s = ocean_shot(("ocean.model=fft", "ocean.mesh_extent=600"), cam, size=(80, 45))
     s.frame()
     dist = s.distance()
     dirs = cam.ray_directions(80, 45)
@@ -134,11 +118,11 @@ def test_far_plane_covers_the_sea_to_the_horizon_from_altitude(shot):
     assert np.all(~np.isfinite(dist[dirs[..., 1] > 0.003])), "no water above the horizon"
 
 
-def test_ocean_reflects_the_sky_over_a_day_and_without_the_probe_it_changes(shot):
+def test_ocean_reflects_the_sky_over_a_day_and_without_the_probe_it_changes(ocean_shot):
     """Criterion 32: mean sea colour follows mean sky colour (Pearson r > 0.8); turning the
     reflection cubemap off changes the sea measurably."""
     cam = Camera(position=(0.0, 5.0, 0.0), yaw=45.0, pitch=0.0, fov=60.0, far=200000.0)
-    s = shot(("ocean.model=gerstner",), cam, size=(64, 36))
+    s = ocean_shot(("ocean.model=gerstner",), cam, size=(64, 36))
     sky_means, sea_means = [], []
     dirs = cam.ray_directions(64, 36)
     for hour in np.arange(0.0, 24.0, 2.0):
@@ -157,10 +141,10 @@ def test_ocean_reflects_the_sky_over_a_day_and_without_the_probe_it_changes(shot
     assert np.max(np.abs(on - off) / np.maximum(on, 1e-6)) > 0.1
 
 
-def test_main_light_glitter_follows_the_moon_at_night_and_the_sun_by_day(shot):
+def test_main_light_glitter_follows_the_moon_at_night_and_the_sun_by_day(ocean_shot):
     """Criterion 34: one light: the brightest sea pixel lies toward the main light's azimuth."""
     for hour in (16.0, 4.0):
-        s = shot(("ocean.model=fft", f"time.hour={hour}", "ocean.wind=6"), size=(96, 54))
+        s = ocean_shot(("ocean.model=fft", f"time.hour={hour}", "ocean.wind=6"), size=(96, 54))
         s.frame()
         light = s.scene.last_frame.main_light
         cam = s.scene.camera
@@ -177,10 +161,10 @@ def test_main_light_glitter_follows_the_moon_at_night_and_the_sun_by_day(shot):
         assert frame.main_light.name == ("sun" if hour == 16.0 else "moon")
 
 
-def test_underwater_fog_pulls_toward_the_fog_colour_and_clouds_show_through(shot):
+def test_underwater_fog_pulls_toward_the_fog_colour_and_clouds_show_through(ocean_shot):
     """Criterion 33."""
     up = Camera(position=(0.0, -4.0, 0.0), yaw=0.0, pitch=60.0, fov=60.0, far=200000.0)
-    s = shot(("ocean.model=gerstner", "time.hour=12", "scene.clouds=b",
+    s = ocean_shot(("ocean.model=gerstner", "time.hour=12", "scene.clouds=b",
               "clouds_b.volume_resolution=32", "clouds_b.detail_resolution=16",
               "clouds_b.gradient_resolution=64"), up, size=(64, 36))
     assert s.ocean.params["scene.clouds"] == "b"
@@ -202,9 +186,9 @@ def test_underwater_fog_pulls_toward_the_fog_colour_and_clouds_show_through(shot
     assert np.linalg.norm(murky - fog) < 0.5 * np.linalg.norm(fog)
 
 
-def test_camera_exactly_at_the_surface_shows_a_waterline(shot):
+def test_camera_exactly_at_the_surface_shows_a_waterline(ocean_shot):
     cam = Camera(position=(0.0, 0.0, 0.0), yaw=90.0, pitch=0.0, fov=70.0)
-    s = shot(("ocean.model=sine", "ocean.sine_amplitude=0.0"), cam, size=(64, 36))
+    s = ocean_shot(("ocean.model=sine", "ocean.sine_amplitude=0.0"), cam, size=(64, 36))
     img, _ = s.frame()
     assert np.all(np.isfinite(img))
     top, bottom = img[:14].mean(), img[22:].mean()
@@ -212,8 +196,8 @@ def test_camera_exactly_at_the_surface_shows_a_waterline(shot):
     assert top > 2.0 * bottom, "sky above the waterline, fogged water below"
 
 
-def test_reflection_probe_is_rendered_only_when_the_sky_changes(shot):
-    s = shot(("ocean.model=sine",))
+def test_reflection_probe_is_rendered_only_when_the_sky_changes(ocean_shot):
+    s = ocean_shot(("ocean.model=sine",))
     sky = s.scene.effect("sky")
     for _ in range(4):
         s.frame(dt=0.1)
@@ -225,9 +209,10 @@ def test_reflection_probe_is_rendered_only_when_the_sky_changes(shot):
         "the sky's own cubemap (with the sun) is not made for the ocean")
 
 
-def test_foam_shows_where_the_fft_surface_is_compressed(shot):
+def test_foam_shows_where_the_fft_surface_is_compressed(ocean_shot):
     cam = Camera(position=(0.0, 12.0, 0.0), yaw=90.0, pitch=-35.0, fov=60.0)
-    s = shot(("ocean.wind=25", "ocean.choppiness=2", "time.hour=12", "ocean.foam_amount=0"), cam)
+    s = ocean_shot(("ocean.wind=25", "ocean.choppiness=2", "time.hour=12", "ocean.foam_amount=0"),
+                   cam)
     no_foam = s.frame(dt=0.1)[0]
     fields = s.ocean.sim.read_fields(0)
     assert fields["foam"].max() > 0.5 and fields["jacobian"].min() < 0.5
@@ -236,9 +221,9 @@ def test_foam_shows_where_the_fft_surface_is_compressed(shot):
     assert foam.mean() > no_foam.mean() * 1.02
 
 
-def test_fft_paths_draw_the_same_sea(shot):
+def test_fft_paths_draw_the_same_sea(ocean_shot):
     cam = Camera(position=(0.0, 8.0, 0.0), yaw=60.0, pitch=-20.0, fov=60.0)
-    s = shot(("ocean.wind=12", "ocean.fft_path=compute"), cam)
+    s = ocean_shot(("ocean.wind=12", "ocean.fft_path=compute"), cam)
     a = s.frame()[0]
     assert s.ocean.sim.path == "compute"
     s.ocean.params.set("ocean.fft_path", "fragment")
@@ -249,9 +234,9 @@ def test_fft_paths_draw_the_same_sea(shot):
 
 @pytest.mark.parametrize("yaw,pitch", [(0.0, -2.0), (93.0, -20.0), (181.0, 10.0), (359.5, -40.0),
                                        (270.0, -89.0)])
-def test_drawing_only_the_visible_wedges_changes_no_pixel(shot, yaw, pitch):
+def test_drawing_only_the_visible_wedges_changes_no_pixel(ocean_shot, yaw, pitch):
     cam = Camera(position=(1.0, 5.0, 2.0), yaw=yaw, pitch=pitch, fov=60.0)
-    s = shot(("ocean.model=gerstner", "ocean.mesh_segments=128"), cam, size=(64, 36))
+    s = ocean_shot(("ocean.model=gerstner", "ocean.mesh_segments=128"), cam, size=(64, 36))
     culled = s.frame()[0]
     drawn = s.ocean.drawn_triangles
     s.ocean.params.set("ocean.mesh_cull", False)
@@ -261,8 +246,8 @@ def test_drawing_only_the_visible_wedges_changes_no_pixel(shot, yaw, pitch):
         assert drawn < 0.5 * s.ocean.mesh_triangles
 
 
-def test_panel_notes_name_the_lesson_and_the_live_figures(shot):
-    s = shot(("ocean.model=gerstner",))
+def test_panel_notes_name_the_lesson_and_the_live_figures(ocean_shot):
+    s = ocean_shot(("ocean.model=gerstner",))
     s.frame()
     notes = s.ocean.panel_notes()
     assert "steepness" in notes[0] and any("Hs" in n and "Cox–Munk" in n for n in notes)
@@ -272,11 +257,11 @@ def test_panel_notes_name_the_lesson_and_the_live_figures(shot):
 
 
 @pytest.mark.parametrize("wind", [10.0, 20.0])
-def test_whitecap_foam_covers_monahans_fraction(shot, wind):
+def test_whitecap_foam_covers_monahans_fraction(ocean_shot, wind):
     """Beyond the thesis: in whitecap mode each cascade's foam threshold is calibrated on its own
     Jacobian so that foam covers Monahan & O'Muircheartaigh's W = 3.84e-6·U^3.41 (shared
     57/29/14 % over three cascades). Measured here per cascade on the GPU's foam texture."""
-    s = shot((f"ocean.wind={wind}", "ocean.fft_size=128"))
+    s = ocean_shot((f"ocean.wind={wind}", "ocean.fft_size=128"))
     s.frame(dt=0.0)  # no accumulation yet: the foam is the source alone
     target = oc.whitecap_coverage(wind)
     shares = np.array([1.0, 0.5, 0.25]) / 1.75
@@ -285,18 +270,18 @@ def test_whitecap_foam_covers_monahans_fraction(shot, wind):
         assert covered == pytest.approx(target * share, rel=0.35, abs=2e-4), (i, covered,
                                                                              target * share)
     # the upstream's fixed threshold (J < 0.5) foams far less than a real sea at these winds
-    j = shot((f"ocean.wind={wind}", "ocean.fft_size=128", "ocean.foam_mode=jacobian"))
+    j = ocean_shot((f"ocean.wind={wind}", "ocean.fft_size=128", "ocean.foam_mode=jacobian"))
     j.frame(dt=0.0)
     assert (max(float((j.ocean.sim.read_fields(i)["foam"] > 0.5).mean()) for i in range(3))
             < 0.5 * target * shares[0])
 
 
-def test_clouds_below_the_camera_cover_the_sea(shot):
+def test_clouds_below_the_camera_cover_the_sea(ocean_shot):
     """Flying above the maritime thesis's cloud layer (1000–1400 m), the clouds hide the sea."""
     cam = Camera(position=(0.0, 2500.0, 2600.0), yaw=0.0, pitch=-35.0, fov=60.0, far=200000.0)
     small = ("clouds_b.volume_resolution=32", "clouds_b.detail_resolution=16",
              "clouds_b.gradient_resolution=64", "ocean.model=sine", "time.hour=12")
-    s = shot(small + ("scene.clouds=b",), cam, size=(64, 36))
+    s = ocean_shot(small + ("scene.clouds=b",), cam, size=(64, 36))
     with_clouds, _ = s.frame()
     drawn = [p.name.split(".")[0] for p in s.scene.passes(s.scene.last_frame, s.target)]
     assert list(dict.fromkeys(drawn)) == ["sky", "ocean", "clouds_b"]

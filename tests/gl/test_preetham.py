@@ -18,29 +18,18 @@ from app.sim import preetham as model
 from app.sim.camera import Camera
 from tests.helpers.preetham import SIZE, render
 
-
-@pytest.fixture(scope="module")
-def rig(gl_ctx):
-    gpu = Gpu(gl_ctx)
-    params = ParamSet(Preetham.declare(gpu.shaders))
-    fx = Preetham(gpu, params)
-    target = gpu.target("test", "preetham", SIZE)
-    yield gpu, params, fx, target
-    gpu.release()
-
-
 # ---- the shader against the twin -----------------------------------------------------------------
 
 @pytest.mark.parametrize("elev,az,turbidity", [(60.0, 135.0, 2.0), (8.0, 250.0, 6.0),
                                                (90.0, 0.0, 10.0), (0.0, 90.0, 3.0),
                                                (-3.0, 200.0, 2.5), (-30.0, 10.0, 2.5)])
-def test_shader_matches_numpy_per_pixel(rig, elev, az, turbidity):
+def test_shader_matches_numpy_per_pixel(preetham_rig, elev, az, turbidity):
     sun = model.sun_direction(elev, az)
     if elev == 90.0:
         sun = np.array([0.0, 1.0, 0.0])  # exactly overhead
     cam = Camera(position=(0, 2, 0), fov=100.0).look_at_direction(
         model.sun_direction(max(elev, 0) * 0.5 + 10, az))
-    img, twin, _ = render(rig, cam, {"preetham.turbidity": turbidity,
+    img, twin, _ = render(preetham_rig, cam, {"preetham.turbidity": turbidity,
                                      "preetham.sun_disk_radius": 3.0}, sun=sun)
     assert np.isfinite(img).all()
     err = np.abs(img - twin)
@@ -49,12 +38,12 @@ def test_shader_matches_numpy_per_pixel(rig, elev, az, turbidity):
     assert err.max() <= 0.02 * max(twin.max(), 1e-6)
 
 
-def test_reddening_toward_sunset(rig):
+def test_reddening_toward_sunset(preetham_rig):
     ratios, suns = [], []
     for elev in (60.0, 30.0, 10.0, 3.0):
         cam = Camera(position=(0, 2, 0), fov=60.0).look_at_direction(
             model.sun_direction(12.0, 270.0))
-        img, _, frame = render(rig, cam, {"preetham.sun_elevation": elev,
+        img, _, frame = render(preetham_rig, cam, {"preetham.sun_elevation": elev,
                                           "preetham.sun_azimuth": 270.0,
                                           "preetham.sun_disk": False})
         low = img[-6:].reshape(-1, 3).mean(axis=0)  # the band just above the horizon toward the sun
@@ -64,10 +53,11 @@ def test_reddening_toward_sunset(rig):
     assert all(b > a for a, b in zip(suns, suns[1:])), suns
 
 
-def test_symmetric_about_the_sun_azimuth_plane(rig):
+def test_symmetric_about_the_sun_azimuth_plane(preetham_rig):
     az = 63.0
     cam = Camera(position=(0, 2, 0), yaw=az, pitch=20.0, fov=90.0)
-    img, _, _ = render(rig, cam, {"preetham.sun_elevation": 25.0, "preetham.sun_azimuth": az})
+    img, _, _ = render(preetham_rig, cam,
+                       {"preetham.sun_elevation": 25.0, "preetham.sun_azimuth": az})
     mirrored = img[:, ::-1]
     assert np.abs(img - mirrored).max() <= 1e-4 * img.max()
     assert np.abs(img[:, 0] - img[:, SIZE[0] // 2]).max() > 1e-3  # and not trivially flat

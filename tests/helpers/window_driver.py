@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -166,9 +167,92 @@ def bake_progress(work: str) -> int:
     return 0
 
 
+class XKeys:
+    """Real key events for a window under Xvfb: xdotool focuses it and types through the X test
+    extension, and the window's frames (which dispatch pyglet's events) see ordinary presses."""
+
+    def __init__(self, win, pattern: str, dt: float = 1 / 60):
+        self.win, self.dt = win, dt
+        self.frames(2)
+        found = subprocess.run(["xdotool", "search", "--sync", "--name", pattern],
+                               capture_output=True, text=True, timeout=30).stdout.split()
+        self.id = found[0]
+        subprocess.run(["xdotool", "windowfocus", "--sync", self.id], check=True, timeout=30)
+        self.frames(2)
+
+    def frames(self, n: int) -> None:
+        for _ in range(n):
+            self.win.wnd.clear()
+            self.win.frame(self.dt)
+            self.win.wnd.swap_buffers()
+
+    def tap(self, key: str, hold_frames: int = 2) -> None:
+        subprocess.run(["xdotool", "keydown", key], check=True, timeout=30)
+        self.frames(hold_frames)
+        subprocess.run(["xdotool", "keyup", key], check=True, timeout=30)
+        self.frames(2)
+
+
+def planet_keys(work: str) -> int:
+    """The atmosphere thesis's keys in the planet window, typed as X events: M toggles the
+    automatic sun (a parameter action of the key map), Up held raises the sun."""
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    params = scene_params("planet", sets=["planet.method=lut", "planet.shadow_map_size=256",
+                                          "planet.lut_height=32", "planet.lut_angle=32"])
+    win = W.NaturaWindow("planet", params, get_scene("planet").new_camera(), (160, 90))
+    win.show_panel = False
+    keys = XKeys(win, "^Natura .* planet$")
+    out = {"auto_sun_before": params["planet.auto_sun"]}
+    keys.tap("m")
+    out["auto_sun_after_m"] = params["planet.auto_sun"]
+    keys.tap("m")
+    out["auto_sun_after_m_m"] = params["planet.auto_sun"]
+    elevation = params["planet.sun_elevation"]
+    keys.tap("Up", hold_frames=30)
+    out["sun_rise_deg"] = params["planet.sun_elevation"] - elevation
+    out["render_error"] = str(win.render_error or "")
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
+def sky_keyframes(work: str) -> int:
+    """The sky offers its keyframes to the panel (the window names no effect): the panel's
+    "Sky keyframes" header is drawn in the sky scene and not in the materials scene."""
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    out = {}
+    for scene in ("sky", "materials"):
+        win = W.NaturaWindow(scene, scene_params(scene), get_scene(scene).new_camera(), (640, 480))
+        headers = []
+        original = win.imgui.collapsing_header
+
+        def spy(label, *args, **kw):
+            headers.append(label)
+            return original(label, *args, **kw)
+
+        win.imgui.collapsing_header = spy
+        try:
+            for _ in range(2):
+                win.wnd.clear()
+                win.frame(1 / 60)
+                win.wnd.swap_buffers()
+        finally:
+            win.imgui.collapsing_header = original
+        out[scene] = sorted(set(headers))
+        win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
 def ocean_models(work: str) -> int:
-    """Open the ocean and switch sine → Gerstner → FFT with the keys 1 / 2 / 3: each model must
-    draw a different sea, with no render error."""
+    """Open the ocean and switch sine → Gerstner → FFT with the keys 1 / 2 / 3, typed as X
+    events: each model must draw a different sea, with no render error."""
     from app.runtime import scene_params
     from app.scenes import get_scene
     from app.ui import window as W
@@ -178,16 +262,12 @@ def ocean_models(work: str) -> int:
     win = W.NaturaWindow("ocean", params, get_scene("ocean").new_camera(), (320, 180))
     w, h = win.wnd.buffer_size
     win.show_panel = False
+    keys = XKeys(win, "^Natura .* ocean$", dt=1 / 30)
     shots = {}
-    for key, model in (("NUMBER_1", "sine"), ("NUMBER_2", "gerstner"), ("NUMBER_3", "fft")):
-        win.controller.press(key)  # the key map turns 1/2/3 into ocean.model
-        win.controller.release(key)
-        win.run_events()
-        assert win.params["ocean.model"] == model
-        for _ in range(3):
-            win.wnd.clear()
-            win.frame(1 / 30)
-            win.wnd.swap_buffers()
+    for key, model in (("1", "sine"), ("2", "gerstner"), ("3", "fft")):
+        keys.tap(key)  # the key map turns 1/2/3 into ocean.model
+        assert win.params["ocean.model"] == model, (key, win.params["ocean.model"])
+        keys.frames(3)
         data = win.ctx.screen.read(viewport=(0, 0, w, h), components=3)
         shots[model] = np.frombuffer(data, dtype=np.uint8).reshape(h, w, 3).astype(int)
     out = {"render_error": str(win.render_error or ""),
@@ -200,8 +280,6 @@ def ocean_models(work: str) -> int:
 
 
 if __name__ == "__main__":
-    if len(sys.argv) > 2 and sys.argv[2] == "bake-progress":
-        sys.exit(bake_progress(sys.argv[1]))
-    if len(sys.argv) > 2 and sys.argv[2] == "ocean-models":
-        sys.exit(ocean_models(sys.argv[1]))
-    sys.exit(main(sys.argv[1]))
+    runs = {"bake-progress": bake_progress, "ocean-models": ocean_models,
+            "planet-keys": planet_keys, "sky-keyframes": sky_keyframes}
+    sys.exit(runs.get(sys.argv[2] if len(sys.argv) > 2 else "", main)(sys.argv[1]))

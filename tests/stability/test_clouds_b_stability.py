@@ -8,33 +8,18 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pytest
 
-from app.bakes import CACHE_ENV
-from app.gpu.device import Gpu
 from app.sim.camera import Camera
-from tests.helpers.clouds_b import Rig, luminance
-
-
-@pytest.fixture(scope="module")
-def rig(gl_ctx, tmp_path_factory):
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv(CACHE_ENV, str(tmp_path_factory.mktemp("natura-cache")))
-        gpu = Gpu(gl_ctx)
-        r = Rig(gpu)
-        r.reset()
-        yield r
-        gpu.release()
-
+from tests.helpers.clouds_b import luminance
 
 # ---- 24: stability: axis-aligned suns ------------------------------------------------------------
 
-def _sweep(rig, suns, cam, size, periodic=False):
+def _sweep(clouds_b_rig, suns, cam, size, periodic=False):
     """Mean cloud luminance per sun; spikes = |L_i − (L_i−1 + L_i+1)/2| (a frame that leaves
     the line through its neighbours), against the median frame-to-frame change."""
     lum = []
     for s in suns:
-        img, layer = rig.render(cam, size, light=s)
+        img, layer = clouds_b_rig.render(cam, size, light=s)
         assert np.isfinite(img).all() and np.isfinite(layer).all()
         lum.append(luminance(layer[..., :3]).mean())
     lum = np.array(lum)
@@ -67,17 +52,17 @@ def _elevation_suns():
             for el in np.arange(0.0, 181.0, 15.0)]
 
 
-def test_stability_axis_aligned_suns(rig):
-    rig.reset(density_threshold=-4.5, fixed_step_size=60.0, num_steps_light=4)
+def test_stability_axis_aligned_suns(clouds_b_rig):
+    clouds_b_rig.reset(density_threshold=-4.5, fixed_step_size=60.0, num_steps_light=4)
     cam = Camera(position=(0.0, 2.0, 0.0), yaw=0.0, pitch=90.0, fov=70.0)
     az, el = _azimuth_suns(), _elevation_suns()
     assert sum(s[0] == 0.0 for s in az) == 2 and sum(s[2] == 0.0 for s in az) == 2
     assert (1.0, 0.0, 0.0) in el and (0.0, 1.0, 0.0) in el and (-1.0, 0.0, 0.0) in el
     for suns, periodic in ((az, True), (el, False)):
-        lum, spike, limit = _sweep(rig, suns, cam, (20, 20), periodic)
+        lum, spike, limit = _sweep(clouds_b_rig, suns, cam, (20, 20), periodic)
         assert (lum > 0).all()
         assert spike <= limit, (lum, spike, limit)
     # the thesis's code (double inversion + the 0.085 clamp) fails this very check at x = 0 / z = 0
-    rig.params.set("clouds_b.thesis_light_inversion", True)
-    lum, spike, limit = _sweep(rig, az, cam, (20, 20), True)
+    clouds_b_rig.params.set("clouds_b.thesis_light_inversion", True)
+    lum, spike, limit = _sweep(clouds_b_rig, az, cam, (20, 20), True)
     assert spike > limit

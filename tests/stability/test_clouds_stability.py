@@ -15,7 +15,10 @@ import pytest
 
 from app.runtime import open_session, render_frames, scene_params
 from app.sim.camera import Camera
-from tests.helpers.clouds import FIXED_LIGHT, Rig, finite
+from tests.helpers.clouds import finite
+
+#: the cloud bakes of this module go to a cache of their own
+pytestmark = pytest.mark.usefixtures("isolated_bake_cache")
 
 
 @pytest.fixture(scope="module")
@@ -77,31 +80,10 @@ def test_inside_and_above_the_layer(clouds):
     assert math.isfinite(float(clouds.scene.effect("clouds").layer.read().mean()))
 
 
-@pytest.fixture(scope="module", autouse=True)
-def bake_cache(tmp_path_factory):
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("NATURA_CACHE", str(tmp_path_factory.mktemp("natura-cache")))
-        yield
-
-
-@pytest.fixture
-def rig(gl_ctx):
-    rigs = []
-
-    def make(sets=(), camera=None, scene="clouds"):
-        r = Rig(gl_ctx, list(FIXED_LIGHT) + list(sets), camera, scene)
-        rigs.append(r)
-        return r
-
-    yield make
-    for r in rigs:
-        r.release()
-
-
 # ---- stability -----------------------------------------------------------------------------------
 
-def test_stability_light_directions_and_cameras(rig):
-    r = rig(["clouds.coverage=0.8", "clouds.steps=16", "clouds.light_steps=6"])
+def test_stability_light_directions_and_cameras(clouds_rig):
+    r = clouds_rig(["clouds.coverage=0.8", "clouds.steps=16", "clouds.light_steps=6"])
     suns = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1), (0.3, -0.2, 0.5),
             (0, -0.05, 1)]
     for s in suns:
@@ -122,7 +104,7 @@ def test_stability_light_directions_and_cameras(rig):
             image, layer = r.render(size=(32, 18))
             assert finite(image, layer), (container, cam)
     # the sky's own light, with the sun below the horizon (night: the moon is the main light)
-    r2 = rig(["clouds.sun_from_sky=true", "time.hour=23.5", "clouds.coverage=0.8",
+    r2 = clouds_rig(["clouds.sun_from_sky=true", "time.hour=23.5", "clouds.coverage=0.8",
               "clouds.steps=16"])
     image, layer = r2.render(size=(32, 18))
     assert finite(image, layer)

@@ -5,34 +5,20 @@ stays finite and inside its bounds, and the numpy twin stays finite.
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
-from app.gpu.device import Gpu
-from app.render.noise import NoiseProbe
 from app.sim.noise import gradient
 from tests.helpers.noise import HUGE_EXPR, _huge_twin, f32, glsl
 
 
-@pytest.fixture(scope="module")
-def probe(gl_ctx):
-    gpu = Gpu(gl_ctx)
-    if not gpu.caps.compute:
-        pytest.skip(f"the noise probe needs compute shaders; {gpu.caps.describe()}")
-    p = NoiseProbe(gpu, owner="noise-test")
-    yield p
-    p.release()
-    gpu.release()
-
-
-def test_huge_coordinates_stay_finite_and_bounded(probe):
+def test_huge_coordinates_stay_finite_and_bounded(noise_probe):
     # beyond 2^24 every float32 is an integer: the GPU's wrap by 6 or 3 is inexact there (the
     # noise is meaningless anyway) but must stay in range: finite, bounded values, no crash
     pts = f32([(1e10, -1e10, 3e9), (-1e30, 1e30, 1e20), (2.0**31, 0.5, -0.5),
                (-(2.0**31), 2.0**40, 7.0)])
-    got = glsl(probe, HUGE_EXPR, pts)
+    got = glsl(noise_probe, HUGE_EXPR, pts)
     assert np.isfinite(got).all()
     assert np.abs(got[:, [0, 1, 3]]).max() <= gradient.PERLIN3_BOUND
     assert got[:, 2].min() >= 0.0 and got[:, 2].max() < 2.0
     assert np.isfinite(_huge_twin(pts)).all()
-    assert np.abs(glsl(probe, "PerlinNoise3(P.xyz)", pts)[:, 0]
+    assert np.abs(glsl(noise_probe, "PerlinNoise3(P.xyz)", pts)[:, 0]
                   - gradient.perlin3(*pts.T)).max() < 1e-6

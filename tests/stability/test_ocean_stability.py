@@ -14,27 +14,11 @@ from tests.helpers.ocean import (
     FIELD_TOL,
     FIELDS,
     PATHS,
-    Shot,
     fields_at,
     make_sim,
     reference,
     worst_errors,
 )
-
-
-@pytest.fixture
-def shot(gl_ctx):
-    made = []
-
-    def _make(sets=(), camera=None, size=(96, 54)):
-        s = Shot(gl_ctx, sets, camera, size)
-        made.append(s)
-        return s
-
-    yield _make
-    for s in made:
-        s.close()
-
 
 # -- stability -----------------------------------------------------------------------------------
 
@@ -47,11 +31,11 @@ def shot(gl_ctx):
     ("ocean.model=sine", "ocean.sine_amplitude=10", "ocean.sine_wavelength=0.1"),
     ("ocean.cascades=4", "ocean.fft_size=128"),
 ])
-def test_stability_no_nan_or_holes(shot, sets):
+def test_stability_no_nan_or_holes(ocean_shot, sets):
     for cam in (Camera(position=(0.0, 3.0, 0.0), yaw=100.0, pitch=-10.0, fov=70.0, far=200000.0),
                 Camera(position=(0.0, 0.0, 0.0), yaw=10.0, pitch=0.0, fov=70.0, far=200000.0),
                 Camera(position=(0.0, -2.0, 0.0), yaw=10.0, pitch=30.0, fov=70.0, far=200000.0)):
-        s = shot(sets, cam, size=(48, 27))
+        s = ocean_shot(sets, cam, size=(48, 27))
         for _ in range(2):
             img, _ = s.frame(dt=0.25)
             assert np.all(np.isfinite(img)), (sets, cam.position)

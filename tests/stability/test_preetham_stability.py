@@ -7,27 +7,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.effects.preetham.effect import Preetham
-from app.gpu.device import Gpu
-from app.params import ParamSet
 from app.sim.camera import Camera
-from tests.helpers.preetham import SIZE, render
-
-
-@pytest.fixture(scope="module")
-def rig(gl_ctx):
-    gpu = Gpu(gl_ctx)
-    params = ParamSet(Preetham.declare(gpu.shaders))
-    fx = Preetham(gpu, params)
-    target = gpu.target("test", "preetham", SIZE)
-    yield gpu, params, fx, target
-    gpu.release()
+from tests.helpers.preetham import render
 
 
 @pytest.mark.parametrize("elev", [-90.0, -45.0, -6.0, -3.0, -0.01, 0.0])
-def test_sun_below_horizon_no_nan_and_fades(rig, elev):
+def test_sun_below_horizon_no_nan_and_fades(preetham_rig, elev):
     cam = Camera(position=(0, 2, 0), yaw=0.0, pitch=0.0, fov=120.0)
-    img, twin, frame = render(rig, cam, {"preetham.sun_elevation": elev,
+    img, twin, frame = render(preetham_rig, cam, {"preetham.sun_elevation": elev,
                                          "preetham.sun_azimuth": 0.0})
     assert np.isfinite(img).all() and (img >= 0.0).all()
     assert np.allclose(img, twin, rtol=2e-3, atol=1e-6)

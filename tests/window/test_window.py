@@ -73,6 +73,35 @@ def test_bake_progress_is_drawn_in_the_window(tmp_path):
     assert r["cache"] in ("miss", "rebuilt") and r["progress_frames"] >= 2
 
 
+needs_xdotool = pytest.mark.skipif(shutil.which("xdotool") is None,
+                                   reason="no xdotool to type real keys (apt-get install xdotool)")
+
+
+def _result(proc) -> dict:
+    lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
+    assert proc.returncode == 0 and lines, proc.stdout[-2000:] + proc.stderr[-2000:]
+    return json.loads(lines[-1][len("RESULT "):])
+
+
+@needs_xdotool
+def test_planet_keys_typed_in_the_window_drive_the_sun(tmp_path):
+    """M (the key map's toggle_auto_sun, a parameter action) and Up held, as real X key events."""
+    r = _result(_under_xvfb([sys.executable, str(DRIVER), str(tmp_path), "planet-keys"],
+                            cwd=tmp_path))
+    assert r["render_error"] == ""
+    assert r["auto_sun_after_m"] is not r["auto_sun_before"]
+    assert r["auto_sun_after_m_m"] is r["auto_sun_before"]
+    assert r["sun_rise_deg"] > 1.0  # 10°/s while Up is held
+
+
+def test_the_sky_offers_its_keyframes_to_the_panel(tmp_path):
+    r = _result(_under_xvfb([sys.executable, str(DRIVER), str(tmp_path), "sky-keyframes"],
+                            cwd=tmp_path))
+    assert "Sky keyframes (every 3 h)" in r["sky"]
+    assert "Sky keyframes (every 3 h)" not in r["materials"]
+
+
+@needs_xdotool
 def test_ocean_models_switch_live_in_the_window(tmp_path):
     """Issue 6: sine → Gerstner → FFT chosen in the window each draw their own sea."""
     proc = _under_xvfb([sys.executable, str(DRIVER), str(tmp_path), "ocean-models"], cwd=tmp_path)

@@ -23,14 +23,7 @@ class Vignette(Effect):
         prog = self.program(VIGNETTE)
         self.apply_params(prog)  # every @param uniform of the effect: uAmount
         prog.set_many(frame.camera_uniforms())
-        ctx = self.gpu.ctx
         target.use()
-        ctx.disable(moderngl.DEPTH_TEST)
-        ctx.enable(moderngl.BLEND)
-        # image = image · factor (alpha kept)
-        ctx.blend_func = (moderngl.ZERO, moderngl.SRC_COLOR, moderngl.ZERO, moderngl.ONE)
-        try:
-            draw_fullscreen(prog)
-        finally:
-            ctx.blend_func = moderngl.DEFAULT_BLENDING
-            ctx.disable(moderngl.BLEND)
+        self.gpu.ctx.disable(moderngl.DEPTH_TEST)
+        multiply = (moderngl.ZERO, moderngl.SRC_COLOR, moderngl.ZERO, moderngl.ONE)  # rgb·factor
+        draw_fullscreen(prog, blend=multiply)
