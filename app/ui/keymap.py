@@ -12,6 +12,38 @@ from dataclasses import dataclass, field
 
 from ..scenes.keymaps import FLY, KeyMap
 
+#: pyglet key symbols the window names itself, because moderngl-window 3.1.1's pyglet table
+#: gets them wrong or leaves them out: it names BRACELEFT / BRACERIGHT (``{`` ``}``)
+#: LEFT_BRACKET / RIGHT_BRACKET, but the ``[`` and ``]`` keys deliver BRACKETLEFT (0x5b) /
+#: BRACKETRIGHT (0x5d), which it does not name at all; nor does it name the right Ctrl.
+PYGLET_KEY_NAMES = {"BRACKETLEFT": "LEFT_BRACKET", "BRACKETRIGHT": "RIGHT_BRACKET",
+                    "RCTRL": "RIGHT_CTRL"}
+
+#: characters that arrive through the window's text event, whatever key typed them (the main
+#: keyboard's shifted keys or the keypad): the atmosphere thesis's + − * /
+CHARACTERS = {"+": "PLUS", "-": "MINUS", "*": "ASTERISK", "/": "SLASH"}
+#: key names whose key event is ignored because their character (above) carries the action;
+#: otherwise "-" and "/" would act twice
+CHARACTER_KEYS = {"MINUS", "SLASH", "EQUAL"}
+
+
+def key_names(keys, pyglet_key=None) -> dict[int, str]:
+    """Window key code → key name (``keys.W`` → "W") for the key maps: moderngl-window's
+    ``keys`` namespace, corrected by :data:`PYGLET_KEY_NAMES` from pyglet's key module."""
+    names: dict[int, str] = {}
+    for name in dir(keys):
+        if name.isupper() and not name.startswith("ACTION_"):
+            value = getattr(keys, name)
+            if isinstance(value, int):
+                names.setdefault(value, name)
+    if pyglet_key is not None:
+        for symbol, name in PYGLET_KEY_NAMES.items():
+            code = getattr(pyglet_key, symbol, None)
+            if isinstance(code, int):
+                names[code] = name  # overrides: the symbol the key really delivers
+    return names
+
+
 # actions held down while the key is pressed
 HELD = {"forward", "back", "left", "right", "up", "down", "turn_left", "turn_right", "pitch_up",
         "pitch_down", "sun_up", "sun_down", "fast"}

@@ -112,5 +112,20 @@ def keyframes_panel(keyframes) -> bool:
 
 
 def error_list(errors) -> None:
-    for e in errors:
-        imgui.text_colored(ERROR_COLOUR, str(e))
+    """Errors in red, each whole: wrapped at the panel's edge, never cut off."""
+    imgui.push_text_wrap_pos(0.0)  # 0: wrap at the window's right edge
+    try:
+        for e in errors:
+            imgui.text_colored(ERROR_COLOUR, str(e))
+    finally:
+        imgui.pop_text_wrap_pos()
+
+
+def messages(lines) -> None:
+    """The window's recent messages (saved files, reloads, what could not be saved), wrapped."""
+    imgui.push_text_wrap_pos(0.0)
+    try:
+        for m in lines:
+            imgui.text_disabled(m)
+    finally:
+        imgui.pop_text_wrap_pos()

@@ -32,34 +32,25 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import OutputExistsError, UsageError
 from ..imageio import next_free_path, write_png, write_text_atomic
 from ..params import ParamSet
 from ..sim.camera import Camera
+from .keymap import CHARACTER_KEYS, CHARACTERS, Controller, key_names
 
 POLL_SECONDS = 0.25
 MOVE_SPEED = 5.0  # m/s
 LOOK_DEGREES_PER_PIXEL = 0.15
 
-#: keys whose characters come through on_char (the thesis's + − * /), not as key codes
-CHARACTER_KEYS = {"MINUS", "SLASH", "EQUAL"}
-CHARACTERS = {"+": "PLUS", "-": "MINUS", "*": "ASTERISK", "/": "SLASH"}
-
 
 def _key_names(keys) -> dict:
-    """Window key code → key name (``keys.W`` → "W"), for the key maps."""
-    names = {}
-    for name in dir(keys):
-        if name.isupper() and not name.startswith("ACTION_"):
-            value = getattr(keys, name)
-            if isinstance(value, int):
-                names.setdefault(value, name)
-    try:  # keys moderngl-window does not name (pyglet backend)
-        from pyglet.window import key as pk
-
-        names.setdefault(pk.RCTRL, "RIGHT_CTRL")
-    except Exception:
-        pass
-    return names
+    """Window key code → key name (``keys.W`` → "W"), for the key maps (see
+    :func:`app.ui.keymap.key_names`: the ``[`` ``]`` keys need pyglet's own codes)."""
+    try:
+        from pyglet.window import key as pyglet_key
+    except Exception:  # another window backend: its own table only
+        pyglet_key = None
+    return key_names(keys, pyglet_key)
 
 
 #: Unicode blocks the panel's text uses (thesis sections §, units m², Greek β θ Φ, − · → ≤ …).
@@ -80,18 +71,36 @@ def _load_font(imgui) -> None:
         pass
 
 
+def display_problem() -> str | None:
+    """None when a window can be opened, else why not, in a few words (for the CLI's message).
+    pyglet 2.1 needs X11: on Wayland it goes through XWayland's DISPLAY."""
+    if not sys.platform.startswith("linux"):
+        return None
+    display = os.environ.get("DISPLAY")
+    if not display:
+        if os.environ.get("WAYLAND_DISPLAY"):
+            return "DISPLAY is unset (WAYLAND_DISPLAY is set, but the window needs X11: XWayland)"
+        return "DISPLAY and WAYLAND_DISPLAY are unset"
+    try:
+        import pyglet.display  # this import does not create pyglet's shadow window
+
+        pyglet.display.get_display()
+    except Exception:
+        return f"the X display {display!r} does not answer"
+    return None
+
+
 def display_available() -> bool:
     """True when a window can be opened (an X display answers). pyglet 2.1 needs X11."""
-    if sys.platform.startswith("linux"):
-        if not os.environ.get("DISPLAY"):
-            return False
-        try:
-            import pyglet.display  # this import does not create pyglet's shadow window
+    return display_problem() is None
 
-            pyglet.display.get_display()
-        except Exception:
-            return False
-    return True
+
+def _one_line(exc: BaseException) -> str:
+    """An exception as one short line for the panel: the OS's reason and the path it names."""
+    if isinstance(exc, OSError) and exc.strerror:
+        return f"{exc.strerror}: {exc.filename}" if exc.filename else exc.strerror
+    text = " ".join(str(exc).split())
+    return text or type(exc).__name__
 
 
 def _create_window(size, title):
@@ -115,7 +124,9 @@ def _create_window(size, title):
 
 class NaturaWindow:
     def __init__(self, scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720),
-                 shader_root=None, screenshot_dir: str | os.PathLike = "screenshots"):
+                 shader_root=None, screenshot_dir: str | os.PathLike = "screenshots",
+                 preset_dir: str | os.PathLike = "presets",
+                 keyframes_dir: str | os.PathLike = "."):
         from imgui_bundle import imgui
         from moderngl_window.integrations.imgui_bundle import ModernglWindowRenderer
 
@@ -143,8 +154,6 @@ class NaturaWindow:
         w.mouse_release_event_func = self.on_mouse_release
         w.unicode_char_entered_func = self.on_char
         w.resize_func = self.on_resize
-        from .keymap import Controller
-
         self.controller = Controller(keymap=self.scene.keymap, speed=MOVE_SPEED)
         self._key_names = _key_names(self.wnd.keys)
         self.looking = False
@@ -153,9 +162,13 @@ class NaturaWindow:
         self.frame_ms = collections.deque([0.0] * 240, maxlen=240)
         self.messages: collections.deque[str] = collections.deque(maxlen=6)
         self.screenshot_dir = Path(screenshot_dir)
+        self.preset_dir = Path(preset_dir)
+        self.keyframes_dir = Path(keyframes_dir)
         self.screenshot_requested = False
         self.screenshots: list[Path] = []
         self.render_error: str | None = None
+        self.poll_error: str | None = None
+        self._printed_errors: set[str] = set()  # shader errors already printed to the terminal
         self.progress_frames = 0
         self._last_poll = 0.0
         self.target = None
@@ -235,6 +248,19 @@ class NaturaWindow:
         print(text)
         self.messages.append(text)
 
+    def _fail(self, text: str) -> None:
+        """A problem the window survives: one line in the panel, and on the terminal."""
+        print(f"natura: {text}", file=sys.stderr, flush=True)
+        self.messages.append(text)
+
+    def _print_new_errors(self, errors) -> None:
+        """Print each shader error whole to the terminal once, when it appears; an error that
+        goes away and comes back is printed again."""
+        current = {str(e) for e in errors}
+        for text in sorted(current - self._printed_errors):
+            print(f"natura: shader error: {text}", file=sys.stderr, flush=True)
+        self._printed_errors = current
+
     def on_mouse_position(self, x, y, dx, dy):
         self.ui.mouse_position_event(x, y, dx, dy)
         if self.mouse_look:
@@ -273,30 +299,47 @@ class NaturaWindow:
         if now - self._last_poll < POLL_SECONDS:
             return
         self._last_poll = now
-        for prog in self.session.gpu.shaders.poll():
-            if prog.errors:
-                self.messages.append(f"{prog.name}: reload failed, "
-                                     "still showing the last good version")
-            else:
-                self.messages.append(f"{prog.name}: reloaded")
+        shaders = self.session.gpu.shaders
+        try:
+            for prog in shaders.poll():
+                if prog.errors:
+                    self.messages.append(f"{prog.name}: reload failed, "
+                                         "still showing the last good version")
+                else:
+                    self.messages.append(f"{prog.name}: reloaded")
+            errors = shaders.errors()
+        except Exception as exc:  # the library failed, not a shader: keep the window running
+            text = f"shader reload failed: {_one_line(exc)}"
+            if text != self.poll_error:
+                self._fail(text)
+            self.poll_error = text
+            return
+        self.poll_error = None
+        self._print_new_errors(errors)
 
     def render_scene(self, dt: float) -> None:
         import moderngl
 
-        ctx = self.ctx
-        ctx.disable(moderngl.BLEND)  # the ImGui renderer leaves blending on
-        frame = self.scene.frame(self.target.size, dt)
-        try:
-            self.scene.render(frame, self.target)
-            self.render_error = None
-        except Exception as exc:  # keep the window alive; show why the image stopped updating
-            self.render_error = f"render failed: {exc}"
         from .display import draw_display
 
+        ctx = self.ctx
+        ctx.disable(moderngl.BLEND)  # the ImGui renderer leaves blending on
+        error = None
+        try:
+            frame = self.scene.frame(self.target.size, dt)
+            self.scene.render(frame, self.target)
+        except Exception as exc:  # keep the window alive; show why the image stopped updating
+            error = f"render failed: {exc}"
         self.wnd.use()
         ctx.viewport = (0, 0, *self.wnd.buffer_size)
-        draw_display(self.session.gpu, self.target.color, self.scene.exposure(),
-                     self.params["output.tonemap"])
+        try:
+            draw_display(self.session.gpu, self.target.color, self.scene.exposure(),
+                         self.params["output.tonemap"])
+        except Exception as exc:  # e.g. the display shader itself is broken
+            error = error or f"display failed: {exc}"
+        if error is not None and error != self.render_error:
+            print(f"natura: {error}", file=sys.stderr, flush=True)  # whole, once
+        self.render_error = error
 
     def show_progress(self, label: str, fraction: float) -> None:
         """Draw one frame with a progress bar while a long GPU job (a bake) runs."""
@@ -317,34 +360,66 @@ class NaturaWindow:
         self.wnd.swap_buffers()
         self.progress_frames += 1
 
+    def _folder_problem(self, folder: Path) -> str | None:
+        """Why files cannot be written in ``folder`` (made if missing), or None."""
+        if folder.exists() and not folder.is_dir():
+            return f"{folder} is a file, not a folder"
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            return f"cannot make the folder {folder}: {exc.strerror or _one_line(exc)}"
+        return None
+
     def save_screenshot(self) -> Path | None:
-        self.screenshot_dir.mkdir(parents=True, exist_ok=True)
+        """The scene, tone-mapped, as the first free ``SCENE-NNNN.png``; never overwrites. A
+        folder that cannot be written is a message, not a crash."""
+        folder = self.screenshot_dir
+        problem = self._folder_problem(folder)
+        if problem:
+            self._fail(f"screenshot not saved: {problem}")
+            return None
         for _ in range(100):  # another process may take the name between the check and the link
-            path = next_free_path(self.screenshot_dir, self.scene.name, ".png")
+            path = next_free_path(folder, self.scene.name, ".png")
             try:
                 write_png(path, self.target.read(), self.scene.exposure(),
                           self.params["output.tonemap"])
-            except FileExistsError:
+            except (FileExistsError, OutputExistsError):
                 continue
             except Exception as exc:
-                self.messages.append(f"screenshot failed: {exc}")
+                self._fail(f"screenshot not saved in {folder}: {_one_line(exc)}")
                 return None
             self.screenshots.append(path)
             self.messages.append(f"saved {path}")
             return path
+        self._fail(f"screenshot not saved: no free name in {folder} after 100 tries")
         return None
 
-    def save_preset(self) -> None:
-        folder = Path("presets")
-        folder.mkdir(exist_ok=True)
-        path = next_free_path(folder, self.scene.name, ".toml")
-        write_text_atomic(path, self.params.preset_text(f"scene {self.scene.name}"))
-        self.messages.append(f"saved {path}")
+    def _save_text(self, what: str, folder: Path, stem: str, text: str) -> Path | None:
+        problem = self._folder_problem(folder)
+        if problem:
+            self._fail(f"{what} not saved: {problem}")
+            return None
+        for _ in range(100):
+            path = next_free_path(folder, stem, ".toml")
+            try:
+                write_text_atomic(path, text)
+            except (FileExistsError, OutputExistsError):
+                continue
+            except (OSError, UsageError) as exc:
+                self._fail(f"{what} not saved in {folder}: {_one_line(exc)}")
+                return None
+            self.messages.append(f"saved {path}")
+            return path
+        self._fail(f"{what} not saved: no free name in {folder} after 100 tries")
+        return None
 
-    def save_keyframes(self, keyframes) -> None:
-        path = next_free_path(Path("."), "keyframes", ".toml")
-        write_text_atomic(path, keyframes.to_toml())
-        self.messages.append(f"saved {path}")
+    def save_preset(self) -> Path | None:
+        return self._save_text("preset", self.preset_dir, self.scene.name,
+                               self.params.preset_text(f"scene {self.scene.name}"))
+
+    def save_keyframes(self, keyframes) -> Path | None:
+        return self._save_text("keyframes", self.keyframes_dir, "keyframes",
+                               keyframes.to_toml())
 
     def build_panel(self, dt: float) -> None:
         from . import panel
@@ -360,11 +435,15 @@ class NaturaWindow:
                    f"median {np.median(ms[ms > 0]) if (ms > 0).any() else 0:6.2f} ms")
         imgui.plot_lines("##frametime", ms, scale_min=0.0, graph_size=(-1, 48),
                          overlay_text=f"max {ms.max():.1f} ms")
-        errors = gpu.shaders.errors()
-        if errors or self.render_error:
+        try:
+            errors = gpu.shaders.errors()
+        except Exception as exc:
+            errors = [f"shader errors unavailable: {_one_line(exc)}"]
+        problems = [*errors, *(e for e in (self.render_error, self.poll_error) if e)]
+        if problems:
             imgui.text_colored(panel.ERROR_COLOUR,
                                "Shader errors (the last good program keeps rendering):")
-            panel.error_list(errors + ([self.render_error] if self.render_error else []))
+            panel.error_list(problems)
         if "time.hour" in self.params:
             playing = self.params["time.playing"]
             if imgui.button("Pause" if playing else "Resume"):
@@ -419,8 +498,7 @@ class NaturaWindow:
         if imgui.collapsing_header("Controls"):
             for keys, what in self.controller.keymap.help:
                 imgui.text(f"{keys:14s} {what}")
-        for m in self.messages:
-            imgui.text_disabled(m)
+        panel.messages(self.messages)
         imgui.end()
 
     def frame(self, dt: float) -> None:

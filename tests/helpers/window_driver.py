@@ -1,8 +1,10 @@
-"""Drives a real Natura window (run under Xvfb by tests/window/test_window.py) and prints JSON
-results.
+"""Drives a real Natura window (run under Xvfb by the tests in tests/window) and prints its
+findings as one ``RESULT {json}`` line on stdout.
 
-It feeds the window's own event handlers, so it exercises the same code as a person at the
-keyboard: fly keys, mouse look, pause, screenshots, live shader edits on a copy of glsl/.
+The default run feeds the window's own event handlers (panel, mouse look, screenshots, live
+shader edits on a copy of glsl/). The key runs (``fly-keys``, ``planet-keys``, ``ocean-models``,
+``robustness``, ``cli-escape``) type real X key events with xdotool (:class:`XKeys`), so they
+go through pyglet's key codes and the window's key names as a person's typing does.
 """
 
 from __future__ import annotations
@@ -16,6 +18,25 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+XVFB_SKIP = "no display: Xvfb not installed (apt-get install xvfb)"
+XDOTOOL_SKIP = "xdotool not installed: no real key events (apt-get install xdotool)"
+
+
+def under_xvfb(args, cwd, timeout=180) -> subprocess.CompletedProcess:
+    """Run ``args`` on a fresh Xvfb (``xvfb-run -a`` picks a free display), without the
+    caller's DISPLAY / WAYLAND_DISPLAY."""
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    return subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", *args], cwd=cwd,
+                          env=env, capture_output=True, text=True, timeout=timeout)
+
+
+def drive(mode: str, work) -> tuple[dict, subprocess.CompletedProcess]:
+    """Run this driver's ``mode`` in ``work`` under Xvfb: its RESULT (JSON) and the process."""
+    proc = under_xvfb([sys.executable, __file__, str(work), mode], cwd=work)
+    lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
+    assert proc.returncode == 0 and lines, proc.stdout[-3000:] + proc.stderr[-3000:]
+    return json.loads(lines[-1][len("RESULT "):]), proc
 
 
 def atomic_write(path: Path, text: str) -> None:
@@ -169,10 +190,37 @@ def bake_progress(work: str) -> int:
 
 class XKeys:
     """Real key events for a window under Xvfb: xdotool focuses it and types through the X test
-    extension, and the window's frames (which dispatch pyglet's events) see ordinary presses."""
+    extension, and the window's frames (which dispatch pyglet's events) see ordinary presses.
+
+    It waits (frame by frame) until the window has received each press and release, so a slow
+    frame never loses a key; ``hold`` counts the frames the window updated with the action held,
+    so a test can compare a motion with speed × frames × dt exactly. ``received`` logs what
+    the window got: (pyglet's symbol name, the window's key name, press/release) and characters.
+    """
 
     def __init__(self, win, pattern: str, dt: float = 1 / 60):
         self.win, self.dt = win, dt
+        self.received: list = []
+        self.presses = 0  # key taps and holds typed (modifier keys down included)
+        on_key, on_char = win.wnd.key_event_func, win.wnd.unicode_char_entered_func
+
+        def spy_key(key, action, modifiers):
+            try:
+                from pyglet.window import key as pk
+
+                symbol = pk.symbol_string(key)
+            except Exception:
+                symbol = str(key)
+            press = action == win.wnd.keys.ACTION_PRESS
+            self.received.append(("press" if press else "release", symbol,
+                                  win._key_names.get(key)))
+            on_key(key, action, modifiers)
+
+        def spy_char(char):
+            self.received.append(("char", char, None))
+            on_char(char)
+
+        win.wnd.key_event_func, win.wnd.unicode_char_entered_func = spy_key, spy_char
         self.frames(2)
         found = subprocess.run(["xdotool", "search", "--sync", "--name", pattern],
                                capture_output=True, text=True, timeout=30).stdout.split()
@@ -182,38 +230,447 @@ class XKeys:
 
     def frames(self, n: int) -> None:
         for _ in range(n):
+            if self.win.wnd.is_closing:  # Esc closed it: pyglet's window is gone
+                return
             self.win.wnd.clear()
             self.win.frame(self.dt)
             self.win.wnd.swap_buffers()
 
-    def tap(self, key: str, hold_frames: int = 2) -> None:
+    def _until(self, kind: str, since: int, limit: int = 240) -> None:
+        """Frames until an event of ``kind`` ("press"/"release") arrives after ``since``."""
+        for _ in range(limit):
+            if any(e[0] == kind for e in self.received[since:]) or self.win.wnd.is_closing:
+                return
+            self.frames(1)
+        raise AssertionError(f"no key {kind} reached the window in {limit} frames: "
+                             f"{self.received[since:]}")
+
+    def down(self, key: str) -> None:
+        n = len(self.received)
         subprocess.run(["xdotool", "keydown", key], check=True, timeout=30)
-        self.frames(hold_frames)
+        self.presses += 1
+        self._until("press", n)
+
+    def up(self, key: str) -> None:
+        n = len(self.received)
         subprocess.run(["xdotool", "keyup", key], check=True, timeout=30)
+        self._until("release", n)
+
+    def tap(self, key: str, hold_frames: int = 2) -> None:
+        self.down(key)
+        self.frames(hold_frames)
+        self.up(key)
         self.frames(2)
 
+    def hold(self, key: str, frames: int, action: str) -> int:
+        """Hold ``key`` for about ``frames`` frames; returns how many frames the window updated
+        with ``action`` held (the controller moves the camera at the start of a frame)."""
+        held = self.win.controller.held
+        count = 0
 
-def planet_keys(work: str) -> int:
-    """The atmosphere thesis's keys in the planet window, typed as X events: M toggles the
-    automatic sun (a parameter action of the key map), Up held raises the sun."""
+        def step():
+            nonlocal count
+            count += action in held
+            self.frames(1)
+
+        self.down(key)
+        for _ in range(frames):
+            step()
+        n = len(self.received)
+        subprocess.run(["xdotool", "keyup", key], check=True, timeout=30)
+        for _ in range(240):
+            if any(e[0] == "release" for e in self.received[n:]):
+                break
+            step()
+        self.frames(1)  # nothing held any more: this frame does not move
+        assert action not in held, (key, action, held)
+        return count
+
+
+def _screen(win) -> np.ndarray:
+    w, h = win.wnd.buffer_size
+    data = win.ctx.screen.read(viewport=(0, 0, w, h), components=3)
+    return np.frombuffer(data, dtype=np.uint8).reshape(h, w, 3)[::-1].astype(int)
+
+
+def fly_keys(work: str) -> int:
+    """Natura's fly map (README "Window controls"), every key typed as a real X event in the sky
+    window: W A S D, Q / E, Shift, M (mouse look, then real pointer motion), Space, [ / ],
+    R, P and F12, F1, Up / Down (no planet here: they must not move the camera), Esc."""
     from app.runtime import scene_params
     from app.scenes import get_scene
     from app.ui import window as W
 
+    os.chdir(work)
+    params = scene_params("sky", sets=["time.hour=10", "time.playing=false"])
+    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (320, 180),
+                         screenshot_dir="shots")
+    keys = XKeys(win, "^Natura .* sky$")
+    cam = win.scene.camera
+    out: dict = {"speed": win.controller.speed, "dt": keys.dt}
+    # F1 hides the panel (its pixels go), F1 shows it again; the rest runs without it
+    with_panel = _screen(win)
+    keys.tap("F1")
+    out["f1_hides"] = not win.show_panel
+    keys.frames(1)
+    out["f1_panel_pixels"] = int((np.abs(with_panel - _screen(win)).sum(axis=2) > 30).sum())
+    keys.tap("F1")
+    out["f1_again_shows"] = win.show_panel
+    keys.tap("F1")
+    moves = {}
+    for key, action in (("w", "forward"), ("s", "back"), ("a", "left"), ("d", "right"),
+                        ("q", "down"), ("e", "up")):
+        r, _, f = (np.array(v) for v in cam.basis())
+        direction = {"forward": f, "back": -f, "left": -r, "right": r,
+                     "down": np.array([0.0, -1.0, 0.0]), "up": np.array([0.0, 1.0, 0.0])}[action]
+        p0 = np.array(cam.position)
+        n = keys.hold(key, 8, action)
+        d = np.array(cam.position) - p0
+        along = float(np.dot(d, direction))
+        moves[key] = {"frames": n, "along_m": along,
+                      "across_m": float(np.linalg.norm(d - along * direction))}
+    out["moves"] = moves
+    # Shift: 4x faster while held
+    keys.down("Shift_L")
+    out["shift_fast_held"] = "fast" in win.controller.held
+    p0 = np.array(cam.position)
+    n = keys.hold("w", 8, "forward")
+    keys.up("Shift_L")
+    keys.frames(1)
+    out["shift_w"] = {"frames": n, "along_m": float(np.dot(np.array(cam.position) - p0,
+                                                            np.array(cam.basis()[2])))}
+    # R: back to the scene's starting view
+    keys.tap("r")
+    h = win.home
+    out["r_resets"] = {"position_error_m": float(np.linalg.norm(np.subtract(cam.position,
+                                                                            h.position))),
+                       "yaw_error": float(abs(cam.yaw - h.yaw)),
+                       "pitch_error": float(abs(cam.pitch - h.pitch))}
+    # M: mouse look without a button; real pointer motion turns the camera, then M stops it
+    keys.tap("m")
+    out["m_mouse_look"] = win.mouse_look
+    yaw0 = cam.yaw
+    subprocess.run(["xdotool", "mousemove_relative", "--", "40", "0"], check=True, timeout=30)
+    keys.frames(4)
+    out["m_mouse_yaw"] = float((cam.yaw - yaw0 + 180) % 360 - 180)
+    keys.tap("m")
+    out["m_again_off"] = not win.mouse_look
+    yaw0 = cam.yaw
+    subprocess.run(["xdotool", "mousemove_relative", "--", "40", "0"], check=True, timeout=30)
+    keys.frames(4)
+    out["m_off_mouse_yaw"] = float((cam.yaw - yaw0 + 180) % 360 - 180)
+    # Space: time runs, then stops again
+    keys.tap("space")
+    out["space_plays"] = params["time.playing"]
+    hour0 = params["time.hour"]
+    keys.frames(10)
+    out["space_hour_advance"] = (params["time.hour"] - hour0) % 24.0
+    keys.tap("space")
+    out["space_pauses"] = not params["time.playing"]
+    # [ / ]: 15 minutes a press
+    hours = [params["time.hour"]]
+    for key in ["bracketright"] * 4 + ["bracketleft"] * 6:
+        keys.tap(key)
+        hours.append(params["time.hour"])
+    out["bracket_hours"] = hours
+    # Up / Down: the planet's sun; here nothing to move, and the camera stays put
+    p0, yaw0 = np.array(cam.position), cam.yaw
+    keys.tap("Up", hold_frames=4)
+    keys.tap("Down", hold_frames=4)
+    out["up_down_camera_still"] = bool(np.allclose(cam.position, p0) and cam.yaw == yaw0)
+    out["render_error"] = str(win.render_error or "")
+    # P and F12: one new screenshot each
+    keys.tap("p")
+    keys.frames(1)
+    keys.tap("F12")
+    keys.frames(1)
+    out["screenshots"] = [str(p) for p in win.screenshots]
+    out["shot_files"] = sorted(str(p) for p in Path("shots").glob("*.png"))
+    keys.tap("Escape")
+    out["escape_closes"] = bool(win.wnd.is_closing)
+    out["presses"] = keys.presses
+    out["received"] = keys.received
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
+def planet_keys(work: str) -> int:
+    """The atmosphere thesis's whole map (spec/002 §4) in the planet window, typed as X events:
+    W A S D, Space / Ctrl (both Ctrls), Q / E turn, R / F pitch, O mouse capture, Z turbo,
+    + − * / on the main keyboard and the keypad, T, V, P, Up / Down, M, F12, F1, Esc."""
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    os.chdir(work)
     params = scene_params("planet", sets=["planet.method=lut", "planet.shadow_map_size=256",
                                           "planet.lut_height=32", "planet.lut_angle=32"])
     win = W.NaturaWindow("planet", params, get_scene("planet").new_camera(), (160, 90))
     win.show_panel = False
     keys = XKeys(win, "^Natura .* planet$")
-    out = {"auto_sun_before": params["planet.auto_sun"]}
+    cam, ctl = win.scene.camera, win.controller
+    out: dict = {"speed": ctl.speed, "turn_rate": ctl.turn_rate, "sun_rate": ctl.sun_rate,
+                 "dt": keys.dt, "auto_sun_before": params["planet.auto_sun"]}
     keys.tap("m")
     out["auto_sun_after_m"] = params["planet.auto_sun"]
     keys.tap("m")
     out["auto_sun_after_m_m"] = params["planet.auto_sun"]
     elevation = params["planet.sun_elevation"]
-    keys.tap("Up", hold_frames=30)
-    out["sun_rise_deg"] = params["planet.sun_elevation"] - elevation
+    n = keys.hold("Up", 20, "sun_up")
+    out["sun_up"] = {"frames": n, "deg": params["planet.sun_elevation"] - elevation}
+    elevation = params["planet.sun_elevation"]
+    n = keys.hold("Down", 10, "sun_down")
+    out["sun_down"] = {"frames": n, "deg": params["planet.sun_elevation"] - elevation}
+    moves = {}
+    for key, action in (("w", "forward"), ("s", "back"), ("a", "left"), ("d", "right"),
+                        ("space", "up"), ("Control_L", "down"), ("Control_R", "down")):
+        r, _, f = (np.array(v) for v in cam.basis())
+        direction = {"forward": f, "back": -f, "left": -r, "right": r,
+                     "down": np.array([0.0, -1.0, 0.0]), "up": np.array([0.0, 1.0, 0.0])}[action]
+        p0 = np.array(cam.position)
+        n = keys.hold(key, 6, action)
+        along = float(np.dot(np.array(cam.position) - p0, direction))
+        moves[key] = {"frames": n, "along_m": along}
+    out["moves"] = moves
+    turns = {}
+    for key, action in (("q", "turn_left"), ("e", "turn_right"), ("r", "pitch_up"),
+                        ("f", "pitch_down")):
+        yaw0, pitch0 = cam.yaw, cam.pitch
+        n = keys.hold(key, 6, action)
+        turns[key] = {"frames": n, "yaw": float((cam.yaw - yaw0 + 180) % 360 - 180),
+                      "pitch": float(cam.pitch - pitch0)}
+    out["turns"] = turns
+    keys.tap("o")
+    out["o_mouse_look"] = win.mouse_look
+    keys.tap("o")
+    out["o_again_off"] = not win.mouse_look
+    # Z turbo: W now moves at the turbo speed
+    keys.tap("z")
+    out["z_turbo"] = ctl.turbo
+    p0 = np.array(cam.position)
+    n = keys.hold("w", 3, "forward")
+    out["turbo_w"] = {"frames": n, "m": float(np.linalg.norm(np.array(cam.position) - p0)),
+                      "turbo_speed": ctl.turbo_speed}
+    keys.tap("z")
+    out["z_again_off"] = not ctl.turbo
+    speeds = [ctl.turbo_speed]
+    for key in ("plus", "minus", "asterisk", "slash", "KP_Add", "KP_Subtract", "KP_Multiply",
+                "KP_Divide"):
+        keys.tap(key)
+        speeds.append(ctl.turbo_speed)
+    out["turbo_speeds"] = speeds
+    # T: camera controls off (W does nothing), T again: on
+    keys.tap("t")
+    out["t_controls_off"] = not ctl.controls_enabled
+    p0 = np.array(cam.position)
+    keys.down("w")
+    keys.frames(4)
+    keys.up("w")
+    out["t_off_moved_m"] = float(np.linalg.norm(np.array(cam.position) - p0))
+    keys.tap("t")
+    out["t_controls_on"] = ctl.controls_enabled
+    win.messages.append("-")
+    keys.tap("v")
+    out["v_message"] = win.messages[-1]
+    win.messages.append("-")
+    keys.tap("p")
+    out["p_message"] = win.messages[-1]
+    keys.tap("F1")
+    out["f1_shows"] = win.show_panel
+    keys.tap("F1")
+    out["f1_hides"] = not win.show_panel
+    keys.tap("F12")
+    keys.frames(1)
+    out["screenshots"] = [str(p) for p in win.screenshots]
     out["render_error"] = str(win.render_error or "")
+    keys.tap("Escape")
+    out["escape_closes"] = bool(win.wnd.is_closing)
+    out["presses"] = keys.presses
+    out["received"] = keys.received
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
+def cli_escape(work: str) -> int:
+    """``natura window sky`` as a user starts it; Esc typed into it ends the process."""
+    os.chdir(work)
+    root = Path(__file__).resolve().parents[2]
+    env = {**os.environ, "PYTHONPATH": str(root)}
+    t0 = time.perf_counter()
+    proc = subprocess.Popen([sys.executable, "-m", "app.cli", "window", "sky", "--size",
+                             "160x90"], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    out: dict = {}
+    try:
+        found = subprocess.run(["xdotool", "search", "--sync", "--name", "^Natura .* sky$"],
+                               capture_output=True, text=True, timeout=60).stdout.split()
+        subprocess.run(["xdotool", "windowfocus", "--sync", found[0]], check=True, timeout=30)
+        out["window_seen_s"] = time.perf_counter() - t0
+        time.sleep(0.5)  # frames running
+        out["running_before_esc"] = proc.poll() is None
+        t1 = time.perf_counter()
+        subprocess.run(["xdotool", "key", "Escape"], check=True, timeout=30)
+        out["returncode"] = proc.wait(timeout=30)
+        out["exit_after_esc_s"] = time.perf_counter() - t1
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        stdout, stderr = proc.communicate()
+    out["stderr"] = stderr[-2000:]
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
+def _spy(module, name: str, record: list, with_rect: bool = False):
+    """Wrap ``module.name`` so each call records its first argument (and, with ``with_rect``,
+    the drawn item's size and the window's width). Returns a function that undoes it."""
+    original = getattr(module, name)
+
+    def spy(*args, **kw):
+        result = original(*args, **kw)
+        entry = {"text": str(args[1] if name == "text_colored" else args[0])}
+        if with_rect:
+            size = module.get_item_rect_size()
+            entry.update(width=float(size.x), height=float(size.y),
+                         window_width=float(module.get_window_width()),
+                         line_height=float(module.get_text_line_height()))
+        record.append(entry)
+        return result
+
+    setattr(module, name, spy)
+    return lambda: setattr(module, name, original)
+
+
+def robustness(work: str) -> int:
+    """What must not crash the window: screenshot, preset and keyframe folders that are files
+    or cannot be written, a name taken between the check and the link, a shader typo (printed
+    once, wrapped in the panel), a shader library or a scene that raises."""
+    from app import DEFAULT_SHADER_ROOT
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    work_dir = Path(work)
+    shaders = work_dir / "glsl"
+    shutil.copytree(DEFAULT_SHADER_ROOT, shaders)
+    os.chdir(work_dir)
+    Path("screenshots").write_text("a file where the folder would be")
+    Path("presets").write_text("a file where the folder would be")
+    params = scene_params("sky", shader_root=shaders, sets=["time.hour=10"])
+    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (640, 360), shaders)
+    keys = XKeys(win, "^Natura .* sky$")
+    out: dict = {}
+
+    def outcome(name, *, made=()):
+        out[name] = {"messages": list(win.messages)[-1:], "closing": bool(win.wnd.is_closing),
+                     "made": [str(p) for p in made]}
+        keys.frames(2)
+        out[name]["frames_after"] = not win.wnd.is_closing
+
+    keys.tap("p")  # screenshots/ is a file
+    keys.frames(1)
+    outcome("shot_folder_is_file", made=win.screenshots)
+    out["shot_file_kept"] = Path("screenshots").read_text().startswith("a file")
+    win.screenshot_dir = Path("/sys/natura-shots")  # a folder that cannot be made
+    keys.tap("F12")
+    keys.frames(1)
+    outcome("shot_folder_cannot_be_made", made=win.screenshots)
+    win.screenshot_dir = Path("/sys")  # a folder that exists but takes no files (even for root)
+    keys.tap("p")
+    keys.frames(1)
+    outcome("shot_folder_read_only", made=win.screenshots)
+    # a name race: the free name is taken between next_free_path and the link
+    win.screenshot_dir = Path("shots")
+    Path("shots").mkdir()
+    taken = Path("shots") / "sky-0001.png"
+    taken.write_bytes(b"someone else's file")
+    calls = []
+    real_next = W.next_free_path
+
+    def racing_next(folder, stem, suffix):
+        calls.append(stem)
+        return taken if len(calls) == 1 else real_next(folder, stem, suffix)
+
+    W.next_free_path = racing_next
+    try:
+        keys.tap("p")
+        keys.frames(1)
+    finally:
+        W.next_free_path = real_next
+    out["race"] = {"calls": len(calls), "screenshots": [str(p) for p in win.screenshots],
+                   "taken_kept": taken.read_bytes() == b"someone else's file",
+                   "messages": list(win.messages)[-1:]}
+    # presets: a file in the way, a folder that takes no files, then a good one
+    outcome("preset_folder_is_file", made=[p for p in [win.save_preset()] if p])
+    out["preset_file_kept"] = Path("presets").read_text().startswith("a file")
+    win.preset_dir = Path("/sys")
+    outcome("preset_folder_read_only", made=[p for p in [win.save_preset()] if p])
+    win.preset_dir = Path("my-presets")
+    outcome("preset_saved", made=[p for p in [win.save_preset()] if p])
+    keyframes = win.scene.effect("sky").panel_items()[0]
+    win.keyframes_dir = Path("/sys")
+    outcome("keyframes_read_only", made=[p for p in [win.save_keyframes(keyframes)] if p])
+    win.keyframes_dir = Path(".")
+    outcome("keyframes_saved", made=[p for p in [win.save_keyframes(keyframes)] if p])
+    # a shader typo: printed to the terminal once, drawn whole (wrapped) in the panel
+    frag = shaders / "sky" / "sky.frag"
+    good = frag.read_text()
+    atomic_write(frag, good.replace("fragColor = vec4(",
+                                    "fragColor = vec4(an_undeclared_name_long_enough_to_wrap + "))
+    drawn: list = []
+    wraps: list = []
+    undo = [_spy(win.imgui, "text_colored", drawn, with_rect=True),
+            _spy(win.imgui, "push_text_wrap_pos", wraps)]
+    try:
+        for _ in range(3):  # three polls with the error standing
+            time.sleep(W.POLL_SECONDS + 0.05)
+            keys.frames(2)
+    finally:
+        for u in undo:
+            u()
+    errors = [str(e) for e in win.session.gpu.shaders.errors()]
+    out["shader"] = {"errors": errors, "wrap_pushed": len(wraps),
+                     "drawn": list({d["text"]: d for d in drawn if d["text"] in errors}.values())}
+    atomic_write(frag, good)
+    time.sleep(W.POLL_SECONDS + 0.05)
+    keys.frames(2)
+    out["shader"]["errors_after_fix"] = [str(e) for e in win.session.gpu.shaders.errors()]
+    # the shader library raises: a message, the window keeps going
+    library = win.session.gpu.shaders
+
+    def broken_poll():
+        raise RuntimeError("the shader library broke")
+
+    library.poll = broken_poll
+    try:
+        for _ in range(2):
+            time.sleep(W.POLL_SECONDS + 0.05)
+            keys.frames(2)
+        out["poll_error"] = {"error": win.poll_error, "closing": bool(win.wnd.is_closing),
+                             "messages": list(win.messages)[-1:]}
+    finally:
+        del library.poll
+    time.sleep(W.POLL_SECONDS + 0.05)
+    keys.frames(2)
+    out["poll_error"]["after"] = win.poll_error
+    # the scene raises while building its frame: shown, not a crash
+    scene = win.scene
+
+    def broken_frame(*args, **kw):
+        raise RuntimeError("the scene broke")
+
+    scene.frame = broken_frame
+    try:
+        keys.frames(3)
+        out["render_error"] = {"error": win.render_error, "closing": bool(win.wnd.is_closing)}
+    finally:
+        del scene.frame
+    keys.frames(2)
+    out["render_error"]["after"] = win.render_error
+    keys.tap("Escape")
+    out["escape_closes"] = bool(win.wnd.is_closing)
     win.close()
     print("RESULT " + json.dumps(out))
     return 0
@@ -281,5 +738,6 @@ def ocean_models(work: str) -> int:
 
 if __name__ == "__main__":
     runs = {"bake-progress": bake_progress, "ocean-models": ocean_models,
-            "planet-keys": planet_keys, "sky-keyframes": sky_keyframes}
+            "planet-keys": planet_keys, "sky-keyframes": sky_keyframes, "fly-keys": fly_keys,
+            "cli-escape": cli_escape, "robustness": robustness}
     sys.exit(runs.get(sys.argv[2] if len(sys.argv) > 2 else "", main)(sys.argv[1]))

@@ -106,3 +106,37 @@ def test_ocean_keys_pick_the_wave_model_and_keep_the_fly_keys():
         assert c.take_events() == [(f"set:ocean.model={model}", None)]
     assert all(OCEAN.action(k) == a for k, a in FLY.bindings.items())
     assert any("Gerstner" in row[1] for row in OCEAN.help)
+
+
+def test_bracket_keys_get_the_code_pyglet_delivers():
+    """moderngl-window 3.1.1 gives LEFT_BRACKET / RIGHT_BRACKET pyglet's BRACELEFT / BRACERIGHT
+    codes ({ }), but the [ ] keys deliver BRACKETLEFT / BRACKETRIGHT (0x5b / 0x5d, seen under
+    Xvfb with xdotool): the window's table must name those."""
+    from types import SimpleNamespace
+
+    from app.ui.keymap import key_names
+
+    mglw_keys = SimpleNamespace(LEFT_BRACKET=0x7B, RIGHT_BRACKET=0x7D, W=0x77, ACTION_PRESS=1)
+    pyglet_key = SimpleNamespace(BRACKETLEFT=0x5B, BRACKETRIGHT=0x5D, RCTRL=0xFFE4)
+    names = key_names(mglw_keys, pyglet_key)
+    assert names[0x5B] == "LEFT_BRACKET" and names[0x5D] == "RIGHT_BRACKET"
+    assert names[0xFFE4] == "RIGHT_CTRL" and names[0x77] == "W"
+    assert 1 not in names  # ACTION_* are not keys
+    assert key_names(mglw_keys)[0x7B] == "LEFT_BRACKET"  # without pyglet: its table only
+
+
+@pytest.mark.filterwarnings("ignore:Importing PyGLM:PendingDeprecationWarning")
+def test_every_bound_key_is_a_name_the_window_can_produce():
+    """A typo in a key map ("LEFT_BRAKET", "CTRL") would bind a key that never fires."""
+    from moderngl_window.context.base import BaseKeys
+
+    from app.scenes.ocean import OCEAN
+    from app.ui.keymap import CHARACTER_KEYS, CHARACTERS, PYGLET_KEY_NAMES
+
+    window_names = {n for n in dir(BaseKeys) if n.isupper() and not n.startswith("ACTION_")}
+    producible = (window_names | set(PYGLET_KEY_NAMES.values()) | set(CHARACTERS.values()))
+    for keymap in (FLY, OCEAN, ATMOSPHERE_THESIS):
+        unknown = set(keymap.bindings) - producible
+        assert not unknown, (keymap.name, unknown)
+        # a key whose key event is dropped must come through as a character instead
+        assert not (set(keymap.bindings) & CHARACTER_KEYS) - set(CHARACTERS.values())

@@ -83,15 +83,7 @@ def _result(proc) -> dict:
     return json.loads(lines[-1][len("RESULT "):])
 
 
-@needs_xdotool
-def test_planet_keys_typed_in_the_window_drive_the_sun(tmp_path):
-    """M (the key map's toggle_auto_sun, a parameter action) and Up held, as real X key events."""
-    r = _result(_under_xvfb([sys.executable, str(DRIVER), str(tmp_path), "planet-keys"],
-                            cwd=tmp_path))
-    assert r["render_error"] == ""
-    assert r["auto_sun_after_m"] is not r["auto_sun_before"]
-    assert r["auto_sun_after_m_m"] is r["auto_sun_before"]
-    assert r["sun_rise_deg"] > 1.0  # 10°/s while Up is held
+# the planet's keys (M, Up and the rest of its map): tests/window/test_window_keys.py
 
 
 def test_the_sky_offers_its_keyframes_to_the_panel(tmp_path):
