@@ -69,6 +69,53 @@ def world_to_moon(moon_dir: np.ndarray, ecliptic) -> np.ndarray:
     return np.stack([right, up, f])
 
 
+# ---- the sun's colour through the air ------------------------------------------------------------
+# Beyond the thesis (its _SunCol is one constant colour, spec/000 §1.7): the direct sunlight
+# through m air masses keeps exp(−τ·m) of its value outside the atmosphere (Beer–Lambert), per
+# channel, τ the zenith optical depth at sea level: Rayleigh + aerosol at one wavelength each.
+
+#: the wavelengths (µm) the R, G and B channels stand for
+RGB_WAVELENGTHS_UM = (0.680, 0.550, 0.440)
+#: Ångström turbidity β (aerosol optical depth at 1 µm) and exponent α of clear maritime air:
+#: τ_aerosol(550 nm) ≈ 0.09, a clean-ocean value of sun-photometer climatologies
+AEROSOL_BETA = 0.05
+AEROSOL_ALPHA = 1.0
+
+
+def rayleigh_optical_depth(wavelength_um):
+    """Zenith Rayleigh optical depth of the standard sea-level atmosphere at ``wavelength_um``
+    (µm): τ = 0.008569 λ⁻⁴ (1 + 0.0113 λ⁻² + 0.00013 λ⁻⁴), the fit of Hansen & Travis 1974
+    (0.097 at 550 nm)."""
+    lam = np.asarray(wavelength_um, dtype=np.float64)
+    return 0.008569 * lam**-4 * (1.0 + 0.0113 * lam**-2 + 0.00013 * lam**-4)
+
+
+def aerosol_optical_depth(wavelength_um, beta: float = AEROSOL_BETA,
+                          alpha: float = AEROSOL_ALPHA):
+    """Zenith aerosol optical depth τ = β λ^−α (Ångström 1929's turbidity law, λ in µm)."""
+    return beta * np.asarray(wavelength_um, dtype=np.float64) ** -alpha
+
+
+def zenith_optical_depth(beta: float = AEROSOL_BETA, alpha: float = AEROSOL_ALPHA
+                         ) -> tuple[float, float, float]:
+    """Rayleigh + aerosol zenith optical depth at the R, G, B wavelengths (3 decimals): the
+    default ``sky.sun_extinction``, (0.115, 0.188, 0.356) for clear maritime air."""
+    lam = np.asarray(RGB_WAVELENGTHS_UM)
+    tau = rayleigh_optical_depth(lam) + aerosol_optical_depth(lam, beta, alpha)
+    return (round(float(tau[0]), 3), round(float(tau[1]), 3), round(float(tau[2]), 3))
+
+
+DEFAULT_SUN_EXTINCTION = zenith_optical_depth()
+
+
+def air_mass(elevation_deg: float) -> float:
+    """Relative optical air mass toward a body ``elevation_deg`` above the horizon: Kasten &
+    Young 1989, m = 1 / (sin h + 0.50572 (h + 6.07995°)^−1.6364), 1 at the zenith and ≈ 38 at
+    the horizon; h is clamped at −1° (the formula's pole is at −6.08°)."""
+    h = max(float(elevation_deg), -1.0)
+    return 1.0 / (math.sin(math.radians(h)) + 0.50572 * (h + 6.07995) ** -1.6364)
+
+
 def light_fade(sin_elevation: float) -> float:
     """Main-light strength near the horizon: a smooth ramp from 0 (sun 2° below the horizon)
     to 1 (4.6° above), so the switch between sun and moon never pops."""
@@ -84,6 +131,9 @@ class Light:
     direction: np.ndarray
     color: tuple[float, float, float]
     intensity: float
+    #: the sky's ambient radiance at this hour, when a sky made the light (the cosine-weighted
+    #: mean radiance of its upper hemisphere: :meth:`Keyframes.ambient_at`); None: none given
+    ambient: tuple[float, float, float] | None = None
 
     @property
     def radiance(self) -> np.ndarray:
@@ -220,6 +270,15 @@ class Keyframes:
         i0, i1, t = self.bracket(hour)
         return (1 - t) * self.frames[i0].stars + t * self.frames[i1].stars
 
+    def ambient_at(self, hour: float, samples: int = 8) -> np.ndarray:
+        """The gradient's ambient radiance on a horizontal surface, (1/π)∫ L cosθ dω over the
+        upper hemisphere: ``samples`` elevations, midpoint rule, weights sin 2·elevation
+        normalised. Twin of ``SkyAmbient`` in glsl/sky/sky_radiance.glsl."""
+        el = (np.arange(samples) + 0.5) / samples * (math.pi / 2)
+        w = np.sin(2.0 * el)
+        colours = self.gradient_at(el / (math.pi / 2), hour)
+        return (w[:, None] * colours).sum(axis=0) / w.sum()
+
     def texture_data(self) -> np.ndarray:
         """``(n_keyframes, GRADIENT_TEXELS, 4)`` float32: texel i of row k is keyframe k's
         gradient at elevation i / (texels − 1). The GPU interpolates along elevation by linear
@@ -270,16 +329,17 @@ class DayNight:
     sun_color: tuple[float, float, float] = (1.0, 1.0, 1.0)
     moon_color: tuple[float, float, float] = (1.0, 1.0, 1.0)
     moon_light: float = 0.08
-    sun_extinction: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    #: zenith optical depths (R, G, B) that redden the sun; (0, 0, 0) = the thesis's constant
+    sun_extinction: tuple[float, float, float] = DEFAULT_SUN_EXTINCTION
 
     def sun_transmittance(self, sin_elevation: float) -> np.ndarray:
-        """exp(−τ·(m − 1)) per channel: the sun's colour through m air masses (Kasten & Young
-        1989, elevation clamped at −1°), relative to the zenith, for zenith optical depths τ."""
+        """exp(−τ·(m − 1)) per channel: the sun's colour through m air masses
+        (:func:`air_mass`), relative to the zenith (so the thesis's _SunCol is the colour of
+        the sun overhead), for zenith optical depths τ (:func:`zenith_optical_depth`)."""
         tau = np.asarray(self.sun_extinction, dtype=float)
         if not np.any(tau):
             return np.ones(3)
-        h = max(math.degrees(math.asin(max(-1.0, min(1.0, sin_elevation)))), -1.0)
-        m = 1.0 / (math.sin(math.radians(h)) + 0.50572 * (h + 6.07995) ** -1.6364)
+        m = air_mass(math.degrees(math.asin(max(-1.0, min(1.0, sin_elevation)))))
         return np.exp(-tau * (m - 1.0))
 
     def advance(self, dt: float) -> None:
@@ -293,8 +353,10 @@ class DayNight:
         moon = -sun  # opposite the sun, as in the thesis
         sun_color = tuple(float(c)
                           for c in np.asarray(self.sun_color) * self.sun_transmittance(sun[1]))
-        sun_light = Light("sun", sun, sun_color, light_fade(sun[1]))
-        moon_light = Light("moon", moon, self.moon_color, self.moon_light * light_fade(moon[1]))
+        ambient = tuple(float(c) for c in self.keyframes.ambient_at(self.hour))
+        sun_light = Light("sun", sun, sun_color, light_fade(sun[1]), ambient)
+        moon_light = Light("moon", moon, self.moon_color, self.moon_light * light_fade(moon[1]),
+                           ambient)
         main = sun_light if sun[1] >= moon[1] else moon_light
         return DayNightState(
             hour=self.hour,

@@ -37,9 +37,11 @@
 //    optional multiple-scattering octaves (Wrenninge 2013, beyond the thesis):
 //       E = 2 (1 − e^(−2 b d_s)) · Σ_{i<n} B^i e^(−A^i b d_s) IOS(cos θ; c^i in_s, c^i out_s, c^i cs_i)
 //    with A ≤ B enforced (A ← min(A, B)) so energy does not grow; n = 1 is spec/001 eq. 4.23
-//    exactly. The in-scattered radiance is S = (E · uLightScale + uAmbient) · light radiance
-//    (ambient: beyond the thesis, 0 gives the thesis's model, whose direct light is 0 where
-//    d_s = 0, erratum item 11).
+//    exactly. The in-scattered radiance is S = E · uLightScale · light radiance + ambient
+//    (ambient: beyond the thesis, uAmbientRadiance from the CPU: uAmbient · light radiance
+//    plus clouds.sky_ambient · the sky's ambient radiance when the light comes from the
+//    day–night sky; both 0 give the thesis's model, whose direct light is 0 where d_s = 0,
+//    erratum item 11).
 // 5. Integration over a step of length Δt:
 //       naive sum (the theses):          C += T · S · σ Δt
 //       energy-conserving (Hillaire 2016): C += T · S · (1 − e^(−σ Δt))
@@ -93,7 +95,7 @@ uniform float uLightStepFraction;    // @param 0.5 [0.05, 2] step=0.05 §1.6 lig
 uniform float uConeSpread;           // @param 0.5 [0, 2] step=0.05 §1.6 cone half-width per metre travelled toward the light
 uniform float uCheapLightThreshold;  // @param 0.3 [0, 10] step=0.05 §1.6 accumulated d_s above which light samples are shape-only
 uniform float uLightLodStep;         // @param 1 [0, 4] step=0.25 §1.6 texture LOD added per light sample
-uniform float uAmbient;              // @param 0.3 [0, 4] step=0.01 beyond the thesis: isotropic ambient radiance as a fraction of the light's (0 = the thesis)
+uniform float uAmbient;              // @param 0.3 [0, 4] step=0.01 beyond the thesis: isotropic ambient radiance as a fraction of the light's (0 = the thesis; the CPU folds it into uAmbientRadiance)
 uniform float uLightScale;           // @param 10 [0, 100] step=0.1 direct light = E · this · light radiance (phase values are ~0.08/sr; the thesis remaps its sums instead)
 uniform float uExtinction;           // @param 3 [0, 100] step=0.1 view-ray extinction per unit density, in 1/L_ref (the thesis's alpha = Σ of its samples; see 2.)
 
@@ -121,6 +123,7 @@ uniform int uContainer;              // 0 box, 1 the shell between two spheres (
 // ---- set by app/effects/clouds/effect.py ------------------------------------------------------
 uniform vec3 uLightDir;          // unit, toward the light
 uniform vec3 uLightRadiance;     // linear (without uLightScale)
+uniform vec3 uAmbientRadiance;   // isotropic ambient in-scattered radiance (CPU, see the header)
 uniform float uDensityLength;    // L_ref in metres (see 2. above)
 uniform vec2 uWeatherOffset;     // wind offsets in texture units, wrapped into [0, 1)
 uniform vec2 uShapeOffset;
@@ -247,7 +250,7 @@ void main() {
     float dt0 = (seg.y - seg.x) / float(max(uSteps, 1));
     float jitter = uJitter ? InterleavedGradientNoise(vec2(pixel) + 0.5) : 0.5;
     float cosTheta = dot(uLightDir, dir);
-    vec3 ambient = uAmbient * uLightRadiance;
+    vec3 ambient = uAmbientRadiance;
     vec3 direct = uLightScale * uLightRadiance;
 
     float T = 1.0;

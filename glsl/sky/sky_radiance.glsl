@@ -21,7 +21,27 @@
 //  * the 1e-4 clamp keeps the sun finite at its centre (peak 400.7 × SunCol at the defaults);
 //  * asin/atan2 arguments are clamped (a normalised vector can exceed 1 by rounding);
 //  * beyond the thesis (switchable): the Earth hides sun, moon and stars below the horizon.
-// Twin for tests: app/sim/sky.py (mie_phase, sun_term, halo_term).
+//
+// Below the horizon the thesis shows the gradient clamped at the horizon colour (a flat band;
+// uGround = 0, darkened by uBelowHorizon). Beyond the thesis, uGround = 1 draws a calm sea plane
+// at y = 0 seen from uEyeHeight (the sky at sea level has no other ground):
+//   sea  = mix(body, reflected, F) + glitter, then haze toward the horizon colour over distance
+//   F    = Schlick 1994 Fresnel, F0 = 0.0204 (n = 1.333), at the incidence the waves leave,
+//          cos = sqrt((n·v)² + mss) (facets tilted by the rms slope: a rough sea's horizon is
+//          darker than the sky's); n = up
+//   reflected = gradient + halo toward the mirrored direction at that incidence (no sun or
+//          moon disk: the glitter is their reflection, spread by the waves)
+//   body = uSeaColor · (sky ambient + E·max(l.y, 0)/π), sky ambient = the cosine-weighted mean
+//          of the gradient over the upper hemisphere; E = the main light (sun by day, moon by
+//          night, already reddened by the air mass on the CPU)
+//   glitter = E · F(v·h) · Beckmann(n·h, mss) · G / (4 n·v), mss = Cox & Munk 1954's slope
+//          variance 0.003 + 0.00512·U for the wind U (CPU)
+//   haze = 1 − exp(−(uEyeHeight / n·v) / 12 km), toward the horizon colour (gradient + halo)
+// Failure cases of the sea: n·v and v·h clamped before division (the glitter stays finite at
+// the horizon, where the haze and F → 1 meet the sky continuously); the horizontal direction of
+// a ray straight down is kept non-zero before normalising.
+// Twins for tests: app/sim/sky.py (mie_phase, sun_term, halo_term); the sky ambient:
+// app.sim.daynight.Keyframes.ambient_at.
 // =============================================================================================
 #include "math.glsl"
 
@@ -36,7 +56,16 @@ uniform float uStarIntensity;       // @param 1 [0, 5] step=0.05 §1.7 _StarInte
 uniform vec3 uMoonColor;            // @param (1, 1, 1) [0, 1] color §1.7 _MoonCol: moon colour (also the main light's colour by night)
 uniform float uMoonIntensity;       // @param 1.2 [1, 3] step=0.05 §1.7 _MoonIntensity: moon disk brightness
 uniform bool uHorizonOcclusion;     // @param true beyond the thesis: the Earth hides sun, moon and stars below the horizon
-uniform float uBelowHorizon;        // @param 1 [0, 1] step=0.01 beyond the thesis: brightness below the horizon (1 = the thesis's clamped horizon colour)
+uniform float uBelowHorizon;        // @param 1 [0, 1] step=0.01 beyond the thesis: brightness below the horizon (1 = the thesis's clamped horizon colour; sky.ground = horizon only)
+uniform vec3 uSeaColor;             // @param (0.01, 0.045, 0.06) [0, 1] color beyond the thesis: the sea plane's body colour, upwelling radiance per unit of irradiance/π (sky.ground = sea)
+uniform float uSeaHaze;             // @param 12000 [100, 100000] step=100 unit=m beyond the thesis: distance over which the sea plane fades into the horizon colour
+
+uniform int uGround;                // 0 = the thesis's horizon colour, 1 = the sea (sky.ground)
+uniform vec3 uMainLightDir;         // toward the main light (sun by day, moon by night)
+uniform vec3 uMainLightRadiance;    // its colour × intensity
+uniform float uSeaMss;              // Cox–Munk slope variance of the sea plane's glitter
+uniform float uSeaGlitter;          // 1; 0 in the cubemap without the sun
+uniform float uEyeHeight;           // metres above the sea plane (≥ 0.5)
 
 uniform vec3 uSunDir;        // unit vector toward the sun (the thesis's −_SunDirectionWS)
 uniform vec3 uMoonDir;       // unit vector toward the moon
@@ -71,15 +100,70 @@ vec3 SkyGradient(float elevationU) {
     return mix(a, b, uGradientMix);
 }
 
+// spec/000 eq. B.4: the halo around the sun, strongest with the sun at the horizon.
+vec3 SkyHalo(vec3 p) {
+    float scatInt = max(0.15, SmoothStepDown(0.6, 0.0, uSunDir.y));
+    return smoothstep(0.5, 1.5, dot(p, uSunDir)) * uSunColor * uScatteringIntensity * scatInt;
+}
+
+// Beyond the thesis: the sky's ambient radiance on a horizontal surface, (1/π)∫ L cosθ dω over
+// the upper hemisphere of the gradient (8 elevations, midpoint rule, weights normalised).
+vec3 SkyAmbient() {
+    vec3 sum = vec3(0.0);
+    float weights = 0.0;
+    for (int i = 0; i < 8; ++i) {
+        float el = (float(i) + 0.5) / 8.0 * HALF_PI;
+        float w = sin(2.0 * el);
+        sum += w * SkyGradient(el / HALF_PI);
+        weights += w;
+    }
+    return sum / weights;
+}
+
+// Isotropic Beckmann distribution of facet normals for the slope variance mss (= m²).
+float SeaBeckmann(float nh, float mss) {
+    float c2 = max(nh * nh, 1e-4);
+    float tan2 = (1.0 - c2) / c2;
+    return exp(-tan2 / mss) / (PI * mss * c2 * c2);
+}
+
+// Beyond the thesis: radiance of the calm sea plane toward p (p.y < 0); see the header.
+vec3 SkySea(vec3 p) {
+    const float SEA_F0 = 0.0204;
+    float nv = max(-p.y, 1e-4);
+    vec3 v = -p;
+    // the waves tilt the facets by ≈ sqrt(mss): the grazing incidence never reaches 90°
+    float nvRough = min(sqrt(nv * nv + uSeaMss), 1.0);
+    vec3 r = normalize(vec3(p.x, 0.0, p.z) * sqrt(1.0 - nvRough * nvRough) / max(length(p.xz), 1e-6)
+                       + vec3(0.0, nvRough, 0.0));
+    float F = SchlickFresnel(SEA_F0, nvRough);
+    vec3 reflected = SkyGradient(asin(nvRough) / HALF_PI) + SkyHalo(r);
+
+    vec3 l = uMainLightDir;
+    vec3 E = uMainLightRadiance;
+    vec3 body = uSeaColor * (SkyAmbient() + E * max(l.y, 0.0) / PI);
+    vec3 h = normalize(l + v);
+    float nh = max(h.y, 0.0);
+    float vh = max(dot(v, h), 1e-3);
+    float nl = max(l.y, 0.0);
+    float G = min(1.0, min(2.0 * nh * nv / vh, 2.0 * nh * nl / vh));
+    vec3 glitter = E * SchlickFresnel(SEA_F0, vh) * SeaBeckmann(nh, uSeaMss) * G / (4.0 * nv);
+    vec3 sea = mix(body, reflected, F) + glitter * uSeaGlitter;
+
+    vec3 level = normalize(vec3(p.x, 1e-4, p.z));
+    vec3 horizon = SkyGradient(0.0) + SkyHalo(level);
+    return mix(sea, horizon, 1.0 - exp(-(uEyeHeight / nv) / uSeaHaze));
+}
+
 // spec/000 eq. B.4: radiance of the sky toward unit direction p (world space, y up).
 vec3 SkyRadiance(vec3 p) {
+    if (uGround == 1 && p.y < 0.0) return SkySea(p);
     vec2 sphereUV = vec2(atan(p.x, p.z) / TWO_PI, asin(ClampCosine(p.y)) / HALF_PI);
     float aboveHorizon = uHorizonOcclusion ? smoothstep(-0.01, 0.0, p.y) : 1.0;
 
     // Sun disk and horizon halo.
     vec3 sun = SkySunAttenuation(p, uSunDir) * uSunIntensity * uSunColor;
-    float scatInt = max(0.15, SmoothStepDown(0.6, 0.0, uSunDir.y));
-    sun += smoothstep(0.5, 1.5, dot(p, uSunDir)) * uSunColor * uScatteringIntensity * scatInt;
+    sun += SkyHalo(p);
 
     vec3 sky = SkyGradient(sphereUV.y);
 

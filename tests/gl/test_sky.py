@@ -15,6 +15,17 @@ from app.sim.camera import Camera
 from app.sim.daynight import Keyframes, sun_direction
 
 ECLIPTIC = (0.0, 0.6, -1.0)
+#: the thesis's sky, which these tests check: its constant sun colour (no air-mass reddening)
+#: and its clamped horizon colour below the horizon (no sea plane)
+THESIS = ["sky.sun_extinction=0,0,0", "sky.ground=horizon", "sky.below_horizon=1"]
+
+
+@pytest.fixture
+def render(render):
+    """The shared ``render`` with the thesis's settings first (a test's own sets follow)."""
+    def _render(scene="sky", size=(160, 90), sets=(), camera=None, **kw):
+        return render(scene, size, [*THESIS, *sets], camera, **kw)
+    return _render
 
 
 def aim_at(direction, size=(101, 101), fov=30.0):

@@ -107,6 +107,11 @@ class Clouds(Effect):
             Param("clouds.sun_from_sky", True, doc="take the light from the frame (a sky's main "
                   "light) when there is one; off: clouds.sun_direction/colour/intensity",
                   kind="bool", section=f"{s} §1.8"),
+            Param("clouds.sky_ambient", 0.25, 0.0, 4.0, "beyond the thesis: isotropic ambient "
+                  "radiance from the sky, as a fraction of its ambient (the cosine-weighted mean "
+                  "radiance of the day–night sky, given with its light), added to clouds.ambient × "
+                  "the light's radiance (0: the light's only; no such sky: none)", step=0.01,
+                  section=f"{s} §1.8"),
             Param("clouds.sun_direction", (0.0, 0.5, -1.0), -1.0, 1.0, "direction toward the light "
                   "when not from the sky (normalised; the zero vector is refused)", kind="vec3",
                   step=0.01, section=f"{s} §1.8"),
@@ -132,6 +137,7 @@ class Clouds(Effect):
         self._applied_preset: str | None = None
         self.light_dir = np.array([0.0, 1.0, 0.0])
         self.light_radiance = np.ones(3)
+        self.ambient_radiance = np.full(3, 0.3)
         self.last_bakes: list = []
 
     # -- presets ---------------------------------------------------------------------------
@@ -169,9 +175,11 @@ class Clouds(Effect):
             self._applied_preset = chosen
         p = self.params
         light = getattr(frame, "main_light", None)
+        sky_ambient = None
         if p["clouds.sun_from_sky"] and light is not None:
             direction = np.asarray(light.direction, dtype=np.float64)
             radiance = np.asarray(light.radiance, dtype=np.float64)
+            sky_ambient = getattr(light, "ambient", None)
         else:
             direction = np.asarray(p["clouds.sun_direction"], dtype=np.float64)
             radiance = (np.asarray(p["clouds.sun_color"], dtype=np.float64)
@@ -182,6 +190,12 @@ class Clouds(Effect):
                              "allowed any non-zero direction")
         self.light_dir = direction / norm
         self.light_radiance = radiance
+        # multiple scattering of the light stands in as clouds.ambient × its radiance; the sky
+        # dome's own light is added when the sky gives it with the light
+        self.ambient_radiance = p["clouds.ambient"] * radiance
+        if sky_ambient is not None:
+            self.ambient_radiance = (self.ambient_radiance
+                                     + p["clouds.sky_ambient"] * np.asarray(sky_ambient, float))
 
     def wind_offset_m(self, time: float) -> np.ndarray:
         """How far the clouds have moved at ``time``, metres along world (x, z)."""
@@ -201,6 +215,7 @@ class Clouds(Effect):
         return {
             "uLightDir": tuple(float(v) for v in self.light_dir),
             "uLightRadiance": tuple(float(v) for v in self.light_radiance),
+            "uAmbientRadiance": tuple(float(v) for v in self.ambient_radiance),
             "uDensityLength": density_length(base, top),
             "uWeatherOffset": tuple(np.mod(wind / p["clouds.weather_scale"], 1.0)),
             "uShapeOffset": tuple(np.mod(wind / p["clouds.shape_scale"], 1.0)),

@@ -23,7 +23,7 @@ from ... import RESOURCES
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
-from ...sim.daynight import DayNight, Keyframes
+from ...sim.daynight import DEFAULT_SUN_EXTINCTION, DayNight, Keyframes
 from ...sim.textures import moon_texture, star_field
 from ..base import Effect, Pass
 
@@ -32,6 +32,12 @@ DEFAULT_KEYFRAMES = RESOURCES / "sky" / "keyframes.toml"
 SKY = fullscreen("sky/sky")
 SKY_FACE = fullscreen("sky/sky_face")
 SKY_CUBEMAP = ProgramSpec("sky/sky_cubemap", requires_compute=True)
+
+#: what the sky shows below the horizon (``sky.ground``; ``uGround`` in sky_radiance.glsl)
+GROUNDS = ("horizon", "sea")
+#: eye height (m) of the sea plane in the environment cubemap: a probe at sea level, so the
+#: cubemap does not depend on the camera and is re-rendered only when the sky changes
+CUBEMAP_EYE_HEIGHT = 2.0
 
 
 class Sky(Effect):
@@ -58,10 +64,19 @@ class Sky(Effect):
                   "height", kind="vec3", step=0.01, section=s),
             Param("sky.moon_light", 0.08, 0.0, 1.0, "main-light intensity of the moon relative to "
                   "the sun", step=0.01, section=s),
-            Param("sky.sun_extinction", (0.0, 0.0, 0.0), 0.0, 2.0,
+            Param("sky.sun_extinction", DEFAULT_SUN_EXTINCTION, 0.0, 2.0,
                   "beyond the thesis: zenith optical depth per channel (R, G, B) that reddens the "
                   "sun and the main light toward the horizon (Kasten–Young air mass, relative to "
-                  "the zenith); 0 = the thesis's constant colour", kind="vec3", step=0.01,
+                  "the zenith); default Rayleigh (Hansen–Travis) + clear maritime aerosol "
+                  "(Ångström β 0.05, α 1) at 680/550/440 nm; 0 = the thesis's constant colour",
+                  kind="vec3", step=0.01, section=s),
+            Param("sky.ground", "horizon", doc="below the horizon: horizon = the thesis's "
+                  "clamped horizon colour (times sky.below_horizon); sea = beyond the thesis, a "
+                  "calm sea plane that reflects the sky (Fresnel), lit by the main light and the "
+                  "sky's ambient, with the main light's glitter and haze toward the horizon",
+                  kind="choice", choices=GROUNDS, section=s),
+            Param("sky.sea_wind", 5.0, 0.0, 30.0, "wind speed that roughens the sea plane's "
+                  "glitter (Cox–Munk slope variance 0.003 + 0.00512·U)", step=0.5, unit="m/s",
                   section=s),
             Param("sky.star_seed", 7, 0, 2**31 - 1, "seed of the procedural star field", kind="int",
                   section=s),
@@ -154,6 +169,12 @@ class Sky(Effect):
             "uSunDir": tuple(st.sun_dir),
             "uMoonDir": tuple(st.moon_dir),
             "uWorldToMoon": st.world_to_moon,
+            "uMainLightDir": tuple(float(v) for v in st.main_light.direction),
+            "uMainLightRadiance": tuple(float(v) for v in st.main_light.radiance),
+            "uGround": GROUNDS.index(self.params["sky.ground"]),
+            "uSeaMss": 0.003 + 0.00512 * self.params["sky.sea_wind"],
+            "uEyeHeight": CUBEMAP_EYE_HEIGHT,
+            "uSeaGlitter": 1.0,
         })
         self.apply_params(prog)
         prog.set("uSunColor", tuple(st.sun.color))  # reddened by sky.sun_extinction (no-op at 0)
@@ -163,6 +184,7 @@ class Sky(Effect):
         prog = self.program(SKY)
         self._bind(prog)
         prog.set_many(frame.camera_uniforms())
+        prog.set("uEyeHeight", max(float(frame.camera.position[1]), 0.5))
         target.use()
         self.gpu.ctx.disable(moderngl.DEPTH_TEST)
         draw_fullscreen(prog)
@@ -204,6 +226,7 @@ class Sky(Effect):
         self._bind(prog)
         if not sun:
             prog.set("uSunIntensity", 0.0)
+            prog.set("uSeaGlitter", 0.0)
         if use_compute:
             prog.set("uFaceSize", size)
             cube.bind_to_image(0, read=False, write=True)
