@@ -1,9 +1,11 @@
 // =============================================================================================
 // Single scattering along a view segment — the thesis's in-scattering integral (spec/002 §1.5)
-//   Color_in = ∫ I_sun · e^(−τ(AP)) · e^(−τ(PC)) · V(P) · (β_R ρ_R(h) P_R(θ) + β_M ρ_M(h) P_M(θ)) ds
+//   Color_in = ∫ I_sun · e^(−τ(AP)) · e^(−τ(PC)) · V(P)
+//              · (β_R ρ_R(h) P_R(θ) + β_M ρ_M(h) P_M(θ)) ds
 // as a midpoint Riemann sum over N_STEPS (§1.7: s = 0.5 … N − 0.5), with τ(PC) accumulated along
 // the outer loop (to the sample's midpoint; the thesis's code adds the whole current step — a
-// switch, uThesisPcRule, keeps that rule for comparison) and τ(AP), the depth
+// switch, uThesisPcRule, keeps that rule: on by default for method 1 only, whose figure it
+// makes, see planet/composite.frag) and τ(AP), the depth
 // toward the sun, from one of:
 //   SUN_DEPTH_BRUTE_FORCE  a nested midpoint sum to the top of the atmosphere (first approximation)
 //   SUN_DEPTH_LUT          the optical-depth ("Chapman") lookup table (second approximation)
@@ -15,14 +17,16 @@
 // =============================================================================================
 
 uniform int uSteps;        // N_STEPS (30 in the thesis)
-uniform bool uThesisPcRule;   // τ(PC) includes the whole current step (the thesis's code) instead of half
+uniform bool uThesisPcRule;   // τ(PC) includes the whole current step (the thesis's code), not half
 uniform int uInnerSteps;   // inner steps of the brute-force sun integral
 
 // Density integral from P (camera-relative) toward the sun to the top of the atmosphere, by a
 // midpoint sum; a huge value when the sun ray hits the planet.
 vec2 SunDepthBruteForce(vec3 P) {
     vec2 ground, top;
-    if (RaySphereIntersect(P, uSunDir, uEarthCenter, uBottomRadius, ground) && ground.x > 0.0) return vec2(1.0e12);
+    if (RaySphereIntersect(P, uSunDir, uEarthCenter, uBottomRadius, ground) && ground.x > 0.0) {
+        return vec2(1.0e12);
+    }
     RaySphereIntersect(P, uSunDir, uEarthCenter, uTopRadius, top);
     float len = top.y;
     if (len <= 0.0) return vec2(0.0);

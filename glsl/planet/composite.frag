@@ -4,8 +4,10 @@
 // G-buffer, the analytic Earth sphere, or space with stars) and the light the atmosphere
 // removes and adds on the way to the camera (spec/002):
 //   METHOD 1  first approximation: nested midpoint sums over the whole camera→object segment,
-//             unclipped, as the thesis did (its black horizon band comes from here) (§2.3)
-//   METHOD 2  second: optical-depth LUT for the sun integral, segment clipped to the atmosphere (§2.4)
+//             unclipped, to the universe sphere for the sky, as the thesis did (its dark
+//             horizon band comes from here, see "Method 1's universe sphere") (§2.3)
+//   METHOD 2  second: optical-depth LUT for the sun integral, segment clipped to the atmosphere
+//             (§2.4)
 //   METHOD 3  final: method 2 + shadow-map visibility V(P) in the integral (light shafts) (§2.5)
 //   METHOD 4  beyond the thesis: Hillaire 2020 transmittance / multiple-scattering / sky-view /
 //             aerial-perspective lookups with the same constants
@@ -14,8 +16,26 @@
 // Debug views (the thesis's figures): 1 = in-scattering on black, 2 = out-scattering on white.
 // Equations: the thesis numbers none; out- and in-scattering are spec/002 §1.4 and §1.5,
 // discretised as in §1.7 (atmosphere/inscatter.glsl), the sun's optical depth via §1.8's LUT.
-// Failure cases: method 1 keeps the thesis's own (the unclipped segment and its black horizon
-// band; rays into space end at uUniverseRadius); methods 2–4 guard rays that miss or only
+// Method 1's universe sphere (§2.3, §2.4 item 2): the thesis's first approximation integrates
+// from the camera to the visible point — for the sky, "the sphere that contains the rest of the
+// scene and represents the universe" — so part of its samples lie outside the atmosphere. Its
+// radius is not given; its figure (§2.3: sun at zenith, N_STEPS = 30) bounds it: the sky is
+// blue, so the zenith ray's 30 steps must reach into the air (a sphere 10 000 km away puts the
+// first sample at 167 km: a black sky above ~15°), while the sphere contains the Earth and
+// the atmosphere — so it hugs them: centred on the Earth, a radius beyond R + 60 km. Default
+// uUniverseRadius = R + 200 km about the Earth's centre [inference]: inside that range, and it
+// contains a space camera at 3 × the atmosphere's height (§9 criterion 19), as the thesis's
+// space views are taken inside it. Then the zenith ray is 200 km long (first sample at 3.3 km)
+// and a horizontal one ~1600 km (53 km steps); with the thesis's τ(PC) rule (the whole step
+// added before use: uThesisPcRule, on for method 1 by default) such a step extinguishes its own
+// sample, so the rows just above the horizon turn dark and the bright orange line moves up to
+// ~4° — the thesis's "orange horizon line displaced upward ... a black band" (§2.3). With the
+// midpoint rule the band all but vanishes (≥ 95 % of method 3 there), so the rule is part of
+// the figure. The worse, black-sky case stays reachable: planet.universe_centre = camera,
+// planet.universe_radius = 1e7 (the rays into space 10 000 km long).
+// Failure cases: method 1 keeps the thesis's own (the unclipped segment and its dark horizon
+// band, see above; a ray into space that misses the universe sphere gets no in-scattering, the
+// sphere containing the atmosphere); methods 2–4 guard rays that miss or only
 // graze the atmosphere (an empty or behind-the-camera segment: no in-scattering, T = 1); the
 // asin of the star lookup is clamped; float32 at planet scale: G-buffer positions are
 // camera-relative and the Earth centre relative to the camera comes from the CPU in double
@@ -54,6 +74,7 @@ uniform bool uSunDisk;
 uniform float uSunDiskCos;        // cos of the sun's angular radius
 uniform float uSunDiskRadiance;
 uniform float uUniverseRadius;    // method 1 integrates to this sphere for rays into space
+uniform vec3 uUniverseCenter;     // its centre relative to the camera: the Earth's, or 0
 uniform int uDebugView;           // 0 final, 1 in-scattering on black, 2 out-scattering on white
 uniform int uGroundShading;       // 0 texture only, 1 Lambert + shadows + sun transmittance
 uniform float uKa;
@@ -65,6 +86,13 @@ vec3 Background(vec3 dir) {
     vec3 c = vec3(saturate(s * s * s * 3.0) * uStarIntensity);
     if (uSunDisk && dot(dir, uSunDir) > uSunDiskCos) c += vec3(uSunDiskRadiance);
     return c;
+}
+
+// Method 1's end of a ray into space: where it leaves the universe sphere (0 if it misses it).
+float UniverseDistance(vec3 dir) {
+    vec2 t;
+    return RaySphereIntersect(vec3(0.0), dir, uUniverseCenter, uUniverseRadius, t) ? max(t.y, 0.0)
+                                                                                    : 0.0;
 }
 
 // The analytic Earth: land and sea from gradient fBm over the sphere, the scene origin on land.
@@ -124,7 +152,7 @@ void main() {
     float t0, t1;
 #if METHOD == 1
     t0 = 0.0;
-    t1 = space ? uUniverseRadius : dist;
+    t1 = space ? UniverseDistance(dir) : dist;
 #else
     vec2 seg = AtmosphereSegment(dir, space ? 1.0e30 : dist);
     t0 = seg.x;

@@ -157,11 +157,6 @@ def sun_sets(elevation, azimuth=180.0, **more) -> dict:
     return {"planet.sun_elevation": float(elevation), "planet.sun_azimuth": float(azimuth), **more}
 
 
-def pc_rule(planet) -> str:
-    """The view-ray accumulation rule the GPU uses (twins must use the same)."""
-    return str(planet.params.get("planet.pc_rule", "thesis"))
-
-
 # ---- boxes: analytic geometry of the city (planet_geometry.boxes, same radius) -----------------
 
 def box_bounds() -> tuple[np.ndarray, np.ndarray]:

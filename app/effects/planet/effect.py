@@ -37,6 +37,10 @@ from .geometry import albedo_texture, boxes, mountains, normal_texture
 METHODS = ("brute_force", "lut", "shadowed", "hillaire")
 DEBUG_VIEWS = ("final", "in_scatter", "out_scatter")
 SURFACES = ("by_method", "texture", "phong")
+PC_RULES = ("by_method", "midpoint", "thesis")
+#: method 1's universe sphere about the Earth's centre: 200 km above the sea (see
+#: glsl/planet/composite.frag, "Method 1's universe sphere")
+UNIVERSE_RADIUS = atm.BOTTOM_RADIUS_M + 200_000.0
 
 COMPOSITE = {m: ProgramSpec("planet/composite", vert="common/fullscreen.vert",
                             frag="planet/composite.frag", defines=(("METHOD", i + 1),))
@@ -52,6 +56,15 @@ SHADOW_HALF = 17000.0
 sun_direction = atm.direction
 #: the thesis's variable exposure clamp(1 − cos γ / 4, 0, 1) (spec/002 §1.6)
 pupil = atm.pupil
+
+
+def resolve_pc_rule(rule: str, method: str) -> str:
+    """The τ(PC) rule ``planet.pc_rule`` means for ``method``: ``by_method`` is the thesis's
+    (the whole step, §2.3) for method 1, whose figure it makes, and the midpoint rule for the
+    others; ``midpoint`` and ``thesis`` mean themselves (the numpy twins take these two)."""
+    if rule == "by_method":
+        return "thesis" if method == "brute_force" else "midpoint"
+    return rule
 
 
 def light_view_proj(sun_dir: np.ndarray) -> np.ndarray:
@@ -81,10 +94,11 @@ class Planet(Effect):
                   section=f"{s} §1.7"),
             Param("planet.inner_steps", 30, 1, 512, "steps of the brute-force sun integral (method "
                   "1)", kind="int", section=f"{s} §2.3"),
-            Param("planet.pc_rule", "midpoint", doc="depth from the camera to each sample: "
-                  "midpoint (half the current step) or thesis (the whole step, as its code: ~50 % "
-                  "error on the horizon at N = 30)", kind="choice", choices=("midpoint", "thesis"),
-                  section=f"{s} §2.3"),
+            Param("planet.pc_rule", "by_method", doc="depth from the camera to each sample: "
+                  "midpoint (half the current step), thesis (the whole step, as its code: ~50 % "
+                  "error on the horizon at N = 30), or by_method (thesis for method 1, which "
+                  "reproduces the thesis's figure with it; midpoint for methods 2–3)",
+                  kind="choice", choices=PC_RULES, section=f"{s} §2.3"),
             Param("planet.lut_height", 256, 8, 2048, "optical-depth LUT rows (height)", kind="int",
                   section=f"{s} §1.8"),
             Param("planet.lut_angle", 256, 8, 2048, "optical-depth LUT columns (cos Φ)", kind="int",
@@ -124,8 +138,15 @@ class Planet(Effect):
                   "shows only the Mie halo)", kind="bool"),
             Param("planet.star_intensity", 0.08, 0.0, 5.0,
                   "brightness of the stars on the universe sphere"),
-            Param("planet.universe_radius", 1.0e7, 1.0e5, 1.0e9, "radius of the universe sphere "
-                  "method 1 integrates to", unit="m", section=f"{s} §2.4"),
+            Param("planet.universe_radius", UNIVERSE_RADIUS, 1.0e5, 1.0e9, "radius of the "
+                  "universe sphere method 1 integrates rays into space to (default: 200 km above "
+                  "the sea about the Earth's centre, a blue sky and a dark band at the horizon as "
+                  "the thesis's figure; 1e7 with universe_centre = camera: the first sample at "
+                  "167 km, a black sky above ~15°)", unit="m", section=f"{s} §2.4"),
+            Param("planet.universe_centre", "earth", doc="centre of method 1's universe sphere: "
+                  "the Earth's (a sphere containing the scene, as the thesis's) or the camera's (a "
+                  "dome that follows it: every ray into space is universe_radius long)",
+                  kind="choice", choices=("earth", "camera"), section=f"{s} §2.4"),
         ]
 
     def __init__(self, gpu, params):
@@ -163,8 +184,19 @@ class Planet(Effect):
             "uSunDir": tuple(self.sun_dir),
         }
 
+    def universe_centre(self, frame) -> tuple:
+        """Centre of method 1's universe sphere relative to the camera."""
+        if self.params["planet.universe_centre"] == "camera":
+            return (0.0, 0.0, 0.0)
+        centre = np.array([0.0, -self.model().bottom_radius, 0.0])
+        return tuple((centre - self.camera_local(frame)).astype(np.float32))
+
     def method(self) -> str:
         return self.params["planet.method"]
+
+    def pc_rule(self) -> str:
+        """The τ(PC) rule in use (``midpoint`` or ``thesis``)."""
+        return resolve_pc_rule(self.params["planet.pc_rule"], self.method())
 
     def shading(self) -> int:
         s = self.params["planet.surface"]
@@ -356,10 +388,11 @@ class Planet(Effect):
             "uSunDisk": p["planet.sun_disk"], "uSunDiskCos": math.cos(math.radians(0.27)),
             "uSunDiskRadiance": 100.0 * self.model().sun_intensity,
             "uUniverseRadius": p["planet.universe_radius"],
+            "uUniverseCenter": self.universe_centre(frame),
             "uDebugView": DEBUG_VIEWS.index(p["planet.debug_view"]),
             "uGroundShading": self.shading(),
             "uSteps": p["planet.n_steps"], "uInnerSteps": p["planet.inner_steps"],
-            "uThesisPcRule": p["planet.pc_rule"] == "thesis",
+            "uThesisPcRule": self.pc_rule() == "thesis",
         })
         if self._gradient is None:
             from ...render.noise import GradientNoiseTextures
