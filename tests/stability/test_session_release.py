@@ -1,0 +1,68 @@
+"""Sessions release everything: a script or a test suite that opens and releases many sessions
+must not grow without bound (each kept EGL context cost 8–35 MB)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from app import PROJECT_ROOT
+
+CYCLES = 100
+BOUND_MB = 20.0
+
+# Runs in a fresh interpreter so the figure is this loop's alone (not the test session's heap).
+_LOOP = textwrap.dedent("""
+    import json, os, sys
+    from app.runtime import open_session, render_frames
+
+    def rss_mb():
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 1e6
+
+    scene, cycles = sys.argv[1], int(sys.argv[2])
+    def cycle():
+        s = open_session(scene)
+        next(render_frames(s, (64, 36)))
+        s.release()
+        return s
+    for _ in range(3):  # warm: imports, first compiles, numpy caches
+        cycle()
+    start = rss_mb()
+    for _ in range(cycles):
+        s = cycle()
+    print(json.dumps({"growth_mb": rss_mb() - start,
+                      "context_released": type(s.gpu.ctx.mglo).__name__ == "InvalidObject"}))
+""")
+
+
+@pytest.mark.parametrize("scene", ["sky", "ocean"])
+def test_hundred_sessions_grow_rss_by_less_than_20_mb(scene):
+    r = subprocess.run([sys.executable, "-c", _LOOP, scene, str(CYCLES)], cwd=PROJECT_ROOT,
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr[-2000:]
+    out = json.loads(r.stdout.strip().splitlines()[-1])
+    assert out["context_released"]
+    assert out["growth_mb"] < BOUND_MB, (
+        f"{CYCLES} open/release cycles of {scene!r} grew RSS by {out['growth_mb']:.1f} MB "
+        f"(allowed < {BOUND_MB:g} MB)")
+
+
+def test_release_frees_the_context_it_made_and_not_a_given_one(gl_ctx):
+    from app.gpu.device import Gpu
+
+    own = Gpu()
+    own.release()
+    own.release()  # twice is harmless
+    assert not own.owns_context
+    assert type(own.ctx.mglo).__name__ == "InvalidObject"  # moderngl's mark of a released one
+
+    given = Gpu(gl_ctx)
+    given.texture("test", "t", (4, 4), 4)
+    given.release()
+    assert not given.allocations
+    gl_ctx.texture((1, 1), 4).release()  # the caller's context still works
