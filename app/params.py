@@ -14,14 +14,39 @@ snake_case). See :func:`parse_glsl_annotations` for the full grammar.
 
 from __future__ import annotations
 
+import difflib
 import math
+import os
 import re
+import reprlib
+import stat
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterable
 
-from .errors import ParamError
+from .errors import ParamError, one_line, quote
+
+#: the largest preset file read (a preset is a few kB; /dev/zero or a huge file is refused)
+PRESET_LIMIT = 1 << 20
+_PRESET_ALLOWED = "allowed a UTF-8 TOML file of at most 1 MB"
+
+_SHOW = reprlib.Repr()
+_SHOW.maxstring = 50
+_SHOW.maxother = 50
+_SHOW.maxlevel = 3
+_SHOW.maxlist = _SHOW.maxtuple = _SHOW.maxdict = 6
+
+
+def show(value: Any) -> str:
+    """A value as a short repr for messages: long strings, deep or long lists, huge integers
+    are cut, and nothing here raises."""
+    if isinstance(value, str):
+        return quote(value)
+    try:
+        return quote(_SHOW.repr(value)).strip("'\"")
+    except Exception:  # noqa: BLE001 — e.g. an int too long to print
+        return f"<a {type(value).__name__}>"
 
 KINDS = ("float", "int", "bool", "vec3", "vec4", "color", "choice")
 #: number of components of each vector kind
@@ -86,15 +111,20 @@ class Param:
         return f"a number in {rng}"
 
     def _bad(self, value, why: str) -> ParamError:
-        return ParamError(f"{self.name}={value!r} {why}: allowed {self.allowed()}")
+        return ParamError(f"{self.name}={show(value)} {why}: allowed {self.allowed()}")
 
     def _scalar(self, value, original) -> float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
+            if not isinstance(value, str):
+                raise self._bad(original, "is not a number")
             try:
-                value = float(str(value).strip())
+                value = float(value.strip())
             except ValueError:
                 raise self._bad(original, "is not a number") from None
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:  # an integer beyond any float (a TOML preset may hold one)
+            raise self._bad(original, "is not finite") from None
         if not math.isfinite(value):
             raise self._bad(original, "is not finite")
         if self.lo is not None and value < self.lo - 1e-12:
@@ -104,11 +134,22 @@ class Param:
         return value
 
     def validate(self, value: Any) -> Any:
-        """Return ``value`` converted to this parameter's type, or raise :class:`ParamError`."""
+        """Return ``value`` converted to this parameter's type, or raise :class:`ParamError`
+        (and nothing else, whatever ``value`` is)."""
+        try:
+            return self._validate(value)
+        except ParamError:
+            raise
+        except (ValueError, TypeError, OverflowError, RecursionError, AttributeError):
+            raise self._bad(value, "is not a valid value") from None
+
+    def _validate(self, value: Any) -> Any:
         original = value
         if self.kind == "bool":
             if isinstance(value, bool):
                 return value
+            if isinstance(value, (list, tuple, dict)):
+                raise self._bad(original, "is not a boolean")
             text = str(value).strip().lower()
             if text in ("1", "true", "yes", "on"):
                 return True
@@ -116,7 +157,9 @@ class Param:
                 return False
             raise self._bad(original, "is not a boolean")
         if self.kind == "choice":
-            text = str(value).strip()
+            if not isinstance(value, str):
+                raise self._bad(original, "is not a choice")
+            text = value.strip()
             if text not in self.choices:
                 raise self._bad(original, "is not a choice")
             return text
@@ -131,10 +174,9 @@ class Param:
                         raise self._bad(original, "is not a colour") from None
                 else:
                     value = [v for v in re.split(r"[,\s]+", text) if v]
-            try:
-                items = list(value)
-            except TypeError:
-                raise self._bad(original, f"is not {_WORDS[n]} numbers") from None
+            if not isinstance(value, (list, tuple)):
+                raise self._bad(original, f"is not {_WORDS[n]} numbers")
+            items = list(value)
             if len(items) != n:
                 raise self._bad(original, f"is not {_WORDS[n]} numbers")
             return tuple(self._scalar(v, original) for v in items)
@@ -214,8 +256,8 @@ class ParamSet:
             if len(matches) == 1:
                 return matches[0]
             if len(matches) > 1:
-                raise ParamError(f"parameter {name!r} is ambiguous: allowed "
-                                 + ", ".join(sorted(matches)))
+                raise ParamError(one_line(f"parameter {quote(name)} is ambiguous: allowed "
+                                          + ", ".join(sorted(matches))))
         raise self._unknown(name)
 
     def spec(self, name: str) -> Param:
@@ -228,10 +270,17 @@ class ParamSet:
         return out
 
     def _unknown(self, name: str) -> ParamError:
+        """One line: every allowed name when they fit, else the closest ones (or the groups)
+        and where the full list is."""
         group = name.split(".", 1)[0]
         same = [p.name for p in self._params.values() if p.group == group]
-        pool = same or list(self._params)
-        return ParamError(f"unknown parameter {name!r}: allowed " + ", ".join(sorted(pool)))
+        pool = sorted(same or list(self._params))
+        head = f"unknown parameter {quote(name)}: allowed "
+        if len(head) + len(", ".join(pool)) <= 190:
+            return ParamError(head + ", ".join(pool))
+        close = difflib.get_close_matches(name[:200], pool, n=3, cutoff=0.6)
+        shown = ", ".join(close) if close else "names in " + ", ".join(sorted(self.groups()))
+        return ParamError(one_line(f"{head}{shown}, … (all: natura params SCENE)"))
 
     # -- values ----------------------------------------------------------------------------
     def __getitem__(self, name: str) -> Any:
@@ -251,7 +300,7 @@ class ParamSet:
     def set_from_string(self, assignment: str) -> None:
         """Apply ``name=value`` as given to ``--set``."""
         if "=" not in assignment:
-            raise ParamError(f"--set {assignment!r} is not name=value: "
+            raise ParamError(f"--set {quote(assignment)} is not name=value: "
                              "allowed e.g. sky.sun_size=0.1")
         name, _, value = assignment.partition("=")
         self.set(name.strip(), value.strip())
@@ -271,18 +320,30 @@ class ParamSet:
 
     # -- presets ---------------------------------------------------------------------------
     def load_preset(self, path: Path) -> None:
-        """Apply a TOML preset: one table per group, ``[sky] sun_size = 0.05``."""
+        """Apply a TOML preset: one table per group, ``[sky] sun_size = 0.05``. Any problem
+        with the file (missing, a folder, a pipe or device, unreadable, too large, not UTF-8,
+        not TOML, nested too deeply, a value out of range) is one :class:`ParamError` line."""
+        name = quote(str(path), 40)
+        text = read_preset_text(path)
         try:
-            data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise ParamError(f"preset {str(path)!r} does not exist") from None
+            data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
-            raise ParamError(f"preset {str(path)!r} is not valid TOML: {exc}") from None
+            raise ParamError(one_line(f"preset {name} is not valid TOML ({str(exc)[:70]}): "
+                                      f"{_PRESET_ALLOWED}")) from None
+        except RecursionError:
+            raise ParamError(f"preset {name} nests too deeply: {_PRESET_ALLOWED}") from None
+        except (ValueError, OverflowError, MemoryError) as exc:  # e.g. an int of 5000 digits
+            raise ParamError(one_line(f"preset {name} holds a value Python cannot read "
+                                      f"({type(exc).__name__}): {_PRESET_ALLOWED}")) from None
         for group, table in data.items():
             if not isinstance(table, dict):
-                raise ParamError(f"preset {str(path)!r}: {group!r} must be a table like [{group}]")
+                raise ParamError(f"preset {name}: {quote(group, 30)} must be a table like "
+                                 f"[{quote(group, 30)[1:-1]}]: allowed one table per group")
             for key, value in table.items():
-                self.set(f"{group}.{key}", value)
+                try:
+                    self.set(f"{group}.{key}", value)
+                except ParamError as exc:
+                    raise ParamError(one_line(f"preset {quote(str(path), 40)}: {exc}")) from None
 
     def preset_text(self, title: str = "") -> str:
         """The current values as a TOML preset (every parameter, grouped)."""
@@ -292,6 +353,52 @@ class ParamSet:
             for p in params:
                 lines.append(f"{p.short} = {_toml_value(self._values[p.name])}")
         return "\n".join(lines) + "\n"
+
+
+def read_preset_text(path: str | os.PathLike) -> str:
+    """The text of a preset file, or :class:`ParamError`: the file must be a regular file
+    (checked before opening, so a named pipe cannot block), readable, at most
+    :data:`PRESET_LIMIT` bytes, and UTF-8."""
+    name = quote(str(path))
+
+    def refuse(why: str) -> ParamError:
+        return ParamError(f"preset {name} {why}: {_PRESET_ALLOWED}")
+
+    try:
+        p = Path(path).expanduser()
+    except RuntimeError:  # ~nosuchuser
+        raise refuse("names an unknown user's home folder") from None
+    try:
+        st = p.stat()
+    except (FileNotFoundError, NotADirectoryError):
+        raise refuse("does not exist") from None
+    except OSError as exc:  # a link loop, a name too long...
+        raise refuse(f"cannot be opened ({exc.strerror or type(exc).__name__})") from None
+    except ValueError:  # a NUL byte in the name
+        raise refuse("is not a valid file name") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise refuse("is a folder")
+    if not stat.S_ISREG(st.st_mode):
+        raise refuse("is not a regular file (a pipe, socket or device)")
+    if st.st_size > PRESET_LIMIT:
+        raise refuse(f"is {st.st_size} bytes")
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
+    try:
+        fd = os.open(p, flags)
+        with os.fdopen(fd, "rb") as f:
+            if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):  # swapped since the check
+                raise refuse("is not a regular file (a pipe, socket or device)")
+            data = f.read(PRESET_LIMIT + 1)
+    except PermissionError:
+        raise refuse("is not readable (permission denied)") from None
+    except OSError as exc:
+        raise refuse(f"cannot be read ({exc.strerror or type(exc).__name__})") from None
+    if len(data) > PRESET_LIMIT:
+        raise refuse("is larger than 1 MB")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise refuse(f"is not UTF-8 (byte {exc.start})") from None
 
 
 def _toml_value(v: Any) -> str:
@@ -331,7 +438,8 @@ def param_name_from_uniform(uniform: str) -> str:
 
 
 def parse_glsl_annotations(text: str, group: str, source: str = "",
-                           spec_doc: str = "") -> list[Param]:
+                           spec_doc: str = "",
+                           problems: list[tuple[int, str]] | None = None) -> list[Param]:
     """Parameters declared by ``// @param`` comments on uniforms.
 
     Grammar (after ``@param``)::
@@ -340,73 +448,100 @@ def parse_glsl_annotations(text: str, group: str, source: str = "",
 
     DEFAULT is a number, ``true``/``false`` (bool uniforms) or ``(a, b, c)`` (vec3). The range
     is required except for bools. ``color`` marks a vec3 as a colour (colour-picker widget).
-    A malformed annotation raises :class:`ParamError` naming the file and line.
+    A malformed annotation raises :class:`ParamError` naming the file and line; with a
+    ``problems`` list it is skipped instead and ``(line, message)`` appended there (a live
+    reload keeps the parameter's last good declaration). Lines are counted as the compiler
+    counts them (only ``\\n`` ends one).
     """
     out = []
-    for lineno, line in enumerate(text.splitlines(), 1):
-        m = _ANNOTATION.match(line)
-        if not m:
-            if "@param" in line and re.match(r"^\s*uniform\b", line):
-                raise ParamError(
-                    f"{source}:{lineno}: @param on an unsupported uniform: "
-                    "allowed float, int, bool, vec3, vec4"
-                )
-            continue
-        gtype, uname, rest = m["type"], m["name"], m["rest"].strip()
-        where = f"{source}:{lineno}"
-        d = _DEFAULT.match(rest)
-        if not d:
-            raise ParamError(f"{where}: @param needs a default first: "
-                             "allowed a number, true/false or (a, b, c)")
-        default_text = d["default"]
-        rest = rest[d.end():]
-        lo = hi = None
-        r = _RANGE.match(rest)
-        if r:
-            lo, hi = float(r["lo"]), float(r["hi"])
-            rest = rest[r.end():]
-        elif gtype != "bool":
-            raise ParamError(f"{where}: @param needs a range [lo, hi] after the default")
-        opts: dict[str, Any] = {}
-        while True:
-            o = _OPTION.match(rest)
-            if not o:
-                break
-            if o["key"]:
-                opts[o["key"]] = o["value"]
-            elif o["color"]:
-                opts["color"] = True
-            else:
-                opts["section"] = o["section"]
-            rest = rest[o.end():]
-        kind = gtype
-        if kind == "vec3" and opts.get("color"):
-            kind = "color"
-        if kind in COMPONENTS:
-            default: Any = default_text.strip("()")
-        elif kind == "bool":
-            default = default_text
-        else:
-            default = float(default_text)
-        section = opts.get("section", "")
-        if section and spec_doc:
-            section = f"{spec_doc} {section}"
+    for lineno, line in enumerate(text.split("\n"), 1):
         try:
-            param = Param(
-                name=f"{group}.{param_name_from_uniform(uname)}",
-                default=default,
-                lo=lo,
-                hi=hi,
-                doc=rest.strip(),
-                kind=kind,
-                step=float(opts["step"]) if "step" in opts else None,
-                unit=opts.get("unit", ""),
-                section=section,
-                uniform=uname,
-                source=source or "glsl",
-            )
+            param = _annotation(line, group, source, spec_doc)
         except ParamError as exc:
-            raise ParamError(f"{where}: default {exc}") from None
-        out.append(param)
+            if problems is None:
+                raise ParamError(f"{source}:{lineno}: {exc}") from None
+            problems.append((lineno, str(exc)))
+            continue
+        if param is not None:
+            out.append(param)
     return out
 
+
+_SUPPORTED = re.compile(r"^\s*uniform\s+(?:float|int|bool|vec3|vec4)\s+\w+\s*;\s*//\s*@param\s*$")
+
+
+def _annotation(line: str, group: str, source: str, spec_doc: str) -> Param | None:
+    """The parameter one line declares (``None`` if it declares none); :class:`ParamError`
+    (without the file and line) for a malformed annotation."""
+    m = _ANNOTATION.match(line)
+    if not m:
+        if _SUPPORTED.match(line):
+            raise ParamError("@param needs a default first: "
+                             "allowed a number, true/false or (a, b, c)")
+        if "@param" in line and re.match(r"^\s*uniform\b", line):
+            raise ParamError("@param on an unsupported uniform: "
+                             "allowed float, int, bool, vec3, vec4")
+        return None
+    gtype, uname, rest = m["type"], m["name"], m["rest"].strip()
+    d = _DEFAULT.match(rest)
+    if not d:
+        raise ParamError("@param needs a default first: "
+                         "allowed a number, true/false or (a, b, c)")
+    default_text = d["default"]
+    rest = rest[d.end():]
+    lo = hi = None
+    r = _RANGE.match(rest)
+    if r:
+        lo, hi = float(r["lo"]), float(r["hi"])
+        rest = rest[r.end():]
+    elif gtype != "bool":
+        raise ParamError("@param needs a range [lo, hi] after the default")
+    opts: dict[str, Any] = {}
+    while True:
+        o = _OPTION.match(rest)
+        if not o:
+            break
+        if o["key"]:
+            opts[o["key"]] = o["value"]
+        elif o["color"]:
+            opts["color"] = True
+        else:
+            opts["section"] = o["section"]
+        rest = rest[o.end():]
+    kind = gtype
+    if kind == "vec3" and opts.get("color"):
+        kind = "color"
+    default: Any
+    if kind in COMPONENTS:
+        default = default_text.strip("()")
+    elif kind == "bool":
+        default = default_text
+    elif default_text.startswith("(") or default_text in ("true", "false"):
+        raise ParamError(f"default {default_text} does not suit a {gtype} uniform: "
+                         "allowed a number")
+    else:
+        default = float(default_text)
+    step = None
+    if "step" in opts:
+        if not re.fullmatch(_NUMBER, opts["step"]):
+            raise ParamError(f"step={opts['step']} is not a number: allowed e.g. step=0.01")
+        step = float(opts["step"])
+    section = opts.get("section", "")
+    if section and spec_doc:
+        section = f"{spec_doc} {section}"
+    try:
+        return Param(
+            name=f"{group}.{param_name_from_uniform(uname)}",
+            default=default,
+            lo=lo,
+            hi=hi,
+            doc=rest.strip(),
+            kind=kind,
+            step=step,
+            unit=opts.get("unit", ""),
+            section=section,
+            uniform=uname,
+            source=source or "glsl",
+        )
+    except (ParamError, ValueError, TypeError) as exc:
+        raise ParamError(f"default {exc}") from None

@@ -29,7 +29,7 @@ import numpy as np
 from ..errors import GpuUnavailableError
 from ..gpu.bake import bake_volume, read_volume
 from ..gpu.programs import ProgramSpec
-from ..gpu.shaders import ShaderLibrary
+from ..gpu.shaders import ShaderLibrary, SourceError, read_source
 from ..render.noise import GradientNoiseTextures
 from ..sim.noise import gradient
 from .cache import BakeCache, cache_key
@@ -80,7 +80,11 @@ def shader_digest(library: ShaderLibrary, kind: str) -> str:
         except ValueError:
             name = path.as_posix()
         h.update(name.encode("utf-8") + b"\0")
-        h.update(path.read_bytes() + b"\0")
+        try:  # the library's reader: never blocks on a pipe, refuses folders and huge files
+            text = read_source(path)
+        except SourceError as exc:  # the bake's compile names the error; the key just differs
+            text = f"<unreadable: {exc}>"
+        h.update(text.encode("utf-8") + b"\0")
     return h.hexdigest()
 
 

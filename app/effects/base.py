@@ -27,10 +27,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, ClassVar
 
+from ..errors import NaturaError
 from ..frame import Stage
 from ..gpu.cache import Keyed
 from ..gpu.programs import ProgramSpec
-from ..gpu.shaders import PreprocessError, ShaderLibrary
+from ..gpu.shaders import PreprocessError, ShaderError, ShaderLibrary, SourceError, read_source
 from ..params import Param, ParamSet, parse_glsl_annotations
 
 if TYPE_CHECKING:
@@ -73,7 +74,11 @@ class Effect:
     def shader_files(cls, library: ShaderLibrary) -> list[Path]:
         files: list[Path] = []
         for spec in cls.programs:
-            for path in library.stage_files(spec.name, **spec.stages()).values():
+            try:
+                stages = library.stage_files(spec.name, **spec.stages()).values()
+            except NaturaError:  # a stage file renamed away while the window runs
+                continue
+            for path in stages:
                 try:
                     files.extend(library.preprocess(path, dict(spec.defines)).files)
                 except PreprocessError as exc:
@@ -81,16 +86,25 @@ class Effect:
         return list(dict.fromkeys(files))
 
     @classmethod
-    def glsl_params(cls, library: ShaderLibrary) -> list[Param]:
-        """Parameters from ``// @param`` annotations in every file the programs include."""
+    def glsl_params(cls, library: ShaderLibrary,
+                    problems: list[ShaderError] | None = None) -> list[Param]:
+        """Parameters from ``// @param`` annotations in every file the programs include. A
+        malformed annotation raises :class:`~app.errors.ParamError` naming its file and line;
+        with a ``problems`` list it is skipped and listed there instead. Files that cannot be
+        read as text are skipped (the compile reports them)."""
         out: dict[str, Param] = {}
         for path in cls.shader_files(library):
             try:
-                text = path.read_text(encoding="utf-8")
-            except (OSError, UnicodeDecodeError):
+                text = read_source(path)
+            except SourceError:
                 continue
-            for p in parse_glsl_annotations(text, cls.name, library.display(path), cls.spec):
+            where = library.display(path)
+            found: list[tuple[int, str]] | None = [] if problems is not None else None
+            for p in parse_glsl_annotations(text, cls.name, where, cls.spec, found):
                 out.setdefault(p.name, p)
+            if problems is not None and found:
+                problems.extend(ShaderError(where, line, f"@param: {message}")
+                                for line, message in found)
         return list(out.values())
 
     @classmethod
@@ -117,12 +131,22 @@ class Effect:
         return prog
 
     def _on_reload(self, prog) -> None:
-        """A reloaded shader may declare new ``@param`` uniforms: give them widgets now."""
-        for p in self.glsl_params(self.gpu.shaders):
-            self.params.add(p, replace=True)
+        """A reloaded shader may declare new ``@param`` uniforms: give them widgets now. A
+        malformed annotation is listed on the program (``file:line``) and the parameter keeps
+        its last good declaration; nothing here raises into the reload."""
+        problems: list[ShaderError] = []
+        for p in self.glsl_params(self.gpu.shaders, problems):
+            try:
+                self.params.add(p, replace=True)
+            except (NaturaError, ValueError, TypeError) as exc:
+                problems.append(ShaderError(p.source, 1, f"@param {p.name}: {exc}"))
+        for error in problems:
+            prog.report(error)
 
     def apply_params(self, prog) -> None:
-        """Push every parameter of this effect that names a uniform."""
+        """Push every parameter of this effect that names a uniform. A value the uniform's
+        (changed) GLSL type cannot take is converted or skipped and listed by
+        :meth:`app.gpu.shaders.Program.set`; nothing raises into the render."""
         for p in self.params:
             if p.uniform and p.group == self.name:
                 prog.set(p.uniform, self.params[p.name])

@@ -13,17 +13,34 @@ reload.
   undeclared identifier — with source id 0 whatever ``#line`` said, but with the right line, so
   the file is recovered from the line number); compiler messages in Mesa (``0:12(5):``),
   NVIDIA (``0(12) :``) and AMD (``ERROR: 0:12:``) formats are mapped back to
-  ``glsl/<file>:<line>: message``.
-* :meth:`ShaderLibrary.poll` checks the modification stamps of each program's whole include set
-  (on the main thread; editors that save by rename change the inode and are caught). A failed
-  reload keeps the last good program and records the error; the user's file is never touched.
+  ``glsl/<file>:<line>: message``. A link error (no line of its own) is shown at the
+  declaration of the identifier it names (the most recently saved file that declares it), or
+  else at the fragment stage's ``void main`` line.
+* Only regular files are read (a folder, a named pipe or a device in their place is an error at
+  line 1, and a pipe is never opened for a blocking read), at most :data:`MAX_SOURCE_BYTES`
+  each; a file that is not UTF-8 is an error at the line of its first bad byte, a NUL byte an
+  error at its line. User ``#line`` directives are dropped (they would break the mapping).
+* :meth:`ShaderLibrary.poll` checks the stamps of each program's whole include set (on the main
+  thread): file type, modification time, size, inode and a hash of the content (so an edit of
+  the same size within one tick of the file system's clock is seen). A file that vanished is
+  given one poll (editors that save by moving the original away); if it is still missing at the
+  next poll the program recompiles and lists the error. A failed compile keeps watching what it
+  could not find (every place a missing include may appear) and the previous include set, so
+  restoring a file recompiles. poll() never raises: every failure becomes a
+  :class:`ShaderError` on that program (``internal: ...`` for the unexpected), the last good
+  program keeps running, and the user's file is never touched.
+* :meth:`Program.set` converts a value to the uniform's GLSL type when it can (float → int by
+  rounding, bool → int or float, a scalar → every component of a vector) and otherwise skips
+  it and lists an error at the uniform's declaration: a uniform whose type changed in the GLSL
+  never raises into a render.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
-import struct
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable
@@ -32,7 +49,7 @@ import moderngl
 import numpy as np
 
 from .. import DEFAULT_SHADER_ROOT
-from ..errors import ShaderCompileError, UsageError
+from ..errors import ShaderCompileError, UsageError, quote
 
 STAGES = {
     "vert": "vertex_shader",
@@ -54,8 +71,27 @@ SAMPLER_TYPES = frozenset(
 #: Line numbers of the file with source id ``k`` start at ``k * LINE_STRIDE`` (see module doc).
 LINE_STRIDE = 100_000
 
+#: the largest GLSL file read (a bigger one is an error, not a long stall)
+MAX_SOURCE_BYTES = 4 << 20
+#: the longest compiler message kept (a 1 MB line may come back quoted)
+MAX_MESSAGE_CHARS = 500
+
 _INCLUDE = re.compile(r'^\s*#\s*include\s+[<"]([^">]+)[">]')
 _VERSION = re.compile(r"^\s*#\s*version\b")
+_LINE_DIRECTIVE = re.compile(r"^\s*#\s*line\b")
+_MAIN = re.compile(r"^\s*void\s+main\s*\(")
+#: identifiers a driver message quotes: Mesa `name', others 'name' or "name"
+_QUOTED = re.compile(r"[`'\"\u2018]([A-Za-z_][A-Za-z0-9_]*)['\"\u2019]")
+_STAGE_WORDS = [
+    ("fragment", "fragment_shader"), ("vertex", "vertex_shader"),
+    ("geometry", "geometry_shader"), ("tessellation control", "tess_control_shader"),
+    ("tessellation evaluation", "tess_evaluation_shader"), ("compute", "compute_shader"),
+]
+#: words a link message quotes that are not the user's identifiers
+_GLSL_WORDS = frozenset({"main", "float", "int", "uint", "bool", "double", "void", "in", "out",
+                         "uniform", "flat", "smooth", "noperspective", "centroid", "sample"})
+_DECLARING = r"\b(?:in|out|inout|uniform|varying|attribute|buffer|flat|smooth|noperspective|" \
+             r"centroid|layout|const)\b[^;]*\b{name}\b"
 # (source id, line, message) for each vendor's message format.
 _MESSAGE_FORMATS = [
     re.compile(r"^\s*(?P<id>\d+):(?P<line>\d+)\(\d+\):\s*(?P<msg>.*)$"),  # Mesa
@@ -65,16 +101,29 @@ _MESSAGE_FORMATS = [
 
 
 def resolve_shader_root(arg: str | os.PathLike | None = None) -> Path:
-    """``--shaders DIR`` beats ``$NATURA_SHADERS`` beats the project's ``glsl/``."""
+    """``--shaders DIR`` beats ``$NATURA_SHADERS`` beats the project's ``glsl/``. The folder
+    must be laid out like ``glsl/`` (a ``common/`` folder of shared code beside the effects'
+    folders), so an empty or wrong folder is named here rather than as a missing parameter."""
     chosen = arg if arg else os.environ.get(SHADER_ENV)
     if not chosen:
         return DEFAULT_SHADER_ROOT
-    root = Path(chosen).expanduser()
     origin = "--shaders" if arg else f"${SHADER_ENV}"
-    if not root.is_dir():
-        raise UsageError(f"{origin} {str(root)!r} is not a directory: "
-                         "allowed a folder laid out like glsl/")
-    return root.resolve()
+    allowed = "allowed a folder laid out like glsl/ (see natura shaders copy)"
+    try:
+        root = Path(chosen).expanduser()
+    except RuntimeError:  # ~user of an unknown user
+        raise UsageError(f"{origin} {quote(str(chosen))}: no such user's home folder: "
+                         f"{allowed}") from None
+    try:
+        if not root.is_dir():
+            raise UsageError(f"{origin} {quote(str(root))} is not a directory: {allowed}")
+        if not (root / "common").is_dir():
+            raise UsageError(f"{origin} {quote(str(root))} has no common/ folder of shared "
+                             f"GLSL: {allowed}")
+        return root.resolve()
+    except OSError as exc:  # a name too long, a loop of links, an unreadable parent
+        raise UsageError(f"{origin} {quote(str(root))}: {exc.strerror or exc}: "
+                         f"{allowed}") from None
 
 
 @dataclass(frozen=True)
@@ -92,17 +141,144 @@ class ShaderError:
 
 @dataclass
 class Source:
-    """One preprocessed stage: text for the compiler, and the id → file table."""
+    """One preprocessed stage: text for the compiler, the id → file table, and the stamp of
+    every file it read or looked for (``None``: not there)."""
 
     text: str
     files: list[Path]
+    stamps: dict[Path, Any] = field(default_factory=dict)
 
 
 class PreprocessError(Exception):
-    def __init__(self, error: ShaderError, files: list[Path]):
+    def __init__(self, error: ShaderError, files: list[Path],
+                 stamps: dict[Path, Any] | None = None):
         super().__init__(str(error))
         self.error = error
         self.files = files
+        self.stamps = stamps or {}
+
+
+class SourceError(Exception):
+    """A GLSL file that cannot be used as text: ``line`` (≥ 1) and ``reason``."""
+
+    def __init__(self, line: int, reason: str, stamp: Any = None):
+        super().__init__(f"line {line}: {reason}")
+        self.line = line
+        self.reason = reason
+        self.stamp = stamp
+
+
+# ---- reading files -------------------------------------------------------------------------
+
+def _kind(mode: int) -> str:
+    if stat.S_ISDIR(mode):
+        return "a folder"
+    if stat.S_ISFIFO(mode):
+        return "a named pipe"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return "not a regular file"
+
+
+def _stat_part(st: os.stat_result) -> tuple:
+    return (stat.S_IFMT(st.st_mode), st.st_mtime_ns, st.st_size, st.st_ino)
+
+
+def _digest(data: bytes) -> bytes:
+    return hashlib.blake2b(data, digest_size=16).digest()
+
+
+def _read_bytes(path: Path) -> tuple[bytes, Any]:
+    """The bytes of a regular file and its stamp; :class:`SourceError` for anything else.
+    Never blocks: a named pipe is refused from its type before it is opened, and the file is
+    opened non-blocking (a pipe swapped in between is refused from ``fstat``)."""
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        raise SourceError(1, "file not found (deleted or renamed?)") from None
+    except (OSError, ValueError) as exc:
+        raise SourceError(1, f"cannot read: {getattr(exc, 'strerror', None) or exc}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise SourceError(1, f"is {_kind(st.st_mode)}, not a file: allowed a GLSL text file",
+                          (_stat_part(st), None))
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)
+                     | getattr(os, "O_CLOEXEC", 0))
+    except OSError as exc:
+        raise SourceError(1, f"cannot read: {exc.strerror or exc}", (_stat_part(st), None)) \
+            from None
+    try:
+        st = os.fstat(fd)
+        stamp0 = _stat_part(st)
+        if not stat.S_ISREG(st.st_mode):
+            raise SourceError(1, f"is {_kind(st.st_mode)}, not a file: allowed a GLSL text file",
+                              (stamp0, None))
+        if st.st_size > MAX_SOURCE_BYTES:
+            raise SourceError(1, f"is {st.st_size} bytes: allowed at most "
+                                 f"{MAX_SOURCE_BYTES >> 20} MiB of GLSL", (stamp0, None))
+        chunks, total = [], 0
+        while total <= MAX_SOURCE_BYTES:
+            chunk = os.read(fd, min(1 << 20, MAX_SOURCE_BYTES + 1 - total))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            total += len(chunk)
+    except OSError as exc:
+        raise SourceError(1, f"cannot read: {exc.strerror or exc}", (_stat_part(st), None)) \
+            from None
+    finally:
+        os.close(fd)
+    data = b"".join(chunks)
+    stamp = (stamp0, _digest(data))
+    if len(data) > MAX_SOURCE_BYTES:
+        raise SourceError(1, f"is over {MAX_SOURCE_BYTES >> 20} MiB: allowed at most "
+                             f"{MAX_SOURCE_BYTES >> 20} MiB of GLSL", stamp)
+    return data, stamp
+
+
+def _decode(data: bytes, stamp: Any = None) -> str:
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise SourceError(line, f"not UTF-8 text: byte 0x{data[exc.start]:02x} at column "
+                                f"{column} ({exc.reason}): allowed UTF-8 (save the file as "
+                                "UTF-8)", stamp) from None
+    text = text.removeprefix("\ufeff")
+    nul = text.find("\0")
+    if nul >= 0:
+        line = text.count("\n", 0, nul) + 1
+        column = nul - (text.rfind("\n", 0, nul) + 1) + 1
+        raise SourceError(line, f"NUL byte at column {column}: allowed text only", stamp)
+    return text
+
+
+def read_source(path: Path) -> str:
+    """The text of a GLSL file (UTF-8, a regular file of at most :data:`MAX_SOURCE_BYTES`),
+    or :class:`SourceError` with the line to blame. Never blocks on a named pipe."""
+    data, stamp = _read_bytes(Path(path))
+    return _decode(data, stamp)
+
+
+def source_lines(text: str) -> list[str]:
+    """Lines as the compiler counts them (only ``\\n`` ends a line, unlike ``splitlines``)."""
+    lines = [line.removesuffix("\r") for line in text.split("\n")]
+    if lines and lines[-1] == "":
+        lines.pop()
+    return lines
+
+
+def _stamp(path: Path) -> Any:
+    """What poll compares: (type, mtime, size, inode) and a hash of the content of a regular
+    file (``None`` when nothing is there)."""
+    try:
+        _, stamp = _read_bytes(path)
+        return stamp
+    except SourceError as exc:
+        return exc.stamp
 
 
 class ShaderLibrary:
@@ -118,15 +294,19 @@ class ShaderLibrary:
         """How a file is named in messages: ``glsl/sky/sky.frag`` for the project's shaders."""
         path = Path(path)
         try:
-            rel = path.resolve().relative_to(self.root)
+            resolved = path.resolve()
+        except (OSError, RuntimeError, ValueError):
+            return str(path)
+        try:
+            rel = resolved.relative_to(self.root)
         except ValueError:
             return str(path)
         if self.root == DEFAULT_SHADER_ROOT.resolve():
             return f"glsl/{rel.as_posix()}"
         try:
-            return str(path.resolve().relative_to(Path.cwd()))
-        except ValueError:
-            return str(path)
+            return str(resolved.relative_to(Path.cwd()))
+        except (ValueError, OSError):
+            return str(resolved)
 
     def stage_files(self, name: str, **explicit: str | None) -> dict[str, Path]:
         """Stage → file for program ``name``. Explicit ``vert=``/``frag=``/``comp=``… name the
@@ -152,30 +332,44 @@ class ShaderLibrary:
 
     # -- preprocessing ---------------------------------------------------------------------
     def preprocess(self, path: Path, defines: dict[str, Any] | None = None) -> Source:
-        """Expand includes and inject defines; raise :class:`PreprocessError` on a bad include."""
+        """Expand includes and inject defines; raise :class:`PreprocessError` on a bad include
+        or a file that cannot be read as text (with the file and line to blame)."""
         files: list[Path] = []
         out: list[str] = []
-        self._expand(Path(path).resolve(), files, out, defines or {}, top=True)
-        return Source("\n".join(out) + "\n", files)
+        stamps: dict[Path, Any] = {}
+        self._expand(Path(path).resolve(), files, out, defines or {}, True, stamps)
+        return Source("\n".join(out) + "\n", files, stamps)
+
+    def _candidates(self, name: str, including: Path) -> list[Path]:
+        out = []
+        for base in (including.parent, self.root / "common", self.root):
+            try:
+                out.append((base / name).resolve())
+            except (OSError, RuntimeError, ValueError):
+                continue
+        return list(dict.fromkeys(out))
 
     def _find_include(self, name: str, including: Path) -> Path | None:
-        for base in (including.parent, self.root / "common", self.root):
-            cand = (base / name).resolve()
-            if cand.is_file():
+        for cand in self._candidates(name, including):
+            if _is_regular(cand):
                 return cand
         return None
 
-    def _expand(self, path: Path, files: list[Path], out: list[str], defines, top: bool) -> None:
+    def _expand(self, path: Path, files: list[Path], out: list[str], defines, top: bool,
+                stamps: dict[Path, Any]) -> None:
         sid = len(files)
         files.append(path)
+
+        def fail(line: int, message: str) -> PreprocessError:
+            return PreprocessError(ShaderError(self.display(path), max(1, line), message),
+                                   files, stamps)
+
         try:
-            lines = path.read_text(encoding="utf-8").splitlines()
-        except FileNotFoundError:
-            raise PreprocessError(ShaderError(self.display(path), 0, "file not found"),
-                                  files) from None
-        except UnicodeDecodeError as exc:
-            raise PreprocessError(ShaderError(self.display(path), 0,
-                                              f"not UTF-8 text ({exc.reason})"), files) from None
+            data, stamps[path] = _read_bytes(path)
+            lines = source_lines(_decode(data, stamps[path]))
+        except SourceError as exc:
+            stamps[path] = exc.stamp
+            raise fail(exc.line, exc.reason) from None
         start = 0
         if top:
             for i, line in enumerate(lines):
@@ -186,12 +380,9 @@ class ShaderLibrary:
                     start = i + 1
                     break
                 if line.strip() and not line.strip().startswith("//"):
-                    raise PreprocessError(
-                        ShaderError(self.display(path), i + 1,
-                                    "the first directive must be #version"), files
-                    )
+                    raise fail(i + 1, "the first directive must be #version")
             else:
-                raise PreprocessError(ShaderError(self.display(path), 1, "missing #version"), files)
+                raise fail(1, "missing #version")
         base = sid * LINE_STRIDE
         out.append(f"#line {base + start + 1} {sid}")
         for i in range(start, len(lines)):
@@ -200,27 +391,37 @@ class ShaderLibrary:
             if not m:
                 if not top and _VERSION.match(line):
                     out.append("// (#version of an included file dropped)")
+                elif _LINE_DIRECTIVE.match(line):
+                    out.append("// (#line dropped: the library numbers the lines)")
                 else:
                     out.append(line)
                 continue
-            target = self._find_include(m.group(1), path)
+            candidates = self._candidates(m.group(1), path)
+            target = next((c for c in candidates if _is_regular(c)), None)
             if target is None:
+                for cand in candidates:  # watched: the include appearing recompiles
+                    stamps.setdefault(cand, _stamp(cand))
+                odd = next((c for c in candidates if os.path.lexists(c)), None)
+                if odd is not None:
+                    try:
+                        what = _kind(os.stat(odd).st_mode)
+                    except OSError:
+                        what = "not readable"
+                    raise fail(i + 1, f'include "{m.group(1)}" is {what} '
+                                      f"({self.display(odd)}): allowed a GLSL text file")
                 looked = ", ".join(self.display(b) for b in (path.parent, self.root / "common"))
-                raise PreprocessError(
-                    ShaderError(self.display(path), i + 1,
-                                f'cannot find include "{m.group(1)}" (looked in {looked})'),
-                    files,
-                )
+                raise fail(i + 1, f'cannot find include "{m.group(1)}" (looked in {looked})')
             if target in files:
                 out.append(f"// include {m.group(1)} already included")
                 continue
-            self._expand(target, files, out, defines, top=False)
+            self._expand(target, files, out, defines, False, stamps)
             out.append(f"#line {base + i + 2} {sid}")
 
     # -- errors ----------------------------------------------------------------------------
     def map_errors(self, message: str, files: list[Path],
                    stage_file: Path | None = None) -> list[ShaderError]:
-        """Turn a driver log into ``file:line`` errors through the id → file table."""
+        """Turn a driver log into ``file:line`` errors through the id → file table. A line
+        without a location is put at ``stage_file``'s ``void main`` line (or its first)."""
         errors = []
         for raw in message.splitlines():
             line = raw.strip()
@@ -234,12 +435,50 @@ class ShaderLibrary:
                     if lineno >= LINE_STRIDE:  # the line number names the file (see module doc)
                         sid, lineno = divmod(lineno, LINE_STRIDE)
                     where = files[sid] if sid < len(files) else (stage_file or Path("?"))
-                    errors.append(ShaderError(self.display(where), lineno, m["msg"].strip()))
+                    lineno, note = _within(where, lineno, m["msg"])
+                    errors.append(ShaderError(self.display(where), lineno,
+                                              _short(m["msg"].strip()) + note))
                     break
             else:
-                errors.append(ShaderError(self.display(stage_file) if stage_file else "link", 0,
-                                          line))
+                if stage_file is None:
+                    errors.append(ShaderError("link", 1, _short(line)))
+                else:
+                    errors.append(ShaderError(self.display(stage_file), _main_line(stage_file),
+                                              _short(line)))
         return errors
+
+    def blame_link(self, message: str, tables: dict[str, list[Path]],
+                   fallback: Path) -> ShaderError:
+        """A link message (no location) at the declaration of the identifier it quotes: in the
+        stages it names first, the most recently saved file declaring it (the one just edited).
+        Without such a declaration: ``fallback``'s ``void main`` line, and the message says so."""
+        text = _short(message.strip())
+        order = [stage for word, stage in sorted(
+            ((w, s) for w, s in _STAGE_WORDS if w in text), key=lambda ws: text.find(ws[0]))]
+        order += [s for s in tables if s not in order]
+        for name in dict.fromkeys(_QUOTED.findall(text)):
+            if name in _GLSL_WORDS or re.fullmatch(r"[biud]?vec[234]|d?mat[234](x[234])?", name):
+                continue
+            found = []  # (stage preference, -mtime, file, line)
+            pattern = re.compile(_DECLARING.format(name=re.escape(name)))
+            for rank, stage in enumerate(order):
+                for path in tables.get(stage, []):
+                    line = _declaration_line(path, pattern)
+                    if line:
+                        found.append((-_mtime(path), rank, path, line))
+            if found:
+                found.sort(key=lambda f: (f[0], f[1]))
+                _, _, path, line = found[0]
+                others = [f"{self.display(p)}:{n}" for _, _, p, n in found[1:]
+                          if (p, n) != (path, line)]
+                also = f" (`{name}' is also declared at {', '.join(dict.fromkeys(others))})" \
+                    if others else ""
+                return ShaderError(self.display(path), line, f"link {text}{also}")
+        main = _main_line(fallback)
+        return ShaderError(self.display(fallback), main,
+                           f"link {text} (no file declares what it names: shown at the "
+                           f"{'void main line' if main > 1 else 'first line'} of the fragment "
+                           "stage)")
 
     # -- programs --------------------------------------------------------------------------
     def program(self, name: str, defines: dict[str, Any] | None = None,
@@ -262,21 +501,105 @@ class ShaderLibrary:
 
     def poll(self) -> list["Program"]:
         """Recompile programs whose include set changed. Returns the programs that were
-        recompiled (successfully or not); errors stay on each program."""
+        recompiled (successfully or not); errors stay on each program. Never raises: an
+        unexpected failure becomes an ``internal:`` error on the program it happened in."""
         changed = []
-        for prog in self._programs.values():
-            if prog.changed_on_disk():
-                prog.compile()
+        seen: dict[Path, Any] = {}  # one stamp per file and poll, however many include it
+        for prog in list(self._programs.values()):
+            try:
+                if not prog.changed_on_disk(seen):
+                    continue
                 changed.append(prog)
+                prog.compile()
+            except Exception as exc:  # noqa: BLE001 - the window loop must survive anything
+                prog.internal_error(exc, "poll")
         return changed
 
     def errors(self) -> list[ShaderError]:
-        return [e for p in self._programs.values() for e in p.errors]
+        """Every program's errors (each listed once)."""
+        return list(dict.fromkeys(e for p in self._programs.values() for e in p.errors))
 
     def release(self) -> None:
         for prog in self._programs.values():
             prog.release()
         self._programs.clear()
+
+
+def _is_regular(path: Path) -> bool:
+    try:
+        return stat.S_ISREG(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        return False
+
+
+def _mtime(path: Path) -> int:
+    try:
+        return os.stat(path).st_mtime_ns
+    except (OSError, ValueError):
+        return 0
+
+
+def _short(message: str) -> str:
+    if len(message) <= MAX_MESSAGE_CHARS:
+        return message
+    return message[:MAX_MESSAGE_CHARS] + f"… ({len(message)} characters)"
+
+
+def _lines_of(path: Path) -> list[str]:
+    try:
+        return source_lines(read_source(path))
+    except SourceError:
+        return []
+
+
+def _within(path: Path, line: int, message: str) -> tuple[int, str]:
+    """A reported line made a line of ``path``: an unterminated comment (which swallows the
+    rest of the stage, so the driver reports its end) is put at its ``/*``; any other line past
+    the end of the file at the file's last line, saying so."""
+    if line < 1:
+        return 1, ""
+    lines = _lines_of(path)
+    if line <= max(1, len(lines)) or not lines:
+        return line, ""
+    if "nterminated comment" in message:
+        opened = _unclosed_comment(lines)
+        if opened:
+            return opened, " (the comment opened here)"
+    return len(lines), f" (reported at line {line}, past the end of the file)"
+
+
+def _unclosed_comment(lines: list[str]) -> int:
+    """The line of a ``/*`` that no ``*/`` closes (0 if none)."""
+    opened = 0
+    for i, line in enumerate(lines, 1):
+        pos = 0
+        while pos < len(line):
+            if opened:
+                end = line.find("*/", pos)
+                if end < 0:
+                    break
+                opened, pos = 0, end + 2
+                continue
+            start, comment = line.find("/*", pos), line.find("//", pos)
+            if start < 0 or 0 <= comment < start:
+                break
+            opened, pos = i, start + 2
+    return opened
+
+
+def _main_line(path: Path) -> int:
+    """The line of ``void main`` in ``path`` (1 when there is none)."""
+    for i, line in enumerate(_lines_of(path), 1):
+        if _MAIN.match(line):
+            return i
+    return 1
+
+
+def _declaration_line(path: Path, pattern: re.Pattern) -> int:
+    for i, line in enumerate(_lines_of(path), 1):
+        if pattern.search(line.split("//", 1)[0]):
+            return i
+    return 0
 
 
 def _glsl_literal(value: Any) -> str:
@@ -288,12 +611,75 @@ def _glsl_literal(value: Any) -> str:
     return str(value)
 
 
-def _stamp(path: Path):
+# ---- uniform values ------------------------------------------------------------------------
+
+_FLOAT_TYPES = {0x1406: "float", 0x8B50: "vec2", 0x8B51: "vec3", 0x8B52: "vec4"}
+_INT_TYPES = {0x1404: "int", 0x8B53: "ivec2", 0x8B54: "ivec3", 0x8B55: "ivec4"}
+_UINT_TYPES = {0x1405: "uint", 0x8DC6: "uvec2", 0x8DC7: "uvec3", 0x8DC8: "uvec4"}
+_BOOL_TYPES = {0x8B56: "bool", 0x8B57: "bvec2", 0x8B58: "bvec3", 0x8B59: "bvec4"}
+_DOUBLE_TYPES = {0x140A: "double", 0x8FFC: "dvec2", 0x8FFD: "dvec3", 0x8FFE: "dvec4"}
+_MATRIX_TYPES = {0x8B5A: "mat2", 0x8B5B: "mat3", 0x8B5C: "mat4"}
+
+
+def _type_name(member: Any) -> str:
+    gl_type = getattr(member, "gl_type", None)
+    for table in (_FLOAT_TYPES, _INT_TYPES, _UINT_TYPES, _BOOL_TYPES, _DOUBLE_TYPES,
+                  _MATRIX_TYPES):
+        if gl_type in table:
+            return table[gl_type]
+    if gl_type in SAMPLER_TYPES:
+        return "sampler"
+    return f"GL type 0x{gl_type:04x}" if isinstance(gl_type, int) else type(member).__name__
+
+
+def _components(value: Any) -> list[float] | None:
+    """A value as a flat list of numbers (``None`` if it is not numbers)."""
     try:
-        st = os.stat(path)
-    except FileNotFoundError:
+        if isinstance(value, (bool, np.bool_)):
+            return [1.0 if value else 0.0]
+        if isinstance(value, (int, float, np.number)):
+            return [float(value)]
+        arr = np.asarray(value, dtype=np.float64)
+        if arr.dtype.kind not in "fiub":
+            return None
+        return [float(v) for v in arr.ravel()]
+    except (TypeError, ValueError):
         return None
-    return (st.st_mtime_ns, st.st_size, st.st_ino)
+
+
+def _convert(member: Any, value: Any) -> Any:
+    """``value`` in the form ``member``'s GLSL type takes, or ``None`` if it cannot be:
+    float → int rounds, bool → 0/1, a scalar fills every component of a vector; vectors must
+    have the uniform's size; samplers, matrices of another size and arrays are refused."""
+    gl_type = getattr(member, "gl_type", None)
+    if getattr(member, "array_length", 1) != 1 or gl_type in SAMPLER_TYPES:
+        return None
+    flat = _components(value)
+    if flat is None:
+        return None
+    size = int(getattr(member, "dimension", 1))
+    if gl_type in _MATRIX_TYPES:
+        if len(flat) != size:
+            return None
+        return tuple(flat)
+    if len(flat) == 1 and size > 1:
+        flat = flat * size
+    if len(flat) != size:
+        return None
+    if gl_type in _FLOAT_TYPES or gl_type in _DOUBLE_TYPES:
+        out: list[Any] = flat
+    else:
+        if not all(np.isfinite(flat)):
+            return None
+        if gl_type in _BOOL_TYPES:
+            out = [int(v != 0.0) for v in flat]
+        elif gl_type in _UINT_TYPES:
+            out = [max(0, int(round(v))) for v in flat]
+        elif gl_type in _INT_TYPES:
+            out = [int(round(v)) for v in flat]
+        else:
+            return None
+    return out[0] if size == 1 else tuple(out)
 
 
 @dataclass
@@ -307,10 +693,20 @@ class Program:
     program: Any = None  # moderngl.Program | moderngl.ComputeShader
     errors: list[ShaderError] = field(default_factory=list)
     generation: int = 0  # increases with each successful compile
+    #: the last compile failed: ``program`` is the last good one (``errors`` say why). Errors
+    #: on a program that did not fail are about its use: a broken ``@param`` annotation, a
+    #: uniform whose GLSL type no longer takes the value set
+    failed: bool = False
     stamps: dict[Path, Any] = field(default_factory=dict)
     _vaos: dict = field(default_factory=dict)
     _samplers: tuple[int, list[str]] | None = None
     on_reload: list[Callable[["Program"], None]] = field(default_factory=list)
+    #: files seen missing at the last poll(s): path → polls (one is a save in progress)
+    _gone: dict[Path, int] = field(default_factory=dict)
+    #: uniforms already reported as not settable since the last successful compile
+    _bad_uniforms: set[str] = field(default_factory=set)
+    #: files that exist among ``stamps`` (includes and stage files, not watched absences)
+    _files: list[Path] = field(default_factory=list)
 
     @property
     def is_compute(self) -> bool:
@@ -318,21 +714,59 @@ class Program:
 
     @property
     def files(self) -> list[Path]:
-        return list(self.stamps)
+        """The files of the program's include set (stage files first, in include order)."""
+        return list(self._files)
 
-    def changed_on_disk(self) -> bool:
+    def changed_on_disk(self, seen: dict[Path, Any] | None = None) -> bool:
+        """Whether a file of the include set (or a watched missing include) changed. A file
+        that vanished counts only at the second poll that finds it missing (a save by moving
+        the original away is given one poll to finish)."""
+        seen = {} if seen is None else seen
+        changed = False
         for path, stamp in self.stamps.items():
-            now = _stamp(path)
-            if now is None:
-                return False  # mid-save (renamed away); look again on the next poll
-            if now != stamp:
-                return True
-        return False
+            if path not in seen:
+                seen[path] = _stamp(path)
+            now = seen[path]
+            if now == stamp:
+                self._gone.pop(path, None)
+                continue
+            if now is None and stamp is not None:
+                self._gone[path] = self._gone.get(path, 0) + 1
+                if self._gone[path] < 2:
+                    continue  # mid-save (renamed away); look again on the next poll
+            changed = True
+        return changed
+
+    def report(self, error: ShaderError) -> None:
+        """List an error on this program (once)."""
+        if error not in self.errors:
+            self.errors.append(error)
+
+    def internal_error(self, exc: BaseException, during: str) -> None:
+        """An unexpected exception, listed on the program instead of raised."""
+        stage = next(iter(self.stage_paths.values()), None)
+        where = self.library.display(stage) if stage is not None else self.name
+        self.report(ShaderError(where, 1, _short(f"internal: {during} failed: "
+                                                 f"{type(exc).__name__}: {exc}")))
 
     def compile(self) -> bool:
+        """Recompile from the files; ``program`` changes only when this succeeds. Never raises
+        for anything the files hold."""
+        try:
+            return self._compile()
+        except Exception as exc:  # noqa: BLE001 - listed, never raised into the caller
+            self.errors = []
+            self.failed = True
+            self.internal_error(exc, "compile")
+            if not self.stamps:
+                self.stamps = {p: _stamp(p) for p in self.stage_paths.values()}
+            return False
+
+    def _compile(self) -> bool:
         lib = self.library
         sources: dict[str, str] = {}
         all_files: list[Path] = []
+        stamps: dict[Path, Any] = {}
         errors: list[ShaderError] = []
         tables: dict[str, list[Path]] = {}
         for ext, path in self.stage_paths.items():
@@ -341,11 +775,24 @@ class Program:
             except PreprocessError as exc:
                 errors.append(exc.error)
                 all_files.extend(exc.files)
+                stamps.update(exc.stamps)
                 continue
             sources[STAGES[ext]] = src.text
             tables[STAGES[ext]] = src.files
             all_files.extend(src.files)
-        self.stamps = {p: _stamp(p) for p in dict.fromkeys(all_files)}
+            stamps.update(src.stamps)
+        watched = {p: stamps.get(p) for p in dict.fromkeys(all_files)}
+        watched.update(stamps)  # and where missing includes may appear
+        if errors:
+            # keep watching the previous include set too: restoring any of it recompiles
+            for old in self.stamps:
+                if old not in watched:
+                    watched[old] = _stamp(old)
+        self.stamps = watched
+        self._gone.clear()
+        self._files = list(dict.fromkeys(
+            [p for p in all_files if os.path.lexists(p)]
+            + ([p for p in self._files if p not in all_files] if errors else [])))
         if not errors:
             try:
                 new: Any
@@ -364,14 +811,23 @@ class Program:
                     vao.release()
                 self._vaos.clear()
                 self.errors = []
-                for callback in self.on_reload:
-                    callback(self)
+                self.failed = False
+                self._bad_uniforms.clear()
+                for callback in list(self.on_reload):
+                    try:
+                        callback(self)
+                    except Exception as exc:  # noqa: BLE001 - listed on the program
+                        self.internal_error(exc, f"reload callback "
+                                                 f"{getattr(callback, '__qualname__', callback)}")
                 return True
-        self.errors = errors or [ShaderError(self.name, 0, "compile failed")]
+        first = next(iter(self.stage_paths.values()))
+        self.errors = errors or [ShaderError(lib.display(first), 1, "compile failed")]
+        self.failed = True
         return False
 
     def _map(self, message: str, tables: dict[str, list[Path]]) -> list[ShaderError]:
-        """Split a moderngl log by stage and map each part with that stage's id table."""
+        """Split a moderngl log by stage and map each part with that stage's id table; the
+        linker's part (no locations) goes through :meth:`ShaderLibrary.blame_link`."""
         errors: list[ShaderError] = []
         current = None
         chunk: list[str] = []
@@ -383,9 +839,17 @@ class Program:
             else:
                 chunk.append(line)
         parts.append((current, chunk))
+        main_stage = ("fragment_shader" if "fragment_shader" in tables
+                      else next(iter(tables), ""))
+        fallback = (tables[main_stage][0] if main_stage in tables
+                    else next(iter(self.stage_paths.values())))
         for stage, lines in parts:
+            if stage == "Program":
+                errors.extend(self.library.blame_link(line, tables, fallback) for line in lines
+                              if set(line.strip()) - {"="})
+                continue
             files = tables.get(stage or "", [])
-            stage_file = files[0] if files else next(iter(self.stage_paths.values()))
+            stage_file = files[0] if files else fallback
             errors.extend(self.library.map_errors("\n".join(lines), files, stage_file))
         return errors
 
@@ -394,7 +858,10 @@ class Program:
         return self.program is not None and uniform in self.program
 
     def set(self, uniform: str, value: Any) -> None:
-        """Set a uniform if the compiler kept it (removed uniforms are tolerated)."""
+        """Set a uniform if the compiler kept it (removed uniforms are tolerated). A value that
+        does not fit the uniform's GLSL type is converted when it can be (see :func:`_convert`)
+        and otherwise skipped with an error listed at the uniform's declaration: a GLSL edit
+        that changes a uniform's type never raises here."""
         prog = self.program
         if prog is None or uniform not in prog:
             return
@@ -402,17 +869,53 @@ class Program:
         try:
             if isinstance(value, np.ndarray) and value.ndim == 2:
                 # numpy row-major → GL column-major
-                member.write(np.ascontiguousarray(value.T, dtype="f4").tobytes())
+                data = np.ascontiguousarray(value.T, dtype="f4").tobytes()
+                size = getattr(member, "element_size", len(data)) * getattr(member,
+                                                                            "array_length", 1)
+                if len(data) != size:
+                    raise ValueError(f"{len(data)} bytes for a {size}-byte uniform")
+                member.write(data)
             elif isinstance(value, bool):
                 member.value = int(value)
             elif isinstance(value, np.ndarray):
                 member.value = tuple(float(v) for v in value.ravel())
             else:
                 member.value = value
-        except (struct.error, TypeError, ValueError) as exc:
-            # e.g. a student changed a uniform's type in the GLSL: name it instead of a struct error
-            raise ValueError(f"uniform {uniform} of program {self.name}: cannot set {value!r} "
-                             f"(GLSL type has {member.dimension} component(s)): {exc}") from None
+            return
+        except Exception:  # noqa: BLE001 - converted below, or listed
+            pass
+        try:
+            converted = _convert(member, value)
+            if converted is not None:
+                member.value = converted
+                return
+        except Exception:  # noqa: BLE001 - listed below
+            pass
+        self._bad_uniform(uniform, value, member)
+
+    def _bad_uniform(self, uniform: str, value: Any, member: Any) -> None:
+        if uniform in self._bad_uniforms:
+            return
+        self._bad_uniforms.add(uniform)
+        flat = _components(value)
+        got = (f"{len(flat)} number(s)" if flat is not None else type(value).__name__)
+        where, line = self.declaration(uniform)
+        self.report(ShaderError(where, line,
+                                f"uniform {uniform} is a {_type_name(member)} in the GLSL, but "
+                                f"the program sets it from {got}: skipped (it keeps its last "
+                                "value; allowed a matching type, or change the GLSL back)"))
+
+    def declaration(self, uniform: str) -> tuple[str, int]:
+        """Where ``uniform`` is declared: (display name, line), the first stage file's line 1
+        when no file of the include set declares it."""
+        pattern = re.compile(rf"^\s*(?:layout\s*\([^)]*\)\s*)?uniform\b[^;]*\b"
+                             rf"{re.escape(uniform)}\b")
+        for path in self.files:
+            line = _declaration_line(path, pattern)
+            if line:
+                return self.library.display(path), line
+        first = next(iter(self.stage_paths.values()))
+        return self.library.display(first), 1
 
     def set_many(self, values: dict[str, Any]) -> None:
         for k, v in values.items():
@@ -420,15 +923,24 @@ class Program:
 
     def set_array(self, uniform: str, rows: Any) -> None:
         """Write a uniform array (``vec4 uRows[16]``) from rows of numbers: missing rows are
-        zeros, extra rows are dropped, and an array the compiler removed is tolerated."""
+        zeros, extra rows are dropped, and an array the compiler removed is tolerated (as is
+        one whose type changed: skipped and listed)."""
         prog = self.program
         if prog is None or uniform not in prog:
             return
         member = prog[uniform]
-        arr = np.zeros((member.array_length, member.dimension), dtype="f4")
-        data = np.asarray(rows, dtype="f4").reshape(-1, member.dimension)[: member.array_length]
-        arr[: len(data)] = data
-        member.write(arr.tobytes())
+        try:
+            gl_type = getattr(member, "gl_type", None)
+            if gl_type in SAMPLER_TYPES or any(gl_type in t for t in (
+                    _INT_TYPES, _UINT_TYPES, _BOOL_TYPES, _DOUBLE_TYPES)):
+                raise ValueError("not a float array")  # float bytes would be garbage there
+            arr = np.zeros((member.array_length, member.dimension), dtype="f4")
+            data = np.asarray(rows, dtype="f4").reshape(-1, member.dimension)
+            data = data[: member.array_length]
+            arr[: len(data)] = data
+            member.write(arr.tobytes())
+        except Exception:  # noqa: BLE001 - listed, never raised into a render
+            self._bad_uniform(uniform, rows, member)
 
     def samplers(self) -> list[str]:
         """The sampler uniforms the linked program kept, in location order."""

@@ -2,7 +2,10 @@
 
 Each test builds its own small shader root under ``tmp_path`` and compiles it on the suite's
 EGL context, so they check the library's rules (includes, defines, error lines, live reload)
-and not the project's shaders (those compile through the CLI: tests/cli/test_shaders.py).
+and not the project's shaders (those compile through the CLI: tests/cli/test_shaders.py). The
+live-reload cases a running window must survive (a file replaced by a folder or a pipe, bad
+bytes, deleted and recreated files, link errors, uniforms whose type changed, broken ``@param``
+annotations) each have a test here; tests/stability/test_fuzz_shaders.py mixes them at random.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ import pytest
 
 from app import DEFAULT_SHADER_ROOT
 from app.errors import ShaderCompileError
-from app.gpu.shaders import ShaderLibrary
+from app.gpu.shaders import MAX_SOURCE_BYTES, ShaderLibrary
 
 FULLSCREEN_VERT = """\
 #version 330 core
@@ -400,3 +403,503 @@ def test_uniforms_removed_by_the_compiler_are_tolerated(lib, root):
     prog.set("uUsed", 0.1)
     assert "uUsed" not in prog
     assert render_pixel(lib.ctx, prog)[0] == pytest.approx(0.5)
+
+
+# ---- live reload hardened: what a running window must survive ----------------------------------
+
+VALUE_FRAG = """\
+    #version 330 core
+    #include "live_value.glsl"
+    uniform float uScale;
+    out vec4 fragColor;
+    void main() {
+        fragColor = vec4(liveValue() * uScale, 0.0, 0.0, 1.0);
+    }
+    """
+
+
+@pytest.fixture
+def live(lib, root):
+    """A program ``fx/live`` = fullscreen.vert + fx/live.frag including fx/live_value.glsl,
+    rendering 0.25 × uScale (uScale = 1)."""
+    main = write(root, "fx/live.frag", VALUE_FRAG)
+    value = write(root, "fx/live_value.glsl", "float liveValue() { return 0.25; }\n")
+    prog = program(lib, "fx/live")
+    assert scaled(lib, prog) == pytest.approx(0.25)
+    return prog, main, value
+
+
+def scaled(lib, prog) -> float:
+    """The rendered value with uScale = 1 (a new program starts with zeros: effects set their
+    uniforms every frame)."""
+    prog.set("uScale", 1.0)
+    return float(render_pixel(lib.ctx, prog)[0])
+
+
+def poll_twice(lib):
+    """Two window polls (0.5 s of a running window): a file missing at both is missing."""
+    return lib.poll() + lib.poll()
+
+
+def where(prog) -> set[tuple[str, int]]:
+    return {(e.file, e.line) for e in prog.errors}
+
+
+def restore(path: Path, text: str) -> None:
+    if path.is_dir():
+        path.rmdir()
+    elif os.path.lexists(path):
+        path.unlink()
+    save_like_editor(path, text)
+
+
+def assert_recovers(lib, prog, path: Path, text: str, value: float = 0.25) -> None:
+    restore(path, text)
+    assert prog in lib.poll()
+    assert prog.errors == [] and lib.errors() == []
+    assert scaled(lib, prog) == pytest.approx(value)
+
+
+@pytest.mark.parametrize("which", ["stage", "include"])
+def test_a_file_replaced_by_a_folder_is_an_error_not_an_exception(lib, live, which):
+    prog, main, value = live
+    path = main if which == "stage" else value
+    text = path.read_text()
+    good = prog.program
+    path.unlink()
+    path.mkdir()
+    assert poll_twice(lib) == [prog]  # IsADirectoryError escaped poll() before
+    if which == "stage":
+        assert where(prog) == {(lib.display(path), 1)}
+    else:  # blamed on the #include line, naming the folder
+        assert where(prog) == {(lib.display(main), 2)}
+    assert "folder" in prog.errors[0].message
+    assert prog.program is good and scaled(lib, prog) == pytest.approx(0.25)
+    assert_recovers(lib, prog, path, text)
+
+
+def test_a_named_pipe_never_blocks_a_poll(lib, live):
+    prog, main, value = live
+    text = value.read_text()
+    value.unlink()
+    os.mkfifo(value)
+    started = time.perf_counter()
+    poll_twice(lib)  # opening the pipe for reading would block forever
+    assert time.perf_counter() - started < 5.0
+    assert where(prog) == {(lib.display(main), 2)}
+    assert "named pipe" in prog.errors[0].message and prog.failed
+    os.unlink(value)
+    os.mkfifo(main.with_name("pipe.frag"))
+    assert_recovers(lib, prog, value, text)
+
+
+def test_a_device_as_an_include_is_an_error(lib, live, root):
+    prog, main, value = live
+    (root / "fx/device.glsl").symlink_to("/dev/zero")  # reading it would never end
+    text = main.read_text()
+    save_like_editor(main, text.replace('#include "live_value.glsl"',
+                                        '#include "live_value.glsl"\n#include "device.glsl"'))
+    assert lib.poll() == [prog]
+    assert where(prog) == {(lib.display(main), 3)}
+    assert "a device" in prog.errors[0].message
+    assert_recovers(lib, prog, main, text)
+
+
+def test_latin1_bytes_report_the_line_of_the_first_bad_byte(lib, live):
+    prog, main, value = live
+    text = value.read_text()
+    value.write_bytes(b"// line 1\n// line 2\n// caf\xe9 on line 3\n" + text.encode())
+    assert lib.poll() == [prog]
+    [err] = prog.errors
+    assert (err.file, err.line) == (lib.display(value), 3)  # line 0 before
+    assert "not UTF-8" in err.message and "0xe9" in err.message and "column 7" in err.message
+    assert str(err).startswith(f"{lib.display(value)}:3: ")
+    assert_recovers(lib, prog, value, text)
+
+
+def test_a_nul_byte_is_an_error_at_its_line(lib, live):
+    prog, main, value = live
+    text = value.read_text()
+    save_like_editor(value, "// one\nfloat liveValue() { return 0.25; }\0\n")
+    assert lib.poll() == [prog]
+    assert where(prog) == {(lib.display(value), 2)} and "NUL" in prog.errors[0].message
+    assert_recovers(lib, prog, value, text)
+
+
+def test_a_huge_file_is_refused_quickly(lib, live):
+    prog, main, value = live
+    text = value.read_text()
+    value.write_bytes(text.encode() + b"//" + b"x" * (MAX_SOURCE_BYTES + 10) + b"\n")
+    started = time.perf_counter()
+    assert lib.poll() == [prog]
+    assert time.perf_counter() - started < 5.0
+    assert where(prog) == {(lib.display(value), 1)} and "MiB" in prog.errors[0].message
+    assert_recovers(lib, prog, value, text)
+
+
+def test_an_unreadable_file_is_an_error(lib, live, monkeypatch):
+    prog, main, value = live
+    text = value.read_text()
+    real_open = os.open
+
+    def refuse(path, *args, **kw):  # the suite may run as root, which chmod cannot stop
+        if Path(path) == value.resolve():
+            raise PermissionError(13, "Permission denied", str(path))
+        return real_open(path, *args, **kw)
+
+    monkeypatch.setattr(os, "open", refuse)
+    save_like_editor(value, "float liveValue() { return 0.5; }\n")
+    assert lib.poll() == [prog]
+    assert where(prog) == {(lib.display(value), 1)}
+    assert "Permission denied" in prog.errors[0].message
+    monkeypatch.undo()
+    assert_recovers(lib, prog, value, text)
+
+
+def test_an_edit_of_the_same_size_in_the_same_clock_tick_is_seen(lib, live):
+    prog, main, value = live
+    before = value.stat()
+    with open(value, "w") as f:  # in place: same inode, same size
+        f.write("float liveValue() { return 0.75; }\n")
+    os.utime(value, ns=(before.st_atime_ns, before.st_mtime_ns))  # the same mtime tick
+    assert value.stat().st_size == before.st_size and value.stat().st_ino == before.st_ino
+    assert lib.poll() == [prog]  # (mtime, size, inode) alone cannot see it: the hash does
+    assert scaled(lib, prog) == pytest.approx(0.75)
+
+
+@pytest.mark.parametrize("which", ["stage", "include"])
+def test_delete_then_recreate_reloads(lib, live, which):
+    prog, main, value = live
+    path = main if which == "stage" else value
+    text = path.read_text()
+    path.unlink()
+    assert lib.poll() == []  # one poll's grace: a save may be in progress
+    assert prog.errors == []
+    assert lib.poll() == [prog]  # still missing: an error, the last good program renders
+    if which == "stage":
+        assert where(prog) == {(lib.display(path), 1)}
+        assert "not found" in prog.errors[0].message
+    else:
+        assert where(prog) == {(lib.display(main), 2)}
+        assert "cannot find include" in prog.errors[0].message
+    assert lib.poll() == []  # the error is not recompiled on every poll
+    assert scaled(lib, prog) == pytest.approx(0.25)
+    assert_recovers(lib, prog, path, text.replace("0.25", "0.5") if which == "include" else text,
+                    0.5 if which == "include" else 0.25)
+
+
+def test_a_missing_include_is_still_watched_so_restoring_it_recompiles(lib, root):
+    # live.frag → middle.glsl → leaf.glsl: a compile while middle.glsl is missing cannot see
+    # leaf.glsl; restoring middle.glsl (or any of the old include set) must recompile
+    main = write(root, "fx/chain.frag", '#version 330 core\n#include "middle.glsl"\n'
+                                        "out vec4 c;\nvoid main() { c = vec4(middle()); }\n")
+    middle = write(root, "fx/middle.glsl",
+                   '#include "leaf.glsl"\nfloat middle() { return leaf(); }\n')
+    leaf = write(root, "fx/leaf2.glsl", "float leaf() { return 0.25; }\n")
+    save_like_editor(middle, '#include "leaf2.glsl"\nfloat middle() { return leaf(); }\n')
+    prog = program(lib, "fx/chain")
+    assert leaf.resolve() in prog.files
+    text = middle.read_text()
+    middle.unlink()
+    poll_twice(lib)
+    assert where(prog) == {(lib.display(main), 2)}
+    # the previous include set stays watched while the compile fails
+    assert middle.resolve() in prog.stamps and leaf.resolve() in prog.stamps
+    save_like_editor(leaf, "float leaf() { return 0.5; }\n")
+    assert lib.poll() == [prog] and prog.errors  # middle.glsl is still missing
+    save_like_editor(middle, text)
+    assert lib.poll() == [prog] and prog.errors == []
+    assert scaled(lib, prog) == pytest.approx(0.5)
+    assert leaf.resolve() in prog.files
+
+
+def test_an_include_that_appears_where_it_was_missing_recompiles(lib, root):
+    main = write(root, "fx/later.frag", '#version 330 core\n#include "later.glsl"\n'
+                                        "out vec4 c;\nvoid main() { c = vec4(later()); }\n")
+    write(root, "fx/later.glsl", "float later() { return 0.25; }\n")
+    prog = program(lib, "fx/later")
+    (root / "fx/later.glsl").unlink()
+    poll_twice(lib)
+    assert where(prog) == {(lib.display(main), 2)}
+    write(root, "common/later.glsl", "float later() { return 0.125; }\n")  # found in common/
+    assert lib.poll() == [prog] and prog.errors == []
+    assert scaled(lib, prog) == pytest.approx(0.125)
+
+
+@pytest.mark.parametrize("edit", ["itself", "cycle"])
+def test_include_cycles_are_included_once(lib, live, root, edit):
+    prog, main, value = live
+    if edit == "itself":
+        save_like_editor(main, VALUE_FRAG.replace("out vec4", '#include "live.frag"\nout vec4'))
+    else:
+        save_like_editor(value, '#include "live.frag"\nfloat liveValue() { return 0.5; }\n')
+    assert lib.poll() == [prog]
+    assert prog.errors == []
+    assert scaled(lib, prog) == pytest.approx(0.5 if edit == "cycle" else 0.25)
+
+
+def test_include_of_a_folder_is_an_error_at_the_include(lib, live, root):
+    prog, main, value = live
+    (root / "fx/folder.glsl").mkdir()
+    save_like_editor(main, VALUE_FRAG.replace("uniform float", '#include "folder.glsl"\n'
+                                                               "uniform float"))
+    assert lib.poll() == [prog]
+    assert where(prog) == {(lib.display(main), 3)} and "folder" in prog.errors[0].message
+
+
+@pytest.mark.parametrize("text, line", [
+    ("", 1),  # emptied
+    ("// comment only\nout vec4 fragColor;\nvoid main() { fragColor = vec4(1.0); }\n", 2),
+])
+def test_an_emptied_file_or_a_removed_version(lib, live, text, line):
+    prog, main, value = live
+    save_like_editor(main, text)
+    assert lib.poll() == [prog]
+    assert where(prog) == {(lib.display(main), line)} and "#version" in prog.errors[0].message
+
+
+def test_a_one_megabyte_line_is_reported_at_its_line(lib, live):
+    prog, main, value = live
+    save_like_editor(value, "float liveValue() { return 0.25; }\nfloat q = " + "x" * 1_000_000
+                     + ";\n")
+    assert lib.poll() == [prog]
+    assert where(prog) == {(lib.display(value), 2)}
+    assert all(len(e.message) <= 600 for e in prog.errors)  # no megabyte in the panel
+    save_like_editor(value, "float liveValue() { return 0.25; }\n// " + "x" * 1_000_000 + "\n")
+    assert lib.poll() == [prog] and prog.errors == []  # a long comment is fine
+
+
+def test_user_line_directives_do_not_break_the_mapping(lib, live):
+    prog, main, value = live
+    save_like_editor(value, "#line 500 7\nfloat liveValue() {\n    return nope;\n}\n")
+    assert lib.poll() == [prog]
+    assert where(prog) == {(lib.display(value), 3)}
+
+
+# ---- link errors: blamed on a declaration, never on the first stage file -----------------------
+
+def test_a_varying_qualifier_mismatch_is_blamed_on_the_edited_declaration(lib, live):
+    prog, main, value = live
+    vert = Path(lib.root) / "common/fullscreen.vert"
+    save_like_editor(main, VALUE_FRAG.replace("uniform float uScale;",
+                                              "uniform float uScale;\nflat in vec2 vUV;"))
+    assert lib.poll() == [prog]
+    [err] = prog.errors
+    assert (err.file, err.line) == (lib.display(main), line_of(main, "flat in vec2 vUV"))
+    assert "vUV" in err.message and "link" in err.message
+    assert f"{lib.display(vert)}:{line_of(vert, 'out vec2 vUV')}" in err.message  # also there
+    # the same mismatch made in the vertex file (saved last) is blamed there
+    vert_text = vert.read_text()
+    save_like_editor(main, VALUE_FRAG.replace("uniform float uScale;",
+                                              "uniform float uScale;\nin vec2 vUV;"))
+    save_like_editor(vert, vert_text.replace("out vec2 vUV;", "noperspective out vec2 vUV;"))
+    later = main.stat().st_mtime_ns + 1_000_000_000
+    os.utime(vert, ns=(later, later))
+    assert lib.poll() == [prog]
+    assert where(prog) == {(lib.display(vert), line_of(vert, "noperspective out"))}
+    save_like_editor(vert, vert_text)
+    assert lib.poll() == [prog] and prog.errors == []
+
+
+def test_a_uniform_declared_with_two_types_is_blamed_on_a_declaration(lib, root):
+    vert = write(root, "fx/two.vert", FULLSCREEN_VERT.replace(
+        "out vec2 vUV;", "out vec2 vUV;\nuniform float uShared;").replace(
+        "vUV = p;", "vUV = p * uShared;"))
+    frag = write(root, "fx/two.frag", "#version 330 core\nin vec2 vUV;\nuniform int uShared;\n"
+                                      "out vec4 c;\nvoid main() { c = vec4(vUV, uShared, 1); }\n")
+    with pytest.raises(ShaderCompileError) as info:
+        lib.program("fx/two")
+    [err] = info.value.errors
+    assert "uShared" in err.message
+    assert (err.file, err.line) in {(lib.display(vert), line_of(vert, "uniform float uShared")),
+                                    (lib.display(frag), 3)}
+
+
+def test_a_link_error_naming_nothing_points_at_the_fragment_stage(lib, live):
+    prog, main, value = live
+    save_like_editor(main, VALUE_FRAG.replace("void main()", "void notMain()"))
+    assert lib.poll() == [prog]
+    [err] = prog.errors
+    assert (err.file, err.line) == (lib.display(main), 1)
+    assert "main" in err.message and "fragment stage" in err.message
+
+
+# ---- uniforms whose type changed in the GLSL ---------------------------------------------------
+
+def test_a_uniform_whose_type_changed_is_converted_or_skipped_never_raised(lib, live):
+    prog, main, value = live
+    save_like_editor(main, VALUE_FRAG.replace("uniform float uScale;", "uniform int uScale;"))
+    assert lib.poll() == [prog] and prog.errors == []  # int converts to float in GLSL
+    prog.set("uScale", 1.6)  # raised ValueError before: now rounded
+    assert prog.program["uScale"].value == 2 and prog.errors == []
+    assert render_pixel(lib.ctx, prog)[0] == pytest.approx(0.5)
+    prog.set("uScale", True)
+    assert prog.program["uScale"].value == 1
+    prog.set("uScale", (1.0, 2.0, 3.0))  # three numbers on an int: skipped and listed
+    [err] = prog.errors
+    assert (err.file, err.line) == (lib.display(main), line_of(main, "uniform int uScale"))
+    assert "uScale" in err.message and "int" in err.message and "skipped" in err.message
+    assert lib.errors() == [err]
+    prog.set("uScale", (1.0, 2.0, 3.0))  # listed once, not once a frame
+    assert len(prog.errors) == 1
+    assert render_pixel(lib.ctx, prog)[0] == pytest.approx(0.25)  # kept its last value
+
+    save_like_editor(main, VALUE_FRAG.replace("uniform float uScale;", "uniform vec3 uScale3;")
+                     .replace("* uScale", "* uScale3.y"))
+    assert lib.poll() == [prog] and prog.errors == []
+    prog.set("uScale3", 2.0)  # a scalar fills every component
+    assert prog.program["uScale3"].value == pytest.approx((2.0, 2.0, 2.0))
+    prog.set("uScale3", np.eye(4))  # a matrix on a vector: skipped and listed
+    assert where(prog) == {(lib.display(main), line_of(main, "uniform vec3 uScale3"))}
+    assert render_pixel(lib.ctx, prog)[0] == pytest.approx(0.5)
+
+
+def test_a_uniform_array_whose_type_changed_is_skipped_and_listed(lib, root):
+    main = write(root, "fx/rows.frag", """\
+        #version 330 core
+        uniform vec4 uRows[2];
+        out vec4 fragColor;
+        void main() { fragColor = uRows[0] + uRows[1]; }
+        """)
+    prog = program(lib, "fx/rows")
+    prog.set_array("uRows", [(0.25, 0.0, 0.0, 0.0), (0.25, 0.0, 0.0, 0.0)])
+    assert render_pixel(lib.ctx, prog)[0] == pytest.approx(0.5)
+    prog.set_array("uRows", [(1.0, 2.0, 3.0)])  # rows of three on vec4 rows: raised before
+    assert where(prog) == {(lib.display(main), 2)} and "uRows" in prog.errors[0].message
+    save_like_editor(main, main.read_text().replace("vec4 uRows[2]", "ivec4 uRows[2]")
+                     .replace("= uRows[0] + uRows[1]", "= vec4(uRows[0] + uRows[1])"))
+    assert lib.poll() == [prog] and prog.errors == []
+    prog.set_array("uRows", [(0.25, 0.0, 0.0, 0.0)])  # float bytes in an int array: refused
+    assert where(prog) == {(lib.display(main), 2)}
+    assert "ivec4" in prog.errors[0].message
+
+
+# ---- poll() never raises -----------------------------------------------------------------------
+
+def test_poll_turns_unexpected_exceptions_into_listed_errors(lib, live, monkeypatch):
+    prog, main, value = live
+    calls = []
+
+    def broken_callback(p):
+        calls.append(p)
+        raise RuntimeError("a reload callback's bug")
+
+    prog.on_reload.append(broken_callback)
+    save_like_editor(value, "float liveValue() { return 0.5; }\n")
+    assert lib.poll() == [prog]
+    assert calls == [prog] and prog.generation == 2  # the reload itself succeeded
+    assert not prog.failed
+    [err] = prog.errors
+    assert err.message.startswith("internal: reload callback") and "a reload callback's bug" \
+        in err.message and err.line == 1
+    prog.on_reload.remove(broken_callback)
+
+    def explode(*args, **kw):
+        raise KeyError("driver exploded")
+
+    monkeypatch.setattr(lib.ctx.__class__, "program", explode)
+    save_like_editor(value, "float liveValue() { return 0.125; }\n")
+    assert lib.poll() == [prog]
+    assert [e.message for e in prog.errors] == ["internal: compile failed: KeyError: "
+                                                "'driver exploded'"]
+    assert scaled(lib, prog) == pytest.approx(0.5)
+    assert lib.poll() == []  # not retried on every poll
+    monkeypatch.undo()
+    assert_recovers(lib, prog, value, "float liveValue() { return 0.125; }\n", 0.125)
+
+
+# ---- @param annotations broken by a live edit --------------------------------------------------
+
+ANNOTATED_FRAG = """\
+    #version 330 core
+    uniform float uGain; // @param 0.5 [0, 1] step=0.01 how bright
+    out vec4 fragColor;
+    void main() { fragColor = vec4(uGain, 0.0, 0.0, 1.0); }
+    """
+
+
+@pytest.mark.parametrize("broken, why", [
+    ("// @param 0.5 [0, 1", "range"),
+    ("// @param 0.5 [0, 1] step=abc", "step=abc"),  # a ValueError escaped before
+    ("// @param 5 [0, 1]", "out of range"),
+    ("// @param", "default"),
+    ("// @param true [0, 1]", "true"),
+])
+def test_a_broken_param_after_a_reload_is_listed_and_keeps_the_last_declaration(gl, root, broken,
+                                                                                 why):
+    from app.effects.base import Effect
+    from app.gpu.device import Gpu
+    from app.gpu.programs import fullscreen
+    from app.params import ParamSet
+
+    class Annotated(Effect):
+        name = "fx"
+        programs = (fullscreen("fx/annotated"),)
+
+        def draw(self, frame, target):  # pragma: no cover - not drawn here
+            pass
+
+    frag = write(root, "fx/annotated.frag", ANNOTATED_FRAG)
+    text = frag.read_text()
+    gpu = Gpu(gl, root)
+    try:
+        params = ParamSet(Annotated.declare(gpu.shaders))
+        fx = Annotated(gpu, params)
+        prog = fx.program(Annotated.programs[0])
+        params.set("fx.gain", 0.75)
+
+        save_like_editor(frag, text.replace("// @param 0.5 [0, 1] step=0.01 how bright", broken))
+        assert gpu.shaders.poll() == [prog]  # raised ParamError (or ValueError) before
+        [err] = prog.errors
+        assert (err.file, err.line) == (gpu.shaders.display(frag), 2)
+        assert err.message.startswith("@param") and why in err.message, err.message
+        assert not prog.failed  # it reloaded; the panel lists the annotation's error
+        spec = params.spec("fx.gain")
+        assert (spec.lo, spec.hi, spec.step) == (0.0, 1.0, 0.01)  # the last good declaration
+        assert params["fx.gain"] == 0.75
+        fx.apply_params(prog)
+        assert render_pixel(gl, prog)[0] == pytest.approx(0.75)
+
+        save_like_editor(frag, text.replace("[0, 1]", "[0, 2]"))
+        assert gpu.shaders.poll() == [prog] and prog.errors == []
+        assert params.spec("fx.gain").hi == 2.0 and params["fx.gain"] == 0.75
+    finally:
+        gpu.release()
+
+
+def test_a_uniform_type_change_through_apply_params_never_raises(gl, root):
+    """A float parameter whose uniform became an int (its annotation now unfit) or a vec3."""
+    from app.effects.base import Effect
+    from app.gpu.device import Gpu
+    from app.gpu.programs import fullscreen
+    from app.params import ParamSet
+
+    class Annotated(Effect):
+        name = "fx"
+        programs = (fullscreen("fx/annotated"),)
+
+    frag = write(root, "fx/annotated.frag", ANNOTATED_FRAG)
+    text = frag.read_text()
+    gpu = Gpu(gl, root)
+    try:
+        params = ParamSet(Annotated.declare(gpu.shaders))
+        fx = Annotated(gpu, params)
+        prog = fx.program(Annotated.programs[0])
+        params.set("fx.gain", 0.75)
+        save_like_editor(frag, text.replace("uniform float uGain", "uniform int uGain")
+                         .replace("vec4(uGain,", "vec4(float(uGain),"))
+        assert gpu.shaders.poll() == [prog]
+        # 0.5 is no int default: listed at its line, the float declaration kept
+        assert [(e.line, "integer" in e.message) for e in prog.errors] == [(2, True)]
+        fx.apply_params(prog)  # raised ValueError before: 0.75 rounds to 1
+        assert prog.program["uGain"].value == 1
+        assert render_pixel(gl, prog)[0] == pytest.approx(1.0)
+
+        save_like_editor(frag, text.replace("uniform float uGain; // @param 0.5 [0, 1] step=0.01 "
+                                            "how bright", "uniform vec2 uGain;")
+                         .replace("vec4(uGain, 0.0,", "vec4(uGain,"))
+        assert gpu.shaders.poll() == [prog] and prog.errors == []
+        fx.apply_params(prog)  # the scalar fills both components
+        assert prog.program["uGain"].value == pytest.approx((0.75, 0.75))
+    finally:
+        gpu.release()

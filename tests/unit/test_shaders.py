@@ -1,14 +1,33 @@
 """The shader library (DESIGN.md "Shader library"; issue 2 item 3) without a context: where
-the shaders come from (--shaders, $NATURA_SHADERS, the project's glsl/).
+the shaders come from (--shaders, $NATURA_SHADERS, the project's glsl/); reading GLSL files
+(folders, named pipes, devices, unreadable, non-UTF-8, NUL and huge files are errors with a line,
+never a hang); includes, the stamps live reload compares, error lines and link-error blame;
+converting a value to a uniform whose GLSL type changed.
 """
 
 from __future__ import annotations
+
+import os
+import time
 
 import pytest
 
 from app import DEFAULT_SHADER_ROOT
 from app.errors import UsageError
-from app.gpu.shaders import SHADER_ENV, resolve_shader_root
+from app.gpu.shaders import (
+    MAX_SOURCE_BYTES,
+    SHADER_ENV,
+    PreprocessError,
+    Program,
+    ShaderLibrary,
+    SourceError,
+    _convert,
+    _stamp,
+    read_source,
+    resolve_shader_root,
+    source_lines,
+)
+from app.params import parse_glsl_annotations
 
 # ---- where the shaders come from ---------------------------------------------------------------
 
@@ -36,3 +55,204 @@ def test_resolve_shader_root_rejects_a_non_directory(tmp_path, monkeypatch):
     with pytest.raises(UsageError) as info:
         resolve_shader_root(None)
     assert SHADER_ENV in str(info.value) and "missing" in str(info.value)
+
+
+# ---- reading GLSL files: never blocks, never raises anything but SourceError -------------------
+
+def test_read_source_refuses_what_is_not_a_text_file(tmp_path):
+    folder = tmp_path / "folder.glsl"
+    folder.mkdir()
+    pipe = tmp_path / "pipe.glsl"
+    os.mkfifo(pipe)
+    device = tmp_path / "device.glsl"
+    device.symlink_to("/dev/zero")
+    cases = {folder: "a folder", pipe: "a named pipe", device: "a device",
+             tmp_path / "missing.glsl": "not found"}
+    for path, why in cases.items():
+        started = time.perf_counter()
+        with pytest.raises(SourceError) as info:
+            read_source(path)
+        assert time.perf_counter() - started < 2.0  # a pipe opened for reading blocks forever
+        assert info.value.line == 1 and why in info.value.reason, (path, info.value.reason)
+
+
+def test_read_source_reports_the_line_of_bad_bytes(tmp_path):
+    latin1 = tmp_path / "latin1.glsl"
+    latin1.write_bytes("// one\n// two\n// caf\u00e9\n".encode("latin-1"))
+    with pytest.raises(SourceError) as info:
+        read_source(latin1)
+    assert info.value.line == 3 and "0xe9" in info.value.reason and "column 7" in info.value.reason
+    nul = tmp_path / "nul.glsl"
+    nul.write_bytes(b"// one\nfloat\0 x;\n")
+    with pytest.raises(SourceError) as info:
+        read_source(nul)
+    assert info.value.line == 2 and "NUL" in info.value.reason and "column 6" in info.value.reason
+    bom = tmp_path / "bom.glsl"
+    bom.write_bytes(b"\xef\xbb\xbf#version 330 core\n")
+    assert read_source(bom) == "#version 330 core\n"  # a BOM would hide #version
+
+
+def test_read_source_bounds_the_read(tmp_path):
+    huge = tmp_path / "huge.glsl"
+    huge.write_bytes(b"/" * (MAX_SOURCE_BYTES + 1))
+    with pytest.raises(SourceError) as info:
+        read_source(huge)
+    assert info.value.line == 1 and "MiB" in info.value.reason
+    fits = tmp_path / "fits.glsl"
+    fits.write_bytes(b"// " + b"x" * 1_000_000 + b"\n")  # a 1 MB line is fine
+    assert len(read_source(fits)) == 1_000_004
+
+
+def test_read_source_reports_an_unreadable_file(tmp_path, monkeypatch):
+    path = tmp_path / "secret.glsl"
+    path.write_text("float x;\n")
+    real_open = os.open
+
+    def refuse(p, *args, **kw):  # root reads a chmod 000 file, so the refusal is simulated
+        if str(p) == str(path):
+            raise PermissionError(13, "Permission denied", str(p))
+        return real_open(p, *args, **kw)
+
+    monkeypatch.setattr(os, "open", refuse)
+    with pytest.raises(SourceError) as info:
+        read_source(path)
+    assert info.value.line == 1 and "Permission denied" in info.value.reason
+
+
+def test_lines_are_counted_as_the_compiler_counts_them():
+    text = ("// a \u2028 line separator and a \x0c form feed\r\n"
+            "uniform float uX; // @param 2 [0, 1]\n")
+    assert len(text.splitlines()) == 4 and len(source_lines(text)) == 2
+    problems: list = []
+    assert parse_glsl_annotations(text, "fx", "f.glsl", problems=problems) == []
+    assert problems == [(2, "default fx.x=2.0 is out of range: allowed a number in [0, 1]")]
+
+
+# ---- preprocessing and stamps (no context) ------------------------------------------------------
+
+@pytest.fixture
+def lib(tmp_path):
+    root = tmp_path / "glsl"
+    (root / "common").mkdir(parents=True)
+    (root / "fx").mkdir()
+    return ShaderLibrary(None, root)
+
+
+def write(path, text):
+    path.write_text(text)
+    return path
+
+
+def test_include_of_a_folder_is_an_error_at_the_include_line(lib):
+    (lib.root / "fx/dir.glsl").mkdir()
+    main = write(lib.root / "fx/a.frag", '#version 330 core\n// two\n#include "dir.glsl"\n')
+    with pytest.raises(PreprocessError) as info:
+        lib.preprocess(main)
+    assert (info.value.error.file, info.value.error.line) == (lib.display(main), 3)
+    assert "folder" in info.value.error.message
+
+
+def test_include_cycles_and_self_includes_expand_once(lib):
+    main = write(lib.root / "fx/a.frag", '#version 330 core\n#include "a.frag"\n'
+                                         '#include "b.glsl"\nvoid main() {}\n')
+    write(lib.root / "fx/b.glsl", '#include "a.frag"\n#include "b.glsl"\nfloat b;\n')
+    src = lib.preprocess(main)
+    assert src.text.count("float b;") == 1 and src.text.count("void main") == 1
+    assert [p.name for p in src.files] == ["a.frag", "b.glsl"]
+
+
+def test_a_missing_include_is_watched_wherever_it_may_appear(lib):
+    main = write(lib.root / "fx/a.frag", '#version 330 core\n#include "later.glsl"\n')
+    with pytest.raises(PreprocessError) as info:
+        lib.preprocess(main)
+    watched = {p for p, stamp in info.value.stamps.items() if stamp is None}
+    assert watched == {(lib.root / "fx/later.glsl").resolve(),
+                       (lib.root / "common/later.glsl").resolve(),
+                       (lib.root / "later.glsl").resolve()}
+
+
+def test_a_vanished_file_is_given_one_poll_then_counts(lib):
+    main = write(lib.root / "fx/a.frag", "#version 330 core\n")
+    prog = Program(lib, "fx/a", {}, {"frag": main})
+    prog.stamps = {main: _stamp(main)}
+    assert not prog.changed_on_disk()
+    main.unlink()
+    assert not prog.changed_on_disk()  # mid-save: an editor moved the original away
+    assert prog.changed_on_disk()  # still missing at the next poll: recompile, list the error
+    write(main, "#version 330 core\n")
+    prog.stamps = {main: None}  # what the failed compile recorded
+    assert prog.changed_on_disk()  # its reappearance recompiles
+
+
+def test_the_stamp_sees_a_same_size_edit_in_the_same_tick(lib):
+    path = write(lib.root / "fx/a.glsl", "float a = 1.0;\n")
+    before = path.stat()
+    old = _stamp(path)
+    with open(path, "w") as f:
+        f.write("float a = 2.0;\n")
+    os.utime(path, ns=(before.st_atime_ns, before.st_mtime_ns))
+    assert path.stat().st_ino == before.st_ino and path.stat().st_size == before.st_size
+    assert _stamp(path) != old
+
+
+def test_unlocated_messages_get_a_real_line(lib):
+    main = write(lib.root / "fx/a.frag", "#version 330 core\nout vec4 c;\n\nvoid main() {}\n")
+    errors = lib.map_errors("error: something without a place\n0:0(1): error: line zero",
+                            [main], main)
+    assert [(e.line, e.message) for e in errors] == [(4, "error: something without a place"),
+                                                    (1, "error: line zero")]
+
+
+def test_link_errors_blame_the_newest_declaration(lib):
+    vert = write(lib.root / "fx/a.vert", "#version 330 core\nout vec2 vUV;\nvoid main() {}\n")
+    frag = write(lib.root / "fx/a.frag", "#version 330 core\n\nflat in vec2 vUV;\n"
+                                         "void main() {}\n")
+    os.utime(vert, ns=(10**18, 10**18))
+    os.utime(frag, ns=(2 * 10**18, 2 * 10**18))
+    tables = {"vertex_shader": [vert], "fragment_shader": [frag]}
+    message = ("error: vertex shader output `vUV' specifies no interpolation qualifier, but "
+               "fragment shader input specifies flat interpolation qualifier")
+    err = lib.blame_link(message, tables, frag)
+    assert (err.file, err.line) == (lib.display(frag), 3)
+    assert f"{lib.display(vert)}:2" in err.message
+    os.utime(vert, ns=(3 * 10**18, 3 * 10**18))
+    assert lib.blame_link(message, tables, frag).line == 2
+    fallback = lib.blame_link("error: fragment shader lacks `main'", tables, frag)
+    assert (fallback.file, fallback.line) == (lib.display(frag), 4)
+    assert "void main line of the fragment stage" in fallback.message
+
+
+class FakeUniform:
+    def __init__(self, gl_type, dimension, array_length=1):
+        self.gl_type, self.dimension, self.array_length = gl_type, dimension, array_length
+
+
+@pytest.mark.parametrize("gl_type, dim, value, expected", [
+    (0x1404, 1, 1.6, 2),  # float → int rounds
+    (0x1404, 1, True, 1),  # bool → int
+    (0x1406, 1, False, 0.0),  # bool → float
+    (0x8B56, 1, 0.2, 1),  # a non-zero number is true
+    (0x8B51, 3, 2.0, (2.0, 2.0, 2.0)),  # a scalar fills a vector
+    (0x8B54, 3, (0.4, 1.6, -2.5), (0, 2, -2)),  # ivec3 from floats
+    (0x1405, 1, -3.0, 0),  # uint clamps at 0
+    (0x1406, 1, (1.0, 2.0), None),  # a vector on a scalar: refused
+    (0x8B52, 4, (1.0, 2.0, 3.0), None),  # vec3 on a vec4: refused
+    (0x1404, 1, float("nan"), None),
+    (0x8B5E, 1, 0.0, None),  # samplers are bound by bind_textures only
+    (0x1406, 1, "abc", None),
+    (0x8B52, 4, 1.0, (1.0, 1.0, 1.0, 1.0)),
+])
+def test_uniform_values_are_converted_to_the_glsl_type(gl_type, dim, value, expected):
+    assert _convert(FakeUniform(gl_type, dim), value) == expected
+    assert _convert(FakeUniform(gl_type, dim, array_length=4), value) is None
+
+
+def test_a_line_past_the_end_of_a_file_is_brought_back_into_it(lib):
+    comment = write(lib.root / "fx/c.glsl", "float a;\n/* opened\nfloat b;\n")
+    other = write(lib.root / "fx/d.glsl", "float a;\nfloat b;\n")
+    log = ("0:212(1): preprocessor error: Unterminated comment\n"
+           "1:99(1): error: something at the end")
+    first, second = lib.map_errors(log, [comment, other], comment)
+    assert (first.file, first.line) == (lib.display(comment), 2)  # where the /* is
+    assert (second.file, second.line) == (lib.display(other), 2)
+    assert "past the end" in second.message
