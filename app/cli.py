@@ -10,28 +10,95 @@
     natura shaders copy DIR     copy the shader folder for editing (then --shaders DIR)
     natura bench SCENE          time each pass, write JSON
 
-Exit codes: 0 success, 1 shader errors, 2 bad arguments (one line naming the culprit and what
-is allowed), 3 no OpenGL.
+Exit codes: 0 success, 1 shader errors, 2 bad arguments or an output that cannot be written
+(one line naming the culprit and what is allowed), 3 no OpenGL, 70 an internal error (a bug:
+one line, please report), 130 Ctrl-C, 143 SIGTERM (temporary files removed).
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
+import re
 import shutil
+import signal
 import sys
 from pathlib import Path
 
 from . import __version__
-from .errors import NaturaError, UsageError
+from .errors import LINE_LIMIT, NaturaError, ShaderCompileError, UsageError, one_line, quote
 from .gpu.shaders import SHADER_ENV, resolve_shader_root
+
+#: bounds of the counts and rates (checked before anything is allocated or rendered)
+MAX_FRAMES = 100_000
+MAX_REPEAT = 10_000
+MAX_WARMUP = 1_000
+MAX_SIZES = 32
+FPS_RANGE = (0.001, 1000.0)
+INTERNAL_ERROR = 70
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse, but errors are one line (and exit 2)."""
+    """argparse, but errors are one line (and exit 2), prefixed once with ``natura:`` (by
+    main), naming the subcommand and saying what is allowed."""
 
     def error(self, message):
-        raise UsageError(f"{self.prog}: {message}")
+        sub = self.prog.removeprefix("natura").strip()
+        # argparse names a bad token unquoted: cut any long one (a 100 kB argument)
+        text = re.sub(r"\S{61,}", lambda m: m.group(0)[:30] + "…" + m.group(0)[-29:],
+                      one_line(message, 10**9))
+        if "allowed" not in text:
+            if "invalid choice" in text and "choose from" in text:
+                text = re.sub(r"\(choose from (.*)\)$", r"(allowed \1)", text)
+            else:
+                text += f" (allowed: see {self.prog} --help)"
+        raise UsageError(f"{sub}: {text}" if sub else text)
+
+
+def _int_in(option: str, lo: int, hi: int):
+    """An argparse type: an integer in [lo, hi], or one line naming the option."""
+    def convert(text: str) -> int:
+        t = text.strip()
+        if not re.fullmatch(r"[+-]?\d{1,15}", t):
+            raise UsageError(f"{option} {quote(text)} is not an integer: allowed {lo}..{hi}")
+        value = int(t)
+        if not lo <= value <= hi:
+            raise UsageError(f"{option} {value} is out of range: allowed {lo}..{hi}")
+        return value
+
+    return convert
+
+
+def _float_in(option: str, lo: float, hi: float):
+    """An argparse type: a finite number in [lo, hi]."""
+    def convert(text: str) -> float:
+        try:
+            value = float(text.strip())
+        except ValueError:
+            raise UsageError(f"{option} {quote(text)} is not a number: "
+                             f"allowed [{lo:g}, {hi:g}]") from None
+        if not (math.isfinite(value) and lo <= value <= hi):
+            raise UsageError(f"{option} {quote(text)} is out of range: "
+                             f"allowed [{lo:g}, {hi:g}]")
+        return value
+
+    return convert
+
+
+def _number(option: str):
+    """An argparse type: any finite number (ranges are checked where the value is used)."""
+    def convert(text: str) -> float:
+        try:
+            value = float(text.strip())
+        except ValueError:
+            raise UsageError(f"{option} {quote(text)} is not a number: "
+                             "allowed a finite number") from None
+        if not math.isfinite(value):
+            raise UsageError(f"{option} {quote(text)} is not finite: allowed a finite number")
+        return value
+
+    return convert
 
 
 def _add_common(p: argparse.ArgumentParser) -> None:
@@ -41,15 +108,17 @@ def _add_common(p: argparse.ArgumentParser) -> None:
 
 def _add_scene_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", default=None, metavar="WxH", help="image size (default 1280x720)")
-    p.add_argument("--time", type=float, default=None, metavar="HOURS", help="hour of day, 0 to 24")
+    p.add_argument("--time", type=_float_in("--time", 0.0, 24.0), default=None, metavar="HOURS",
+                   help="hour of day, 0 to 24")
     p.add_argument("--camera", default=None, metavar="X,Y,Z[,YAW[,PITCH[,FOV]]]",
                    help="camera position in metres, then yaw (0 = north, 90 = east), pitch and "
                    "vertical fov in degrees")
-    p.add_argument("--yaw", type=float, default=None,
+    p.add_argument("--yaw", type=_number("--yaw"), default=None,
                    help="camera yaw in degrees (0 = north, 90 = east)")
-    p.add_argument("--pitch", type=float, default=None,
+    p.add_argument("--pitch", type=_float_in("--pitch", -90.0, 90.0), default=None,
                    help="camera pitch in degrees (positive looks up)")
-    p.add_argument("--fov", type=float, default=None, help="vertical field of view in degrees")
+    p.add_argument("--fov", type=_float_in("--fov", 1.0, 170.0), default=None,
+                   help="vertical field of view in degrees")
     p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
                    help="set a parameter (repeatable); see `natura params SCENE`")
     p.add_argument("--preset", default=None, metavar="FILE.toml",
@@ -66,16 +135,18 @@ def build_parser() -> argparse.ArgumentParser:
     w = sub.add_parser("window", help="open the desktop window")
     w.add_argument("scene", nargs="?", default=None)
     _add_scene_options(w)
-    w.add_argument("--frames", type=int, default=None, help="close after N frames (scripts, tests)")
+    w.add_argument("--frames", type=_int_in("--frames", 1, MAX_FRAMES), default=None,
+                   help="close after N frames (scripts, tests)")
 
     r = sub.add_parser("render", help="render headless to PNG (tone-mapped sRGB) or EXR (linear)")
     r.add_argument("scene")
     _add_scene_options(r)
     r.add_argument("--out", default=None, metavar="FILE.png|FILE.exr",
                    help="output file (default: the next free SCENE-NNNN.png here)")
-    r.add_argument("--frames", type=int, default=1,
-                   help="number of frames (numbered files when > 1)")
-    r.add_argument("--fps", type=float, default=30.0, help="frames per second of simulated time")
+    r.add_argument("--frames", type=_int_in("--frames", 1, MAX_FRAMES), default=1,
+                   help=f"number of frames, 1..{MAX_FRAMES} (numbered files -0001... when > 1)")
+    r.add_argument("--fps", type=_float_in("--fps", *FPS_RANGE), default=30.0,
+                   help="frames per second of simulated time (0.001..1000)")
     r.add_argument("--force", action="store_true", help="overwrite existing output files")
 
     sub.add_parser("scenes", help="list the scenes")
@@ -94,8 +165,10 @@ def build_parser() -> argparse.ArgumentParser:
     b = sub.add_parser("bench", help="time each pass of a scene; write JSON")
     b.add_argument("scene")
     _add_scene_options(b)
-    b.add_argument("--warmup", type=int, default=3)
-    b.add_argument("--repeat", type=int, default=15)
+    b.add_argument("--warmup", type=_int_in("--warmup", 0, MAX_WARMUP), default=3,
+                   help=f"untimed runs first, 0..{MAX_WARMUP}")
+    b.add_argument("--repeat", type=_int_in("--repeat", 1, MAX_REPEAT), default=15,
+                   help=f"timed runs (the median is reported), 1..{MAX_REPEAT}")
     b.add_argument("--out", default=None, metavar="FILE.json",
                    help="default: bench-results/SCENE-NNNN.json")
     b.add_argument("--sizes", default=None, metavar="WxH,WxH,...",
@@ -103,87 +176,125 @@ def build_parser() -> argparse.ArgumentParser:
                    "(planet: the thesis's 800x600,1280x720,1920x1080)")
     b.add_argument("--no-sweep", action="store_true",
                    help="time the passes only, skip the scene's sweeps")
-    b.add_argument("--force", action="store_true")
+    b.add_argument("--force", action="store_true",
+                   help="overwrite an existing report and its chart")
     return parser
 
 
 # ---- commands --------------------------------------------------------------------------------
 
+def _nonempty(option: str, value: str | None, allowed: str) -> None:
+    """An option given as '' is refused (it would otherwise silently mean its default)."""
+    if value is not None and not value.strip():
+        raise UsageError(f"{option} {quote(value)} is empty: allowed {allowed}")
+
+
+def _check_shader_arg(value: str | None) -> None:
+    """``--shaders DIR`` checked here first, so every odd path is one short line."""
+    if value is None:
+        return
+    _nonempty("--shaders", value, "a folder laid out like glsl/")
+    from .imageio import expand
+
+    root = expand(value, "--shaders")
+    try:
+        ok = root.is_dir()
+    except (OSError, ValueError):
+        ok = False
+    if not ok:
+        what = "does not exist" if not os.path.lexists(root) else "is not a folder"
+        raise UsageError(f"--shaders {quote(value)} {what}: allowed a folder laid out like glsl/ "
+                         "(see natura shaders copy)")
+
+
 def _session_inputs(args, scene_name: str):
     """Validate everything the user gave (scene, parameters, camera, size) before any GL work."""
     from .runtime import parse_size, scene_params
-    from .scenes import get_scene
+    from .scenes import SCENES, get_scene
     from .sim.camera import parse_camera
 
+    if scene_name not in SCENES:
+        raise UsageError(f"unknown scene {quote(scene_name, 40)}: allowed {', '.join(SCENES)}")
+    _nonempty("--size", args.size, "WxH, e.g. 1280x720")
+    _nonempty("--camera", args.camera, "X,Y,Z[,YAW[,PITCH[,FOV]]]")
+    _nonempty("--preset", args.preset, "a TOML preset file")
+    _check_shader_arg(args.shaders)
     cls = get_scene(scene_name)
+    size = parse_size(args.size) if args.size is not None else (1280, 720)
     params = scene_params(scene_name, args.shaders, args.sets, args.preset)
     if args.time is not None:
         if "time.hour" not in params:
             raise UsageError(f"--time: scene {scene_name!r} has no time of day: allowed with the "
                              "scenes that have a day–night sky (see natura scenes)")
-        if not 0.0 <= args.time <= 24.0:
-            raise UsageError(f"--time {args.time:g} is out of range: allowed hours in [0, 24]")
         params.set("time.hour", args.time % 24.0)
     camera = cls.new_camera()
-    if args.camera:
+    if args.camera is not None:
         parse_camera(args.camera, camera)
     camera.set(yaw=args.yaw, pitch=args.pitch, fov=args.fov)
-    size = parse_size(args.size) if args.size else (1280, 720)
     return params, camera, size
+
+
+def frame_path(base: Path, i: int, frames: int) -> Path:
+    """The name of frame ``i`` (1-based) of ``frames``: ``base`` itself for one frame, else
+    ``stem-0001.suffix`` ... (wider when there are more than 9999 frames)."""
+    if frames == 1:
+        return base
+    return base.with_name(f"{base.stem}-{i:0{max(4, len(str(frames)))}d}{base.suffix}")
 
 
 def cmd_render(args) -> int:
     from .imageio import check_output_path, next_free_path, write_image
-    from .runtime import open_session, render_frames
+    from .runtime import end_progress, open_session, render_frames
 
+    _nonempty("--out", args.out, "a file name ending in .png or .exr")
     params, camera, size = _session_inputs(args, args.scene)
-    if args.frames < 1:
-        raise UsageError(f"--frames {args.frames} is out of range: allowed 1 or more")
-    if not (args.fps > 0):
-        raise UsageError(f"--fps {args.fps:g} is out of range: allowed a positive number")
-    if args.out:
+    if args.out is not None:
         base = check_output_path(args.out, force=True)  # suffix and folder; per-file check below
     else:
-        base = next_free_path(Path("."), args.scene, ".png")
-    if args.frames == 1:
-        outs = [base]
-    else:
-        outs = [base.with_name(f"{base.stem}-{i:04d}{base.suffix}") for i in range(args.frames)]
-    for out in outs:
-        check_output_path(out, force=args.force)
+        base = check_output_path(next_free_path(Path("."), args.scene, ".png"))
+    for i in range(1, args.frames + 1):  # every name before any work (bounded: MAX_FRAMES)
+        check_output_path(frame_path(base, i, args.frames), force=args.force)
     session = open_session(args.scene, params, args.shaders, camera=camera)
+    written = []
+    frames = render_frames(session, size, args.frames, args.fps, progress=args.frames > 1)
     try:
-        for out, image in zip(outs, render_frames(session, size, args.frames, args.fps,
-                                                  progress=args.frames > 1)):
+        for i, image in enumerate(frames, 1):
+            out = frame_path(base, i, args.frames)
             write_image(out, image, session.scene.exposure(), params["output.tonemap"],
                         force=args.force)
-            print(out)
+            written.append(out)
     finally:
+        frames.close()  # frees its target now, while the session is alive
+        end_progress()
         session.release()
+        for out in written:  # after the progress line has ended; also when interrupted
+            print(out)
     return 0
 
 
 def cmd_window(args) -> int:
     from .scenes import DEFAULT_SCENE
 
-    if getattr(args, "frames", None) is not None and args.frames < 1:
-        raise UsageError(f"--frames {args.frames} is out of range: allowed 1 or more")
-    scene_name = args.scene or DEFAULT_SCENE
+    scene_name = args.scene if args.scene is not None else DEFAULT_SCENE
     params, camera, size = _session_inputs(args, scene_name)
-    from .ui.window import display_available, run_window
+    from .ui.window import display_problem, run_window
 
-    if not display_available():
-        from .imageio import next_free_path, write_image
+    problem = display_problem()
+    if problem is not None:
+        from .imageio import check_output_path, next_free_path, write_image
         from .runtime import open_session, render_frames
 
-        print(f"natura: no display (DISPLAY and WAYLAND_DISPLAY are unset): "
+        # the picture's name and folder are checked before the message and the render
+        out = check_output_path(next_free_path(Path("."), f"natura-{scene_name}", ".png"))
+        print(f"natura: no display ({problem}): "
               f"rendering {scene_name!r} headless instead", file=sys.stderr)
-        out = next_free_path(Path("."), f"natura-{scene_name}", ".png")
         session = open_session(scene_name, params, args.shaders, camera=camera)
+        frames = render_frames(session, size)
         try:
-            image = next(render_frames(session, size))
+            image = next(frames)
             write_image(out, image, session.scene.exposure(), params["output.tonemap"])
         finally:
+            frames.close()
             session.release()
         print(out)
         return 0
@@ -204,7 +315,11 @@ def cmd_scenes(args) -> int:
 
 def cmd_params(args) -> int:
     from .runtime import scene_params
+    from .scenes import SCENES
 
+    if args.scene not in SCENES:
+        raise UsageError(f"unknown scene {quote(args.scene, 40)}: allowed {', '.join(SCENES)}")
+    _check_shader_arg(args.shaders)
     params = scene_params(args.scene, args.shaders)
     for group, items in params.groups().items():
         print(f"[{group}]")
@@ -217,22 +332,60 @@ def cmd_params(args) -> int:
     return 0
 
 
+def copy_shaders(dest_arg: str) -> Path:
+    """Copy the shader folder to a new folder ``dest_arg``: into a temporary sibling first,
+    renamed at the end, so an error (full disk, Ctrl-C) leaves nothing and a retry works."""
+    from .imageio import _LIVE, _can_create_in, _remove, expand, name_max, temp_name_in
+
+    allowed = "allowed a new folder name in an existing, writable folder"
+    _nonempty("shaders copy DIR", dest_arg, "a new folder name")
+    dest = expand(dest_arg, "shaders copy DIR")
+    shown = quote(str(dest))
+    if os.path.lexists(dest):
+        raise UsageError(f"{shown} already exists: "
+                         "allowed a new folder name (nothing is overwritten)")
+    parent = dest.parent if str(dest.parent) else Path(".")
+    if not parent.is_dir():
+        what = "is not a folder" if os.path.lexists(parent) else "does not exist"
+        raise UsageError(f"the folder {quote(str(parent))} of {shown} {what}: {allowed}")
+    if len(os.fsencode(dest.name)) > name_max(parent):
+        raise UsageError(f"folder name {quote(dest.name)} is {len(os.fsencode(dest.name))} "
+                         f"bytes: allowed at most {name_max(parent)}")
+    if not _can_create_in(parent):
+        raise UsageError(f"the folder {quote(str(parent))} is not writable: {allowed}")
+    source = resolve_shader_root(None)
+    tmp = temp_name_in(parent)
+    _LIVE.add(tmp)
+    try:
+        shutil.copytree(source, tmp)
+        if os.path.lexists(dest):  # taken while copying
+            raise UsageError(f"{shown} already exists: "
+                             "allowed a new folder name (nothing is overwritten)")
+        os.rename(tmp, dest)
+        _LIVE.discard(tmp)
+    except (OSError, shutil.Error) as exc:
+        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else type(exc).__name__
+        raise UsageError(f"cannot copy the shaders to {shown} ({why}): {allowed}, with free "
+                         "space; nothing was left behind") from None
+    finally:
+        if tmp in _LIVE:
+            _remove(tmp)
+    return dest
+
+
 def cmd_shaders(args) -> int:
     if args.shaders_command == "copy":
-        dest = Path(args.dest)
-        if dest.exists():
-            raise UsageError(f"{str(dest)!r} already exists: "
-                             "allowed a new folder name (nothing is overwritten)")
-        shutil.copytree(resolve_shader_root(None), dest)
+        dest = copy_shaders(args.dest)
         print(f"{dest}\nedit there, then: natura --shaders {dest} ... "
               f"(or export {SHADER_ENV}={dest})")
         return 0
     if args.shaders_command != "check":
-        raise UsageError("natura shaders: allowed subcommands: check, copy")
+        raise UsageError("shaders: a subcommand is needed: allowed check, copy")
     from .gpu.context import caps_of, create_headless_context
     from .gpu.shaders import ShaderLibrary
     from .scenes import SCENES
 
+    _check_shader_arg(args.shaders)
     root = resolve_shader_root(args.shaders)
     ctx = create_headless_context()
     caps = caps_of(ctx)
@@ -265,23 +418,59 @@ def cmd_shaders(args) -> int:
     return 1 if failures else 0
 
 
+def _bench_outputs(args, with_chart: bool) -> tuple[Path, Path | None]:
+    """The report's path and its chart's (the .png beside it, when the scene has sweeps),
+    both checked before anything runs: nothing is overwritten without --force."""
+    from .imageio import check_output_path, next_free_path
+
+    if args.out is not None:
+        _nonempty("--out", args.out, "a file name ending in .json")
+        path = check_output_path(args.out, force=args.force, suffixes=(".json",))
+    else:
+        folder = Path("bench-results")
+        if os.path.lexists(folder) and not folder.is_dir():
+            raise UsageError("bench-results exists and is not a folder: allowed --out FILE.json, "
+                             "or move that file away")
+        if not folder.is_dir():
+            from .imageio import _can_create_in
+
+            if not _can_create_in(Path(".")):
+                raise UsageError(f"the folder {quote(os.getcwd())} is not writable (for "
+                                 "bench-results/): allowed --out FILE.json in a writable folder")
+            path = folder / f"{args.scene}-0001.json"
+        else:
+            path = check_output_path(next_free_path(folder, args.scene, ".json", also=(".png",)),
+                                     suffixes=(".json",))
+    chart = None
+    if with_chart:
+        chart = path.with_suffix(".png")
+        if path.parent.is_dir():
+            check_output_path(chart, force=args.force)
+    return path, chart
+
+
 def cmd_bench(args) -> int:
     from .bench import bench_scene, scene_sweeps, write_report
     from .runtime import open_session, parse_size
+    from .scenes import SCENES
 
+    if args.scene not in SCENES:
+        raise UsageError(f"unknown scene {quote(args.scene, 40)}: allowed {', '.join(SCENES)}")
     params, camera, size = _session_inputs(args, args.scene)
     if args.size is None:
         size = (640, 360)
-    table_sizes = ([parse_size(t) for t in args.sizes.split(",") if t.strip()] if args.sizes
-                   else None)
-    if args.out:
-        from .imageio import check_output_path
-
-        check_output_path(args.out, force=args.force, suffixes=(".json",))
+    table_sizes = None
+    if args.sizes is not None:
+        items = args.sizes.split(",")
+        if not args.sizes.strip() or len(items) > MAX_SIZES:
+            raise UsageError(f"--sizes {quote(args.sizes)} has {len(items)} sizes: allowed "
+                             f"1..{MAX_SIZES} comma-separated WxH")
+        table_sizes = [parse_size(t, "--sizes item") for t in items]
+    sweeps = None if args.no_sweep else scene_sweeps(args.scene)
+    path, chart_path = _bench_outputs(args, with_chart=sweeps is not None)
     session = open_session(args.scene, params, args.shaders, camera=camera)
     try:
         report = bench_scene(session, size, args.warmup, args.repeat)
-        sweeps = None if args.no_sweep else scene_sweeps(args.scene)
         if sweeps is not None:
             print(f"running the {args.scene} speed/accuracy sweeps "
                   "(this takes a while on a software renderer)", file=sys.stderr)
@@ -290,40 +479,100 @@ def cmd_bench(args) -> int:
                                            repeat=max(3, args.repeat // 2), **kwargs)
     finally:
         session.release()
-    path = write_report(report, args.out, force=args.force)
+    if args.out is None and not path.parent.is_dir():
+        try:
+            path.parent.mkdir(exist_ok=True)
+        except OSError as exc:
+            raise UsageError(f"cannot create {quote(str(path.parent))} ({exc.strerror}): "
+                             "allowed --out FILE.json in a writable folder") from None
+    path = write_report(report, str(path), force=args.force)
     for name, t in report["passes"].items():
         print(f"{name:24s} {t['median_ms']:9.3f} ms  ×{t['ratio_to_fullscreen']:.2f} "
               "of a full-screen pass")
-    if "sweep" in report:
+    if sweeps is not None and "sweep" in report:
         chart_path = Path(path).with_suffix(".png")
-        sweeps.chart(report, chart_path)
+        sweeps.chart(report, chart_path, force=args.force)
         print(sweeps.summary(report))
         print(f"chart → {chart_path}")
     print(f"{report['renderer']}, {size[0]}x{size[1]} → {path}")
     return 0
 
 
+# ---- main ------------------------------------------------------------------------------------
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread so that every ``finally`` runs (temporary files are
+    removed) — like Ctrl-C, with exit code 143."""
+
+
+def _on_sigterm(signum, frame):
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)  # the clean-up that follows runs to its end
+    raise Terminated()
+
+
+def _install_sigterm() -> None:
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        try:
+            signal.signal(signal.SIGTERM, _on_sigterm)
+        except (ValueError, OSError):
+            pass
+
+
+def _say(text: str) -> None:
+    try:
+        print(f"natura: {text}", file=sys.stderr)
+    except (OSError, ValueError):
+        pass
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
+    _install_sigterm()
     parser = build_parser()
     try:
-        if not argv or argv[0].startswith("-") and argv[0] not in ("-h", "--help", "--version"):
-            argv = ["window", *argv]
-        args = parser.parse_args(argv)
-        command = args.command or "window"
-        handler = {
-            "window": cmd_window, "render": cmd_render, "scenes": cmd_scenes, "params": cmd_params,
-            "shaders": cmd_shaders, "bench": cmd_bench,
-        }[command]
-        return handler(args)
-    except NaturaError as exc:
-        print(f"natura: {exc}", file=sys.stderr)
+        try:
+            if argv and argv[0] == "--version" and len(argv) > 1:
+                raise UsageError(f"--version takes nothing after it, not {quote(argv[1], 40)}: "
+                                 "allowed natura --version alone")
+            if not argv or argv[0].startswith("-") and argv[0] not in ("-h", "--help",
+                                                                       "--version"):
+                argv = ["window", *argv]
+            args = parser.parse_args(argv)
+            command = args.command or "window"
+            handler = {
+                "window": cmd_window, "render": cmd_render, "scenes": cmd_scenes,
+                "params": cmd_params, "shaders": cmd_shaders, "bench": cmd_bench,
+            }[command]
+            return handler(args)
+        finally:
+            from .imageio import remove_live_temps
+
+            remove_live_temps()
+    except ShaderCompileError as exc:  # file:line errors, one per line
+        _say(str(exc))
         return exc.exit_code
-    except KeyboardInterrupt:
-        return 130
+    except NaturaError as exc:
+        _say(one_line(str(exc), LINE_LIMIT - len("natura: ")))
+        return exc.exit_code
+    except KeyboardInterrupt as exc:
+        term = isinstance(exc, Terminated)
+        _say(f"{'terminated (SIGTERM)' if term else 'interrupted (Ctrl-C)'}: stopped, "
+             "temporary files removed")
+        return 143 if term else 130
     except BrokenPipeError:  # e.g. `natura params sky | head`
         sys.stderr.close()
         return 0
+    except OSError as exc:  # the safety net: a path problem nothing above expected
+        name = exc.filename if exc.filename is not None else "a file"
+        _say(one_line(f"{quote(str(name))}: {exc.strerror or type(exc).__name__} "
+                      f"(errno {exc.errno}): allowed a path natura can read or write"))
+        return 2
+    except Exception as exc:  # noqa: BLE001 — a bug: one line, never a traceback
+        _say(one_line(f"internal error: {type(exc).__name__}: {quote(str(exc), 80)[1:-1]} "
+                      "(please report)"))
+        return INTERNAL_ERROR
 
 
 if __name__ == "__main__":

@@ -1,5 +1,7 @@
 """Errors a user can cause. Each carries one line saying what is wrong and what is allowed."""
 
+import re
+
 
 class NaturaError(Exception):
     """A user-facing error: the CLI prints ``natura: <message>`` and exits with ``exit_code``."""
@@ -33,3 +35,39 @@ class GpuUnavailableError(NaturaError):
     """No OpenGL context could be created."""
 
     exit_code = 3
+
+
+#: how long a quoted culprit may be in a message (the whole line stays under ~200 characters)
+QUOTE_LIMIT = 60
+LINE_LIMIT = 200
+
+
+def quote(value, limit: int = QUOTE_LIMIT) -> str:
+    """``repr(str(value))``, cut to ``limit`` characters with an ellipsis in the middle (a
+    path keeps its file name): a 100 kB argument is named, never echoed."""
+    text = repr(value if isinstance(value, str) else str(value))
+    if len(text) <= limit:
+        return text
+    head = (limit - 1) // 2
+    return text[:head] + "…" + text[-(limit - 1 - head):]
+
+
+_QUOTED = re.compile(r"'(?:[^'\\\n]|\\.){%d,}'|\"(?:[^\"\\\n]|\\.){%d,}\"" % (QUOTE_LIMIT,
+                                                                               QUOTE_LIMIT))
+
+
+def _cut(text: str, limit: int) -> str:
+    head = (limit - 1) // 2
+    return text if len(text) <= limit else text[:head] + "…" + text[-(limit - 1 - head):]
+
+
+def one_line(message: str, limit: int = LINE_LIMIT) -> str:
+    """A message as one line of at most ``limit`` characters: newlines become spaces, long
+    quoted parts are cut (:func:`quote`), and a line still too long keeps its start and its
+    end (where the "allowed ..." part is)."""
+    text = " ".join(str(message).split())
+    text = _QUOTED.sub(lambda m: _cut(m.group(0), QUOTE_LIMIT), text)
+    if len(text) > limit:
+        head = limit * 2 // 5
+        text = text[:head] + " … " + text[-(limit - head - 3):]
+    return text

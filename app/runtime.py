@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
+import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Iterator
+from typing import Generator, Iterable
 
 import numpy as np
 
-from .errors import UsageError
+from .errors import UsageError, quote
 from .gpu.device import Gpu
 from .gpu.shaders import ShaderLibrary, resolve_shader_root
 from .params import ParamSet
@@ -17,16 +18,20 @@ from .scenes import get_scene
 from .scenes.base import Scene
 from .sim.camera import Camera
 
+MAX_SIDE = 16384
+_SIZE = re.compile(r"\s*(\d{1,9})\s*[xX×]\s*(\d{1,9})\s*")
 
-def parse_size(text: str) -> tuple[int, int]:
+
+def parse_size(text: str, option: str = "--size") -> tuple[int, int]:
     """``WxH`` with each side in [1, 16384]."""
-    parts = text.lower().split("x")
-    try:
-        w, h = (int(p) for p in parts)
-    except ValueError:
-        raise UsageError(f"--size {text!r} is not WxH: allowed e.g. 1280x720") from None
-    if not (1 <= w <= 16384 and 1 <= h <= 16384):
-        raise UsageError(f"--size {text!r} is out of range: allowed 1..16384 on each side")
+    m = _SIZE.fullmatch(text) if text.isascii() or "×" in text else None
+    if not m:
+        what = "is empty" if not text.strip() else "is not WxH"
+        raise UsageError(f"{option} {quote(text)} {what}: allowed WxH, e.g. 1280x720")
+    w, h = int(m[1]), int(m[2])
+    if not (1 <= w <= MAX_SIDE and 1 <= h <= MAX_SIDE):
+        raise UsageError(f"{option} {quote(text)} is out of range: "
+                         f"allowed 1..{MAX_SIDE} on each side")
     return w, h
 
 
@@ -66,12 +71,17 @@ def open_session(scene_name: str, params: ParamSet | None = None, shader_root=No
 
 
 def render_frames(session: Session, size: tuple[int, int], frames: int = 1, fps: float = 30.0,
-                  progress: bool = False) -> Iterator[np.ndarray]:
+                  progress: bool = False) -> Generator[np.ndarray, None, None]:
     """Yield ``frames`` linear-radiance images ``(h, w, 4)``; time advances 1/fps per frame."""
+    if not (isinstance(frames, int) and frames >= 1):
+        raise UsageError(f"frames {frames!r} is out of range: allowed 1 or more")
+    if not (0.0 < fps < float("inf")):
+        raise UsageError(f"fps {fps!r} is out of range: allowed a positive finite number")
+    dt = 1.0 / fps
     target = session.gpu.target("output", "scene radiance", size)
     try:
         for i in range(frames):
-            frame = session.scene.frame(size, dt=0.0 if i == 0 else 1.0 / fps)
+            frame = session.scene.frame(size, dt=0.0 if i == 0 else dt)
             session.scene.render(frame, target)
             image = target.read()
             if progress:  # before the yield: a consumer may never resume after the last frame
@@ -80,10 +90,26 @@ def render_frames(session: Session, size: tuple[int, int], frames: int = 1, fps:
     finally:
         session.gpu.free(target)
         if progress:
-            sys.stderr.write("\n")
+            end_progress()
+
+
+_progress_open = False
 
 
 def _progress(done: int, total: int, width: int = 30) -> None:
+    """One progress line on stderr, redrawn in place; :func:`end_progress` ends it, so what
+    follows on the terminal (the written paths on stdout) starts on a line of its own."""
+    global _progress_open
     filled = int(width * done / total)
     sys.stderr.write(f"\rrendering [{'#' * filled}{'.' * (width - filled)}] {done}/{total} frames")
     sys.stderr.flush()
+    _progress_open = True
+
+
+def end_progress() -> None:
+    """End the progress line (once; harmless when none is open)."""
+    global _progress_open
+    if _progress_open:
+        sys.stderr.write("\n")
+        sys.stderr.flush()
+        _progress_open = False

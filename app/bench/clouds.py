@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..gpu.timing import time_call
+from ..imageio import save_figure
 
 PRESETS = ("cumulus", "stratocumulus", "stratus")
 DEFAULT_SIZES = ((256, 256), (512, 512), (800, 800), (1920, 1080))
@@ -132,7 +133,7 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None) -> dict:
     return out
 
 
-def chart(report: dict, path) -> None:
+def chart(report: dict, path, force: bool = False) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -172,8 +173,10 @@ def chart(report: dict, path) -> None:
     ax.legend(fontsize=8)
     fig.suptitle(f"natura bench clouds — {report['renderer']}", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, force=force)  # atomic, never over an existing file
+    finally:
+        plt.close(fig)
 
 
 def summary(report: dict) -> str:

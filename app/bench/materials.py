@@ -25,6 +25,7 @@ from ..effects.materials.effect import (
     Materials,
 )
 from ..gpu.timing import time_call
+from ..imageio import save_figure
 
 TOP_VIEW = np.array([[2.0, 0, 0, 0], [0, 0, -2.0, 0], [0, 0, 0, 0], [0, 0, 0, 1.0]])
 BAKE_SIZES = (8, 16, 32, 64, 128)
@@ -139,7 +140,7 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
     return out
 
 
-def chart(report: dict, path) -> None:
+def chart(report: dict, path, force: bool = False) -> None:
     """Time against error: baked sizes and per-pixel noise; octave cost; ring filtering."""
     import matplotlib
 
@@ -184,8 +185,10 @@ def chart(report: dict, path) -> None:
     ax.legend(fontsize=8)
     fig.suptitle(f"natura bench materials — {report['renderer']}", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, force=force)  # atomic, never over an existing file
+    finally:
+        plt.close(fig)
 
 
 def summary(report: dict) -> str:

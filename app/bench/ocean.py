@@ -43,6 +43,7 @@ import numpy as np
 
 from ..errors import NaturaError, ParamError, UsageError
 from ..gpu.timing import time_call
+from ..imageio import save_figure
 from ..sim import ocean as oc
 from ..sim.ocean_validation import (
     cascade_moments,
@@ -363,7 +364,7 @@ FLOOR = 1e-4
 SYMLOG_LINEAR = 1e-2
 
 
-def chart(report: dict, path) -> None:
+def chart(report: dict, path, force: bool = False) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -459,8 +460,10 @@ def chart(report: dict, path) -> None:
     fig.suptitle(f"natura bench ocean — {report.get('renderer', s.get('renderer'))}, "
                  f"{s['spectrum']}, U = {s['wind']:g} m/s", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, force=force)  # atomic, never over an existing file
+    finally:
+        plt.close(fig)
 
 
 def _pct(x) -> str:

@@ -10,7 +10,9 @@
   subsampled ground view, as its quality knob changes: N_STEPS (methods 1–3), the optical-depth
   LUT size (method 2), the shadow-map size (method 3, against the same method with an 8192² map:
   the reference has no shadows), Hillaire's LUT sizes (method 4; it adds multiple scattering, so
-  its error against a single-scattering reference includes that physics on purpose).
+  its error against a single-scattering reference includes that physics on purpose). Method 1
+  with its own knobs at their defaults gets a field of its own, ``method_1_defaults``, with the
+  in-scattering's error also relative to the reference's mean (``in_rel_mean``).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..gpu.timing import time_call
+from ..imageio import save_figure
 from ..sim import atmosphere as atm
 
 DEFAULT_SIZES = ((800, 600), (1280, 720), (1920, 1080))
@@ -120,6 +123,35 @@ def _errors(got_in, got_t, ref) -> dict:
             "t_mean": float(d_t.mean()), "t_p99": float(np.percentile(d_t, 99))}
 
 
+#: the knobs of method 1 that make its figure (spec/002 §2.3): reset to their defaults for
+#: the ``method_1_defaults`` field of the accuracy report
+METHOD_1_KNOBS = ("planet.n_steps", "planet.inner_steps", "planet.pc_rule",
+                  "planet.universe_radius", "planet.universe_centre")
+
+
+def method_1_at_defaults(session, size, ref) -> dict:
+    """Method 1 (brute force) with its knobs at their defaults against the reference ``ref`` of
+    the ground view (:func:`reference_for_view`): the absolute errors of :func:`_errors` and the
+    in-scattering's relative mean error ``in_rel_mean`` = mean |Δ| / mean reference (per pixel,
+    the largest channel). Leaves the method and those knobs as it found them."""
+    p = session.params
+    saved = {k: p[k] for k in ("planet.method",) + METHOD_1_KNOBS}
+    try:
+        for k in METHOD_1_KNOBS:
+            p.set(k, p.spec(k).default)
+        p.set("planet.method", "brute_force")
+        rule = session.scene.effect("planet").pc_rule()
+        got_in, got_t = _render_debug(session, size, "ground")
+    finally:
+        for k, v in saved.items():
+            p.set(k, v)
+    errs = _errors(got_in, got_t, ref)
+    ref_mean = float(ref["in_scatter"].max(axis=-1).mean())
+    return {**errs, "in_rel_mean": errs["in_mean"] / max(ref_mean, 1e-30),
+            **{k.split(".", 1)[1]: p.spec(k).default for k in METHOD_1_KNOBS},
+            "pc_rule_used": rule}
+
+
 def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repeat: int = 3,
              steps_list=(5, 10, 20, 30, 60, 120), lut_sizes=(16, 32, 64, 128, 256),
              shadow_sizes=(256, 512, 1024, 2048), hillaire_scales=(0.5, 1.0), ref_steps: int = 2048,
@@ -129,6 +161,7 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
     p.set("planet.sun_disk", False)
     p.set("planet.star_intensity", 0.0)
     ref = reference_for_view(session, size, ref_steps)
+    method_1 = method_1_at_defaults(session, size, ref)
     rows = []
 
     def measure(method, knob, value, extra_ref=None):
@@ -139,7 +172,7 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
         rows.append({"method": method, "knob": knob, "value": value, "ms": ms, **errs})
 
     saved = {k: p[k] for k in ("planet.n_steps", "planet.inner_steps", "planet.lut_height",
-                               "planet.lut_angle", "planet.shadow_map_size")}
+                               "planet.lut_angle", "planet.shadow_map_size", "planet.pc_rule")}
     try:
         for n in steps_list:
             p.set("planet.n_steps", n)
@@ -151,7 +184,7 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
         for n in steps_list:
             p.set("planet.n_steps", n)
             measure("lut", "n_steps, thesis τ(PC) rule", n)
-        p.set("planet.pc_rule", "midpoint")
+        p.set("planet.pc_rule", saved["planet.pc_rule"])
         p.set("planet.n_steps", saved["planet.n_steps"])
         p.set("planet.inner_steps", saved["planet.inner_steps"])
         for size_ in lut_sizes:
@@ -182,7 +215,7 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
         for k, v in saved.items():
             p.set(k, v)
     return {"size": list(size), "time_size": list(time_size), "reference_steps": ref_steps,
-            "rows": rows}
+            "rows": rows, "method_1_defaults": method_1}
 
 
 #: Hillaire LUT resolutions scaled together by the "lut scale" knob (defaults × scale)
@@ -207,7 +240,7 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None) -> dict:
             "accuracy": accuracy(session, warmup=max(1, warmup - 1), repeat=max(2, repeat // 2))}
 
 
-def chart(report: dict, path) -> None:
+def chart(report: dict, path, force: bool = False) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -246,8 +279,10 @@ def chart(report: dict, path) -> None:
     ax.legend(fontsize=8)
     fig.suptitle(f"natura bench planet — {report['renderer']}", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    try:
+        save_figure(fig, path, force=force)  # atomic, never over an existing file
+    finally:
+        plt.close(fig)
 
 
 def summary(report: dict) -> str:
@@ -267,4 +302,12 @@ def summary(report: dict) -> str:
         lines.append(f"{r['method']:12s} {r['knob']:28s} {str(r['value']):>6s} {r['ms']:8.2f}   "
                      f"{r['in_mean']:.2e} / {r['in_p99']:.2e}       "
                      f"{r['t_mean']:.2e} / {r['t_p99']:.2e}")
+    m1 = s["accuracy"].get("method_1_defaults")
+    if m1:
+        lines.append(f"method 1 at its defaults (N = {m1['n_steps']}, τ(PC) rule "
+                     f"{m1['pc_rule_used']}, universe sphere {m1['universe_radius']:.4g} m about "
+                     f"the {m1['universe_centre']}) against the reference:")
+        lines.append(f"    in-scatter err mean {m1['in_mean']:.2e} "
+                     f"({100.0 * m1['in_rel_mean']:.1f} % of the reference's mean), "
+                     f"p99 {m1['in_p99']:.2e}; transmittance err mean {m1['t_mean']:.2e}")
     return "\n".join(lines)

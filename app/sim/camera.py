@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from pyrr import matrix44
 
-from ..errors import UsageError
+from ..errors import UsageError, quote
 
 
 def _normalize(v: np.ndarray) -> np.ndarray:
@@ -124,15 +124,18 @@ class Camera:
 def parse_camera(text: str, camera: Camera | None = None) -> Camera:
     """``--camera X,Y,Z[,YAW[,PITCH[,FOV]]]``."""
     cam = camera or Camera()
-    parts = [p for p in text.replace(" ", "").split(",") if p != ""]
+    allowed = "allowed X,Y,Z[,YAW[,PITCH[,FOV]]] (metres, then degrees)"
+    if not text.strip():
+        raise UsageError(f"--camera {quote(text)} is empty: {allowed}")
+    parts = text.replace(" ", "").split(",")
+    if not 3 <= len(parts) <= 6:
+        raise UsageError(f"--camera {quote(text)} has {len(parts)} parts: {allowed}")
     try:
         values = [float(p) for p in parts]
     except ValueError:
-        raise UsageError(f"--camera {text!r} is not numbers: "
-                         "allowed X,Y,Z[,YAW[,PITCH[,FOV]]]") from None
-    if not 3 <= len(values) <= 6:
-        raise UsageError(f"--camera {text!r} has {len(values)} numbers: "
-                         "allowed X,Y,Z[,YAW[,PITCH[,FOV]]]")
+        raise UsageError(f"--camera {quote(text)} is not numbers: {allowed}") from None
+    if not all(math.isfinite(v) for v in values):
+        raise UsageError(f"--camera {quote(text)} is not finite numbers: {allowed}")
     cam.set(position=values[:3])
     names = ("yaw", "pitch", "fov")
     cam.set(**{n: v for n, v in zip(names, values[3:])})

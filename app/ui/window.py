@@ -302,9 +302,12 @@ class NaturaWindow:
         shaders = self.session.gpu.shaders
         try:
             for prog in shaders.poll():
-                if prog.errors:
+                if prog.failed:
                     self.messages.append(f"{prog.name}: reload failed, "
                                          "still showing the last good version")
+                elif prog.errors:  # compiled, but e.g. a broken @param or a retyped uniform
+                    self.messages.append(f"{prog.name}: reloaded with "
+                                         f"{len(prog.errors)} problem(s)")
                 else:
                     self.messages.append(f"{prog.name}: reloaded")
             errors = shaders.errors()
