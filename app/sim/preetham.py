@@ -23,7 +23,9 @@ Domain guards (documented, the same in GLSL):
   0.264 kcd/m² at θs = 90°), and both Perez denominators F(0, θs) stay positive;
 * view directions below the horizon use cos θ = max(cos θ, 1e-3): with B < 0 the factor
   e^{B/cos θ} tends to 0, so the lower hemisphere shows the horizon colour (the paper's model
-  has no ground);
+  has no ground) — unless a sea plane is drawn there (beyond the paper: :func:`sea_radiance`,
+  the shared maths of app/sim/sea_plane.py reflecting this sky, lit by :func:`sky_ambient`
+  and the main light);
 * the sun below the horizon: the model is evaluated at θs = min(θs, 90°) and the radiance is
   multiplied by a twilight factor, smoothstep over sun elevation −6°…0° (civil twilight), so
   there is no NaN and no pop; the model itself is only defined for the sun above the horizon.
@@ -38,6 +40,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+from .sea_plane import SeaPlane, sea_horizon_direction, sea_reflection_direction
 
 #: Perez coefficients (A, B, C, D, E) = slope · T + offset, rows Y, x, y (appendix A.2).
 PEREZ_SLOPE = np.array([
@@ -182,17 +186,61 @@ def sun_disk(directions, sun_dir, radius_deg: float) -> np.ndarray:
     return t * t * (3.0 - 2.0 * t)
 
 
+def sky_no_disk(directions, sun_dir, turbidity: float = 2.5,
+                exposure: float = 0.05) -> np.ndarray:
+    """Twin of ``PreethamSkyNoDisk``: exposure · twilight · sky, linear RGB."""
+    return sky_rgb(directions, sun_dir, turbidity) * exposure * twilight(sun_dir)
+
+
+def sky_ambient_rgb(sun_dir, turbidity: float, elevations: int = 12,
+                    azimuths: int = 24) -> np.ndarray:
+    """(1/π)∫ L cosθ dω of :func:`sky_rgb` (no disk) over the upper hemisphere, kcd/m² (RGB):
+    the cosine-weighted mean radiance, ``elevations`` × ``azimuths`` directions at the
+    midpoints, weights sin(2·elevation) normalised (as ``Keyframes.ambient_at`` in
+    app/sim/daynight.py). A diffuse horizontal surface under this sky has the irradiance
+    π × this."""
+    el = (np.arange(elevations) + 0.5) / elevations * (math.pi / 2)
+    az = (np.arange(azimuths) + 0.5) / azimuths * (2.0 * math.pi)
+    e, a = np.meshgrid(el, az, indexing="ij")
+    d = np.stack([np.cos(e) * np.sin(a), np.sin(e), -np.cos(e) * np.cos(a)], axis=-1)
+    w = np.sin(2.0 * e)
+    rgb = sky_rgb(d, sun_dir, turbidity)
+    return (w[..., None] * rgb).sum(axis=(0, 1)) / w.sum()
+
+
+def sky_ambient(sun_dir, turbidity: float = 2.5, exposure: float = 0.05) -> np.ndarray:
+    """The sky's ambient in the picture's units (``uSkyAmbient``): exposure · twilight ·
+    :func:`sky_ambient_rgb`."""
+    return sky_ambient_rgb(sun_dir, turbidity) * exposure * twilight(sun_dir)
+
+
+def sea_radiance(directions, sun_dir, turbidity: float, exposure: float,
+                 sea: SeaPlane) -> np.ndarray:
+    """Twin of ``PreethamSea``: the shared sea plane (app/sim/sea_plane.py) reflecting
+    :func:`sky_no_disk`, hazed toward the horizon colour. ``directions`` below the horizon."""
+    d = np.asarray(directions, dtype=np.float64)
+    reflected = sky_no_disk(sea_reflection_direction(d, sea.mss), sun_dir, turbidity, exposure)
+    horizon = sky_no_disk(sea_horizon_direction(d), sun_dir, turbidity, exposure)
+    return sea.radiance(d, reflected, horizon)
+
+
 def sky_radiance(directions, sun_dir, turbidity: float = 2.5, exposure: float = 0.05,
                  disk: bool = True, disk_radius_deg: float = 0.27,
-                 disk_intensity: float = 200.0) -> np.ndarray:
-    """Twin of ``PreethamSkyRadiance``: exposure · (sky + disk) · twilight, linear RGB."""
+                 disk_intensity: float = 200.0, sea: SeaPlane | None = None) -> np.ndarray:
+    """Twin of ``PreethamSkyRadiance``: exposure · (sky + disk) · twilight, linear RGB; below
+    the horizon :func:`sea_radiance` when ``sea`` is given (``preetham.ground = sea``)."""
     d = np.asarray(directions, dtype=np.float64)
     rgb = sky_rgb(d, sun_dir, turbidity)
     if disk:
         above = (d[..., 1] >= 0.0).astype(np.float64)
         rgb = rgb + (sun_disk(d, sun_dir, disk_radius_deg) * above * disk_intensity)[..., None] \
             * sun_transmittance(model_sun_zenith(sun_dir), turbidity)
-    return rgb * exposure * twilight(sun_dir)
+    out = rgb * exposure * twilight(sun_dir)
+    if sea is not None:
+        below = d[..., 1] < 0.0
+        if below.any():
+            out[below] = sea_radiance(d[below], sun_dir, turbidity, exposure, sea)
+    return out
 
 
 def sun_direction(elevation_deg: float, azimuth_deg: float) -> np.ndarray:

@@ -1,5 +1,6 @@
 // Small shared helpers. Twins where tests need them: saturate is sat in app/sim/clouds.py;
-// SmoothStepDown(hi, lo, x) is smoothstep(hi, lo, x) in app/sim/sky.py.
+// SmoothStepDown(hi, lo, x) is smoothstep(hi, lo, x) in app/sim/sky.py; SchlickFresnel is
+// schlick_fresnel in app/sim/sea_plane.py.
 const float PI = 3.14159265358979;
 const float TWO_PI = 6.28318530717959;
 const float HALF_PI = 1.57079632679490;

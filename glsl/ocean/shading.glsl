@@ -11,6 +11,7 @@
 // does not reflect itself), the cubemap LOD clamped to the map's levels.
 
 #include "math.glsl"
+#include "sea_plane.glsl"  // SeaBeckmann: the glitter lobe the sky's sea plane shares
 
 uniform samplerCube uEnvironment;
 uniform float uEnvironmentLods;      // mip levels of the cubemap − 1
@@ -36,13 +37,6 @@ vec3 EnvironmentRadiance(vec3 dir, float lod) {
     return textureLod(uEnvironment, dir, clamp(lod, 0.0, uEnvironmentLods)).rgb;
 }
 
-// Beckmann distribution for an isotropic slope variance mss (= m²).
-float Beckmann(float nh, float mss) {
-    float c2 = max(nh * nh, 1e-4);
-    float tan2 = (1.0 - c2) / c2;
-    return exp(-tan2 / mss) / (PI * mss * c2 * c2);
-}
-
 // Radiance leaving the sea surface toward the viewer, seen from above.
 // p: surface point relative to the camera; n: normal; v: unit vector toward the camera;
 // crest: wave height in units of the sea's significant height (subsurface light).
@@ -66,7 +60,7 @@ vec3 OceanShadeAbove(vec3 p, vec3 n, vec3 v, float foam, float lostMss, float cr
     vec3 h = normalize(l + v);
     float nh = max(dot(n, h), 0.0);
     float G = min(1.0, min(2.0 * nh * nv / max(dot(v, h), 1e-3), 2.0 * nh * nl / max(dot(v, h), 1e-3)));
-    vec3 spec = E * SchlickFresnel(WATER_F0, dot(v, h)) * Beckmann(nh, mss) * G / (4.0 * nv) * step(0.0, l.y);
+    vec3 spec = E * SchlickFresnel(WATER_F0, dot(v, h)) * SeaBeckmann(nh, mss) * G / (4.0 * nv) * step(0.0, l.y);
 
     vec3 water = mix(body, reflected, F) + spec;
     vec3 foamLit = uFoamColor * (skyAmbient + E * nl / PI);  // Lambert

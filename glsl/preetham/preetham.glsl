@@ -17,10 +17,32 @@
 //   §A.1     sun colour = exp(−0.008735·λ^−4.08·m) · exp(−β·λ^−1.3·m), β = 0.04608·T − 0.04586,
 //            m = 1/(cos θs + 0.15·(93.885 − θs°)^−1.253), λ = 0.68/0.55/0.44 μm for R/G/B
 //   output   = uExposure · twilight · (sky + sun disk)   (Y = 1 kcd/m² → 1.0 before exposure)
+//            above the horizon; below it, see next.
+//
+// Below the horizon (uGround, preetham.ground): 0 = the paper's model clamped at the horizon
+// (a flat band of the horizon colour: the model has no ground); 1 = beyond the paper and the
+// thesis, a calm sea plane at y = 0 seen from uEyeHeight, the maths shared with the day–night
+// sky in glsl/common/sea_plane.glsl (Schlick 1994's Fresnel at the incidence the waves leave,
+// body lit by sky ambient and sun, Beckmann glitter for Cox & Munk 1954's slope variance,
+// haze toward the horizon over uSeaHaze), with this sky supplying:
+//   reflected = uExposure · twilight · sky(r)   (Preetham 1999 eq. 4, no sun disk: the glitter
+//               is the sun's reflection), r = SeaReflectionDirection(p, mss)
+//   horizon   = the same toward SeaHorizonDirection(p) (the clamped horizon colour)
+//   ambient   = uSkyAmbient: (1/π)∫ L cosθ dω of that sky over the upper hemisphere, on the CPU
+//               (app.sim.preetham.sky_ambient: 12 × 24 directions, recomputed only when the sun
+//               or the turbidity change), not per pixel
+//   E, l      = the frame's main light (uMainLightRadiance, uMainLightDir): the sun's
+//               transmittance (§A.1) × preetham.sun_intensity × the horizon fade, the very
+//               light the clouds are lit with under this sky, in the picture's units (at 59°
+//               and T = 2.5 the sun's luminance ≈ 0.75 against a zenith of ≈ 0.40 and a sky
+//               ambient of ≈ 0.43): the sea's glitter and body match the clouds, not the
+//               disk's 200 kcd/m² (a drawn disk, far dimmer than the real sun).
 //
 // Failure cases and guards (the numpy twin app/sim/preetham.py does the same):
 //  * below the horizon cos θ ≤ 0 makes exp(B / cos θ) blow up (B < 0 flips to +∞):
-//    cos θ = max(cos θ, 1e-3), so the lower hemisphere shows the horizon colour (no ground);
+//    cos θ = max(cos θ, 1e-3), so the lower hemisphere shows the horizon colour (no ground)
+//    unless the sea is drawn; the sea's reflection direction is always above the horizon
+//    (cos θr ≥ √mss) and its own guards are in glsl/common/sea_plane.glsl;
 //  * the model is undefined for the sun below the horizon (χ < 0, Y_z falls): θs is clamped
 //    to 90° and the result fades with a twilight factor, smoothstep over elevation −6°…0°;
 //  * turbidity outside [2, 10] can make Y_z or F(0, θs) ≤ 0: the parameter's range keeps T there;
@@ -28,6 +50,7 @@
 //  * XYZ outside the sRGB gamut near the horizon gives small negative channels: clamped to 0.
 // =============================================================================================
 #include "math.glsl"
+#include "sea_plane.glsl"
 
 uniform float uTurbidity;      // @param 2.5 [2, 10] step=0.1 §1.8 turbidity T (2 = very clear, 10 = hazy)
 uniform float uExposure;       // @param 0.05 [0.0001, 10] step=0.005 unit=1/(kcd/m²) linear radiance per kcd/m² of the model's luminance
@@ -35,6 +58,15 @@ uniform bool uSunDisk;         // @param true §1.8 draw the sun disk (the thesi
 uniform float uSunDiskRadius;  // @param 0.27 [0.05, 5] step=0.01 unit=° angular radius of the sun disk (the real sun: 0.27°)
 uniform float uSunDiskIntensity; // @param 200 [0, 10000] step=1 unit=kcd/m² sun disk luminance above the atmosphere (times the sun's transmittance)
 uniform vec3 uSunDir;          // unit vector toward the sun (world space, y up)
+uniform vec3 uSeaColor;        // @param (0.01, 0.045, 0.06) [0, 1] color beyond the paper: the sea plane's body colour, upwelling radiance per unit of irradiance/π (preetham.ground = sea)
+uniform float uSeaHaze;        // @param 12000 [100, 100000] step=100 unit=m beyond the paper: distance over which the sea plane fades into the horizon colour
+
+uniform int uGround;             // 0 = the paper's clamped horizon colour, 1 = the sea (preetham.ground)
+uniform vec3 uSkyAmbient;        // the sky's cosine-weighted mean radiance (CPU), exposure and twilight in
+uniform vec3 uMainLightDir;      // toward the main light
+uniform vec3 uMainLightRadiance; // its colour × intensity (what the clouds are lit with)
+uniform float uSeaMss;           // Cox–Munk slope variance 0.003 + 0.00512·U (preetham.sea_wind)
+uniform float uEyeHeight;        // metres above the sea plane (≥ 0.5)
 
 const float PREETHAM_MIN_COS_THETA = 1.0e-3;
 const float PREETHAM_TWILIGHT_DEGREES = 6.0;
@@ -150,8 +182,23 @@ float PreethamSunDiskCoverage(vec3 dir, vec3 sunDir, float radiusDeg) {
     return t * t * (3.0 - 2.0 * t);
 }
 
-// What the camera sees toward unit direction dir: exposure · twilight · (sky + disk).
+// The sky without the sun disk as the picture shows it: exposure · twilight · sky.
+vec3 PreethamSkyNoDisk(vec3 dir) {
+    return PreethamSkyRGB(dir, uSunDir, uTurbidity) * uExposure * PreethamTwilight(uSunDir);
+}
+
+// Beyond the paper: the calm sea plane toward p (p.y < 0); see the header.
+vec3 PreethamSea(vec3 p) {
+    vec3 reflected = PreethamSkyNoDisk(SeaReflectionDirection(p, uSeaMss));
+    vec3 horizon = PreethamSkyNoDisk(SeaHorizonDirection(p));
+    return SeaPlaneRadiance(p, reflected, horizon, uSkyAmbient, uMainLightDir, uMainLightRadiance,
+                            uSeaColor, uSeaMss, 1.0, uEyeHeight, uSeaHaze);
+}
+
+// What the camera sees toward unit direction dir: exposure · twilight · (sky + disk), or the
+// sea below the horizon.
 vec3 PreethamSkyRadiance(vec3 dir) {
+    if (uGround == 1 && dir.y < 0.0) return PreethamSea(dir);
     vec3 rgb = PreethamSkyRGB(dir, uSunDir, uTurbidity);
     if (uSunDisk && dir.y >= 0.0) {
         float thetaS;

@@ -40,10 +40,13 @@
 // Failure cases of the sea: n·v and v·h clamped before division (the glitter stays finite at
 // the horizon, where the haze and F → 1 meet the sky continuously); the horizontal direction of
 // a ray straight down is kept non-zero before normalising.
+// The sea's shared maths (reflection direction, Fresnel, Beckmann glitter, body, haze) is
+// glsl/common/sea_plane.glsl, shared with the Preetham sky's sea.
 // Twins for tests: app/sim/sky.py (mie_phase, sun_term, halo_term); the sky ambient:
-// app.sim.daynight.Keyframes.ambient_at.
+// app.sim.daynight.Keyframes.ambient_at; the sea: app/sim/sea_plane.py.
 // =============================================================================================
 #include "math.glsl"
+#include "sea_plane.glsl"
 
 const float MIE_G = -0.990;
 const float MIE_G2 = 0.9801;
@@ -120,39 +123,15 @@ vec3 SkyAmbient() {
     return sum / weights;
 }
 
-// Isotropic Beckmann distribution of facet normals for the slope variance mss (= m²).
-float SeaBeckmann(float nh, float mss) {
-    float c2 = max(nh * nh, 1e-4);
-    float tan2 = (1.0 - c2) / c2;
-    return exp(-tan2 / mss) / (PI * mss * c2 * c2);
-}
-
-// Beyond the thesis: radiance of the calm sea plane toward p (p.y < 0); see the header.
+// Beyond the thesis: radiance of the calm sea plane toward p (p.y < 0); see the header and
+// glsl/common/sea_plane.glsl (the maths every sky's sea shares).
 vec3 SkySea(vec3 p) {
-    const float SEA_F0 = 0.0204;
-    float nv = max(-p.y, 1e-4);
-    vec3 v = -p;
-    // the waves tilt the facets by ≈ sqrt(mss): the grazing incidence never reaches 90°
-    float nvRough = min(sqrt(nv * nv + uSeaMss), 1.0);
-    vec3 r = normalize(vec3(p.x, 0.0, p.z) * sqrt(1.0 - nvRough * nvRough) / max(length(p.xz), 1e-6)
-                       + vec3(0.0, nvRough, 0.0));
-    float F = SchlickFresnel(SEA_F0, nvRough);
+    float nvRough = SeaRoughIncidence(p, uSeaMss);
+    vec3 r = SeaReflectionDirection(p, uSeaMss);
     vec3 reflected = SkyGradient(asin(nvRough) / HALF_PI) + SkyHalo(r);
-
-    vec3 l = uMainLightDir;
-    vec3 E = uMainLightRadiance;
-    vec3 body = uSeaColor * (SkyAmbient() + E * max(l.y, 0.0) / PI);
-    vec3 h = normalize(l + v);
-    float nh = max(h.y, 0.0);
-    float vh = max(dot(v, h), 1e-3);
-    float nl = max(l.y, 0.0);
-    float G = min(1.0, min(2.0 * nh * nv / vh, 2.0 * nh * nl / vh));
-    vec3 glitter = E * SchlickFresnel(SEA_F0, vh) * SeaBeckmann(nh, uSeaMss) * G / (4.0 * nv);
-    vec3 sea = mix(body, reflected, F) + glitter * uSeaGlitter;
-
-    vec3 level = normalize(vec3(p.x, 1e-4, p.z));
-    vec3 horizon = SkyGradient(0.0) + SkyHalo(level);
-    return mix(sea, horizon, 1.0 - exp(-(uEyeHeight / nv) / uSeaHaze));
+    vec3 horizon = SkyGradient(0.0) + SkyHalo(SeaHorizonDirection(p));
+    return SeaPlaneRadiance(p, reflected, horizon, SkyAmbient(), uMainLightDir, uMainLightRadiance,
+                            uSeaColor, uSeaMss, uSeaGlitter, uEyeHeight, uSeaHaze);
 }
 
 // spec/000 eq. B.4: radiance of the sky toward unit direction p (world space, y up).

@@ -4,7 +4,10 @@
   Kasten–Young air mass: app.sim.daynight.zenith_optical_depth), so clouds at sunset are warmer
   than at noon;
 * below the horizon the sky and clouds scenes show a sea (sky.ground = sea), not the thesis's
-  flat clamped horizon colour: the lower half of the image is never one flat colour;
+  flat clamped horizon colour: the lower half of the image is never one flat colour; the same
+  under the Preetham sky (scene.sky = preetham: preetham.ground = sea, not the paper's clamped
+  horizon colour), with the sun set where the day–night sky has it at noon and at sunset, whose
+  colour (Preetham 1999's appendix A.1 transmittance) makes the sunset clouds warmer;
 * the materials scene frames its three objects inside the image at 16:9 and at 4:3.
 
 Each threshold fails with the former defaults (white sun, flat band, the old materials camera).
@@ -16,8 +19,10 @@ import numpy as np
 import pytest
 
 from app.colour import to_srgb8
+from app.effects.sky.effect import DEFAULT_KEYFRAMES
 from app.runtime import open_session, render_frames, scene_params
 from app.scenes.materials import MaterialsScene
+from app.sim.daynight import DayNight, Keyframes
 
 SIZE = (160, 90)
 NOON, SUNSET = 12.0, 17.75  # the sun at 59° and at 3.2° above the horizon
@@ -58,6 +63,15 @@ def assert_lower_half_not_flat(srgb: np.ndarray, dirs: np.ndarray, what: str) ->
     assert lum.std() > 1.0, (what, lum.std())
 
 
+def column_spread(srgb: np.ndarray, dirs: np.ndarray) -> float:
+    """The median over the image's columns of the luminance spread (sRGB8 levels) of their
+    pixels below the horizon."""
+    lum = srgb.astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
+    below = dirs[..., 1] < -0.005
+    spreads = [lum[below[:, j], j].std() for j in range(lum.shape[1]) if below[:, j].sum() > 3]
+    return float(np.median(spreads))
+
+
 def cloud_colour_ratio(image: np.ndarray, layer: np.ndarray) -> tuple[float, float]:
     """Mean R/B of the clouds' own light (layer rgb / opacity) and of the composite, over the
     pixels the clouds cover (opacity > 0.7)."""
@@ -89,6 +103,37 @@ def test_thesis_sun_colour_stays_available(gl_ctx):
     image, _, layer, _ = shoot(gl_ctx, "clouds", [f"time.hour={SUNSET}", *thesis], layer=True)
     own, _ = cloud_colour_ratio(image, layer)
     assert own == pytest.approx(1.0, abs=0.02)
+
+
+def preetham_sun(hour: float) -> list[str]:
+    """--set lines that put the Preetham sky's own sun where the day–night sky has it."""
+    d = DayNight(Keyframes.load(DEFAULT_KEYFRAMES), hour=hour).state().sun_dir
+    elevation = np.degrees(np.arcsin(d[1]))
+    azimuth = np.degrees(np.arctan2(d[0], -d[2])) % 360.0
+    return ["scene.sky=preetham", f"preetham.sun_elevation={elevation:.4f}",
+            f"preetham.sun_azimuth={azimuth:.4f}"]
+
+
+@pytest.mark.parametrize("model", ["a", "b"])
+def test_preetham_clouds_over_a_sea(gl_ctx, model):
+    sets = [f"scene.model={model}"]
+    noon, noon_srgb, noon_layer, dirs = shoot(gl_ctx, "clouds", [*sets, *preetham_sun(NOON)],
+                                              layer=model == "a")
+    dusk, dusk_srgb, dusk_layer, _ = shoot(gl_ctx, "clouds", [*sets, *preetham_sun(SUNSET)],
+                                           layer=model == "a")
+    # before (preetham.ground = horizon): below the horizon one exact colour covered 41 % at
+    # noon (12 % at sunset, where the clamped colour still varies with the azimuth)
+    assert_lower_half_not_flat(noon_srgb, dirs, f"preetham {model} noon")
+    assert_lower_half_not_flat(dusk_srgb, dirs, f"preetham {model} sunset")
+    # and the ground changes down each column (the clamped colour depends on the azimuth only):
+    # before 0.12 (noon) and 0.03 (sunset) sRGB8 levels, the sea ≈ 17 and 19
+    for srgb, when in ((noon_srgb, "noon"), (dusk_srgb, "sunset")):
+        assert column_spread(srgb, dirs) > 3.0, (model, when, column_spread(srgb, dirs))
+    if model == "a":  # the cloud layer is read back for model A only
+        own_noon, comp_noon = cloud_colour_ratio(noon, noon_layer)
+        own_dusk, comp_dusk = cloud_colour_ratio(dusk, dusk_layer)
+        assert own_dusk > 1.5 * own_noon, (own_dusk, own_noon)
+        assert comp_dusk > 1.6 * comp_noon, (comp_dusk, comp_noon)
 
 
 @pytest.mark.parametrize("hour", [6.0, 9.0, 12.0, 17.5, 19.0, 0.0])

@@ -38,6 +38,37 @@ def test_shader_matches_numpy_per_pixel(preetham_rig, elev, az, turbidity):
     assert err.max() <= 0.02 * max(twin.max(), 1e-6)
 
 
+
+@pytest.mark.parametrize("elev,az,turbidity,own_sun", [(50.0, 200.0, 2.5, True),
+                                                       (6.0, 30.0, 4.0, True),
+                                                       (25.0, 300.0, 2.0, False),
+                                                       (-3.0, 120.0, 2.5, True)])
+def test_sea_matches_numpy_per_pixel(preetham_rig, elev, az, turbidity, own_sun):
+    """preetham.ground = sea: the shared sea plane reflecting this sky, against the twin; the
+    camera looks down toward the sun's glitter, from 40 m."""
+    sun = model.sun_direction(elev, az)
+    cam = Camera(position=(0, 40, 0), fov=80.0).look_at_direction(
+        model.sun_direction(-20.0, az + 15.0))
+    sets = {"preetham.turbidity": turbidity, "preetham.ground": "sea",
+            "preetham.sea_wind": 3.0}
+    if own_sun:
+        sets |= {"preetham.sun_elevation": elev, "preetham.sun_azimuth": az}
+    img, _, frame = render(preetham_rig, cam, sets, sun=None if own_sun else sun)
+    twin = preetham_rig[2].radiance_numpy(cam.ray_directions(*SIZE), eye_height=40.0)
+    assert np.isfinite(img).all()
+    below = cam.ray_directions(*SIZE)[..., 1] < 0.0
+    assert below.mean() > 0.5
+    err = np.abs(img - twin)
+    assert (err <= 2e-3 * np.abs(twin) + 1e-5).mean() > 0.995, err.max()
+    assert err.max() <= 0.02 * max(twin.max(), 1e-6)
+    # the sea is not the clamped horizon colour: it changes down the image
+    if elev > 0:
+        assert np.abs(np.diff(img[below.all(axis=1)].mean(axis=1), axis=0)).max() > 1e-3
+    # the light is the frame's main light (the clouds' light)
+    sea = preetham_rig[2].sea(40.0)
+    assert np.allclose(sea.light_radiance, frame.main_light.radiance)
+
+
 def test_reddening_toward_sunset(preetham_rig):
     ratios, suns = [], []
     for elev in (60.0, 30.0, 10.0, 3.0):
@@ -84,3 +115,17 @@ def test_sets_the_lights_only_when_no_sky_did(gl_ctx):
         assert alone.sun.intensity == pytest.approx(1.0)
     finally:
         gpu.release()
+
+
+def test_sea_ambient_is_integrated_only_when_the_sun_or_turbidity_change(preetham_rig):
+    fx = preetham_rig[2]
+    cam = Camera(position=(0, 10, 0), pitch=-10.0)
+    sets = {"preetham.ground": "sea", "preetham.sun_elevation": 33.0}
+    render(preetham_rig, cam, sets)
+    builds = fx._ambient.builds
+    render(preetham_rig, cam, sets | {"preetham.exposure": 0.1, "preetham.sea_wind": 9.0})
+    render(preetham_rig, Camera(position=(5, 80, 0), yaw=90.0), sets)
+    assert fx._ambient.builds == builds
+    render(preetham_rig, cam, sets | {"preetham.turbidity": 4.0})
+    render(preetham_rig, cam, sets | {"preetham.sun_elevation": 20.0})
+    assert fx._ambient.builds == builds + 2

@@ -61,3 +61,36 @@ def test_bluer_at_zenith_than_horizon_at_noon():
         return c[2] / c.sum()
 
     assert blue(zen) > blue(hor) + 0.05
+
+
+# ---- the sea's ambient (beyond the paper) -------------------------------------------------------
+
+@pytest.mark.parametrize("elev,turbidity", [(60.0, 2.5), (10.0, 6.0), (1.0, 2.0)])
+def test_sky_ambient_is_the_cosine_weighted_mean_of_the_sky(elev, turbidity):
+    sun = model.sun_direction(elev, 140.0)
+    coarse = model.sky_ambient_rgb(sun, turbidity)
+    fine = model.sky_ambient_rgb(sun, turbidity, elevations=96, azimuths=192)
+    # 12 × 24 directions are within a few per cent of a fine quadrature
+    assert coarse == pytest.approx(fine, rel=0.04)
+    # a mean: between the darkest and the brightest of the upper hemisphere's directions
+    d = np.random.default_rng(2).normal(size=(4000, 3))
+    d[:, 1] = np.abs(d[:, 1])
+    rgb = model.sky_rgb(d / np.linalg.norm(d, axis=1, keepdims=True), sun, turbidity)
+    assert (coarse > rgb.min(axis=0)).all() and (coarse < rgb.max(axis=0)).all()
+    # in the picture's units: exposure and twilight, like the sky itself
+    assert model.sky_ambient(sun, turbidity, 0.1) == pytest.approx(0.1 * coarse)
+    assert model.sky_ambient(model.sun_direction(-7.0, 0.0), turbidity, 0.1) == pytest.approx(0)
+
+
+def test_sea_below_the_horizon_only_and_toward_the_horizon_colour():
+    from app.sim.sea_plane import SeaPlane
+    sun = model.sun_direction(30.0, 180.0)
+    sea = SeaPlane(sky_ambient=tuple(model.sky_ambient(sun)), light_dir=tuple(sun),
+                   light_radiance=(0.8, 0.7, 0.5), eye_height=300.0)
+    d = np.array([[0.0, 0.5, -0.866], [0.0, -1e-5, -1.0], [0.0, -0.7, -0.714]])
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    with_sea = model.sky_radiance(d, sun, sea=sea)
+    without = model.sky_radiance(d, sun)
+    assert with_sea[0] == pytest.approx(without[0])        # the sky above is unchanged
+    assert with_sea[1] == pytest.approx(without[1], rel=1e-3)  # the horizon meets the sky
+    assert with_sea[2].sum() < 0.5 * without[2].sum()      # a darker sea below

@@ -33,8 +33,8 @@ from app.params import parse_glsl_annotations
 
 def test_resolve_shader_root(tmp_path, monkeypatch):
     arg_dir, env_dir = tmp_path / "from_arg", tmp_path / "from_env"
-    arg_dir.mkdir()
-    env_dir.mkdir()
+    (arg_dir / "common").mkdir(parents=True)  # laid out like glsl/
+    (env_dir / "common").mkdir(parents=True)
     monkeypatch.delenv(SHADER_ENV, raising=False)
     assert resolve_shader_root(None) == DEFAULT_SHADER_ROOT
     assert resolve_shader_root(str(arg_dir)) == arg_dir.resolve()
@@ -49,8 +49,11 @@ def test_resolve_shader_root_rejects_a_non_directory(tmp_path, monkeypatch):
     a_file.write_text("")
     with pytest.raises(UsageError) as info:
         resolve_shader_root(str(a_file))
-    assert "--shaders" in str(info.value) and str(a_file) in str(info.value)
-    assert info.value.exit_code == 2
+    assert "--shaders" in str(info.value) and a_file.name in str(info.value)
+    assert "is not a directory" in str(info.value) and info.value.exit_code == 2
+    (tmp_path / "bare").mkdir()  # a folder, but not laid out like glsl/
+    with pytest.raises(UsageError, match="has no common/ folder"):
+        resolve_shader_root(str(tmp_path / "bare"))
     monkeypatch.setenv(SHADER_ENV, str(tmp_path / "missing"))
     with pytest.raises(UsageError) as info:
         resolve_shader_root(None)

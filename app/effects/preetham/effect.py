@@ -24,6 +24,18 @@ How a scene composes it — it is a drop-in alternative to the day–night
 Exposure: the model's luminance is in kcd/m²; the picture is ``preetham.exposure`` times the
 linear sRGB of it (see app/sim/preetham.py). The default 0.05 puts a clear noon zenith near the
 day–night sky's brightness.
+
+Below the horizon (``preetham.ground``): ``horizon`` (the default) is the paper's model clamped
+at the horizon — a flat band of the horizon colour; ``sea`` (beyond the paper and the thesis;
+the clouds scene's preset turns it on) is the calm sea plane the day–night sky draws too, the
+maths shared in ``glsl/common/sea_plane.glsl`` (twin ``app.sim.sea_plane``): it reflects this
+sky without the sun disk, hazes toward its horizon colour over ``preetham.sea_haze`` seen from
+the camera's height, has the body colour ``preetham.sea_color`` and the glitter of Cox & Munk's
+slope variance for ``preetham.sea_wind``. Its light is the frame's ``main_light`` after
+``update()`` (this effect's own sun, or the day–night sky's light) — the same light, in the same
+units, that the clouds are lit with; its ambient is this sky's cosine-weighted mean radiance
+(``app.sim.preetham.sky_ambient``), computed on the CPU only when the sun or the turbidity
+change.
 """
 
 from __future__ import annotations
@@ -36,9 +48,13 @@ from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim import preetham as model
 from ...sim.daynight import Light, light_fade
+from ...sim.sea_plane import SeaPlane, cox_munk_mss
 from ..base import Effect
 
 PREETHAM_SKY = fullscreen("preetham/sky")
+
+#: what the sky shows below the horizon (``preetham.ground``; ``uGround`` in preetham.glsl)
+GROUNDS = ("horizon", "sea")
 
 
 class Preetham(Effect):
@@ -63,12 +79,24 @@ class Preetham(Effect):
             Param("preetham.sun_intensity", 1.0, 0.0, 20.0,
                   "main-light intensity of the sun when this effect sets the lights", step=0.05,
                   section=s),
+            Param("preetham.ground", "horizon", doc="below the horizon: horizon = the paper's "
+                  "model clamped at the horizon colour; sea = beyond the paper, a calm sea plane "
+                  "that reflects this sky (Fresnel), lit by the main light and the sky's ambient, "
+                  "with the main light's glitter and haze toward the horizon",
+                  kind="choice", choices=GROUNDS, section=s),
+            Param("preetham.sea_wind", 5.0, 0.0, 30.0, "wind speed that roughens the sea "
+                  "plane's glitter (Cox–Munk slope variance 0.003 + 0.00512·U)", step=0.5,
+                  unit="m/s", section=s),
         ]
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
         self.sun_direction = model.sun_direction(45.0, 180.0)
         self.owns_sun = True
+        #: the light the sea is lit with: the frame's main light after update()
+        self.main_light: Light | None = None
+        #: the sky's ambient (kcd/m², before exposure and twilight), per (sun, turbidity)
+        self._ambient = self.keyed(lambda key: model.sky_ambient_rgb(np.array(key[0]), key[1]))
 
     # -- CPU -------------------------------------------------------------------------------
     def own_sun_direction(self) -> np.ndarray:
@@ -79,6 +107,7 @@ class Preetham(Effect):
         if frame.sun is not None:  # a day–night sky ran first: follow its sun
             self.owns_sun = False
             self.sun_direction = np.asarray(frame.sun.direction, dtype=np.float64)
+            self.main_light = frame.main_light if frame.main_light is not None else frame.sun
             return
         self.owns_sun = True
         sun = self.own_sun_direction()
@@ -89,6 +118,34 @@ class Preetham(Effect):
                       self.params["preetham.sun_intensity"] * light_fade(sun[1]))
         frame.sun = light
         frame.main_light = light
+        self.main_light = light
+
+    def sky_ambient(self) -> np.ndarray:
+        """``uSkyAmbient``: the cosine-weighted mean radiance of the sky (no disk) in the
+        picture's units; the hemisphere is integrated again only when the sun or the turbidity
+        changed."""
+        key = (tuple(float(v) for v in self.sun_direction),
+               float(self.params["preetham.turbidity"]))
+        return (self._ambient.get(key) * self.params["preetham.exposure"]
+                * model.twilight(self.sun_direction))
+
+    def sea(self, eye_height: float) -> SeaPlane | None:
+        """The sea plane's light and settings (``None`` with ``preetham.ground = horizon``)."""
+        p = self.params
+        if p["preetham.ground"] != "sea":
+            return None
+        light = self.main_light
+        if light is None:
+            direction, radiance = self.sun_direction, np.zeros(3)
+        else:
+            direction, radiance = np.asarray(light.direction, float), light.radiance
+        return SeaPlane(sky_ambient=tuple(float(v) for v in self.sky_ambient()),
+                        light_dir=tuple(float(v) for v in direction),
+                        light_radiance=tuple(float(v) for v in radiance),
+                        body_color=tuple(float(v) for v in p["preetham.sea_color"]),
+                        mss=cox_munk_mss(p["preetham.sea_wind"]),
+                        eye_height=max(float(eye_height), 0.5),
+                        haze_distance=float(p["preetham.sea_haze"]))
 
     # -- passes ----------------------------------------------------------------------------
     def draw(self, frame, target) -> None:
@@ -96,14 +153,21 @@ class Preetham(Effect):
         self.apply_params(prog)
         prog.set_many(frame.camera_uniforms())
         prog.set("uSunDir", tuple(float(v) for v in self.sun_direction))
+        sea = self.sea(float(frame.camera.position[1]))
+        prog.set("uGround", GROUNDS.index(self.params["preetham.ground"]))
+        if sea is not None:
+            prog.set_many({"uSkyAmbient": sea.sky_ambient, "uMainLightDir": sea.light_dir,
+                           "uMainLightRadiance": sea.light_radiance, "uSeaMss": sea.mss,
+                           "uEyeHeight": sea.eye_height})
         target.use()
         self.gpu.ctx.disable(moderngl.DEPTH_TEST)
         draw_fullscreen(prog)
 
-    def radiance_numpy(self, directions) -> np.ndarray:
-        """The twin of what :meth:`draw` draws toward ``directions`` (…, 3)."""
+    def radiance_numpy(self, directions, eye_height: float = 2.0) -> np.ndarray:
+        """The twin of what :meth:`draw` draws toward ``directions`` (…, 3), for a camera
+        ``eye_height`` metres above the sea."""
         p = self.params
         return model.sky_radiance(directions, self.sun_direction, p["preetham.turbidity"],
                                   p["preetham.exposure"],
                                   p["preetham.sun_disk"], p["preetham.sun_disk_radius"],
-                                  p["preetham.sun_disk_intensity"])
+                                  p["preetham.sun_disk_intensity"], sea=self.sea(eye_height))
