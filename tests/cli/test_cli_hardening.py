@@ -48,12 +48,20 @@ def test_written_files_have_the_umask_mode(tmp_path, umask):
 
 # ---- signals -----------------------------------------------------------------------------------
 
+def _default_signals() -> None:
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, signal.SIG_DFL)
+
+
 @pytest.mark.parametrize("sig, code", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
 def test_a_signal_during_a_render_leaves_no_temporary_file(tmp_path, sig, code):
     env = {k: v for k, v in os.environ.items() if k != "NATURA_SHADERS"}
     proc = subprocess.Popen([*NATURA, "render", "sky", "--frames", "2000", "--size", "64x36",
                              "--out", "x.png"], cwd=tmp_path, env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE)  # bytes: text mode would turn \r into \n
+                            stderr=subprocess.PIPE,  # bytes: text mode would turn \r into \n
+                            # as from a terminal: a test run started in the background (nohup,
+                            # `cmd &` in a script) inherits SIGINT ignored, and so would natura
+                            preexec_fn=_default_signals)
     try:
         deadline = time.monotonic() + 60
         while not (tmp_path / "x-0002.png").exists():

@@ -142,6 +142,13 @@ def test_sky_scene_lower_half_is_not_flat(gl_ctx, hour):
     assert_lower_half_not_flat(srgb, dirs, f"sky {hour} h")
 
 
+@pytest.mark.parametrize("hour", [3.0, 6.0, 9.0, 15.0, 19.0, 21.0])
+def test_clouds_scene_lower_half_is_not_flat_at_any_hour(gl_ctx, hour):
+    """Noon and sunset are checked above; dawn, afternoon, dusk and night too."""
+    _, srgb, _, dirs = shoot(gl_ctx, "clouds", [f"time.hour={hour}"])
+    assert_lower_half_not_flat(srgb, dirs, f"clouds {hour} h")
+
+
 @pytest.mark.parametrize("size", [(320, 180), (240, 180)], ids=["16:9", "4:3"])
 def test_materials_objects_are_inside_the_frame(gl_ctx, size):
     image, _, _, _ = shoot(gl_ctx, "materials", size=size)
