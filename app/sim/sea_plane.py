@@ -17,8 +17,26 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..params import Param
+
 #: Fresnel reflectance of water at normal incidence (n = 1.333)
 SEA_F0 = 0.0204
+#: what a sky shows below its horizon: its source's clamped horizon colour, or the sea plane
+GROUNDS = ("horizon", "sea")
+
+
+def ground_params(group: str, section: str, horizon_doc: str, sky_doc: str) -> list[Param]:
+    """``<group>.ground`` (horizon | sea) and ``<group>.sea_wind``, as each sky declares them:
+    ``horizon_doc`` says what its horizon colour is, ``sky_doc`` names the sky the sea reflects."""
+    return [
+        Param(f"{group}.ground", "horizon", doc=f"below the horizon: horizon = {horizon_doc}; "
+              f"sea = beyond the theses, a calm sea plane that reflects {sky_doc} (Fresnel), lit "
+              "by the main light and the sky's ambient, with the main light's glitter and haze "
+              "toward the horizon", kind="choice", choices=GROUNDS, section=section),
+        Param(f"{group}.sea_wind", 5.0, 0.0, 30.0, "wind speed that roughens the sea plane's "
+              "glitter (Cox–Munk slope variance 0.003 + 0.00512·U)", step=0.5, unit="m/s",
+              section=section),
+    ]
 
 
 def cox_munk_mss(wind_speed: float) -> float:

@@ -48,13 +48,12 @@ from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim import preetham as model
 from ...sim.daynight import Light, light_fade
-from ...sim.sea_plane import SeaPlane, cox_munk_mss
+from ...sim.sea_plane import GROUNDS, SeaPlane, cox_munk_mss, ground_params
 from ..base import Effect
 
 PREETHAM_SKY = fullscreen("preetham/sky")
 
 #: what the sky shows below the horizon (``preetham.ground``; ``uGround`` in preetham.glsl)
-GROUNDS = ("horizon", "sea")
 
 
 class Preetham(Effect):
@@ -79,14 +78,8 @@ class Preetham(Effect):
             Param("preetham.sun_intensity", 1.0, 0.0, 20.0,
                   "main-light intensity of the sun when this effect sets the lights", step=0.05,
                   section=s),
-            Param("preetham.ground", "horizon", doc="below the horizon: horizon = the paper's "
-                  "model clamped at the horizon colour; sea = beyond the paper, a calm sea plane "
-                  "that reflects this sky (Fresnel), lit by the main light and the sky's ambient, "
-                  "with the main light's glitter and haze toward the horizon",
-                  kind="choice", choices=GROUNDS, section=s),
-            Param("preetham.sea_wind", 5.0, 0.0, 30.0, "wind speed that roughens the sea "
-                  "plane's glitter (Cox–Munk slope variance 0.003 + 0.00512·U)", step=0.5,
-                  unit="m/s", section=s),
+            *ground_params("preetham", s, "the paper's model clamped at the horizon colour",
+                           "this sky"),
         ]
 
     def __init__(self, gpu, params):

@@ -24,6 +24,7 @@ from ...frame import Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim.daynight import DEFAULT_SUN_EXTINCTION, DayNight, Keyframes
+from ...sim.sea_plane import GROUNDS, cox_munk_mss, ground_params
 from ...sim.textures import moon_texture, star_field
 from ..base import Effect, Pass
 
@@ -34,7 +35,6 @@ SKY_FACE = fullscreen("sky/sky_face")
 SKY_CUBEMAP = ProgramSpec("sky/sky_cubemap", requires_compute=True)
 
 #: what the sky shows below the horizon (``sky.ground``; ``uGround`` in sky_radiance.glsl)
-GROUNDS = ("horizon", "sea")
 #: eye height (m) of the sea plane in the environment cubemap: a probe at sea level, so the
 #: cubemap does not depend on the camera and is re-rendered only when the sky changes
 CUBEMAP_EYE_HEIGHT = 2.0
@@ -70,14 +70,8 @@ class Sky(Effect):
                   "the zenith); default Rayleigh (Hansen–Travis) + clear maritime aerosol "
                   "(Ångström β 0.05, α 1) at 680/550/440 nm; 0 = the thesis's constant colour",
                   kind="vec3", step=0.01, section=s),
-            Param("sky.ground", "horizon", doc="below the horizon: horizon = the thesis's "
-                  "clamped horizon colour (times sky.below_horizon); sea = beyond the thesis, a "
-                  "calm sea plane that reflects the sky (Fresnel), lit by the main light and the "
-                  "sky's ambient, with the main light's glitter and haze toward the horizon",
-                  kind="choice", choices=GROUNDS, section=s),
-            Param("sky.sea_wind", 5.0, 0.0, 30.0, "wind speed that roughens the sea plane's "
-                  "glitter (Cox–Munk slope variance 0.003 + 0.00512·U)", step=0.5, unit="m/s",
-                  section=s),
+            *ground_params("sky", s, "the thesis's clamped horizon colour (times "
+                           "sky.below_horizon)", "the sky"),
             Param("sky.star_seed", 7, 0, 2**31 - 1, "seed of the procedural star field", kind="int",
                   section=s),
             Param("sky.cubemap_size", 128, 8, 2048, "environment cubemap face size (reflection "
@@ -172,7 +166,7 @@ class Sky(Effect):
             "uMainLightDir": tuple(float(v) for v in st.main_light.direction),
             "uMainLightRadiance": tuple(float(v) for v in st.main_light.radiance),
             "uGround": GROUNDS.index(self.params["sky.ground"]),
-            "uSeaMss": 0.003 + 0.00512 * self.params["sky.sea_wind"],
+            "uSeaMss": cox_munk_mss(self.params["sky.sea_wind"]),
             "uEyeHeight": CUBEMAP_EYE_HEIGHT,
             "uSeaGlitter": 1.0,
         })
