@@ -9,7 +9,7 @@ from __future__ import annotations
 import statistics
 import time
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Any, Callable
 
 import moderngl
 
@@ -58,3 +58,68 @@ def time_call(ctx: moderngl.Context, name: str, fn: Callable[[], None], warmup: 
         if query is not None:
             timing.gpu_ms.append(query.elapsed / 1e6)
     return timing
+
+
+@dataclass
+class Interleaved:
+    """Times of several variants measured in the same rounds (each variant once per round, in
+    a shuffled order), so machine load moves them together and their ratios hold."""
+
+    timings: dict[str, Timing]
+    rounds: int
+
+    def quartiles(self, name: str) -> tuple[float, float, float]:
+        """(p25, median, p75) of ``name``'s wall times in ms."""
+        return _quartiles(self.timings[name].wall_ms)
+
+    def ratio(self, name: str, reference: str) -> dict:
+        """Per-round ratios ``name / reference``: their median and quartiles."""
+        a, b = self.timings[name].wall_ms, self.timings[reference].wall_ms
+        rs = [x / y for x, y in zip(a, b) if y > 0]
+        p25, med, p75 = _quartiles(rs)
+        return {"median": med, "p25": p25, "p75": p75, "n": len(rs)}
+
+    def summary(self, reference: str | None = None) -> dict:
+        out = {}
+        for name, t in self.timings.items():
+            p25, med, p75 = self.quartiles(name)
+            entry: dict[str, Any] = {"median_ms": med, "p25_ms": p25, "p75_ms": p75,
+                                     "n": len(t.wall_ms)}
+            if reference is not None and name != reference:
+                entry["ratio_to_" + reference] = self.ratio(name, reference)
+            out[name] = entry
+        return out
+
+
+def _quartiles(values: list[float]) -> tuple[float, float, float]:
+    if not values:
+        nan = float("nan")
+        return nan, nan, nan
+    if len(values) == 1:
+        return values[0], values[0], values[0]
+    q = statistics.quantiles(values, n=4, method="inclusive")
+    return q[0], q[1], q[2]
+
+
+def time_interleaved(ctx: moderngl.Context, variants: dict[str, Callable[[], None]],
+                     warmup: int = 2, rounds: int = 15, seed: int = 0) -> Interleaved:
+    """Warm each variant up, then ``rounds`` rounds in which every variant runs once (shuffled
+    order per round, ``ctx.finish()`` on both sides of each run)."""
+    import random
+
+    rng = random.Random(seed)
+    names = list(variants)
+    for name in names:
+        for _ in range(max(0, warmup)):
+            variants[name]()
+    timings = {name: Timing(name) for name in names}
+    for _ in range(max(1, rounds)):
+        order = names[:]
+        rng.shuffle(order)
+        for name in order:
+            ctx.finish()
+            t0 = time.perf_counter()
+            variants[name]()
+            ctx.finish()
+            timings[name].wall_ms.append((time.perf_counter() - t0) * 1e3)
+    return Interleaved(timings, max(1, rounds))
