@@ -35,6 +35,7 @@ MAX_FRAMES = 100_000
 MAX_REPEAT = 10_000
 MAX_WARMUP = 1_000
 MAX_SIZES = 32
+MAX_BUDGET_MS = 100_000.0
 FPS_RANGE = (0.001, 1000.0)
 INTERNAL_ERROR = 70
 
@@ -81,6 +82,22 @@ def _float_in(option: str, lo: float, hi: float):
         if not (math.isfinite(value) and lo <= value <= hi):
             raise UsageError(f"{option} {quote(text)} is out of range: "
                              f"allowed [{lo:g}, {hi:g}]")
+        return value
+
+    return convert
+
+
+def _positive_ms(option: str, hi: float):
+    """An argparse type: a positive finite number of milliseconds, at most ``hi``."""
+    allowed = f"allowed a number of ms in (0, {hi:g}]"
+
+    def convert(text: str) -> float:
+        try:
+            value = float(text.strip())
+        except ValueError:
+            raise UsageError(f"{option} {quote(text)} is not a number: {allowed}") from None
+        if not (math.isfinite(value) and 0.0 < value <= hi):
+            raise UsageError(f"{option} {quote(text)} is out of range: {allowed}")
         return value
 
     return convert
@@ -168,7 +185,8 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--warmup", type=_int_in("--warmup", 0, MAX_WARMUP), default=3,
                    help=f"untimed runs first, 0..{MAX_WARMUP}")
     b.add_argument("--repeat", type=_int_in("--repeat", 1, MAX_REPEAT), default=15,
-                   help=f"timed runs (the median is reported), 1..{MAX_REPEAT}")
+                   help=f"timed rounds (every pass once per round, shuffled; the median and "
+                   f"quartiles are reported), 1..{MAX_REPEAT}")
     b.add_argument("--out", default=None, metavar="FILE.json",
                    help="default: bench-results/SCENE-NNNN.json")
     b.add_argument("--sizes", default=None, metavar="WxH,WxH,...",
@@ -176,6 +194,10 @@ def build_parser() -> argparse.ArgumentParser:
                    "(planet: the thesis's 800x600,1280x720,1920x1080)")
     b.add_argument("--no-sweep", action="store_true",
                    help="time the passes only, skip the scene's sweeps")
+    b.add_argument("--budget", type=_positive_ms("--budget", MAX_BUDGET_MS), default=None,
+                   metavar="MS",
+                   help="frame budget in ms: the passes over it, and the parameter changes "
+                   "from the scene's sweeps that bring the frame under it at the least error")
     b.add_argument("--force", action="store_true",
                    help="overwrite an existing report and its chart")
     return parser
@@ -486,14 +508,27 @@ def cmd_bench(args) -> int:
             raise UsageError(f"cannot create {quote(str(path.parent))} ({exc.strerror}): "
                              "allowed --out FILE.json in a writable folder") from None
     path = write_report(report, str(path), force=args.force)
+    print(f"{'pass':24s} {'median [p25–p75] ms':>30s}   ×full-screen pass [p25–p75]")
     for name, t in report["passes"].items():
-        print(f"{name:24s} {t['median_ms']:9.3f} ms  ×{t['ratio_to_fullscreen']:.2f} "
-              "of a full-screen pass")
+        spread = f"{t['median_ms']:.3f} [{t['p25_ms']:.3f}–{t['p75_ms']:.3f}]"
+        print(f"{name:24s} {spread:>30s}   ×{t['ratio_to_fullscreen']:.2f} "
+              f"[{t['ratio_to_fullscreen_p25']:.2f}–{t['ratio_to_fullscreen_p75']:.2f}]")
+    stats = report.get("pipeline_statistics", {})
+    if not stats.get("supported"):
+        print(f"no pipeline statistics: {stats.get('reason')}")
     if sweeps is not None and "sweep" in report:
         chart_path = Path(path).with_suffix(".png")
         sweeps.chart(report, chart_path, force=args.force)
         print(sweeps.summary(report))
         print(f"chart → {chart_path}")
+    if args.budget is not None:
+        from .bench.budget import budget_view
+
+        for line in budget_view(report, args.budget):
+            print(line)
+        if args.no_sweep and scene_sweeps(args.scene) is not None:
+            print(f"budget: the parameter changes come from the {args.scene} sweeps, "
+                  "which --no-sweep skips: run without it")
     print(f"{report['renderer']}, {size[0]}x{size[1]} → {path}")
     return 0
 

@@ -1,9 +1,14 @@
 """``natura bench SCENE``: time each pass of a scene, write JSON.
 
-Each pass is timed with ``ctx.finish()`` around it, after a warm-up, as the median of N runs
-(docs/architecture.md, "Measuring"). A trivial full-screen pass is timed in the same run, so
-ratios to it hold across machines even where absolute times (llvmpipe) mean little. GPU timer
-queries are added only on a hardware GPU.
+Every pass, the whole frame and two references (a trivial full-screen pass with a constant
+shader, and a clear) are timed in the same rounds: each once per round, in a shuffled order,
+``ctx.finish()`` on both sides (``app.gpu.timing.time_interleaved``; docs/architecture.md,
+"Measuring"). A pass's ratio to the full-screen pass is taken round by round, so machine load
+moves both sides of it together; the report gives the median and quartiles of the times and of
+the ratios. Pipeline-statistics counts (GL_ARB_pipeline_statistics_query) of one run of each
+pass are added where the driver has them, and from them the fragment shader invocations per
+covered pixel and the cost per fragment relative to the constant shader. GPU timer queries are
+added only on a hardware GPU.
 """
 
 from __future__ import annotations
@@ -12,30 +17,125 @@ import datetime
 import importlib
 import importlib.util
 import json
+import math
 import platform
 from pathlib import Path
+from typing import Callable
 
 from ..effects.base import Pass
 from ..gpu.programs import draw_fullscreen, fullscreen
-from ..gpu.timing import time_call
+from ..gpu.timing import time_interleaved
 from ..imageio import next_free_path, write_text_atomic
 from ..runtime import Session
 
 TRIVIAL = fullscreen("common/constant")
 
 
-def trivial_pass(session: Session, target) -> Pass:
+def trivial_pass(session: Session, target, draws: int = 1) -> Pass:
+    """The reference: a constant-colour full-screen triangle, drawn ``draws`` times per run."""
     prog = session.gpu.program("bench", TRIVIAL)
 
     def run():
         target.use()
         prog.set("uColor", (0.5, 0.5, 0.5, 1.0))
-        draw_fullscreen(prog)
+        for _ in range(draws):
+            draw_fullscreen(prog)
 
     return Pass("reference.fullscreen", run)
 
 
-def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat: int = 15) -> dict:
+#: a reference run should last at least this long: a 0.05 ms draw alone is swamped by one
+#: scheduling hiccup, and every per-round ratio divides by it
+REFERENCE_MIN_MS = 2.0
+
+
+def reference_draws(ctx, single: Callable[[], None], min_ms: float = REFERENCE_MIN_MS,
+                    most: int = 4096) -> int:
+    """How many draws of the reference make one timed run last ``min_ms`` (median of 5)."""
+    import statistics
+    import time
+
+    single()
+    times = []
+    for _ in range(5):
+        ctx.finish()
+        t0 = time.perf_counter()
+        single()
+        ctx.finish()
+        times.append((time.perf_counter() - t0) * 1e3)
+    per = max(statistics.median(times), 1e-4)
+    return int(min(most, max(1, math.ceil(min_ms / per))))
+
+
+#: what the report's per-pass fields mean (written into the JSON beside them)
+FIELDS = {
+    "median_ms, p25_ms, p75_ms": "wall time of one run with ctx.finish() on both sides, over "
+                                 "the rounds",
+    "ratio_to_fullscreen": "median over the rounds of (this pass ÷ reference.fullscreen of "
+                           "the same round); _p25 and _p75 its quartiles. The reference's "
+                           "times are per draw: each of its runs draws it timing."
+                           "reference_draws times (enough for about 2 ms), so one scheduling "
+                           "hiccup does not swamp a round",
+    "pipeline": "GL_ARB_pipeline_statistics_query counts of one run (and samples_passed)",
+    "covered_pixels": "pixels of the bench target that differ from the clear after one run "
+                      "from a cleared target (0: the pass draws only into its own targets)",
+    "fragments_per_covered_pixel": "fragment_shader_invocations ÷ covered_pixels: overdraw, "
+                                   "helper and block shading",
+    "fragments_per_image_pixel": "fragment_shader_invocations ÷ width·height",
+    "cost_per_fragment_vs_fullscreen": "(this pass's ms per 1,000,000 fragment invocations) ÷ "
+                                       "(reference.fullscreen's): the cost of a fragment "
+                                       "relative to a constant shader, all of the pass's time "
+                                       "put on its fragments",
+}
+
+
+def _covered(target) -> int:
+    """Pixels of ``target`` that differ from ``target.clear()``'s colour or depth."""
+    import numpy as np
+
+    colour = target.read()
+    changed = np.any(colour != np.array([0.0, 0.0, 0.0, 1.0], dtype=np.float32), axis=-1)
+    if getattr(target, "depth", None) is not None:
+        changed |= target.read_depth() < 1.0
+    return int(changed.sum())
+
+
+def _pipeline(gpu, target, passes, inner) -> tuple[dict, dict]:
+    """Counts of one run of each pass (none timed: the queries stay out of the timed rounds),
+    and the status to record (supported, and the reason where not)."""
+    from ..gpu.timing import PIPELINE_EXTENSION, PipelineStatistics
+
+    stats = PipelineStatistics(gpu.ctx)
+    status: dict = {"extension": PIPELINE_EXTENSION, "supported": stats.available,
+                    "reason": stats.reason}
+    counts: dict = {}
+    if not stats.available:
+        return counts, status
+    for p in passes:
+        if p.name in inner:  # from a cleared target, the clear left out of the counts
+            target.clear()
+            got = stats.count(inner[p.name])
+        else:
+            got = stats.count(p.run)
+        if got is None:
+            status.update(supported=False, reason=stats.reason)
+            return {}, status
+        entry: dict = {"pipeline": got}
+        if p.name != "reference.clear":
+            gpu.ctx.finish()
+            entry["covered_pixels"] = _covered(target)
+        counts[p.name] = entry
+    return counts, status
+
+
+def per_draw(timing, draws: int) -> None:
+    """Turn a reference's times per run of ``draws`` draws into times per draw."""
+    timing.wall_ms[:] = [t / draws for t in timing.wall_ms]
+    timing.gpu_ms[:] = [t / draws for t in timing.gpu_ms]
+
+
+def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat: int = 15,
+                seed: int = 0) -> dict:
     gpu = session.gpu
     target = gpu.target("bench", "scene radiance", size)
     try:
@@ -48,17 +148,53 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
                 target.clear()
                 p.run()
 
+            inner[p.name] = p.run
             return Pass(p.name, run)
 
-        passes = [trivial_pass(session, target), Pass("reference.clear", target.clear)]
-        passes += [cleared(p) for p in session.scene.bench_passes(frame, target)]
+        raw = session.scene.bench_passes(frame, target)
+        names = [p.name for p in raw]
+        seen: dict[str, int] = {}
+        for i, p in enumerate(raw):  # two passes of one name: both kept, numbered
+            if names.count(p.name) > 1:
+                seen[p.name] = seen.get(p.name, 0) + 1
+                raw[i] = Pass(f"{p.name} #{seen[p.name]}", p.run, p.stage)
+        inner: dict[str, Callable[[], None]] = {}  # the effect passes without their clear
+        single = trivial_pass(session, target)
+        draws = reference_draws(gpu.ctx, single.run)
+        passes = [trivial_pass(session, target, draws), Pass("reference.clear", target.clear)]
+        passes += [cleared(p) for p in raw]
         passes.append(Pass("frame", lambda: session.scene.render(frame, target)))
         hardware = not gpu.caps.software
-        timings = {p.name: time_call(gpu.ctx, p.name, p.run, warmup, repeat, gpu_queries=hardware)
-                   for p in passes}
+        result = time_interleaved(gpu.ctx, {p.name: p.run for p in passes}, warmup, repeat,
+                                  seed=seed, gpu_queries=hardware)
+        per_draw(result.timings["reference.fullscreen"], draws)
+        counts, pipeline_status = _pipeline(gpu, target, [single, *passes[1:]], inner)
     finally:
         gpu.free(target)
-    ref = timings["reference.fullscreen"].median_ms
+    ref = "reference.fullscreen"
+    pixels = size[0] * size[1]
+    report_passes: dict = {}
+    ref_frags = counts.get(ref, {}).get("pipeline", {}).get("fragment_shader_invocations", 0)
+    for name, t in result.timings.items():
+        p25, med, p75 = result.quartiles(name)
+        ratio = result.ratio(name, ref)
+        entry: dict = {**t.summary(), "p25_ms": p25, "p75_ms": p75,
+                       "ratio_to_fullscreen": ratio["median"],
+                       "ratio_to_fullscreen_p25": ratio["p25"],
+                       "ratio_to_fullscreen_p75": ratio["p75"]}
+        entry["median_ms"] = med
+        if name in counts:
+            c = counts[name]
+            entry.update(c)
+            frags = c["pipeline"].get("fragment_shader_invocations", 0)
+            covered = c.get("covered_pixels")
+            if frags:
+                entry["fragments_per_image_pixel"] = frags / pixels
+                if covered:
+                    entry["fragments_per_covered_pixel"] = frags / covered
+                if ref_frags:
+                    entry["cost_per_fragment_vs_fullscreen"] = ratio["median"] * ref_frags / frags
+        report_passes[name] = entry
     return {
         "scene": session.scene.name,
         "size": list(size),
@@ -69,12 +205,14 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
         "when": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "warmup": warmup,
         "repeat": repeat,
+        "timing": {"method": "interleaved", "rounds": result.rounds, "seed": seed,
+                   "order": "every pass once per round, shuffled", "reference": ref,
+                   "reference_draws": draws},
+        "pipeline_statistics": pipeline_status,
+        "fields": FIELDS,
         "parameters": {k: (list(v) if isinstance(v, tuple) else v)
                        for k, v in session.params.values().items()},
-        "passes": {
-            name: {**t.summary(), "ratio_to_fullscreen": (t.median_ms / ref) if ref > 0 else None}
-            for name, t in timings.items()
-        },
+        "passes": report_passes,
     }
 
 

@@ -1,4 +1,5 @@
-"""Timing GPU work: ``ctx.finish()`` around a pass, warm-up, then the median of N.
+"""Timing GPU work: ``ctx.finish()`` around a pass, warm-up, then the median of N; several
+variants in the same shuffled rounds (:func:`time_interleaved`); pipeline-statistics counts.
 
 GPU timer queries are used only on a hardware GPU (on llvmpipe they are unreliable) and are
 reported beside wall time, never instead of it.
@@ -102,9 +103,11 @@ def _quartiles(values: list[float]) -> tuple[float, float, float]:
 
 
 def time_interleaved(ctx: moderngl.Context, variants: dict[str, Callable[[], None]],
-                     warmup: int = 2, rounds: int = 15, seed: int = 0) -> Interleaved:
+                     warmup: int = 2, rounds: int = 15, seed: int = 0,
+                     gpu_queries: bool = False) -> Interleaved:
     """Warm each variant up, then ``rounds`` rounds in which every variant runs once (shuffled
-    order per round, ``ctx.finish()`` on both sides of each run)."""
+    order per round, ``ctx.finish()`` on both sides of each run). With ``gpu_queries`` a GPU
+    timer query is wrapped around each run too (hardware GPUs only; beside wall time)."""
     import random
 
     rng = random.Random(seed)
@@ -112,6 +115,8 @@ def time_interleaved(ctx: moderngl.Context, variants: dict[str, Callable[[], Non
     for name in names:
         for _ in range(max(0, warmup)):
             variants[name]()
+    ctx.finish()
+    query = ctx.query(time=True) if gpu_queries else None
     timings = {name: Timing(name) for name in names}
     for _ in range(max(1, rounds)):
         order = names[:]
@@ -119,7 +124,110 @@ def time_interleaved(ctx: moderngl.Context, variants: dict[str, Callable[[], Non
         for name in order:
             ctx.finish()
             t0 = time.perf_counter()
-            variants[name]()
+            if query is not None:
+                with query:
+                    variants[name]()
+            else:
+                variants[name]()
             ctx.finish()
             timings[name].wall_ms.append((time.perf_counter() - t0) * 1e3)
+            if query is not None:
+                timings[name].gpu_ms.append(query.elapsed / 1e6)
     return Interleaved(timings, max(1, rounds))
+
+
+# ---- pipeline-statistics queries (GL_ARB_pipeline_statistics_query, raw GL via ctypes) ------
+
+PIPELINE_EXTENSION = "GL_ARB_pipeline_statistics_query"
+#: query targets of GL_ARB_pipeline_statistics_query (and GL_SAMPLES_PASSED, GL 1.5)
+PIPELINE_COUNTERS = {
+    "vertices_submitted": 0x82EE,
+    "primitives_submitted": 0x82EF,
+    "vertex_shader_invocations": 0x82F0,
+    "clipping_input_primitives": 0x82F6,
+    "clipping_output_primitives": 0x82F7,
+    "fragment_shader_invocations": 0x82F4,
+    "compute_shader_invocations": 0x82F5,
+    "samples_passed": 0x8914,
+}
+_GL_QUERY_RESULT = 0x8866
+
+
+class PipelineStatistics:
+    """Counts of one run of a callable: vertices and primitives submitted, shader invocations
+    per stage and samples passed, from GL_ARB_pipeline_statistics_query. moderngl does not
+    expose these queries, so the GL entry points come from ``eglGetProcAddress`` (the headless
+    context is EGL). ``available`` is False, with ``reason`` saying why, where the context
+    lacks the extension or the entry points cannot be found; then :meth:`count` returns None.
+    """
+
+    def __init__(self, ctx: moderngl.Context):
+        self.ctx = ctx
+        self.available = False
+        self.reason: str | None = None
+        self._fns: dict[str, Any] = {}
+        if PIPELINE_EXTENSION not in ctx.extensions:
+            self.reason = f"{PIPELINE_EXTENSION} is not supported by this context"
+            return
+        try:
+            self._load()
+        except (OSError, AttributeError) as exc:
+            self.reason = f"no GL entry points for the queries through libEGL ({exc})"
+            return
+        self.available = True
+
+    def _load(self) -> None:
+        import ctypes
+        import ctypes.util
+
+        name = ctypes.util.find_library("EGL") or "libEGL.so.1"
+        egl = ctypes.CDLL(name)
+        egl.eglGetProcAddress.restype = ctypes.c_void_p
+        egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
+        uint, sizei, p_uint = ctypes.c_uint, ctypes.c_int, ctypes.POINTER(ctypes.c_uint)
+        protos: dict[str, tuple[Any, ...]] = {
+            "glGenQueries": (sizei, p_uint),
+            "glDeleteQueries": (sizei, p_uint),
+            "glBeginQuery": (uint, uint),
+            "glEndQuery": (uint,),
+            "glGetQueryObjectui64v": (uint, uint, ctypes.POINTER(ctypes.c_uint64)),
+        }
+        for fn, args in protos.items():
+            address = egl.eglGetProcAddress(fn.encode())
+            if not address:
+                raise OSError(f"eglGetProcAddress({fn}) is NULL")
+            self._fns[fn] = ctypes.CFUNCTYPE(None, *args)(address)
+
+    def count(self, fn: Callable[[], None]) -> dict[str, int] | None:
+        """Run ``fn`` once with every counter's query active around it; the counts."""
+        if not self.available:
+            return None
+        import ctypes
+
+        n = len(PIPELINE_COUNTERS)
+        ids = (ctypes.c_uint * n)()
+        f = self._fns
+        self.ctx.finish()
+        _ = self.ctx.error  # clears an error flag left by earlier work: not the queries'
+        f["glGenQueries"](n, ids)
+        try:
+            for i, target in enumerate(PIPELINE_COUNTERS.values()):
+                f["glBeginQuery"](target, ids[i])
+            try:
+                fn()
+            finally:
+                for target in PIPELINE_COUNTERS.values():
+                    f["glEndQuery"](target)
+            out = {}
+            for i, key in enumerate(PIPELINE_COUNTERS):
+                value = ctypes.c_uint64(0)
+                f["glGetQueryObjectui64v"](ids[i], _GL_QUERY_RESULT, ctypes.byref(value))
+                out[key] = int(value.value)
+        finally:
+            f["glDeleteQueries"](n, ids)
+        error = self.ctx.error
+        if error != "GL_NO_ERROR":
+            self.available = False
+            self.reason = f"the queries raised {error}"
+            return None
+        return out

@@ -158,6 +158,8 @@ def _bench_values(fx: dict[str, str]) -> dict[str, list[str]]:
     return {
         "--warmup": ["-5", "-1", "1001", "x", "", "1.5", "1e9", BIG],
         "--repeat": ["0", "-1", "10001", "x", "", "2.5", "99999999999999999999", BIG],
+        "--budget": ["0", "-0", "0.0", "-1", "-1e-9", "nan", "-nan", "inf", "-inf", "1e400",
+                     "100000.5", "1e6", "x", "", " ", "1ms", "16,7", BIG],
         "--sizes": ["", " ", ",", ",,", "0x0", "16x16,0x0", "axb", "16x16,x", "16", "-1x-1",
                     "99999x16", BIG, ",".join(["16x16"] * 20_000)],
         "--out": ["", "r.txt", "r.JSONX", "taken.json", "r.json", "sub.png", "no/such/r.json",
@@ -227,7 +229,7 @@ def generate(seed: int, fx: dict[str, str], n_random: int = 260) -> list[list[st
         "natura": ["--size", "--time", "--camera", "--yaw", "--pitch", "--fov", "--set",
                    "--preset", "--shaders"],
         "bench": ["--size", "--time", "--camera", "--set", "--preset", "--shaders", "--warmup",
-                  "--repeat", "--sizes", "--out"],
+                  "--repeat", "--sizes", "--out", "--budget"],
         "params": ["--shaders"],
         "check": ["--shaders"],
     }

@@ -28,3 +28,41 @@ def test_interleaved_rounds_run_each_variant_once_per_round_and_ratio_by_round(g
     summary = result.summary(reference="fast")
     assert summary["slow"]["ratio_to_fast"]["median"] == ratio["median"]
     assert summary["fast"]["p25_ms"] <= summary["fast"]["median_ms"] <= summary["fast"]["p75_ms"]
+
+
+def test_pipeline_statistics_count_a_full_screen_triangle(gl_ctx):
+    import moderngl
+    import numpy as np
+    import pytest
+
+    from app.gpu.timing import PIPELINE_EXTENSION, PipelineStatistics
+
+    stats = PipelineStatistics(gl_ctx)
+    if not stats.available:
+        assert stats.reason and stats.count(lambda: None) is None
+        pytest.skip(stats.reason)
+    assert PIPELINE_EXTENSION in gl_ctx.extensions
+    fbo = gl_ctx.simple_framebuffer((48, 16))
+    prog = gl_ctx.program(
+        vertex_shader="#version 330\nin vec2 p; void main() { gl_Position = vec4(p, 0, 1); }",
+        fragment_shader="#version 330\nout vec4 c; void main() { c = vec4(1); }")
+    vbo = gl_ctx.buffer(np.array([-1, -1, 3, -1, -1, 3], dtype="f4"))
+    vao = gl_ctx.vertex_array(prog, [(vbo, "2f", "p")])
+    try:
+        fbo.use()
+        counts = stats.count(lambda: vao.render(moderngl.TRIANGLES))
+        assert counts is not None
+        assert counts["vertices_submitted"] == 3 and counts["primitives_submitted"] == 1
+        assert counts["samples_passed"] == 48 * 16
+        assert 48 * 16 <= counts["fragment_shader_invocations"] <= 2 * 48 * 16
+        assert stats.count(lambda: None)["fragment_shader_invocations"] == 0
+    finally:
+        for obj in (vao, vbo, prog, fbo):
+            obj.release()
+
+
+def test_interleaved_gpu_queries_sit_beside_wall_time(gl_ctx):
+    result = time_interleaved(gl_ctx, {"a": lambda: None, "b": lambda: None}, warmup=0,
+                              rounds=3, gpu_queries=True)
+    for t in result.timings.values():
+        assert len(t.wall_ms) == 3 and len(t.gpu_ms) == 3
