@@ -9,14 +9,27 @@
 * **Time against error**: the cloud layer (premultiplied radiance and transmittance) against
   the same model at 512 steps without jitter or reprojection, for the view steps, the light
   samples, each speed option alone, and their combination; "equal error" compares the cheapest
-  configuration whose error is at most the thesis marcher's with the thesis marcher.
+  configuration whose error is at most the thesis marcher's with the thesis marcher. The app's
+  default march (``DEFAULT_MARCH``: the parameters' defaults, reprojection off as in a single
+  render) is measured uniform and adaptive at several step counts.
+* **The error budget of the default** (``BUDGET_FACTOR``): the default march's mean error
+  against the 512-step reference must stay within 1.5 × that of the uniform 64-step march with
+  the default integration (the march the app shipped before adaptive steps became the default;
+  the thesis's own marcher, naive sum, is several times worse still, so the budget is tighter
+  than "as good as the thesis"). The factor bounds what a speed option may cost in accuracy:
+  at most half again the uniform march's error, which at the default settings is far below a
+  display step (the mean |Δ| is ~1e-3 of radiance values up to ~3). ``budget`` says whether
+  the default meets it.
+* **Default before / after**: the uniform 64-step default against the adaptive one, timed in
+  one interleaved run (``app.gpu.timing.time_interleaved``: per-round ratios, median and
+  quartiles) with the error of each against the same reference.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..gpu.timing import time_call
+from ..gpu.timing import time_call, time_interleaved
 from ..imageio import save_figure
 
 PRESETS = ("cumulus", "stratocumulus", "stratus")
@@ -29,11 +42,23 @@ SPEED = {"clouds.adaptive_steps": True, "clouds.energy_conserving": True,
 REFERENCE = {"clouds.steps": 512, "clouds.jitter": False, "clouds.reprojection": "off",
              "clouds.adaptive_steps": False, "clouds.distance_steps": False,
              "clouds.energy_conserving": True}
+#: the parameters of the march that the speed options change (their defaults: ``default_march``)
+MARCH_KEYS = ("clouds.steps", "clouds.light_steps", "clouds.energy_conserving",
+              "clouds.adaptive_steps", "clouds.distance_steps", "clouds.jitter")
+#: the default march's mean error may be at most this × the uniform 64-step march's (see above)
+BUDGET_FACTOR = 1.5
+BUDGET_BASIS = "default integration, uniform 64 steps"
 
 
 def _apply(params, values: dict) -> None:
     for k, v in values.items():
         params.set(k, v)
+
+
+def default_march(params) -> dict:
+    """The app's default march: each of ``MARCH_KEYS`` at its default, reprojection off (a
+    single render marches every pixel)."""
+    return {**{k: params.spec(k).default for k in MARCH_KEYS}, "clouds.reprojection": "off"}
 
 
 def _layer(session, size) -> np.ndarray:
@@ -90,8 +115,8 @@ def accuracy(session, size=(160, 90), warmup: int = 1, repeat: int = 3,
     _, ref = _steady_frame_ms(session, size, 0, 1)
     rows = []
 
-    def measure(label, values):
-        _apply(p, THESIS)
+    def measure(label, values, base=THESIS):
+        _apply(p, base)
         _apply(p, values)
         ms, layer = _steady_frame_ms(session, size, warmup, repeat)
         d = np.abs(layer - ref).max(axis=-1)
@@ -109,6 +134,11 @@ def accuracy(session, size=(160, 90), warmup: int = 1, repeat: int = 3,
     measure("reprojection", {"clouds.reprojection": "on"})
     for n in (24, 32, 40, 48, 64, 96, 128):
         measure(f"all speed work, {n} steps", {**SPEED, "clouds.steps": n})
+    default = default_march(p)
+    for n in (32, 48, 64, 96, 128):
+        for adaptive in (False, True):
+            measure(f"default {'adaptive' if adaptive else 'uniform'} {n} steps",
+                    {"clouds.steps": n, "clouds.adaptive_steps": adaptive}, base=default)
     thesis = next(r for r in rows if r["config"] == "uniform 64 steps (thesis marcher)")
     candidates = [r for r in rows
                   if r["config"].startswith("all speed work") and r["mean"] <= thesis["mean"]]
@@ -118,19 +148,89 @@ def accuracy(session, size=(160, 90), warmup: int = 1, repeat: int = 3,
                             "thesis_mean": thesis["mean"],
                             "best": best["config"] if best else None,
                             "best_ms": best["ms"] if best else None,
-                            "speedup": (thesis["ms"] / best["ms"]) if best else None}}
+                            "speedup": (thesis["ms"] / best["ms"]) if best else None},
+            "budget": budget(rows, default)}
+
+
+def _default_label(default: dict) -> str:
+    return (f"default {'adaptive' if default['clouds.adaptive_steps'] else 'uniform'} "
+            f"{default['clouds.steps']} steps")
+
+
+def budget(rows: list[dict], default: dict) -> dict:
+    """The error budget (``BUDGET_FACTOR`` × the uniform 64-step march at the default
+    integration) and whether the default march meets it."""
+    by = {r["config"]: r for r in rows}
+    basis = by["default uniform 64 steps"]
+    chosen = by[_default_label(default)]
+    bound = BUDGET_FACTOR * basis["mean"]
+    return {"factor": BUDGET_FACTOR, "basis": BUDGET_BASIS, "basis_mean": basis["mean"],
+            "mean_bound": bound, "default": chosen["config"], "default_mean": chosen["mean"],
+            "default_p99": chosen["p99"], "within": bool(chosen["mean"] <= bound),
+            "adaptive_default": bool(default["clouds.adaptive_steps"])}
+
+
+def default_change(session, sizes=((160, 90), (320, 180)), warmup: int = 1, rounds: int = 9,
+                   preset: str = "cumulus") -> dict:
+    """The default march before (uniform) and after (adaptive steps) in one interleaved run
+    per size: per-round time ratios after / before, and the mean error of each against the
+    512-step reference."""
+    p = session.params
+    session.scene.interactive = True
+    p.set("clouds.preset", preset)
+    p.set("clouds.wind_speed", 0.0)
+    gpu = session.gpu
+    out = []
+    for size in sizes:
+        size = tuple(int(v) for v in size)
+        _apply(p, REFERENCE)
+        _, ref = _steady_frame_ms(session, size, 0, 1)
+        target = gpu.target("bench", "clouds default", size)
+        try:
+            frame = session.scene.frame(size)
+            variants = {}
+            errors = {}
+            for name, adaptive in (("before", False), ("after", True)):
+                values = {**default_march(p), "clouds.adaptive_steps": adaptive}
+
+                def run(values=values):
+                    _apply(p, values)
+                    session.scene.render(frame, target)
+
+                variants[name] = run
+                run()
+                d = np.abs(_layer(session, size) - ref).max(axis=-1)
+                errors[name] = {"mean": float(d.mean()), "p99": float(np.percentile(d, 99))}
+            timed = time_interleaved(gpu.ctx, variants, warmup, rounds)
+        finally:
+            gpu.free(target)
+        out.append({"size": list(size), "rounds": timed.rounds,
+                    "ratio": timed.ratio("after", "before"),
+                    "before_ms": timed.quartiles("before")[1],
+                    "after_ms": timed.quartiles("after")[1],
+                    "before": errors["before"], "after": errors["after"]})
+    return {"before": "default uniform 64 steps (adaptive steps off)",
+            "after": "default adaptive 64 steps", "rows": out}
 
 
 def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None) -> dict:
     saved = session.params.values()
     try:
         out = {"accuracy": accuracy(session, warmup=warmup, repeat=repeat),
+               "default_change": default_change(session, warmup=warmup,
+                                                rounds=max(5, 3 * repeat)),
                "table": table(session, sizes or DEFAULT_SIZES, warmup, repeat)}
     finally:
         for k, v in saved.items():
             session.params.set(k, v)
         session.scene.interactive = False
     return out
+
+
+def _in_group(config: str, prefix: str) -> bool:
+    """Whether a row's ``config`` is one of the chart's group ``prefix`` ("uniform" is not
+    "default uniform")."""
+    return config.startswith(prefix) and config[len(prefix):len(prefix) + 1] in (" ", ",")
 
 
 def chart(report: dict, path, force: bool = False) -> None:
@@ -142,24 +242,42 @@ def chart(report: dict, path, force: bool = False) -> None:
     s = report["sweep"]
     fig, axes = plt.subplots(1, 2, figsize=(14, 5))
     ax = axes[0]
-    groups = {"uniform": "o-", "light samples": "s-", "all speed work": "D-"}
-    for prefix, style in groups.items():
-        rows = [r for r in s["accuracy"]["rows"] if r["config"].startswith(prefix)]
-        ax.plot([r["ms"] for r in rows], [max(r["mean"], 1e-6) for r in rows], style, label=prefix)
+    groups = {"uniform": ("o-", "uniform (thesis marcher)"), "light samples": ("s-", None),
+              "all speed work": ("D-", None),
+              "default uniform": ("v-", "default integration, uniform"),
+              "default adaptive": ("P-", "default integration, adaptive steps")}
+    for prefix, (style, label) in groups.items():
+        rows = [r for r in s["accuracy"]["rows"] if _in_group(r["config"], prefix)]
+        ax.plot([r["ms"] for r in rows], [max(r["mean"], 1e-6) for r in rows], style,
+                label=label or prefix)
         for r in rows:
-            ax.annotate(r["config"].split(",")[-1].replace("steps (thesis marcher)", "").strip(),
-                        (r["ms"], max(r["mean"], 1e-6)), fontsize=7, textcoords="offset points",
-                        xytext=(3, 3))
+            n = r.get("steps", r.get("light_steps", ""))
+            ax.annotate(str(n), (r["ms"], max(r["mean"], 1e-6)), fontsize=7,
+                        textcoords="offset points", xytext=(3, 3))
+    bud = s["accuracy"].get("budget")
+    if bud:
+        ax.axhline(bud["mean_bound"], color="k", ls=":", lw=1,
+                   label=f"error budget {bud['mean_bound']:.2e} "
+                         f"({bud['factor']:g} × {bud['basis']})")
+        d = next(r for r in s["accuracy"]["rows"] if r["config"] == bud["default"])
+        ax.plot([d["ms"]], [max(d["mean"], 1e-6)], "*", ms=14, mfc="none", mec="r",
+                label=f"the default: {bud['default']}")
     for r in s["accuracy"]["rows"]:
-        if not any(r["config"].startswith(p) for p in groups):
+        if not any(_in_group(r["config"], p) for p in groups):
             ax.plot([r["ms"]], [max(r["mean"], 1e-6)], "^", label=r["config"])
     ax.set_yscale("log")
     ax.set_xlabel(f"ms per frame at {s['accuracy']['size'][0]}×{s['accuracy']['size'][1]}")
     ax.set_ylabel("mean |layer − 512-step reference|")
     eq = s["accuracy"]["equal_error"]
-    ax.set_title(f"time against error (equal-error speed-up ×{eq['speedup']:.1f})"
-                 if eq["speedup"] else "time against error")
-    ax.legend(fontsize=7)
+    title = (f"time against error (equal-error speed-up ×{eq['speedup']:.1f})"
+             if eq["speedup"] else "time against error")
+    ch = s.get("default_change")
+    if ch and ch["rows"]:
+        q = ch["rows"][0]["ratio"]
+        title += (f"\nadaptive default: time ×{q['median']:.2f} [{q['p25']:.2f}–{q['p75']:.2f}] "
+                  f"at {ch['rows'][0]['size'][0]}×{ch['rows'][0]['size'][1]}")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=6)
     ax = axes[1]
     rows = s["table"]["rows"]
     labels = [f"{r['preset']}\n{r['size'][0]}×{r['size'][1]}" for r in rows]
@@ -197,4 +315,21 @@ def summary(report: dict) -> str:
                  f"{eq['best']} "
                  f"{eq['best_ms'] if eq['best_ms'] is None else round(eq['best_ms'], 2)} ms → "
                  f"speed-up {eq['speedup'] if eq['speedup'] is None else round(eq['speedup'], 2)}")
+    bud = s["accuracy"].get("budget")
+    if bud:
+        lines.append(f"error budget: mean ≤ {bud['factor']:g} × {bud['basis']} "
+                     f"({bud['basis_mean']:.2e}) = {bud['mean_bound']:.2e}; the default "
+                     f"({bud['default']}) {bud['default_mean']:.2e} → "
+                     f"{'within' if bud['within'] else 'OVER'} the budget")
+    ch = s.get("default_change")
+    if ch:
+        lines.append(f"default before → after: {ch['before']} → {ch['after']} "
+                     "(one interleaved run)")
+        for r in ch["rows"]:
+            q = r["ratio"]
+            lines.append(f"  {r['size'][0]}x{r['size'][1]}: time ×{q['median']:.2f} "
+                         f"[{q['p25']:.2f}–{q['p75']:.2f}] over {q['n']} rounds "
+                         f"({r['before_ms']:.1f} → {r['after_ms']:.1f} ms); error mean "
+                         f"{r['before']['mean']:.2e} → {r['after']['mean']:.2e}, p99 "
+                         f"{r['before']['p99']:.2e} → {r['after']['p99']:.2e}")
     return "\n".join(lines)

@@ -10,6 +10,12 @@ Three sweeps, each timed in one run on one renderer (ratios hold where absolute 
    (mean and 99th percentile of |Δ|) and the final colour (display units).
 3. **Ring edges** — hard rings (the thesis) against the box-filtered rings, each compared with an
    8×8 supersampled render of the hard rings, with rings finer than the pixels.
+4. **Tessellation** — the sphere and torus tessellated from their projected size
+   (``materials.tessellation = auto``) against the fixed 48 × 96 segments, on the scene's view
+   at 320×180 and 1280×720: the time ratio auto / fixed in one interleaved run per size
+   (``app.gpu.timing.time_interleaved``; median and quartiles of the per-round ratios), the
+   triangles of each, and the image change: the share of pixels whose display value moves by
+   more than 0.05 and the mean |Δ| (display units, largest channel).
 """
 
 from __future__ import annotations
@@ -24,11 +30,14 @@ from ..effects.materials.effect import (
     MATERIAL_RADIUS,
     Materials,
 )
-from ..gpu.timing import time_call
+from ..gpu.timing import time_call, time_interleaved
 from ..imageio import save_figure
 
 TOP_VIEW = np.array([[2.0, 0, 0, 0], [0, 0, -2.0, 0], [0, 0, 0, 0], [0, 0, 0, 1.0]])
 BAKE_SIZES = (8, 16, 32, 64, 128)
+TESSELLATION_SIZES = ((320, 180), (1280, 720))
+#: a pixel "changes" when its display value moves by more than this
+CHANGE_THRESHOLD = 0.05
 
 
 def _render(session, eff: Materials, target, frame, spec=MATERIAL, view_proj=None, baked=None):
@@ -42,6 +51,49 @@ def _render(session, eff: Materials, target, frame, spec=MATERIAL, view_proj=Non
 
 def _display(img):
     return linear_to_srgb(img[..., :3].astype(np.float64))
+
+
+def tessellation(session, sizes=TESSELLATION_SIZES, warmup: int = 2, rounds: int = 15) -> dict:
+    """Auto against fixed tessellation on the scene's view (see the module's item 4)."""
+    params = session.params
+    eff: Materials = session.scene.effect("materials")
+    gpu = session.gpu
+    saved = params["materials.tessellation"]
+    rows = []
+    try:
+        for size in sizes:
+            size = tuple(int(v) for v in size)
+            target = gpu.target("bench", "tessellation", size)
+            frame = session.scene.frame(size)
+            try:
+                variants, images, triangles = {}, {}, {}
+                for mode in ("fixed", "auto"):
+                    draw = _render(session, eff, target, frame)
+
+                    def run(mode=mode, draw=draw):
+                        params.set("materials.tessellation", mode)
+                        draw()
+
+                    variants[mode] = run
+                    run()
+                    images[mode] = _display(target.read())
+                    triangles[mode] = eff.triangles()
+                timed = time_interleaved(gpu.ctx, variants, warmup, rounds)
+            finally:
+                gpu.free(target)
+            d = np.abs(images["auto"] - images["fixed"]).max(axis=-1)
+            rows.append({"size": list(size), "rounds": timed.rounds,
+                         "ratio": timed.ratio("auto", "fixed"),
+                         "fixed_ms": timed.quartiles("fixed")[1],
+                         "auto_ms": timed.quartiles("auto")[1],
+                         "triangles_fixed": triangles["fixed"],
+                         "triangles_auto": triangles["auto"],
+                         "changed_share": float((d > CHANGE_THRESHOLD).mean()),
+                         "mean_abs_diff": float(d.mean())})
+    finally:
+        params.set("materials.tessellation", saved)
+    return {"threshold": CHANGE_THRESHOLD, "edge_pixels": params["materials.edge_pixels"],
+            "rows": rows}
 
 
 def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES,
@@ -134,6 +186,11 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
                              **rings}
         for tgt in (square, view, big, tiny):
             gpu.free(tgt)
+        # 4. tessellation from the projected size against the fixed one
+        for name in ("wood.vol_tex_scale", "materials.filter_rings", "materials.objects"):
+            params.set(name, saved[name])
+        out["tessellation"] = tessellation(session, sizes or TESSELLATION_SIZES, warmup,
+                                           max(9, 2 * repeat))
     finally:
         for name, value in saved.items():
             params.set(name, value)
@@ -148,7 +205,7 @@ def chart(report: dict, path, force: bool = False) -> None:
     import matplotlib.pyplot as plt
 
     sweep_ = report["sweep"]
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
+    fig, axes = plt.subplots(1, 4, figsize=(20, 4.6))
     ax = axes[0]
     rows = sweep_["baked_vs_per_pixel"]["rows"]
     floor = 1e-5
@@ -183,6 +240,26 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.set_ylabel("error vs 8×8 supersampling")
     ax.set_title("ring edges: hard (thesis) vs box-filtered")
     ax.legend(fontsize=8)
+    ax = axes[3]
+    tess = sweep_.get("tessellation")
+    if tess:
+        rows = tess["rows"]
+        x = np.arange(len(rows))
+        med = [r["ratio"]["median"] for r in rows]
+        err = [[r["ratio"]["median"] - r["ratio"]["p25"] for r in rows],
+               [r["ratio"]["p75"] - r["ratio"]["median"] for r in rows]]
+        ax.bar(x, med, 0.5, yerr=err, capsize=4, label="time auto / fixed (median, p25–p75)")
+        for i, r in enumerate(rows):
+            ax.annotate(f"{r['triangles_auto']} / {r['triangles_fixed']} tris\n"
+                        f"{100 * r['changed_share']:.2f} % > {tess['threshold']:g}\n"
+                        f"mean |Δ| {r['mean_abs_diff']:.4f}", (i, med[i]), fontsize=7,
+                        ha="center", textcoords="offset points", xytext=(0, 12))
+        ax.axhline(1.0, color="k", lw=0.8, ls=":")
+        ax.set_xticks(x, [f"{r['size'][0]}×{r['size'][1]}" for r in rows])
+        ax.set_ylim(0, max(1.3, max(med) * 1.5))
+        ax.set_ylabel("time ratio, one interleaved run")
+        ax.set_title(f"tessellation: auto (edges ≈ {tess['edge_pixels']:g} px) vs fixed 48×96")
+        ax.legend(fontsize=8, loc="lower right")
     fig.suptitle(f"natura bench materials — {report['renderer']}", fontsize=10)
     fig.tight_layout()
     try:
@@ -208,4 +285,15 @@ def summary(report: dict) -> str:
         lines.append(f"rings {name:8s} {r['median_ms']:8.3f} ms   "
                      f"error vs 8×8 supersampling mean {r['mean_error']:.4f}"
                      f" p99 {r['p99_error']:.4f}")
+    tess = s.get("tessellation")
+    if tess:
+        lines.append(f"tessellation auto (edges ≈ {tess['edge_pixels']:g} px) / fixed 48×96, "
+                     "one interleaved run per size:")
+        for r in tess["rows"]:
+            q = r["ratio"]
+            lines.append(f"  {r['size'][0]}x{r['size'][1]}: time ×{q['median']:.2f} "
+                         f"[{q['p25']:.2f}–{q['p75']:.2f}] over {q['n']} rounds, triangles "
+                         f"{r['triangles_auto']} / {r['triangles_fixed']}, pixels changing "
+                         f"> {tess['threshold']:g}: {100 * r['changed_share']:.2f} %, "
+                         f"mean |Δ| {r['mean_abs_diff']:.5f}")
     return "\n".join(lines)

@@ -2,6 +2,14 @@
 
 Object space is what procedural solid textures are anchored to (spec/004 §1.6: the vertex
 shader passes the untransformed position), so each mesh is centred on its origin.
+
+Tessellation from the projected size (:func:`auto_tessellation`): a curved mesh's segment
+counts are chosen so that an edge spans about ``edge_px`` pixels on screen, from a few levels
+(``TESSELLATION_LEVELS``, each twice the one before), so a small object is not shaded in 2×2
+quads of sub-pixel triangles and the mesh is rebuilt only when its level changes. The
+silhouette of a circle of radius r pixels drawn with n segments is off by its sagitta,
+r (1 − cos π/n) ≈ edge² / (8 r) pixels: edges of 6 px on a circle of 25 px miss by 0.2 px.
+``FIXED_TESSELLATION`` is the former fixed choice, kept for comparison.
 """
 
 from __future__ import annotations
@@ -63,6 +71,52 @@ def torus(major: float = 0.36, minor: float = 0.16, rings: int = 48,
     p = centre * major + n * minor
     return MeshData("torus", p.reshape(-1, 3).astype("f4"), n.reshape(-1, 3).astype("f4"),
                     _grid_indices(rings, segments))
+
+
+#: the segment counts auto tessellation chooses from (rings of a sphere are half of these)
+TESSELLATION_LEVELS = (12, 24, 48, 96, 192)
+#: (rings, segments) of the fixed tessellation: the meshes' former defaults
+FIXED_TESSELLATION = {"sphere": (48, 96), "torus": (48, 96)}
+#: the object-space sizes auto tessellation measures: bounding radius and the circles it divides
+_SPHERE_RADIUS, _TORUS_MAJOR, _TORUS_MINOR = 0.5, 0.36, 0.16
+BOUNDING_RADIUS = {"sphere": _SPHERE_RADIUS, "torus": _TORUS_MAJOR + _TORUS_MINOR}
+
+
+def tessellation_level(circumference_px: float, edge_px: float,
+                       levels: tuple[int, ...] = TESSELLATION_LEVELS) -> int:
+    """The finest of ``levels`` whose edges span at least ``edge_px`` pixels on a circle of
+    ``circumference_px`` (the coarsest level when even it has shorter edges)."""
+    want = circumference_px / max(float(edge_px), 1e-6)
+    chosen = levels[0]
+    for n in levels:
+        if n <= want:
+            chosen = n
+    return chosen
+
+
+def pixels_per_unit(distance: float, fov_degrees: float, height_px: int) -> float:
+    """Pixels per object unit at ``distance`` in front of a camera of vertical field of view
+    ``fov_degrees`` and an image ``height_px`` high."""
+    return height_px / (2.0 * max(distance, 1e-6) * math.tan(math.radians(fov_degrees) / 2))
+
+
+def auto_tessellation(name: str, distance: float, fov_degrees: float, height_px: int,
+                      edge_px: float, scale: float = 1.0) -> tuple[int, int]:
+    """(rings, segments) of the sphere or torus ``name`` whose centre is ``distance`` from the
+    camera, so that edges span ≥ ``edge_px`` pixels. The size is taken at the object's nearest
+    point (centre distance less its bounding radius), so the near side is never the coarse
+    one; a camera inside the bounding sphere gets the finest level."""
+    near = distance - BOUNDING_RADIUS[name] * scale
+    if near <= 1e-3 * scale:
+        top = TESSELLATION_LEVELS[-1]
+        return (top // 2, top) if name == "sphere" else (top, top)
+    ppu = pixels_per_unit(near, fov_degrees, height_px) * scale
+    if name == "sphere":
+        segments = tessellation_level(2 * math.pi * _SPHERE_RADIUS * ppu, edge_px)
+        return segments // 2, segments  # a meridian's edges as long as the equator's
+    segments = tessellation_level(2 * math.pi * (_TORUS_MAJOR + _TORUS_MINOR) * ppu, edge_px)
+    rings = tessellation_level(2 * math.pi * _TORUS_MINOR * ppu, edge_px)
+    return rings, segments
 
 
 def slice_quad(y: float = 0.0, half: float = 0.5) -> MeshData:

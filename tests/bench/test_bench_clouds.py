@@ -14,6 +14,7 @@ def test_clouds_sweep_reports_table_and_equal_error(gl_ctx, tmp_path, monkeypatc
     try:
         acc = cbench.accuracy(session, size=(48, 27), warmup=0, repeat=1)
         tab = cbench.table(session, sizes=((32, 32),), warmup=0, repeat=1)
+        change = cbench.default_change(session, sizes=((48, 27),), warmup=0, rounds=3)
     finally:
         session.release()
     rows = {r["config"]: r for r in acc["rows"]}
@@ -21,6 +22,20 @@ def test_clouds_sweep_reports_table_and_equal_error(gl_ctx, tmp_path, monkeypatc
     assert uniform[0] > uniform[1] > uniform[2]  # more steps, closer to the 512-step reference
     assert rows["energy-conserving"]["mean"] < rows["uniform 64 steps (thesis marcher)"]["mean"]
     assert len(tab["rows"]) == 3 and {r["preset"] for r in tab["rows"]} == set(cbench.PRESETS)
-    report = {"renderer": "test", "sweep": {"accuracy": acc, "table": tab}}
+    # the default march is adaptive, and the bench checks it against its stated budget
+    budget = acc["budget"]
+    assert budget["adaptive_default"] and budget["default"] == "default adaptive 64 steps"
+    assert budget["mean_bound"] == cbench.BUDGET_FACTOR * rows["default uniform 64 steps"]["mean"]
+    assert budget["within"], budget
+    # the thesis's marcher (Table 6.1) stays the uniform one, one setting away from the default
+    assert cbench.THESIS["clouds.adaptive_steps"] is False
+    (row,) = change["rows"]
+    assert row["ratio"]["n"] == 3 and row["ratio"]["median"] > 0
+    assert row["after"]["mean"] == rows["default adaptive 64 steps"]["mean"]
+    assert row["before"]["mean"] == rows["default uniform 64 steps"]["mean"]
+    report = {"renderer": "test", "sweep": {"accuracy": acc, "table": tab,
+                                            "default_change": change}}
     cbench.chart(report, tmp_path / "c.png")
-    assert (tmp_path / "c.png").stat().st_size > 10000 and "equal error" in cbench.summary(report)
+    text = cbench.summary(report)
+    assert (tmp_path / "c.png").stat().st_size > 10000 and "equal error" in text
+    assert "error budget" in text and "within the budget" in text

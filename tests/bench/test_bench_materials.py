@@ -27,11 +27,16 @@ def test_materials_sweep_orders_methods_sensibly(gl_ctx, tmp_path):
     assert baked[32]["noise_p99"] < baked[8]["noise_p99"]
     rings = sweep["ring_edges"]
     assert rings["filtered"]["mean_error"] < 0.5 * rings["hard"]["mean_error"]
+    small, large = sweep["tessellation"]["rows"]  # 320×180 and 1280×720, auto against fixed
+    assert small["triangles_auto"] < 0.25 * small["triangles_fixed"]
+    assert small["triangles_auto"] < large["triangles_auto"] <= large["triangles_fixed"]
+    assert small["ratio"]["n"] >= 9 and 0.0 <= small["changed_share"] <= 0.015
     report = {"renderer": "test", "sweep": sweep}
     chart = tmp_path / "chart.png"
     mbench.chart(report, chart)
     assert chart.stat().st_size > 10000
     assert "ms per octave" in mbench.summary(report)
+    assert "tessellation auto" in mbench.summary(report)
 
 
 def test_cli_bench_writes_json_and_chart(tmp_path):

@@ -5,6 +5,11 @@ The thesis's property table (spec/004 §2) is the ``wood`` parameter group, with
 defaults; each Vector property keeps its four components and its effective scale is xyz·w.
 The ring, noise and colour code is in ``glsl/materials/``; numpy twins of the wood chain are in
 ``app/sim/materials.py`` (tests compare them with the GPU).
+
+The sphere and the torus are tessellated from their projected size
+(``materials.tessellation = auto``: ``app.render.meshes.auto_tessellation``, edges of about
+``materials.edge_pixels`` pixels, from a few power-of-two levels, each built once and kept
+while the view stays in its level); ``fixed`` is the former 48 × 96 segments of both.
 """
 
 from __future__ import annotations
@@ -17,13 +22,22 @@ import numpy as np
 from ...colour import srgb_to_linear
 from ...gpu.programs import ProgramSpec
 from ...params import Param
-from ...render.meshes import Mesh, cube, slice_quad, torus, uv_sphere
+from ...render.meshes import (
+    FIXED_TESSELLATION,
+    Mesh,
+    auto_tessellation,
+    cube,
+    slice_quad,
+    torus,
+    uv_sphere,
+)
 from ...render.noise import value_noise_texture
 from ..base import Effect
 
 MATERIALS = ("wood", "marble", "granite")
 NOISES = ("value", "gradient")
 OBJECTS = ("all", "cube", "sphere", "torus", "slice")
+TESSELLATIONS = ("auto", "fixed")
 
 MATERIAL = ProgramSpec("materials/material")
 MATERIAL_OBJECT_POS = ProgramSpec("materials/material", defines=(("OUTPUT_OBJECT_POSITION", 1),))
@@ -80,6 +94,13 @@ class Materials(Effect):
                   "gradient = Perlin 2002", kind="choice", choices=NOISES, section="spec/004 §1.5"),
             Param("materials.objects", "all", doc="which meshes to draw (slice = the y = 0 "
                   "cross-section, fig. 7)", kind="choice", choices=OBJECTS),
+            Param("materials.tessellation", "auto", doc="segments of the sphere and torus: "
+                  "auto = from their projected size (edges of about materials.edge_pixels, a few "
+                  "levels), fixed = 48 × 96 at any size (the former meshes)", kind="choice",
+                  choices=TESSELLATIONS),
+            Param("materials.edge_pixels", 6.0, 1.0, 64.0, "auto tessellation: on-screen length "
+                  "of an edge of the sphere and torus (smaller = finer meshes)", step=0.5,
+                  unit="px"),
             Param("materials.filter_rings", False, doc="box-filter the ring edges over the pixel "
                   "footprint (anti-aliasing)", kind="bool"),
             Param("materials.lighting", False,
@@ -137,23 +158,57 @@ class Materials(Effect):
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
-        self._meshes: dict[str, Mesh] = {}
+        self._meshes: dict[object, Mesh] = {}
+        self.last_meshes: dict[str, Mesh] = {}
         self._value_tex = self.keyed(lambda seed: value_noise_texture(gpu, self.name, seed),
                                      release=gpu.free)
         self._gradient = None
 
-    def meshes(self) -> list[tuple[str, Mesh]]:
+    def tessellation(self, name: str, frame=None) -> tuple[int, int] | None:
+        """(rings, segments) of the sphere or torus for ``frame``'s camera and size (the fixed
+        counts with ``materials.tessellation = fixed`` or without a frame); None for the flat
+        meshes."""
+        if name not in FIXED_TESSELLATION:
+            return None
+        if self.params["materials.tessellation"] == "fixed" or frame is None:
+            return FIXED_TESSELLATION[name]
+        centre = np.asarray(LAYOUT[name][1], dtype=np.float64)
+        distance = float(np.linalg.norm(centre - np.asarray(frame.camera.position, float)))
+        return auto_tessellation(name, distance, frame.camera.fov, frame.size[1],
+                                 self.params["materials.edge_pixels"])
+
+    def meshes(self, frame=None) -> list[tuple[str, Mesh]]:
+        """The meshes to draw, each built once per key: the slice per height, the sphere and
+        torus per tessellation level (a handful at most, so every level built is kept: a
+        program's vertex arrays are cached by buffer, which a freed mesh must not leave
+        behind)."""
         which = self.params["materials.objects"]
         names = ["cube", "sphere", "torus"] if which == "all" else [which]
         out = []
         for n in names:
-            key = (n, self.params["materials.slice_y"]) if n == "slice" else n
+            counts = self.tessellation(n, frame)
+            key = ((n, self.params["materials.slice_y"]) if n == "slice"
+                   else (n, *counts) if counts else n)
             if key not in self._meshes:
-                data = (slice_quad(self.params["materials.slice_y"]) if n == "slice"
-                        else LAYOUT[n][0]())
+                if n == "slice":
+                    data = slice_quad(self.params["materials.slice_y"])
+                elif counts:
+                    data = LAYOUT[n][0](rings=counts[0], segments=counts[1])
+                else:
+                    data = LAYOUT[n][0]()
                 self._meshes[key] = Mesh(self.gpu, self.name, data)
             out.append((n, self._meshes[key]))
+        self.last_meshes = {n: m for n, m in out}
         return out
+
+    def triangles(self) -> int:
+        """Triangles of the meshes drawn last."""
+        return sum(len(m.data.indices) // 3 for m in self.last_meshes.values())
+
+    def panel_notes(self) -> list[str]:
+        counts = [f"{n} {len(m.data.indices) // 3} triangles" for n, m in self.last_meshes.items()
+                  if n in FIXED_TESSELLATION]
+        return [", ".join(counts)] if counts else []
 
     def _noise_textures(self) -> dict:
         """The noise sources the chosen material and noise read, by sampler name."""
@@ -230,7 +285,7 @@ class Materials(Effect):
         target.use()
         ctx.enable(moderngl.DEPTH_TEST)
         spin = self.params["materials.spin"] * frame.time
-        for name, mesh in self.meshes():
+        for name, mesh in self.meshes(frame):
             _, translation, (axis, degrees) = LAYOUT[name]
             if name == "slice":  # one-sided quad: seen from above or below
                 ctx.disable(moderngl.CULL_FACE)
