@@ -1,7 +1,14 @@
 """Speed against accuracy for the ocean: FFT size and cascades, ms per frame and spectrum error.
 
-Four sweeps, run by ``natura bench ocean`` after the per-pass timings, all at the bench view
-size with the scene's camera and the session's sea state (wind, spectrum, patch sizes):
+A comparison and four sweeps, run by ``natura bench ocean`` after the per-pass timings, all at
+the bench view size with the scene's camera and the session's sea state (wind, spectrum, patch
+sizes):
+
+0. **Surface pass, forward against deferred** (``ocean.shading``) — the ocean's surface pass
+   (from a cleared target, as the per-pass timings run it) in both ways, timed in the same
+   interleaved rounds (``app.gpu.timing.time_interleaved``): each one's median and quartiles, the
+   per-round ratio deferred/forward (median [p25–p75]), and the difference of the two images in
+   linear radiance (mean and max |Δ| over pixels and channels).
 
 1. **FFT size × cascades** — N ∈ {64, 128, 256, 512} (``fft_sizes``; ``--sizes NxN,...``
    narrows it) × 1–4 cascades.  Time: ms per frame (median; ``scene.frame(size, dt=1/30)`` then
@@ -42,7 +49,7 @@ import time
 import numpy as np
 
 from ..errors import NaturaError, ParamError, UsageError
-from ..gpu.timing import time_call
+from ..gpu.timing import time_call, time_interleaved
 from ..imageio import save_figure
 from ..sim import ocean as oc
 from ..sim.ocean_validation import (
@@ -68,8 +75,10 @@ DIRECT_BUDGET_S = 20.0
 DT = 1.0 / 30.0
 DIRECT_TIME = 3.0  # simulation time [s] of the direct-sum comparison
 
-TITLES = {"fft": "FFT size × cascades", "gerstner": "Gerstner waves vs FFT",
-          "direct_sum": "GPU FFT vs direct sum"}
+SHADINGS = ("forward", "deferred")
+
+TITLES = {"shading": "Surface pass, forward vs deferred", "fft": "FFT size × cascades",
+          "gerstner": "Gerstner waves vs FFT", "direct_sum": "GPU FFT vs direct sum"}
 
 
 # ---- sea-state helpers -----------------------------------------------------------------------
@@ -152,6 +161,51 @@ def _fft_sizes_from(sizes) -> tuple[int, ...]:
                          f"names no FFT size: give NxN pairs with N in "
                          f"{', '.join(map(str, FFT_SIZES))}")
     return tuple(out)
+
+
+# ---- comparison: forward against deferred shading ----------------------------------------------
+
+def shading_comparison(session, size, warmup: int = 2, rounds: int = 5) -> dict:
+    """The ocean's surface pass with ``ocean.shading`` = forward and = deferred, from a cleared
+    target each time, timed in the same interleaved rounds; and the two images' difference."""
+    p = session.params
+    eff = _effect(session)
+    gpu = session.gpu
+    saved = p["ocean.shading"]
+    target = gpu.target("bench", "ocean shading", tuple(size))
+    images = {}
+    try:
+        frame = session.scene.frame(tuple(size), 0.0)
+        session.scene.render(frame, target)  # lazy resources, the sky, the FFT's fields
+
+        def variant(mode: str):
+            def run():
+                p.set("ocean.shading", mode)
+                target.clear()
+                eff.render_surface(frame, target)
+
+            return run
+
+        variants = {mode: variant(mode) for mode in SHADINGS}
+        for mode, run in variants.items():
+            run()
+            images[mode] = target.read()[..., :3].astype(np.float64)
+            if mode == "deferred":
+                band = eff.far_band
+        timed = time_interleaved(gpu.ctx, variants, warmup, rounds)
+    finally:
+        p.set("ocean.shading", saved)
+        gpu.free(target)
+    diff = np.abs(images["deferred"] - images["forward"])
+    out = {"view_size": list(size), "model": p["ocean.model"], "rounds": timed.rounds,
+           "warmup": warmup, "ratio": timed.ratio("deferred", "forward"),
+           "mean_abs_diff": float(diff.mean()), "max_abs_diff": float(diff.max()),
+           "max_radiance": float(images["forward"].max()),
+           "far_band_ndc": list(band) if band is not None else None}
+    for mode in SHADINGS:
+        p25, med, p75 = timed.quartiles(mode)
+        out[mode] = {"median_ms": med, "p25_ms": p25, "p75_ms": p75}
+    return out
 
 
 # ---- sweep 1 ---------------------------------------------------------------------------------
@@ -341,6 +395,7 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None, fft_sizes
             "patch_sizes": [float(s) for s in session.params["ocean.patch_sizes"]],
             "warmup": warmup, "repeat": repeat,
             "reference": ref,
+            "shading": shading_comparison(session, size, warmup, max(repeat, 3)),
             "fft": fft_sweep(session, size, fft_sizes, cascades, warmup, repeat, ref),
             "gerstner": gerstner_sweep(session, size, gerstner_counts, fft_compare, warmup, repeat,
                                        ref),
@@ -470,15 +525,31 @@ def _pct(x) -> str:
     return "   n/a" if x is None else f"{100.0 * x:6.2f}%"
 
 
+def shading_summary(c: dict) -> list[str]:
+    """Lines of the forward/deferred comparison."""
+    w, h = c["view_size"]
+    r = c["ratio"]
+    lines = [f"{TITLES['shading']} at {w}x{h} ({c['model']}, {c['rounds']} interleaved rounds):"]
+    for mode in SHADINGS:
+        t = c[mode]
+        lines.append(f"  {mode:9s} {t['median_ms']:8.1f} ms  [{t['p25_ms']:.1f}–{t['p75_ms']:.1f}]")
+    lines.append(f"  deferred/forward ×{r['median']:.3f} [{r['p25']:.3f}–{r['p75']:.3f}] "
+                 "per round; "
+                 f"image mean |Δ| {c['mean_abs_diff']:.2e}, max |Δ| {c['max_abs_diff']:.2e} "
+                 f"(max radiance {c['max_radiance']:.3g})")
+    return lines
+
+
 def summary(report: dict) -> str:
     s = report["sweep"]
     ref = s["reference"]
-    lines = [f"reference: {s['spectrum']}, U = {s['wind']:g} m/s, Hs = {ref['hs']:.3f} m, "
-             f"mss = {ref['mss']:.4g}, "
-             f"Tp = {ref['tp_s'] or float('nan'):.2f} s, k ≤ {ref['k_ref']:.0f} rad/m",
-             f"{TITLES['fft']} at {s['view_size'][0]}x{s['view_size'][1]}:",
-             "  N    casc   frame ms   sim ms   mss deficit (expected)    Hs error (expected)   "
-             "shape"]
+    lines = shading_summary(s["shading"]) if "shading" in s else []
+    lines += [f"reference: {s['spectrum']}, U = {s['wind']:g} m/s, Hs = {ref['hs']:.3f} m, "
+              f"mss = {ref['mss']:.4g}, "
+              f"Tp = {ref['tp_s'] or float('nan'):.2f} s, k ≤ {ref['k_ref']:.0f} rad/m",
+              f"{TITLES['fft']} at {s['view_size'][0]}x{s['view_size'][1]}:",
+              "  N    casc   frame ms   sim ms   mss deficit (expected)    Hs error (expected)   "
+              "shape"]
     for r in s["fft"]["rows"]:
         if "skipped" in r:
             lines.append(f"  {r['fft_size']:<4d} {r['cascades']:4d}   skipped: {r['skipped']}")

@@ -2,7 +2,9 @@
 // The sea beyond the mesh, out to the horizon (spec/000 §1.1–1.2): each pixel's view ray meets
 // the mean sea level y = 0 analytically; the waves there are too small on screen to displace, so
 // only their normals (mip-filtered, footprint-filtered) and glitter are shaded. Writes its depth,
-// clamped just inside the far plane, so later passes (fog, clouds) see the sea.
+// clamped just inside the far plane, so later passes (fog, clouds) see the sea. The forward path
+// (ocean.shading = forward) over the whole screen; the deferred path draws far_inputs.frag over
+// the far plane's band of rows only.
 // Guards: rays at or above the horizon are discarded (no division by dir.y ≈ 0 → inf/NaN);
 // pixels nearer than the mesh's extent are left to the mesh.
 in vec2 vUV;

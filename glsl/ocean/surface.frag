@@ -1,5 +1,7 @@
 #version 330 core
-// Ocean surface shading per pixel (spec/000 §1.1–1.2; see shading.glsl for the equations).
+// Ocean surface shading per pixel (spec/000 §1.1–1.2; see shading.glsl for the equations): the
+// forward path (ocean.shading = forward), shading as the mesh is drawn; the deferred path writes
+// the inputs (surface_inputs.frag) and shades them once per covered pixel (shade.frag).
 // Normals come per pixel from the wave model at the interpolated rest point, filtered for the
 // pixel footprint. Seen from below (the camera under a wave), Snell's window shows the scene
 // behind (sky and clouds, a copy of the target) and total internal reflection the water.

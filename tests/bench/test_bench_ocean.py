@@ -31,8 +31,8 @@ def tiny_report(gl_ctx):
 def test_json_structure(tiny_report):
     s = tiny_report["sweep"]
     assert tiny_report["restored"] == ("fft", 3)  # the session's parameters are put back
-    assert {"renderer", "view_size", "wind", "spectrum", "patch_sizes", "reference", "fft",
-            "gerstner", "direct_sum"} <= set(s)
+    assert {"renderer", "view_size", "wind", "spectrum", "patch_sizes", "reference", "shading",
+            "fft", "gerstner", "direct_sum"} <= set(s)
     assert s["view_size"] == list(SIZE) and s["spectrum"] == "jonswap"
     json.dumps(s)  # everything serialises
     rows = s["fft"]["rows"]
@@ -47,6 +47,18 @@ def test_json_structure(tiny_report):
     d = s["direct_sum"]["rows"]
     assert [r["fft_size"] for r in d] == [16] and d[0]["ms_fft"] > 0 and d[0]["ms_direct"] > 0
     assert d[0]["speedup"] == pytest.approx(d[0]["ms_direct"] / d[0]["ms_fft"])
+
+
+def test_forward_and_deferred_are_timed_together_and_draw_the_same_sea(tiny_report):
+    c = tiny_report["sweep"]["shading"]
+    assert c["view_size"] == list(SIZE) and c["rounds"] >= 3
+    for mode in obench.SHADINGS:
+        assert 0 < c[mode]["p25_ms"] <= c[mode]["median_ms"] <= c[mode]["p75_ms"]
+    r = c["ratio"]
+    assert r["n"] == c["rounds"] and 0 < r["p25"] <= r["median"] <= r["p75"]
+    assert c["mean_abs_diff"] <= 1e-3 and c["max_abs_diff"] <= 0.3 * max(c["max_radiance"], 1.0)
+    text = "\n".join(obench.shading_summary(c))
+    assert "deferred/forward ×" in text and "mean |Δ|" in text
 
 
 def test_cascades_reduce_the_slope_deficit(tiny_report):
@@ -94,18 +106,20 @@ def test_chart_and_summary(tiny_report, tmp_path):
         assert title in text
 
 
-@pytest.mark.slow  # ~35 s on llvmpipe: the default sweep at 64×36
-def test_cli_bench_ocean(tmp_path):
+@pytest.mark.slow  # the sweep at 64×36, its FFT sizes narrowed to 64 by --sizes
+def test_cli_bench_ocean(tmp_path, capsys):
     from app.cli import main
 
     out = tmp_path / "o.json"
     assert main(["bench", "ocean", "--size", "64x36", "--repeat", "1", "--warmup", "0",
-                 "--out", str(out)]) == 0
+                 "--sizes", "64x64", "--out", str(out)]) == 0
     report = json.loads(out.read_text())
     assert {"ocean.surface", "frame"} <= set(report["passes"])
     s = report["sweep"]
-    assert s["fft"]["fft_sizes"] == list(obench.FFT_SIZES)
-    assert len(s["fft"]["rows"]) == len(obench.FFT_SIZES) * len(obench.CASCADES)
+    assert s["fft"]["fft_sizes"] == [64]
+    assert len(s["fft"]["rows"]) == len(obench.CASCADES)
+    assert {"forward", "deferred", "ratio", "mean_abs_diff"} <= set(s["shading"])
+    assert obench.TITLES["shading"] in capsys.readouterr().out
     assert [r["waves"] for r in s["gerstner"]["rows"][:-1]] == list(obench.GERSTNER_COUNTS)
     assert [r["fft_size"] for r in s["direct_sum"]["rows"]][:3] == list(obench.DIRECT_SIZES)
     assert out.with_suffix(".png").stat().st_size > 10000

@@ -5,6 +5,7 @@ main light's glitter, foam, an underwater view, and water-height queries for flo
 
 What lives where (``app/effects/ocean/``)
 * ``effect.py`` — the effect: per-frame update, the surface and underwater passes, panel notes;
+  ``deferred.py`` — the deferred surface pass's inputs and the far plane's band of rows;
 * ``params.py`` — its parameters; ``sea.py`` — the sea state the parameters describe (models,
   Gerstner set, FFT cascades); ``foam.py`` — foam calibration; ``uniforms.py`` — what the
   programs are told; ``mesh.py`` — the level-of-detail polar grid; ``queries.py`` — water-height
@@ -30,6 +31,7 @@ from ...params import Param
 from ...render.environment import flat_environment
 from ...sim import ocean as oc
 from ..base import Effect, Pass
+from .deferred import DeferredInputs, far_band
 from .foam import FoamCalibration
 from .mesh import OceanMesh
 from .params import ocean_params, wind_vector
@@ -40,6 +42,16 @@ from .uniforms import OceanUniforms
 SURFACE = ProgramSpec("ocean/surface")
 FAR = fullscreen("ocean/far")
 UNDERWATER = fullscreen("ocean/underwater")
+# the deferred surface pass (deferred.py): inputs of the mesh and of the far plane, then shading
+SURFACE_INPUTS = ProgramSpec("ocean/surface_inputs", vert="ocean/surface.vert",
+                             frag="ocean/surface_inputs.frag")
+FAR_INPUTS = ProgramSpec("ocean/far_inputs", vert="ocean/band.vert", frag="ocean/far_inputs.frag")
+SHADE = ProgramSpec("ocean/shade", vert="ocean/band.vert", frag="ocean/shade.frag",
+                    defines=(("OCEAN_EXPLICIT_GRADIENTS", 1),))
+# the same, for a camera clearly above the water: the view from below is not compiled in (a
+# software rasteriser would run it on every pixel, uniform branch or not)
+SHADE_ABOVE = ProgramSpec("ocean/shade_above", vert="ocean/band.vert", frag="ocean/shade.frag",
+                          defines=(("OCEAN_EXPLICIT_GRADIENTS", 1), ("OCEAN_SEEN_FROM_ABOVE", 1)))
 # the GPU simulation's programs (app/effects/ocean/fft.py, app/gpu/fft.py), listed so that
 # `natura shaders check` compiles them and their @param annotations are found
 SIMULATION = (
@@ -59,7 +71,8 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     name = "ocean"
     title = "Ocean"
     spec = "spec/000"
-    programs = (SURFACE, FAR, UNDERWATER) + SIMULATION
+    programs = (SURFACE, FAR, UNDERWATER, SURFACE_INPUTS, FAR_INPUTS, SHADE,
+                SHADE_ABOVE) + SIMULATION
     #: water stage seen from above; fog stage near or under the surface (see passes())
     stages = (Stage.WATER, Stage.FOG)
     produces = frozenset({"wind", "water"})
@@ -82,6 +95,9 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         self.mesh = OceanMesh(self)
         self._scene_copy = ColourCopy(gpu, self.name, "scene copy")
         self._color_copy = ColourCopy(gpu, self.name, "color copy")
+        self._inputs = DeferredInputs(gpu, self.name)
+        #: NDC rows (bottom, top) the last deferred frame drew the far plane over (None: none)
+        self.far_band: tuple[float, float] | None = None
         self._flat_env = None
         self.time = 0.0
         self.camera_pos = np.zeros(3)
@@ -205,6 +221,22 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         return Stage.WATER if self.view_mode() == 0 else Stage.FOG
 
     def render_surface(self, frame, target) -> None:
+        """The sea's surface: ``ocean.shading = deferred`` (inputs, then one shading pass over
+        the covered pixels) or ``forward`` (the mesh and the far plane shade as they draw)."""
+        if self.params["ocean.shading"] == "forward":
+            self._render_forward(frame, target)
+        else:
+            self._render_deferred(frame, target)
+
+    def _mesh_draw(self, prog, frame) -> None:
+        p = self.params
+        self.mesh.draw(prog, frame.camera, frame.aspect, p["ocean.mesh_segments"],
+                       p["ocean.mesh_inner"], p["ocean.mesh_extent"], p["ocean.mesh_cull"])
+
+    def _far_start(self) -> float:
+        return 0.88 * self.params["ocean.mesh_extent"]
+
+    def _render_forward(self, frame, target) -> None:
         ctx = self.gpu.ctx
         env = self.environment(frame)
         vp = self.view_proj_rel(frame)
@@ -222,19 +254,71 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
                        "uViewport": tuple(float(s) for s in target.size),
                        "uViewMode": self.view_mode(),
                        "uInvViewProjRel": np.linalg.inv(vp)})
-        p = self.params
-        self.mesh.draw(prog, frame.camera, frame.aspect, p["ocean.mesh_segments"],
-                       p["ocean.mesh_inner"], p["ocean.mesh_extent"], p["ocean.mesh_cull"])
+        self._mesh_draw(prog, frame)
         if frame.camera.position[1] > 0.0:
             far = self.program(FAR)
             textures = self.wave_uniforms(far)
             textures.update(self.shading_uniforms(far, frame, env))
             far.bind_textures(textures)
             far.set_many(frame.camera_uniforms())
-            far.set_many({"uViewProjRel": vp, "uFarStart": 0.88 * self.params["ocean.mesh_extent"],
+            far.set_many({"uViewProjRel": vp, "uFarStart": self._far_start(),
                           "uViewport": tuple(float(s) for s in target.size)})
             draw_fullscreen(far)
         ctx.disable(moderngl.DEPTH_TEST)
+
+    def _render_deferred(self, frame, target) -> None:
+        scene_copy = self._scene_copy.of(target) if self.may_be_underwater() else None
+        self._deferred_inputs(frame, target)
+        self._deferred_shade(frame, target, scene_copy)
+
+    def _deferred_inputs(self, frame, target) -> None:
+        """The mesh, then the far plane over its band, write their shading inputs, depth-tested
+        against the target's depth as the forward passes are."""
+        ctx = self.gpu.ctx
+        vp = self.view_proj_rel(frame)
+        viewport = tuple(float(s) for s in target.size)
+        self._inputs.of(target).use()
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.disable(moderngl.CULL_FACE)
+        prog = self.program(SURFACE_INPUTS)
+        prog.bind_textures(self.wave_uniforms(prog))
+        prog.set_many({"uViewProjRel": vp, "uCameraPos": tuple(frame.camera.position)})
+        self._mesh_draw(prog, frame)
+        self.far_band = (far_band(frame.camera, frame.aspect, int(target.size[1]),
+                                  self._far_start()) if frame.camera.position[1] > 0.0 else None)
+        if self.far_band is not None:
+            far = self.program(FAR_INPUTS)
+            far.set_many(frame.camera_uniforms())
+            far.set_many({"uViewProjRel": vp, "uFarStart": self._far_start(),
+                          "uViewport": viewport, "uBand": self.far_band, "uBandDepth": 0.0})
+            far.vao().render(moderngl.TRIANGLE_STRIP, vertices=4)
+        ctx.disable(moderngl.DEPTH_TEST)
+
+    def _deferred_shade(self, frame, target, scene_copy) -> None:
+        """The shading where the inputs were written: a quad on the far plane, depth-tested
+        GREATER (nothing drawn = depth 1 = rejected), the depth left as the inputs wrote it."""
+        ctx = self.gpu.ctx
+        vp = self.view_proj_rel(frame)
+        viewport = tuple(float(s) for s in target.size)
+        target.use()
+        ctx.enable(moderngl.DEPTH_TEST)
+        shade = self.program(SHADE_ABOVE if self.view_mode() == 0 else SHADE)
+        textures = self.wave_uniforms(shade)
+        textures.update(self.shading_uniforms(shade, frame, self.environment(frame)))
+        textures.update({"uSceneCopy": scene_copy, "uInputRel": self._inputs.rel,
+                         "uInputSurf": self._inputs.surf, "uInputGrad": self._inputs.grad})
+        shade.bind_textures(textures)
+        shade.set_many({"uCameraPos": tuple(frame.camera.position), "uViewport": viewport,
+                        "uViewMode": self.view_mode(), "uInvViewProjRel": np.linalg.inv(vp),
+                        "uBand": (-1.0, 1.0), "uBandDepth": 1.0})
+        ctx.depth_func = ">"
+        target.fbo.depth_mask = False
+        try:
+            shade.vao().render(moderngl.TRIANGLE_STRIP, vertices=4)
+        finally:
+            target.fbo.depth_mask = True
+            ctx.depth_func = "<"
+            ctx.disable(moderngl.DEPTH_TEST)
 
     def render_underwater(self, frame, target) -> None:
         ctx = self.gpu.ctx
@@ -279,4 +363,5 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         super().release()
         self._scene_copy.release()
         self._color_copy.release()
+        self._inputs.release()
         self._flat_env = None

@@ -1,0 +1,99 @@
+"""The ocean's deferred surface pass (``ocean.shading = deferred``): the mesh and the far plane
+write only their shading inputs into two RGBA32F targets, then one pass shades the pixels they
+covered (``glsl/ocean/shade.frag``).
+
+Why: on a software rasteriser (llvmpipe) fragments are shaded in whole 4×4 blocks, and the far
+rings of the polar mesh are made of triangles a few pixels wide, so the forward pass shades each
+covered pixel several times over; the forward far plane also ran its shading on every pixel of the
+screen to keep one band of rows. Here the expensive shading runs once per covered pixel, and the
+far plane is drawn only over the rows between the horizon and where the mesh ends
+(:func:`far_band`).
+
+* inputs 0 = (p − camera, η), 1 = (rest point − camera.xz, footprint m, kind) with kind 0 = not
+  the sea (the clear), 1 = mesh, 2 = far plane; 2 = the rest point's screen derivatives (the
+  FFT's mip filter, which the shading pass cannot take from its own neighbours);
+* the inputs' framebuffer shares the target's depth, so the mesh and the far plane are depth-tested
+  against the scene exactly as the forward passes are (the same fragments win);
+* the shading quad lies on the far plane and is tested GREATER against that depth: pixels nothing
+  drew over are rejected before the shader runs.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import moderngl
+import numpy as np
+
+
+def far_band(camera, aspect: float, rows: int, far_start: float,
+             margin: int = 2) -> tuple[float, float] | None:
+    """NDC heights (bottom, top) of the band of screen rows where the far plane can show: rows
+    whose rays meet y = 0 (below the horizon) at a horizontal distance ≥ ``far_start`` for at
+    least one pixel — or None when no row does (camera at or below y = 0, looking up or steeply
+    down). The camera has no roll (``app.sim.camera.Camera``: its right vector is horizontal), so
+    a row's rays share dir.y and the widest horizontal reach of a row is at its edge columns,
+    |dir.xz|² = |f.xz + y·tanθ·u.xz|² + (tanθ·aspect)²; a ray meets the plane beyond R when
+    −dir.y · R ≤ y_cam · |dir.xz|. ``margin`` rows are added on each side (float32 in the
+    shader against float64 here)."""
+    height = float(camera.position[1])
+    if height <= 0.0 or rows <= 0:
+        return None
+    _, u, f = camera.basis()
+    th = math.tan(math.radians(camera.fov) * 0.5)
+    ys = (np.arange(rows) + 0.5) / rows * 2.0 - 1.0
+    d = f[None, :] + ys[:, None] * th * u[None, :]
+    reach = np.sqrt(d[:, 0] ** 2 + d[:, 2] ** 2 + (th * aspect) ** 2)
+    down = -d[:, 1]
+    hits = np.nonzero((down > 0.0) & (down * far_start <= height * reach * (1.0 + 1e-3)))[0]
+    if hits.size == 0:
+        return None
+    lo = max(int(hits.min()) - margin, 0)
+    hi = min(int(hits.max()) + 1 + margin, rows)
+    return lo / rows * 2.0 - 1.0, hi / rows * 2.0 - 1.0
+
+
+class DeferredInputs:
+    """The three RGBA32F input targets of the deferred pass, with a framebuffer that shares a
+    render target's depth (remade when the target's size or depth texture changes) and one that
+    holds only the kind target, to clear it without touching the depth."""
+
+    def __init__(self, gpu, owner: str):
+        self.gpu = gpu
+        self.owner = owner
+        self.rel: Any = None
+        self.surf: Any = None
+        self.grad: Any = None
+        self.fbo: Any = None
+        self._clear_fbo: Any = None
+        self._size: tuple[int, int] | None = None
+        self._depth: Any = None
+
+    def of(self, target) -> Any:
+        """The inputs' framebuffer for ``target``, its kind target cleared to 0 (nothing)."""
+        size = (int(target.size[0]), int(target.size[1]))
+        if self.fbo is None or size != self._size or target.depth is not self._depth:
+            self.release()
+            nearest = (moderngl.NEAREST, moderngl.NEAREST)
+            self.rel = self.gpu.texture(self.owner, "deferred inputs (position)", size, 4,
+                                        dtype="f4", filter=nearest)
+            self.surf = self.gpu.texture(self.owner, "deferred inputs (surface)", size, 4,
+                                         dtype="f4", filter=nearest)
+            self.grad = self.gpu.texture(self.owner, "deferred inputs (gradients)", size, 4,
+                                         dtype="f4", filter=nearest)
+            self.fbo = self.gpu.framebuffer(self.owner, "deferred inputs",
+                                            [self.rel, self.surf, self.grad],
+                                            depth_attachment=target.depth)
+            self._clear_fbo = self.gpu.framebuffer(self.owner, "deferred inputs (clear)",
+                                                   [self.surf])
+            self._size, self._depth = size, target.depth
+        self._clear_fbo.clear(0.0, 0.0, 0.0, 0.0)
+        return self.fbo
+
+    def release(self) -> None:
+        for obj in (self.fbo, self._clear_fbo, self.rel, self.surf, self.grad):
+            if obj is not None:
+                self.gpu.free(obj)
+        self.fbo = self._clear_fbo = self.rel = self.surf = self.grad = None
+        self._size = self._depth = None
