@@ -13,13 +13,21 @@
   its error against a single-scattering reference includes that physics on purpose). Method 1
   with its own knobs at their defaults gets a field of its own, ``method_1_defaults``, with the
   in-scattering's error also relative to the reference's mean (``in_rel_mean``).
+* **Changes** (:func:`changes`): each change to the fixed per-pixel work against its earlier
+  path, timed in one interleaved run (``app.gpu.timing.time_interleaved``: per-round ratios,
+  median [p25–p75], robust to the machine's load) with the image difference it makes beside it —
+  the hardware shadow compares (``planet.shadow_compare``: hardware against manual, method 3,
+  relative difference) and the baked ground noise (``planet.ground_noise``: baked against live,
+  methods 1 and 2, mean and max |Δ| of the linear image on the ground and the space view), and
+  the LUT method's speed-up over brute force on the ground view at N = 30 before and after (the
+  thesis's 3.3–7×, spec/002 §5), per frame and for the scattering pass alone.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..gpu.timing import time_call
+from ..gpu.timing import time_call, time_interleaved
 from ..imageio import save_figure
 from ..sim import atmosphere as atm
 
@@ -233,11 +241,133 @@ def _scale_hillaire(params, scale: float) -> None:
         params.set(name, value)
 
 
+# ---- changes: before/after in one interleaved run ------------------------------------------
+
+def _final_image(session, size, view: str) -> np.ndarray:
+    """The final linear image (h, w, 3) of ``view`` at ``size``."""
+    _set_view(session, view)
+    gpu = session.gpu
+    target = gpu.target("bench", "planet change", size)
+    try:
+        frame = session.scene.frame(size)
+        session.scene.render(frame, target)
+        return target.read()[..., :3].astype(np.float64)
+    finally:
+        gpu.free(target)
+
+
+def _diff(before: np.ndarray, after: np.ndarray) -> dict:
+    d = np.abs(after - before)
+    rel = d / np.maximum(np.abs(before), 1e-6)
+    return {"mean_abs": float(d.mean()), "max_abs": float(d.max()), "max_rel": float(rel.max())}
+
+
+def _variants(session, size, settings: dict, scattering_only: bool = False) -> tuple:
+    """({name: run}, cleanup): each run sets its parameters and renders one frame (or the
+    scattering pass alone) of the current view at ``size``."""
+    gpu = session.gpu
+    eff = session.scene.effect("planet")
+    p = session.params
+    target = gpu.target("bench", "planet changes", size)
+    runs = {}
+    for name, sets in settings.items():
+        for k, v in sets.items():
+            p.set(k, v)
+        frame = session.scene.frame(size)
+        session.scene.render(frame, target)  # programs, bakes and the G-buffer at this size
+
+        def run(sets=sets, frame=frame):
+            for k, v in sets.items():
+                p.set(k, v)
+            if scattering_only:
+                eff.render_composite(frame, target)
+            else:
+                session.scene.render(frame, target)
+        runs[name] = run
+    return runs, (lambda: gpu.free(target))
+
+
+def _ratio(timed, a: str, b: str) -> dict:
+    """Per-round ratio time(a) / time(b): median, p25, p75."""
+    return timed.ratio(a, b)
+
+
+def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
+    """Before/after of each change to the fixed per-pixel work, interleaved, with its error."""
+    p = session.params
+    keys = ("planet.method", "planet.shadow_compare", "planet.ground_noise", "planet.n_steps",
+            "planet.inner_steps")
+    saved = {k: p[k] for k in keys}
+    out: dict = {"size": list(size), "rounds": rounds, "n_steps": 30}
+    try:
+        p.set("planet.n_steps", 30)
+        p.set("planet.inner_steps", 30)
+        # 1. hardware depth compares (method 3: the filter on every Phong surface and ground
+        #    pixel, and one comparison per integral sample)
+        shadow = {c: {"planet.method": "shadowed", "planet.shadow_compare": c}
+                  for c in ("manual", "hardware")}
+        err = {}
+        for view in VIEWS:
+            imgs = {}
+            for c, sets in shadow.items():
+                for k, v in sets.items():
+                    p.set(k, v)
+                imgs[c] = _final_image(session, size, view)
+            err[view] = _diff(imgs["manual"], imgs["hardware"])
+        _set_view(session, "ground")
+        runs, done = _variants(session, size, shadow)
+        try:
+            timed = time_interleaved(session.gpu.ctx, runs, warmup, rounds)
+        finally:
+            done()
+        out["shadow_compare"] = {"method": "shadowed", "view": "ground",
+                                 "frame_ratio_hardware_to_manual":
+                                     _ratio(timed, "hardware", "manual"),
+                                 "timings": timed.summary(), "error": err}
+        # 2. the baked ground noise, and the LUT method's speed-up over brute force
+        p.set("planet.shadow_compare", "hardware")
+        noise = {f"{m}:{n}": {"planet.method": m, "planet.ground_noise": n}
+                 for m in ("brute_force", "lut") for n in ("live", "baked")}
+        err = {}
+        for view in VIEWS:
+            for m in ("brute_force", "lut"):
+                imgs = {}
+                for n in ("live", "baked"):
+                    p.set("planet.method", m)
+                    p.set("planet.ground_noise", n)
+                    imgs[n] = _final_image(session, size, view)
+                err[f"{view}:{m}"] = _diff(imgs["live"], imgs["baked"])
+        _set_view(session, "ground")
+        result = {}
+        for part, only in (("frame", False), ("scattering", True)):
+            runs, done = _variants(session, size, noise, scattering_only=only)
+            try:
+                timed = time_interleaved(session.gpu.ctx, runs, warmup, rounds)
+            finally:
+                done()
+            result[part] = {
+                "timings": timed.summary(),
+                "baked_to_live": {m: _ratio(timed, f"{m}:baked", f"{m}:live")
+                                  for m in ("brute_force", "lut")},
+                "lut_speedup_over_brute_force": {
+                    n: _ratio(timed, f"brute_force:{n}", f"lut:{n}") for n in ("live", "baked")},
+            }
+        out["ground_noise"] = {"view": "ground", **result, "error": err,
+                               "bake_size": p["planet.ground_noise_size"]}
+    finally:
+        for k, v in saved.items():
+            p.set(k, v)
+    return out
+
+
 def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None) -> dict:
     """What ``natura bench planet`` runs after the per-pass timings."""
     table_sizes = sizes or DEFAULT_SIZES
+    small = (min(size[0], 320), min(size[1], 180))
     return {"table": thesis_table(session, table_sizes, warmup, repeat),
-            "accuracy": accuracy(session, warmup=max(1, warmup - 1), repeat=max(2, repeat // 2))}
+            "accuracy": accuracy(session, warmup=max(1, warmup - 1), repeat=max(2, repeat // 2)),
+            "changes": changes(session, small, warmup=max(1, warmup - 1),
+                               rounds=max(5, repeat))}
 
 
 def chart(report: dict, path, force: bool = False) -> None:
@@ -302,6 +432,7 @@ def summary(report: dict) -> str:
         lines.append(f"{r['method']:12s} {r['knob']:28s} {str(r['value']):>6s} {r['ms']:8.2f}   "
                      f"{r['in_mean']:.2e} / {r['in_p99']:.2e}       "
                      f"{r['t_mean']:.2e} / {r['t_p99']:.2e}")
+    lines += changes_summary(s.get("changes"))
     m1 = s["accuracy"].get("method_1_defaults")
     if m1:
         lines.append(f"method 1 at its defaults (N = {m1['n_steps']}, τ(PC) rule "
@@ -311,3 +442,36 @@ def summary(report: dict) -> str:
                      f"({100.0 * m1['in_rel_mean']:.1f} % of the reference's mean), "
                      f"p99 {m1['in_p99']:.2e}; transmittance err mean {m1['t_mean']:.2e}")
     return "\n".join(lines)
+
+
+def _fmt(r: dict) -> str:
+    return f"{r['median']:.2f}× [{r['p25']:.2f}–{r['p75']:.2f}]"
+
+
+def changes_summary(c: dict | None) -> list[str]:
+    """The "changes" section's lines: each change's time ratio (median [p25–p75]) beside its
+    image difference, and the LUT/brute-force speed-up before and after."""
+    if not c:
+        return []
+    w, h = c["size"]
+    lines = [f"changes (interleaved, {c['rounds']} rounds, {w}x{h}, N = {c['n_steps']}; "
+             "time ratio median [p25–p75], image difference):"]
+    sc = c["shadow_compare"]
+    e = sc["error"]
+    lines.append(f"  hardware depth compares / manual (method 3 frame, ground): "
+                 f"{_fmt(sc['frame_ratio_hardware_to_manual'])}; max rel. diff ground "
+                 f"{e['ground']['max_rel']:.1e}, space {e['space']['max_rel']:.1e}")
+    g = c["ground_noise"]
+    for m in ("brute_force", "lut"):
+        eg, es = g["error"][f"ground:{m}"], g["error"][f"space:{m}"]
+        lines.append(f"  baked ground noise / live, {m:11s}: frame "
+                     f"{_fmt(g['frame']['baked_to_live'][m])}, scattering pass "
+                     f"{_fmt(g['scattering']['baked_to_live'][m])}; |Δ| mean/max ground "
+                     f"{eg['mean_abs']:.1e}/{eg['max_abs']:.1e}, space "
+                     f"{es['mean_abs']:.1e}/{es['max_abs']:.1e}")
+    for part in ("frame", "scattering"):
+        su = g[part]["lut_speedup_over_brute_force"]
+        lines.append(f"  LUT speed-up over brute force, ground view, {part:10s}: before (live) "
+                     f"{_fmt(su['live'])}, after (baked) {_fmt(su['baked'])} "
+                     "(the thesis: 3.3–7×)")
+    return lines

@@ -33,6 +33,15 @@
 // midpoint rule the band all but vanishes (≥ 95 % of method 3 there), so the rule is part of
 // the figure. The worse, black-sky case stays reachable: planet.universe_centre = camera,
 // planet.universe_radius = 1e7 (the rays into space 10 000 km long).
+// Fixed per-pixel work, out of the per-method integral: the ground's 5-octave noise is two
+// lookups (GROUND_NOISE_BAKED: a fine gnomonic cap about the scene's origin and a coarse cubemap,
+// planet/ground_noise_bake.frag, baked once and rebuilt only when planet.ground_noise_size
+// changes) instead of 5 octaves of Perlin noise per ground pixel, which
+// every method paid alike and which compressed the methods' ratios; without the define (planet.
+// ground_noise = live) the live sum is the reference. The bake moves coastlines by a fraction of
+// a texel (bilinear f between texel centres); the image is otherwise the same (the bench's
+// "changes" section states mean and max |Δ|). Shadow comparisons are the hardware's unless
+// SHADOW_COMPARE_MANUAL (shadow.glsl).
 // Failure cases: method 1 keeps the thesis's own (the unclipped segment and its dark horizon
 // band, see above; a ray into space that misses the universe sphere gets no in-scattering, the
 // sphere containing the atmosphere); methods 2–4 guard rays that miss or only
@@ -40,11 +49,27 @@
 // asin of the star lookup is clamped; float32 at planet scale: G-buffer positions are
 // camera-relative and the Earth centre relative to the camera comes from the CPU in double
 // precision; the analytic ground takes no shadow-map depth bias (it cannot shadow itself, see
-// GroundColor).
+// GroundColor); the baked noise's cubemap is seamless (GL_TEXTURE_CUBE_MAP_SEAMLESS), so face
+// edges do not show.
 // =============================================================================================
 #include "atmosphere/model.glsl"
 #include "camera.glsl"
-#include "noise_perlin.glsl"
+#ifdef GROUND_NOISE_BAKED
+// f(n) of planet/ground_noise.glsl baked at texel centres (planet/ground_noise_bake.frag): the
+// fine cap about the scene's origin where n falls in its gnomonic square, else the coarse cubemap.
+uniform sampler2D uGroundNoiseCap;
+uniform samplerCube uGroundNoise;
+uniform float uGroundCapTan;        // tan of the cap's half-angle
+float GroundNoise(vec3 n) {
+    vec2 g = n.xz / (max(n.y, 1.0e-6) * uGroundCapTan);
+    float near = texture(uGroundNoiseCap, g * 0.5 + 0.5).r;
+    float far = texture(uGroundNoise, n).r;
+    return n.y > 0.0 && max(abs(g.x), abs(g.y)) < 1.0 ? near : far;
+}
+#else
+#include "ground_noise.glsl"
+float GroundNoise(vec3 n) { return GroundNoiseFbm(n); }
+#endif
 
 #if METHOD >= 2 && METHOD <= 3
 #define SUN_DEPTH_LUT
@@ -95,14 +120,13 @@ float UniverseDistance(vec3 dir) {
                                                                                     : 0.0;
 }
 
-// The analytic Earth: land and sea from gradient fBm over the sphere, the scene origin on land.
+// The analytic Earth: land and sea from gradient fBm over the sphere (baked, or live), the scene
+// origin on land.
 vec3 GroundColor(vec3 rel) {
     vec3 n = normalize(rel - uEarthCenter);
     vec3 local = rel + uCameraLocal;
     float nearOrigin = exp(-dot(local.xz, local.xz) / (2.0 * 16000.0 * 16000.0));
-    float f = 0.0, amp = 0.5;
-    vec3 q = n * 40.0 + vec3(1.7, 9.2, 3.3);
-    for (int i = 0; i < 5; ++i) { f += amp * PerlinNoise3(q); q *= 2.03; amp *= 0.5; }
+    float f = GroundNoise(n);
     float land = smoothstep(-0.02, 0.02, f + 0.6 * nearOrigin - 0.05);
     vec3 albedo = mix(vec3(0.02, 0.05, 0.09), vec3(0.2, 0.24, 0.11), land);
     if (uGroundShading == 0) return albedo;

@@ -51,7 +51,7 @@ void main() {
         vec3 l = uSunDir;
         vec3 v = normalize(-vRel);
         float nl = max(dot(n, l), 0.0);
-        float shadow = ShadowVisibility(vLocal, uShadowBias * (1.0 + 4.0 * (1.0 - nl)));
+        float shadow = ShadowVisibility(vLocal, ShadowSlopeBias(uShadowBias, nl));
         float diffuse = min(shadow, nl);
         float spec = nl > 0.0 ? pow(max(dot(n, normalize(l + v)), 0.0), uShininess) * shadow : 0.0;
         vec3 sunlight = SunTransmittanceAt(vRel);

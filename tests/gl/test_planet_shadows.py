@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from app.effects.planet import effect as pfx
+from app.render import shadows
 from app.runtime import Session, render_frames
 from app.sim import atmosphere as atm
 from tests.helpers.planet import (
@@ -46,44 +47,19 @@ def light_coords(effect, local) -> np.ndarray:
     return clip * 0.5 + 0.5
 
 
-def compare_bilinear(depths, uv, depth) -> np.ndarray:
-    n = depths.shape[0]
-    st = uv * n - 0.5
-    i = np.floor(st).astype(np.int64)
-    f = st - i
-
-    def lit(dx, dy):
-        x = np.clip(i[..., 0] + dx, 0, n - 1)
-        y = np.clip(i[..., 1] + dy, 0, n - 1)
-        return (depth <= depths[y, x]).astype(np.float64)
-
-    fx, fy = f[..., 0], f[..., 1]
-    return ((lit(0, 0) * (1 - fx) + lit(1, 0) * fx) * (1 - fy)
-            + (lit(0, 1) * (1 - fx) + lit(1, 1) * fx) * fy)
-
-
 def visibility_point(effect, depths, local, bias) -> np.ndarray:
     """``ShadowVisibilityPoint``: one bilinear comparison; lit outside the map's box."""
     p = light_coords(effect, local)
     inside = np.all((p >= 0.0) & (p <= 1.0), -1)
-    return np.where(inside, compare_bilinear(depths, p[..., :2], p[..., 2] - bias), 1.0)
+    return np.where(inside, shadows.compare_bilinear(depths, p[..., :2], p[..., 2] - bias), 1.0)
 
 
 def visibility_filtered(effect, depths, local, bias) -> np.ndarray:
-    """``ShadowVisibility`` with the filter on: 5×5 Gaussian (σ = 1 texel) of bilinear
-    comparisons."""
+    """``ShadowVisibility`` with the filter on: the shared PCF (common/shadow_pcf.glsl: 5×5
+    Gaussian, σ = 1 texel, of bilinear comparisons), through its twin in app/render/shadows.py."""
     p = light_coords(effect, local)
     inside = np.all((p >= 0.0) & (p <= 1.0), -1)
-    texel = 1.0 / depths.shape[0]
-    total = np.zeros(p.shape[:-1])
-    wsum = 0.0
-    for y in range(-2, 3):
-        for x in range(-2, 3):
-            w = math.exp(-0.5 * (x * x + y * y))
-            total += w * compare_bilinear(depths, p[..., :2] + np.array([x, y]) * texel,
-                                          p[..., 2] - bias)
-            wsum += w
-    return np.where(inside, total / wsum, 1.0)
+    return np.where(inside, shadows.pcf_visibility(depths, p[..., :2], p[..., 2] - bias), 1.0)
 
 
 # =============================================================================================

@@ -11,6 +11,13 @@ Per frame:
    analytic Earth, or space) and applies the chosen method (``glsl/planet/composite.frag``):
    the sky and the aerial perspective of everything in front of it.
 
+Fixed work kept out of the per-method pass: the analytic Earth's land/sea noise is baked once
+into a cubemap (``glsl/planet/ground_noise_bake.frag``, rebuilt only when its size changes;
+``planet.ground_noise = live`` sums it per pixel as before), and the shadow filter's depth
+comparisons are the hardware's (``sampler2DShadow``, ``glsl/common/shadow_pcf.glsl``;
+``planet.shadow_compare = manual`` does them by hand as before). ``natura bench planet``'s
+"changes" section times each against its earlier path in one interleaved run.
+
 Slots: produces ``exposure`` (the thesis's pupil) and ``shadows``.
 
 Coordinates: the scene's local frame has its origin on the sea surface, y up, the planet centre
@@ -28,7 +35,7 @@ import numpy as np
 from ...frame import ShadowMap, Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen
 from ...params import Param
-from ...render.shadows import depth_target, directional_view_proj
+from ...render.shadows import COMPARE_MODES, configure_compare, depth_target, directional_view_proj
 from ...sim import atmosphere as atm
 from ..base import Effect, Pass
 from . import hillaire
@@ -42,10 +49,35 @@ PC_RULES = ("by_method", "midpoint", "thesis")
 #: glsl/planet/composite.frag, "Method 1's universe sphere")
 UNIVERSE_RADIUS = atm.BOTTOM_RADIUS_M + 200_000.0
 
-COMPOSITE = {m: ProgramSpec("planet/composite", vert="common/fullscreen.vert",
-                            frag="planet/composite.frag", defines=(("METHOD", i + 1),))
-             for i, m in enumerate(METHODS)}
+GROUND_NOISE = ("baked", "live")
+#: half-angle of the baked ground noise's fine cap about the scene's origin (the space view's
+#: horizon is 17° from it)
+GROUND_CAP_DEG = 25.0
+GROUND_CAP_TAN = math.tan(math.radians(GROUND_CAP_DEG))
+
+
+def composite_spec(method: str, compare: str = "hardware", noise: str = "baked") -> ProgramSpec:
+    """The scattering pass for ``method``, with the shadow comparisons ``compare`` (hardware or
+    manual) and the ground's noise ``noise`` (baked or live)."""
+    defines: tuple = (("METHOD", METHODS.index(method) + 1),)
+    if compare == "manual":
+        defines += (("SHADOW_COMPARE_MANUAL", 1),)
+    if noise == "baked":
+        defines += (("GROUND_NOISE_BAKED", 1),)
+    return ProgramSpec("planet/composite", vert="common/fullscreen.vert",
+                       frag="planet/composite.frag", defines=defines)
+
+
+#: the defaults (hardware compares, baked noise) by method
+COMPOSITE = {m: composite_spec(m) for m in METHODS}
+#: every variant `natura shaders check` compiles: the defaults and each earlier path alone
+COMPOSITE_VARIANTS = tuple(composite_spec(m, c, n) for m in METHODS
+                           for c, n in (("hardware", "baked"), ("manual", "baked"),
+                                        ("hardware", "live")))
 SURFACE = ProgramSpec("planet/surface")
+SURFACE_MANUAL = ProgramSpec("planet/surface", defines=(("SHADOW_COMPARE_MANUAL", 1),))
+GROUND_NOISE_BAKE = ProgramSpec("planet/ground_noise_bake", vert="common/fullscreen.vert",
+                                frag="planet/ground_noise_bake.frag")
 SHADOW_DEPTH = ProgramSpec("planet/shadow_depth")
 
 SHADOW_CENTRE = np.array([0.0, 800.0, -9000.0])
@@ -76,7 +108,7 @@ class Planet(Effect):
     name = "planet"
     title = "Atmospheric scattering"
     spec = "spec/002"
-    programs = (tuple(COMPOSITE.values()) + (SURFACE, SHADOW_DEPTH)
+    programs = (COMPOSITE_VARIANTS + (SURFACE, SURFACE_MANUAL, SHADOW_DEPTH, GROUND_NOISE_BAKE)
                 + tuple(hillaire.HillaireLuts.programs))
     extra_groups = ("atmosphere", "hillaire")
     stages = (Stage.SHADOW, Stage.OPAQUE, Stage.FOG)
@@ -107,6 +139,17 @@ class Planet(Effect):
                   "side)", kind="int", section=f"{s} §3.1"),
             Param("planet.shadow_filter", True, doc="Gaussian-weighted bilinear neighbourhood "
                   "filter (off: nearest, unfiltered)", kind="bool", section=f"{s} §3.2"),
+            Param("planet.shadow_compare", "hardware", doc="depth comparisons of the shadow "
+                  "filter: hardware (sampler2DShadow, one read per bilinear comparison) or manual "
+                  "(four texelFetch and a blend each: the earlier path, the same image)",
+                  kind="choice", choices=COMPARE_MODES, section=f"{s} §3.2"),
+            Param("planet.ground_noise", "baked", doc="the analytic Earth's land/sea noise: "
+                  "baked (a cubemap made once, one lookup per pixel) or live (5 octaves of Perlin "
+                  "noise per pixel, the reference)", kind="choice", choices=GROUND_NOISE,
+                  section=f"{s} §5"),
+            Param("planet.ground_noise_size", 2048, 64, 8192, "texels per side of the baked ground "
+                  "noise's cap about the origin (its cubemap for the rest: a quarter of that)",
+                  kind="int", section=f"{s} §5"),
             Param("planet.shadow_bias", 0.0004, 0.0, 0.01, "depth bias of the shadow comparison",
                   step=0.0001, section=f"{s} §3.1"),
             Param("planet.surface", "by_method", doc="surface shading: by_method (texture for "
@@ -156,6 +199,8 @@ class Planet(Effect):
         #: (depth texture, framebuffer) of the shadow map, remade when its size changes
         self._shadow = self.keyed(self._make_shadow_map, release=self._free_all)
         self._lut = self.keyed(self._build_lut, release=gpu.free)
+        #: the baked ground-noise cubemap, rebuilt when its size changes
+        self._ground_noise = self.keyed(self._bake_ground_noise, release=self._free_all)
         self._meshes = None
         self._textures = None
         #: (colour, position, depth, framebuffer), remade when the target's size changes
@@ -272,6 +317,57 @@ class Planet(Effect):
     def lut_builds(self) -> int:
         return self._lut.builds
 
+    def ground_noise(self) -> tuple:
+        """(cap, cubemap): the analytic Earth's noise f(n) baked into R32F textures — a gnomonic
+        cap of ``planet.ground_noise_size``² about the scene's origin (half-angle
+        ``GROUND_CAP_DEG``) and a cubemap of a quarter of that size for the rest of the sphere;
+        baked when the size changes."""
+        return self._ground_noise.get(int(self.params["planet.ground_noise_size"]))
+
+    @property
+    def ground_noise_builds(self) -> int:
+        return self._ground_noise.builds
+
+    def _gradient_textures(self) -> dict:
+        if self._gradient is None:
+            from ...render.noise import GradientNoiseTextures
+
+            self._gradient = GradientNoiseTextures(self.gpu, self.name)
+        return self._gradient.textures(None)
+
+    def _bake_ground_noise(self, size: int):
+        """Render f(n) (glsl/planet/ground_noise_bake.frag) into the cap directly and into each
+        cubemap face through a 2D R32F target copied into the face (a framebuffer cannot hold a
+        cube face here)."""
+        ctx = self.gpu.ctx
+        linear = (moderngl.LINEAR, moderngl.LINEAR)
+        cap = self.gpu.texture(self.name, "ground noise cap", (size, size), 1, dtype="f4",
+                               filter=linear)
+        n = max(16, size // 4)
+        cube = self.gpu.texture_cube(self.name, "ground noise", n, 1, dtype="f4")
+        cube.filter = linear
+        face_tex = self.gpu.texture(self.name, "ground noise face", (n, n), 1, dtype="f4")
+        fbos = [self.gpu.framebuffer(self.name, "ground noise face", [face_tex]),
+                self.gpu.framebuffer(self.name, "ground noise cap", [cap])]
+        try:
+            prog = self.program(GROUND_NOISE_BAKE)
+            prog.bind_textures(self._gradient_textures())
+            prog.set("uCapTan", GROUND_CAP_TAN)
+            ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+            fbos[0].use()
+            for face in range(6):
+                prog.set("uFace", face)
+                draw_fullscreen(prog)
+                cube.write(face, fbos[0].read(components=1, dtype="f4"))
+            fbos[1].use()
+            prog.set("uFace", 6)
+            draw_fullscreen(prog)
+        finally:
+            for fbo in fbos:
+                self.gpu.free(fbo)
+            self.gpu.free(face_tex)
+        return cap, cube
+
     def _make_shadow_map(self, size: int):
         self._shadow_rendered = None
         return depth_target(self.gpu, self.name, "shadow map", size)
@@ -335,8 +431,17 @@ class Planet(Effect):
         })
         textures = {"uOpticalDepthLut": self.optical_depth_lut()}
         if self.uses_shadows():
-            textures["uShadowMap"] = self.shadow_map()
+            tex = self.shadow_map()
+            configure_compare(tex, p["planet.shadow_compare"])
+            textures["uShadowMap"] = tex
         return textures
+
+    def surface_spec(self) -> ProgramSpec:
+        return SURFACE_MANUAL if self.params["planet.shadow_compare"] == "manual" else SURFACE
+
+    def composite_spec(self) -> ProgramSpec:
+        p = self.params
+        return composite_spec(self.method(), p["planet.shadow_compare"], p["planet.ground_noise"])
 
     def projection(self, frame) -> np.ndarray:
         altitude = max(frame.camera.position[1], 0.0)
@@ -356,7 +461,7 @@ class Planet(Effect):
         colour, position, depth, fbo = self._gbuffer_for(size)
         fbo.use()
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        prog = self.program(SURFACE)
+        prog = self.program(self.surface_spec())
         textures = self._shared(prog, frame)
         p = self.params
         aniso = p["planet.anisotropy"] or (1 if self.gpu.caps.software else 8)
@@ -377,7 +482,7 @@ class Planet(Effect):
 
     def render_composite(self, frame, target) -> None:
         method = self.method()
-        prog = self.program(COMPOSITE[method])
+        prog = self.program(self.composite_spec())
         textures = self._shared(prog, frame)
         p = self.params
         colour, position, _, _ = self._gbuffer_for(target.size)
@@ -394,11 +499,12 @@ class Planet(Effect):
             "uSteps": p["planet.n_steps"], "uInnerSteps": p["planet.inner_steps"],
             "uThesisPcRule": self.pc_rule() == "thesis",
         })
-        if self._gradient is None:
-            from ...render.noise import GradientNoiseTextures
-
-            self._gradient = GradientNoiseTextures(self.gpu, self.name)
-        textures.update(self._gradient.textures(None))
+        if p["planet.ground_noise"] == "baked":
+            cap, cube = self.ground_noise()
+            textures.update({"uGroundNoiseCap": cap, "uGroundNoise": cube})
+            prog.set("uGroundCapTan", GROUND_CAP_TAN)
+        else:
+            textures.update(self._gradient_textures())
         if method == "hillaire":
             luts = self.hillaire()
             luts.update(self.model_uniforms(frame), frame.camera_uniforms())
