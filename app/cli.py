@@ -582,9 +582,9 @@ def main(argv: list[str] | None = None) -> int:
             }[command]
             return handler(args)
         finally:
-            from .imageio import remove_live_temps
-
-            remove_live_temps()
+            imageio = sys.modules.get(f"{__package__}.imageio")
+            if imageio is not None:  # nothing was written unless the writer was imported
+                imageio.remove_live_temps()
     except ShaderCompileError as exc:  # file:line errors, one per line
         _say(str(exc))
         return exc.exit_code

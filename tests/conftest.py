@@ -3,10 +3,12 @@ when a test asks for it; and the layer markers, one per folder (tests/unit, test
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
 
+from app.bakes import CACHE_ENV
 from app.gpu.context import create_headless_context
 from app.gpu.device import Gpu
 from app.runtime import open_session, render_frames, scene_params
@@ -21,7 +23,10 @@ LAYERS = ("unit", "gl", "stability", "bench", "cli", "window")
 
 
 def pytest_collection_modifyitems(config, items):
-    """Every test gets the marker of its folder: ``pytest -m unit`` selects tests/unit."""
+    """Every test gets the marker of its folder: ``pytest -m unit`` selects tests/unit. Under
+    pytest-xdist (``-n``, with ``--dist loadgroup``) the window tests run on one worker, one
+    after another: two ``xvfb-run -a`` started at once can pick the same display number."""
+    xdist = config.pluginmanager.hasplugin("xdist")
     for item in items:
         try:
             folder = Path(item.path).resolve().relative_to(TESTS).parts[0]
@@ -29,6 +34,29 @@ def pytest_collection_modifyitems(config, items):
             continue
         if folder in LAYERS:
             item.add_marker(getattr(pytest.mark, folder))
+        if xdist and folder == "window":
+            item.add_marker(pytest.mark.xdist_group("window"))
+
+
+@pytest.fixture(scope="session", autouse=True)
+def session_cache(tmp_path_factory):
+    """One ``$NATURA_CACHE`` (noise bakes, moon and star textures) for the whole run and the
+    ``natura`` processes it starts: each bake is made once per run, not once per module, and
+    the user's own cache is neither read nor written. Under pytest-xdist the workers share it
+    (cache files are written atomically). Tests of the cache itself point $NATURA_CACHE
+    elsewhere with monkeypatch."""
+    base = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        base = base.parent  # the run's folder, above the worker's own
+    cache = base / "natura-cache"
+    cache.mkdir(parents=True, exist_ok=True)
+    old = os.environ.get(CACHE_ENV)
+    os.environ[CACHE_ENV] = str(cache)
+    yield cache
+    if old is None:
+        os.environ.pop(CACHE_ENV, None)
+    else:
+        os.environ[CACHE_ENV] = old
 
 
 @pytest.fixture(scope="session")

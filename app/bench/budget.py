@@ -263,25 +263,39 @@ def budget_view(report: dict, budget_ms: float, top: int = TOP) -> list[str]:
     if not opts:
         lines.append("the sweeps hold no option with a time and an error")
         return lines
-    sizes = sorted({o.size for o in opts})
-    scaled = [s for s in sizes if s != size]
-    if scaled:
-        lines.append("times scaled by pixel count from the sweep's "
-                     + ", ".join(f"{w}x{h}" for w, h in scaled) + f" to {where} "
-                     "(assumes cost ∝ pixels: fixed costs do not scale)")
     current = report.get("parameters", {})
-    fits = sorted((o for o in opts if o.scaled_ms(size) <= budget_ms),
-                  key=lambda o: (o.error, o.scaled_ms(size)))
+    # The frame's cost under each option: the measured frame times the option's time ratio to
+    # the current settings' in the same sweep (the sweep may time a slice or another size: the
+    # ratio carries over, its absolute time does not); without a current-settings row, the
+    # option's own time scaled by pixel count.
+    base = next((o for o in opts
+                 if all(k in current and _same(current[k], v) for k, v in o.sets.items())), None)
+    estimate: dict[int, float] = {}
+    if base is not None and _finite(frame) and base.ms > 0:
+        for o in opts:
+            estimate[id(o)] = frame * o.ms / base.ms
+        lines.append("each option's frame time = the measured frame × its time ratio to the "
+                     f"current settings' in the sweep ({base.label})")
+    else:
+        for o in opts:
+            estimate[id(o)] = o.scaled_ms(size)
+        scaled = sorted({o.size for o in opts if o.size != size})
+        if scaled:
+            lines.append("times scaled by pixel count from the sweep's "
+                         + ", ".join(f"{w}x{h}" for w, h in scaled) + f" to {where} "
+                         "(assumes cost ∝ pixels: fixed costs do not scale)")
+    fits = sorted((o for o in opts if estimate[id(o)] <= budget_ms),
+                  key=lambda o: (o.error, estimate[id(o)]))
     if not fits:
-        fastest = min(opts, key=lambda o: o.scaled_ms(size))
+        fastest = min(opts, key=lambda o: estimate[id(o)])
         lines.append(f"no measured option fits {budget_ms:g} ms; the fastest: "
-                     f"{set_string(fastest.sets, current)}  ≈{fastest.scaled_ms(size):.3f} ms, "
+                     f"{set_string(fastest.sets, current)}  ≈{estimate[id(fastest)]:.3f} ms, "
                      f"error {fastest.error:.3g} ({fastest.label})")
         return lines
     lines.append(f"options that fit, lowest error first (error: {found.metric}):")
     for o in fits[:max(1, top)]:
         measured = "" if o.size == size else f", {o.ms:.3f} ms at {o.size[0]}x{o.size[1]}"
-        lines.append(f"  {set_string(o.sets, current)}  ≈{o.scaled_ms(size):.3f} ms{measured}, "
+        lines.append(f"  {set_string(o.sets, current)}  ≈{estimate[id(o)]:.3f} ms{measured}, "
                      f"error {o.error:.3g} ({o.label})")
     if len(fits) > top:
         lines.append(f"  … and {len(fits) - top} more that fit with more error")

@@ -43,13 +43,13 @@ import re
 import stat
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterable
-
-import moderngl
-import numpy as np
+from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 from .. import DEFAULT_SHADER_ROOT
 from ..errors import ShaderCompileError, UsageError, quote
+
+if TYPE_CHECKING:  # numpy and moderngl are imported where used: `import app.cli` stays light
+    import moderngl
 
 STAGES = {
     "vert": "vertex_shader",
@@ -632,8 +632,16 @@ def _type_name(member: Any) -> str:
     return f"GL type 0x{gl_type:04x}" if isinstance(gl_type, int) else type(member).__name__
 
 
+def _moderngl():
+    import moderngl
+
+    return moderngl
+
+
 def _components(value: Any) -> list[float] | None:
     """A value as a flat list of numbers (``None`` if it is not numbers)."""
+    import numpy as np
+
     try:
         if isinstance(value, (bool, np.bool_)):
             return [1.0 if value else 0.0]
@@ -669,6 +677,8 @@ def _convert(member: Any, value: Any) -> Any:
     if gl_type in _FLOAT_TYPES or gl_type in _DOUBLE_TYPES:
         out: list[Any] = flat
     else:
+        import numpy as np
+
         if not all(np.isfinite(flat)):
             return None
         if gl_type in _BOOL_TYPES:
@@ -800,7 +810,7 @@ class Program:
                     new = lib.ctx.compute_shader(sources["compute_shader"])
                 else:
                     new = lib.ctx.program(**sources)  # type: ignore[arg-type]
-            except moderngl.Error as exc:
+            except _moderngl().Error as exc:
                 errors = self._map(str(exc), tables)
             else:
                 if self.program is not None:
@@ -862,6 +872,8 @@ class Program:
         does not fit the uniform's GLSL type is converted when it can be (see :func:`_convert`)
         and otherwise skipped with an error listed at the uniform's declaration: a GLSL edit
         that changes a uniform's type never raises here."""
+        import numpy as np
+
         prog = self.program
         if prog is None or uniform not in prog:
             return
@@ -925,6 +937,8 @@ class Program:
         """Write a uniform array (``vec4 uRows[16]``) from rows of numbers: missing rows are
         zeros, extra rows are dropped, and an array the compiler removed is tolerated (as is
         one whose type changed: skipped and listed)."""
+        import numpy as np
+
         prog = self.program
         if prog is None or uniform not in prog:
             return
@@ -951,7 +965,7 @@ class Program:
             found = []
             for name in prog:
                 member = prog[name]
-                if (isinstance(member, moderngl.Uniform)
+                if (isinstance(member, _moderngl().Uniform)
                         and getattr(member, "gl_type", None) in SAMPLER_TYPES):
                     found.append((member.location, name))
             self._samplers = (self.generation, [name for _, name in sorted(found)])
@@ -980,13 +994,18 @@ class Program:
 
     def vao(self, content: Iterable = (), index_buffer=None):
         """A vertex array for this program, rebuilt after each reload."""
-        key = (tuple(id(c[0]) for c in content), id(index_buffer))
+        content = [tuple(c) for c in content]
+        key = (tuple((id(c[0]), *c[1:]) for c in content), id(index_buffer))
         if key not in self._vaos:
             # skip_errors: attributes the compiler removed (e.g. normals in an unlit variant) are
             # fine
-            self._vaos[key] = self.library.ctx.vertex_array(self.program, list(content),
-                                                            index_buffer=index_buffer,
-                                                            skip_errors=True)
+            vao = self.library.ctx.vertex_array(self.program, content,
+                                                index_buffer=index_buffer, skip_errors=True)
+            # the key holds the buffers' ids: keep the buffers alive as long as their vertex
+            # array is cached, so a freed mesh's id cannot be reused by a new buffer and draw
+            # with this stale array
+            vao.extra = ([c[0] for c in content], index_buffer)
+            self._vaos[key] = vao
         return self._vaos[key]
 
     def release(self) -> None:

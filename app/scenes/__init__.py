@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+from typing import Iterator, MutableMapping
 
 from ..errors import UsageError
 from .base import Scene
@@ -39,7 +40,65 @@ def _discover() -> dict[str, type[Scene]]:
     return scenes
 
 
-SCENES: dict[str, type[Scene]] = _discover()
+class _Registry(MutableMapping[str, type[Scene]]):
+    """``SCENES``: every scene by ``order``, discovered on first iteration. Looking one name up
+    before that imports ``app/scenes/<name>.py`` alone when it defines that scene, so
+    ``natura render sky`` does not import every scene's effects."""
+
+    def __init__(self) -> None:
+        self._all: dict[str, type[Scene]] | None = None
+
+    def _discovered(self) -> dict[str, type[Scene]]:
+        if self._all is None:
+            self._all = _discover()
+        return self._all
+
+    def __getitem__(self, name: str) -> type[Scene]:
+        if self._all is None:
+            cls = _own_module(name)
+            if cls is not None:
+                return cls
+        return self._discovered()[name]
+
+    def __contains__(self, name: object) -> bool:
+        try:
+            self[name]  # type: ignore[index]
+        except KeyError:
+            return False
+        return True
+
+    def __setitem__(self, name: str, cls: type[Scene]) -> None:  # tests register a scene
+        self._discovered()[name] = cls
+
+    def __delitem__(self, name: str) -> None:
+        del self._discovered()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._discovered())
+
+    def __len__(self) -> int:
+        return len(self._discovered())
+
+    def __repr__(self) -> str:
+        return repr(self._discovered())
+
+
+def _own_module(name: object) -> type[Scene] | None:
+    """The scene ``name`` from ``app/scenes/<name>.py`` alone, when that module defines it."""
+    if (not isinstance(name, str) or not name.isidentifier() or name in _NOT_SCENES
+            or name.startswith("_")):
+        return None
+    if not any(info.name == name for info in pkgutil.iter_modules(__path__)):
+        return None
+    module = importlib.import_module(f"{__name__}.{name}")
+    for value in vars(module).values():
+        if (isinstance(value, type) and issubclass(value, Scene) and value is not Scene
+                and value.__module__ == module.__name__ and value.name == name):
+            return value
+    return None
+
+
+SCENES: MutableMapping[str, type[Scene]] = _Registry()
 
 
 def get_scene(name: str) -> type[Scene]:

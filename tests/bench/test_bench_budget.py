@@ -96,3 +96,23 @@ def test_shadow_map_error_is_bounded_by_the_reference_error_at_the_current_steps
     base = next(r for r in report["sweep"]["accuracy"]["rows"] if r["method"] == "shadowed"
                 and r["knob"] == "n_steps" and r["value"] == n)
     assert all(o.error >= base["in_mean"] for o in shadow)
+
+
+def test_options_are_costed_as_the_frame_times_their_ratio_to_the_current_settings():
+    """A sweep that times a 64×64 slice says how much an option costs relative to the current
+    settings, not what the frame costs: the view applies that ratio to the measured frame."""
+    from app.bench.budget import budget_view
+
+    report = {"scene": "materials", "size": [640, 360],
+              "passes": {"frame": {"median_ms": 8.0}},
+              "parameters": {"materials.filter_rings": False},
+              "sweep": {"ring_edges": {"size": [64, 64],
+                                       "hard": {"median_ms": 1.0, "mean_error": 0.06},
+                                       "filtered": {"median_ms": 1.5, "mean_error": 0.006}}}}
+    lines = budget_view(report, 11.0)
+    assert any("time ratio to the current settings'" in line for line in lines)
+    # 8 ms × 1.5 = 12 ms > 11: filtered edges do not fit; the current settings do
+    assert not any("filter_rings=true" in line for line in lines), lines
+    assert lines[-1].startswith("  (the bench's own settings)  ≈8.000 ms"), lines
+    lines = budget_view(report, 13.0)
+    assert lines[-2].startswith("  --set materials.filter_rings=true  ≈12.000 ms"), lines

@@ -1,6 +1,7 @@
-"""The README as a new user follows it: every command-line example runs, in order, as written, in
-one folder (so two examples that write the same file are caught), and every Python snippet runs
-both as a script and pasted line by line into the interactive interpreter."""
+"""The README as a new user follows it: every command-line example runs as written — the benches
+each in a folder of their own, the rest in order in one folder, as many folders at a time as
+there are cores — no two examples write the same file, and every Python snippet runs both as
+a script and pasted line by line into the interactive interpreter."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import re
 import shlex
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -52,21 +54,68 @@ def test_the_command_line_section_has_examples():
     assert len(lines) >= 15 and all(line.split()[0] == "natura" for line in lines), lines
 
 
-def test_every_command_line_example_runs_in_order_as_written(tmp_path):
-    """No display here: ``natura`` and ``natura window`` render headless, as the README says."""
-    written: dict[str, str] = {}
-    for command in _command_lines():
-        before = {p.name for p in tmp_path.rglob("*")}
-        r = subprocess.run([*NATURA, *shlex.split(command)[1:]], cwd=tmp_path, env=_env(),
+def _lanes(commands: list[str]) -> list[list[str]]:
+    """The examples split into lanes that may run at the same time, each in a folder of its own:
+    every ``natura bench`` example alone (a bench reads no file an example writes, and its
+    sweeps are the long part), everything else in one lane, in the README's order."""
+    main = [c for c in commands if shlex.split(c)[1:2] != ["bench"]]
+    return [main] + [[c] for c in commands if c not in main]
+
+
+def _files(folder: Path) -> set[str]:
+    return {p.relative_to(folder).as_posix() for p in folder.rglob("*") if not p.is_dir()}
+
+
+def _run_lane(commands: list[str], folder: Path
+              ) -> list[tuple[str, str | None, set[str], float]]:
+    """Run ``commands`` in order in ``folder``: (command, failure or None, files it wrote,
+    seconds it took)."""
+    folder.mkdir()
+    out = []
+    for command in commands:
+        before = _files(folder)
+        start = time.perf_counter()
+        r = subprocess.run([*NATURA, *shlex.split(command)[1:]], cwd=folder, env=_env(),
                            capture_output=True, text=True, timeout=900)
-        assert r.returncode == 0, f"`{command}` exited {r.returncode}: {r.stderr.strip()[-600:]}"
-        assert "Traceback" not in r.stderr, command
-        new = {p.name for p in tmp_path.rglob("*")} - before
-        for name in new:
-            written[name] = command
+        failure = None
+        if r.returncode != 0:
+            failure = f"`{command}` exited {r.returncode}: {r.stderr.strip()[-600:]}"
+        elif "Traceback" in r.stderr:
+            failure = f"`{command}` printed a traceback: {r.stderr.strip()[-600:]}"
+        out.append((command, failure, _files(folder) - before, time.perf_counter() - start))
+        if failure:
+            break
+    return out
+
+
+def test_every_command_line_example_runs_in_order_as_written(tmp_path, record_property):
+    """No display here: ``natura`` and ``natura window`` render headless, as the README says.
+    The examples that share a folder run in order, so one that overwrote another's file would
+    fail there (nothing is overwritten without --force); across folders, no two examples may
+    write the same file."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    commands = _command_lines()
+    lanes = _lanes(commands)
+    assert sorted(c for lane in lanes for c in lane) == sorted(commands)
+    with ThreadPoolExecutor(max_workers=min(len(lanes), os.cpu_count() or 2)) as pool:
+        results = list(pool.map(_run_lane, lanes,
+                                [tmp_path / f"lane-{i}" for i in range(len(lanes))]))
+    written: dict[str, str] = {}
+    for lane in results:
+        for command, failure, new, seconds in lane:
+            record_property(f"seconds: {command}", round(seconds, 2))  # in --junitxml
+            assert failure is None, failure
+            for name in new:
+                assert name not in written, (
+                    f"`{command}` and `{written[name]}` both write {name}")
+                written[name] = command
+    ran = [command for lane in results for command, *_ in lane]
+    assert sorted(ran) == sorted(commands)
     # the examples' own outputs, each from the example that names it
+    names = {Path(name).parts[0] for name in written}
     for name in ("sunset.png", "night.exr", "clouds.png", "my-glsl"):
-        assert name in written, f"no example wrote {name}"
+        assert name in names, f"no example wrote {name}"
 
 
 def _python_snippets() -> list[str]:

@@ -903,3 +903,24 @@ def test_a_uniform_type_change_through_apply_params_never_raises(gl, root):
         assert prog.program["uGain"].value == pytest.approx((0.75, 0.75))
     finally:
         gpu.release()
+
+
+def test_a_vertex_array_is_never_reused_for_a_new_buffer(gl, root):
+    """The cache of vertex arrays is keyed by the buffers' ids: a buffer dropped by its owner
+    must not let a new buffer take its id and draw through the old array."""
+    from app.gpu.device import Gpu
+
+    write(root, "fx/flat.vert", "#version 330 core\nin vec2 aPos;\n"
+          "void main() { gl_Position = vec4(aPos, 0.0, 1.0); }\n")
+    write(root, "fx/flat.frag", "#version 330 core\nout vec4 c;\nvoid main() { c = vec4(1); }\n")
+    gpu = Gpu(gl, root)
+    try:
+        prog = gpu.shaders.program("fx/flat")
+        for _ in range(50):
+            buf = gl.buffer(b"\0" * 24)
+            vao = prog.vao([(buf, "2f", "aPos")])
+            assert vao.extra[0][0] is buf  # the array keeps its own buffer alive
+            del buf  # without the array's reference the next buffer could take its id
+        assert len(prog._vaos) == 50  # each buffer got its own array, none a stale one
+    finally:
+        gpu.release()

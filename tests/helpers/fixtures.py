@@ -16,11 +16,12 @@ from tests.helpers import clouds, clouds_b, hillaire, ocean, preetham
 
 
 @pytest.fixture(scope="module")
-def isolated_bake_cache(tmp_path_factory):
-    """The cloud bakes of one module go to a cache of their own (use with
-    ``pytestmark = pytest.mark.usefixtures("isolated_bake_cache")``)."""
+def isolated_bake_cache(session_cache):
+    """The cloud bakes of a module go to the test run's cache (``session_cache`` in
+    tests/conftest.py), never the user's: baked once per run, shared with the other modules
+    (use with ``pytestmark = pytest.mark.usefixtures("isolated_bake_cache")``)."""
     with pytest.MonkeyPatch.context() as mp:
-        mp.setenv(CACHE_ENV, str(tmp_path_factory.mktemp("natura-cache")))
+        mp.setenv(CACHE_ENV, str(session_cache))
         yield
 
 
@@ -62,10 +63,10 @@ def clouds_rig(gl_ctx):
 
 
 @pytest.fixture(scope="module")
-def clouds_b_rig(gl_ctx, tmp_path_factory):
-    """Cloud model B on its own, with a bake cache of its own."""
+def clouds_b_rig(gl_ctx, session_cache):
+    """Cloud model B on its own, its bakes in the test run's cache."""
     with pytest.MonkeyPatch.context() as mp:
-        mp.setenv(CACHE_ENV, str(tmp_path_factory.mktemp("natura-cache")))
+        mp.setenv(CACHE_ENV, str(session_cache))
         gpu = Gpu(gl_ctx)
         r = clouds_b.Rig(gpu)
         r.reset()

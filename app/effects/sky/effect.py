@@ -25,7 +25,7 @@ from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim.daynight import DEFAULT_SUN_EXTINCTION, DayNight, Keyframes
 from ...sim.sea_plane import GROUNDS, cox_munk_mss, ground_params
-from ...sim.textures import moon_texture, star_field
+from ...sim.textures import cached_texture
 from ..base import Effect, Pass
 
 DEFAULT_KEYFRAMES = RESOURCES / "sky" / "keyframes.toml"
@@ -138,12 +138,16 @@ class Sky(Effect):
             self._gradient_version = self.keyframes.version
 
     def _make_stars(self, seed: int):
-        stars = star_field(seed)
+        from ...bakes.cache import default_cache_dir  # $NATURA_CACHE, beside the noise bakes
+
+        stars = cached_texture("stars", default_cache_dir(), seed=int(seed))
         return self.gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1,
                                 stars.tobytes(), repeat=True)
 
     def _make_moon(self, _key):
-        moon = moon_texture()
+        from ...bakes.cache import default_cache_dir
+
+        moon = cached_texture("moon", default_cache_dir())
         return self.gpu.texture(self.name, "moon", (moon.shape[1], moon.shape[0]), 4,
                                 moon.tobytes())
 
