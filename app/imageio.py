@@ -16,6 +16,7 @@ import contextlib
 import errno
 import os
 import re
+import signal
 import stat
 import tempfile
 import time
@@ -59,6 +60,24 @@ def file_mode() -> int:
 
 #: temporary files (and folders) being written now: removed on any error, and at exit
 _LIVE: set[Path] = set()
+#: the signals that end a run through an exception (Ctrl-C, and SIGTERM in the CLI)
+_ENDING = (signal.SIGINT, signal.SIGTERM)
+
+
+@contextlib.contextmanager
+def signals_deferred() -> Iterator[None]:
+    """Hold Ctrl-C and SIGTERM until the block ends: between creating a temporary file and
+    registering it (or removing it) an interrupt would leave it behind. Outside the main
+    thread, or without ``pthread_sigmask``, the block runs as it is."""
+    try:
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, _ENDING)
+    except (AttributeError, ValueError, OSError):
+        old = None
+    try:
+        yield
+    finally:
+        if old is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 def _remove(p: Path) -> None:
@@ -106,12 +125,13 @@ def temp_beside(path: Path) -> Iterator[Path]:
     lives; removed when the block fails (any exception, Ctrl-C, SIGTERM) or did not use it."""
     folder = path.parent if str(path.parent) else Path(".")
     _remove_stale_temps(folder)
-    try:
-        fd, name = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=folder)
-    except OSError as exc:
-        raise _write_error(path, exc) from None
-    tmp = Path(name)
-    _LIVE.add(tmp)
+    with signals_deferred():  # created and registered as one step
+        try:
+            fd, name = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=folder)
+        except OSError as exc:
+            raise _write_error(path, exc) from None
+        tmp = Path(name)
+        _LIVE.add(tmp)
     try:
         os.fchmod(fd, file_mode())
         os.close(fd)
@@ -219,13 +239,14 @@ def _can_create_in(folder: Path) -> bool:
     read-only or special file systems (``/proc``), so try it with a temporary file."""
     if not os.access(folder, os.W_OK):
         return False
-    try:
-        fd, name = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=folder)
-    except OSError:
-        return False
-    os.close(fd)
-    with contextlib.suppress(OSError):
-        os.unlink(name)
+    with signals_deferred():  # the probe is created and removed as one step
+        try:
+            fd, name = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=folder)
+        except OSError:
+            return False
+        os.close(fd)
+        with contextlib.suppress(OSError):
+            os.unlink(name)
     return True
 
 
