@@ -293,6 +293,20 @@ def _screen(win) -> np.ndarray:
     return np.frombuffer(data, dtype=np.uint8).reshape(h, w, 3)[::-1].astype(int)
 
 
+def _escape_and_report(win, keys, out: dict, log: bool = True) -> int:
+    """End a key-driven run the way a user does: Esc typed as an X event must close the window;
+    then the findings (and, with ``log``, what was typed and what pyglet delivered) go to
+    stdout as the RESULT line the tests read."""
+    keys.tap("Escape")
+    out["escape_closes"] = bool(win.wnd.is_closing)
+    if log:
+        out["presses"] = keys.presses
+        out["received"] = keys.received
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
 def fly_keys(work: str) -> int:
     """Natura's fly map (README "Window controls"), every key typed as a real X event in the sky
     window: W A S D, Q / E, Shift, M (mouse look, then real pointer motion), Space, [ / ],
@@ -386,13 +400,7 @@ def fly_keys(work: str) -> int:
     keys.frames(1)
     out["screenshots"] = [str(p) for p in win.screenshots]
     out["shot_files"] = sorted(str(p) for p in Path("shots").glob("*.png"))
-    keys.tap("Escape")
-    out["escape_closes"] = bool(win.wnd.is_closing)
-    out["presses"] = keys.presses
-    out["received"] = keys.received
-    win.close()
-    print("RESULT " + json.dumps(out))
-    return 0
+    return _escape_and_report(win, keys, out)
 
 
 def planet_keys(work: str) -> int:
@@ -484,13 +492,7 @@ def planet_keys(work: str) -> int:
     keys.frames(1)
     out["screenshots"] = [str(p) for p in win.screenshots]
     out["render_error"] = str(win.render_error or "")
-    keys.tap("Escape")
-    out["escape_closes"] = bool(win.wnd.is_closing)
-    out["presses"] = keys.presses
-    out["received"] = keys.received
-    win.close()
-    print("RESULT " + json.dumps(out))
-    return 0
+    return _escape_and_report(win, keys, out)
 
 
 def cli_escape(work: str) -> int:
@@ -669,11 +671,7 @@ def robustness(work: str) -> int:
         del scene.frame
     keys.frames(2)
     out["render_error"]["after"] = win.render_error
-    keys.tap("Escape")
-    out["escape_closes"] = bool(win.wnd.is_closing)
-    win.close()
-    print("RESULT " + json.dumps(out))
-    return 0
+    return _escape_and_report(win, keys, out, log=False)
 
 
 def sky_keyframes(work: str) -> int:
