@@ -275,7 +275,8 @@ def cmd_render(args) -> int:
     else:
         base = check_output_path(next_free_path(Path("."), args.scene, ".png"))
     for i in range(1, args.frames + 1):  # every name before any work (bounded: MAX_FRAMES)
-        check_output_path(frame_path(base, i, args.frames), force=args.force)
+        # the frames share base's folder, which the check above probed once
+        check_output_path(frame_path(base, i, args.frames), force=args.force, probe_folder=False)
     session = open_session(args.scene, params, args.shaders, camera=camera)
     written = []
     frames = render_frames(session, size, args.frames, args.fps, progress=args.frames > 1)

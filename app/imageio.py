@@ -190,10 +190,11 @@ def name_max(folder: Path) -> int:
 
 
 def check_output_path(path: str | os.PathLike, force: bool = False,
-                      suffixes=IMAGE_SUFFIXES) -> Path:
+                      suffixes=IMAGE_SUFFIXES, probe_folder: bool = True) -> Path:
     """Validate an output path before any work is done: known suffix, a name that fits, a
     writable folder, and no existing file unless ``force`` (never something that is not a
-    regular file, even with ``force``)."""
+    regular file, even with ``force``). ``probe_folder=False`` skips the writability probe (a
+    file created and removed) for names in a folder a previous check just probed."""
     p = expand(path)
     shown = quote(str(p))
     if p.suffix.lower() not in suffixes or p.name == p.suffix:
@@ -221,7 +222,7 @@ def check_output_path(path: str | os.PathLike, force: bool = False,
     if st is not None and not (stat.S_ISREG(st.st_mode) or stat.S_ISLNK(st.st_mode)):
         raise UsageError(f"output {shown} exists and is not a regular file (a pipe, socket or "
                          "device): allowed a new name, or an existing file with --force")
-    if not _can_create_in(parent):
+    if probe_folder and not _can_create_in(parent):
         raise UsageError(f"output folder {quote(str(parent))} is not writable: "
                          f"{_FOLDER_ALLOWED}")
     if st is not None and not force:

@@ -273,7 +273,7 @@ class Keyframes:
     def ambient_at(self, hour: float, samples: int = 8) -> np.ndarray:
         """The gradient's ambient radiance on a horizontal surface, (1/π)∫ L cosθ dω over the
         upper hemisphere: ``samples`` elevations, midpoint rule, weights sin 2·elevation
-        normalised. Twin of ``SkyAmbient`` in glsl/sky/sky_radiance.glsl."""
+        normalised. The sky shader's sea and the clouds take it as a uniform (``uSkyAmbient``)."""
         el = (np.arange(samples) + 0.5) / samples * (math.pi / 2)
         w = np.sin(2.0 * el)
         colours = self.gradient_at(el / (math.pi / 2), hour)

@@ -32,7 +32,7 @@
 //   reflected = gradient + halo toward the mirrored direction at that incidence (no sun or
 //          moon disk: the glitter is their reflection, spread by the waves)
 //   body = uSeaColor · (sky ambient + E·max(l.y, 0)/π), sky ambient = the cosine-weighted mean
-//          of the gradient over the upper hemisphere; E = the main light (sun by day, moon by
+//          of the gradient over the upper hemisphere (uSkyAmbient, from the CPU); E = the main light (sun by day, moon by
 //          night, already reddened by the air mass on the CPU)
 //   glitter = E · F(v·h) · Beckmann(n·h, mss) · G / (4 n·v), mss = Cox & Munk 1954's slope
 //          variance 0.003 + 0.00512·U for the wind U (CPU)
@@ -42,8 +42,8 @@
 // a ray straight down is kept non-zero before normalising.
 // The sea's shared maths (reflection direction, Fresnel, Beckmann glitter, body, haze) is
 // glsl/common/sea_plane.glsl, shared with the Preetham sky's sea.
-// Twins for tests: app/sim/sky.py (mie_phase, sun_term, halo_term); the sky ambient:
-// app.sim.daynight.Keyframes.ambient_at; the sea: app/sim/sea_plane.py.
+// Twins for tests: app/sim/sky.py (mie_phase, sun_term, halo_term); the sea:
+// app/sim/sea_plane.py. The sky ambient comes from app.sim.daynight.Keyframes.ambient_at.
 // =============================================================================================
 #include "math.glsl"
 #include "sea_plane.glsl"
@@ -66,6 +66,8 @@ uniform float uSeaHaze;             // @param 12000 [100, 100000] step=100 unit=
 uniform int uGround;                // 0 = the thesis's horizon colour, 1 = the sea (sky.ground)
 uniform vec3 uMainLightDir;         // toward the main light (sun by day, moon by night)
 uniform vec3 uMainLightRadiance;    // its colour × intensity
+uniform vec3 uSkyAmbient;           // the gradient's cosine-weighted mean radiance over the upper
+                                    // hemisphere (Keyframes.ambient_at, once per frame on the CPU)
 uniform float uSeaMss;              // Cox–Munk slope variance of the sea plane's glitter
 uniform float uSeaGlitter;          // 1; 0 in the cubemap without the sun
 uniform float uEyeHeight;           // metres above the sea plane (≥ 0.5)
@@ -109,20 +111,6 @@ vec3 SkyHalo(vec3 p) {
     return smoothstep(0.5, 1.5, dot(p, uSunDir)) * uSunColor * uScatteringIntensity * scatInt;
 }
 
-// Beyond the thesis: the sky's ambient radiance on a horizontal surface, (1/π)∫ L cosθ dω over
-// the upper hemisphere of the gradient (8 elevations, midpoint rule, weights normalised).
-vec3 SkyAmbient() {
-    vec3 sum = vec3(0.0);
-    float weights = 0.0;
-    for (int i = 0; i < 8; ++i) {
-        float el = (float(i) + 0.5) / 8.0 * HALF_PI;
-        float w = sin(2.0 * el);
-        sum += w * SkyGradient(el / HALF_PI);
-        weights += w;
-    }
-    return sum / weights;
-}
-
 // Beyond the thesis: radiance of the calm sea plane toward p (p.y < 0); see the header and
 // glsl/common/sea_plane.glsl (the maths every sky's sea shares).
 vec3 SkySea(vec3 p) {
@@ -130,7 +118,7 @@ vec3 SkySea(vec3 p) {
     vec3 r = SeaReflectionDirection(p, uSeaMss);
     vec3 reflected = SkyGradient(asin(nvRough) / HALF_PI) + SkyHalo(r);
     vec3 horizon = SkyGradient(0.0) + SkyHalo(SeaHorizonDirection(p));
-    return SeaPlaneRadiance(p, reflected, horizon, SkyAmbient(), uMainLightDir, uMainLightRadiance,
+    return SeaPlaneRadiance(p, reflected, horizon, uSkyAmbient, uMainLightDir, uMainLightRadiance,
                             uSeaColor, uSeaMss, uSeaGlitter, uEyeHeight, uSeaHaze);
 }
 

@@ -284,9 +284,10 @@ class Planet(Effect):
         for tex in self._textures:
             tex.build_mipmaps()
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-        from ...sim.textures import star_field
+        from ...bakes.cache import default_cache_dir
+        from ...sim.textures import cached_texture
 
-        stars = star_field(7)
+        stars = cached_texture("stars", default_cache_dir(), seed=7)  # the sky's field, cached
         self._stars = self.gpu.texture(self.name, "stars", (stars.shape[1], stars.shape[0]), 1,
                                        stars.tobytes(), repeat=True)
 

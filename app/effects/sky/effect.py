@@ -169,6 +169,7 @@ class Sky(Effect):
             "uWorldToMoon": st.world_to_moon,
             "uMainLightDir": tuple(float(v) for v in st.main_light.direction),
             "uMainLightRadiance": tuple(float(v) for v in st.main_light.radiance),
+            "uSkyAmbient": tuple(float(v) for v in st.main_light.ambient or (0.0, 0.0, 0.0)),
             "uGround": GROUNDS.index(self.params["sky.ground"]),
             "uSeaMss": cox_munk_mss(self.params["sky.sea_wind"]),
             "uEyeHeight": CUBEMAP_EYE_HEIGHT,
