@@ -11,7 +11,7 @@
 // does not reflect itself), the cubemap LOD clamped to the map's levels.
 
 #include "math.glsl"
-#include "sea_plane.glsl"  // SeaBeckmann: the glitter lobe the sky's sea plane shares
+#include "sea_plane.glsl"  // SEA_F0 = ((n − 1)/(n + 1))² and SeaBeckmann, shared with the skies' sea
 
 uniform samplerCube uEnvironment;
 uniform float uEnvironmentLods;      // mip levels of the cubemap − 1
@@ -29,7 +29,6 @@ uniform float uUnderwaterClarity; // @param 0.5 [0.01, 1] step=0.01 §1.2 the th
 uniform float uHazeDistance;   // @param 12000 [100, 100000] step=100 unit=m distance over which the sea fades into the horizon colour
 
 const float WATER_IOR = 1.333;
-const float WATER_F0 = 0.0204;  // ((n − 1)/(n + 1))²
 
 vec3 EnvironmentRadiance(vec3 dir, float lod) {
     if (!uReflections) return vec3(0.25, 0.3, 0.35) * max(uMainLightRadiance.g, 0.02);
@@ -43,7 +42,7 @@ vec3 EnvironmentRadiance(vec3 dir, float lod) {
 vec3 OceanShadeAbove(vec3 p, vec3 n, vec3 v, float foam, float lostMss, float crest) {
     float mss = max(uMssFloor + uSubgridMss + lostMss, 1e-5);
     float nv = max(dot(n, v), 1e-3);
-    float F = SchlickFresnel(WATER_F0, nv);
+    float F = SchlickFresnel(SEA_F0, nv);
     vec3 r = reflect(-v, n);
     float envLod = log2(max(sqrt(mss) * 128.0, 1.0));
     vec3 reflected = EnvironmentRadiance(r, envLod);
@@ -60,7 +59,7 @@ vec3 OceanShadeAbove(vec3 p, vec3 n, vec3 v, float foam, float lostMss, float cr
     vec3 h = normalize(l + v);
     float nh = max(dot(n, h), 0.0);
     float G = min(1.0, min(2.0 * nh * nv / max(dot(v, h), 1e-3), 2.0 * nh * nl / max(dot(v, h), 1e-3)));
-    vec3 spec = E * SchlickFresnel(WATER_F0, dot(v, h)) * SeaBeckmann(nh, mss) * G / (4.0 * nv) * step(0.0, l.y);
+    vec3 spec = E * SchlickFresnel(SEA_F0, dot(v, h)) * SeaBeckmann(nh, mss) * G / (4.0 * nv) * step(0.0, l.y);
 
     vec3 water = mix(body, reflected, F) + spec;
     vec3 foamLit = uFoamColor * (skyAmbient + E * nl / PI);  // Lambert
@@ -80,7 +79,7 @@ vec3 OceanShadeBelow(vec3 n, vec3 v, vec3 transmitted, vec3 waterLight) {
     float sinT2 = WATER_IOR * WATER_IOR * (1.0 - cosI * cosI);
     if (sinT2 >= 1.0) return waterLight;           // total internal reflection (Snell's window edge)
     float cosT = sqrt(1.0 - sinT2);                // angle in air: Schlick on the air side
-    float F = SchlickFresnel(WATER_F0, cosT);
+    float F = SchlickFresnel(SEA_F0, cosT);
     return mix(transmitted, waterLight, F);
 }
 
