@@ -18,9 +18,11 @@
   median [p25–p75], robust to the machine's load) with the image difference it makes beside it —
   the hardware shadow compares (``planet.shadow_compare``: hardware against manual, method 3,
   relative difference) and the baked ground noise (``planet.ground_noise``: baked against live,
-  methods 1 and 2, mean and max |Δ| of the linear image on the ground and the space view), and
-  the LUT method's speed-up over brute force on the ground view at N = 30 before and after (the
-  thesis's 3.3–7×, spec/002 §5), per frame and for the scattering pass alone.
+  methods 1 and 2, mean and max |Δ| of the linear image on the ground and the space view), the
+  ground pass (``planet.ground_pass``: the analytic ground and the background shaded once into
+  the G-buffer against in the scattering pass, the same image), and the LUT method's speed-up
+  over brute force on the ground view at N = 30 before and after each (the thesis's 3.3–7×,
+  spec/002 §5), per frame and for the scattering pass alone.
 """
 
 from __future__ import annotations
@@ -295,8 +297,8 @@ def _ratio(timed, a: str, b: str) -> dict:
 def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
     """Before/after of each change to the fixed per-pixel work, interleaved, with its error."""
     p = session.params
-    keys = ("planet.method", "planet.shadow_compare", "planet.ground_noise", "planet.n_steps",
-            "planet.inner_steps")
+    keys = ("planet.method", "planet.shadow_compare", "planet.ground_noise", "planet.ground_pass",
+            "planet.n_steps", "planet.inner_steps")
     saved = {k: p[k] for k in keys}
     out: dict = {"size": list(size), "rounds": rounds, "n_steps": 30}
     try:
@@ -324,20 +326,27 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
                                  "frame_ratio_hardware_to_manual":
                                      _ratio(timed, "hardware", "manual"),
                                  "timings": timed.summary(), "error": err}
-        # 2. the baked ground noise, and the LUT method's speed-up over brute force
+        # 2. the baked ground noise (in the scattering pass, as it was made), then the ground pass
+        #    (the ground and the background into the G-buffer, baked noise), and the LUT method's
+        #    speed-up over brute force at each step
         p.set("planet.shadow_compare", "hardware")
-        noise = {f"{m}:{n}": {"planet.method": m, "planet.ground_noise": n}
-                 for m in ("brute_force", "lut") for n in ("live", "baked")}
-        err = {}
+        steps = {"live": {"planet.ground_noise": "live", "planet.ground_pass": "scattering"},
+                 "baked": {"planet.ground_noise": "baked", "planet.ground_pass": "scattering"},
+                 "gbuffer": {"planet.ground_noise": "baked", "planet.ground_pass": "gbuffer"}}
+        noise = {f"{m}:{n}": {"planet.method": m, **sets}
+                 for m in ("brute_force", "lut") for n, sets in steps.items()}
+        err, err_pass = {}, {}
         for view in VIEWS:
             for m in ("brute_force", "lut"):
                 imgs = {}
-                for n in ("live", "baked"):
-                    p.set("planet.method", m)
-                    p.set("planet.ground_noise", n)
+                for n, sets in steps.items():
+                    for k, v in {"planet.method": m, **sets}.items():
+                        p.set(k, v)
                     imgs[n] = _final_image(session, size, view)
                 err[f"{view}:{m}"] = _diff(imgs["live"], imgs["baked"])
+                err_pass[f"{view}:{m}"] = _diff(imgs["baked"], imgs["gbuffer"])
         _set_view(session, "ground")
+        pass_result = {}
         result = {}
         for part, only in (("frame", False), ("scattering", True)):
             runs, done = _variants(session, size, noise, scattering_only=only)
@@ -350,10 +359,13 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
                 "baked_to_live": {m: _ratio(timed, f"{m}:baked", f"{m}:live")
                                   for m in ("brute_force", "lut")},
                 "lut_speedup_over_brute_force": {
-                    n: _ratio(timed, f"brute_force:{n}", f"lut:{n}") for n in ("live", "baked")},
+                    n: _ratio(timed, f"brute_force:{n}", f"lut:{n}") for n in steps},
             }
+            pass_result[part] = {"gbuffer_to_scattering": {
+                m: _ratio(timed, f"{m}:gbuffer", f"{m}:baked") for m in ("brute_force", "lut")}}
         out["ground_noise"] = {"view": "ground", **result, "error": err,
                                "bake_size": p["planet.ground_noise_size"]}
+        out["ground_pass"] = {"view": "ground", **pass_result, "error": err_pass}
     finally:
         for k, v in saved.items():
             p.set(k, v)
@@ -432,7 +444,7 @@ def summary(report: dict) -> str:
         lines.append(f"{r['method']:12s} {r['knob']:28s} {str(r['value']):>6s} {r['ms']:8.2f}   "
                      f"{r['in_mean']:.2e} / {r['in_p99']:.2e}       "
                      f"{r['t_mean']:.2e} / {r['t_p99']:.2e}")
-    lines += changes_summary(s.get("changes"))
+    lines += changes_summary(s.get("changes"), s.get("accuracy"))
     m1 = s["accuracy"].get("method_1_defaults")
     if m1:
         lines.append(f"method 1 at its defaults (N = {m1['n_steps']}, τ(PC) rule "
@@ -448,9 +460,10 @@ def _fmt(r: dict) -> str:
     return f"{r['median']:.2f}× [{r['p25']:.2f}–{r['p75']:.2f}]"
 
 
-def changes_summary(c: dict | None) -> list[str]:
+def changes_summary(c: dict | None, accuracy: dict | None = None) -> list[str]:
     """The "changes" section's lines: each change's time ratio (median [p25–p75]) beside its
-    image difference, and the LUT/brute-force speed-up before and after."""
+    image difference, and the LUT/brute-force speed-up before and after — with, given the
+    ``accuracy`` report, each method's error against the reference at the same N beside it."""
     if not c:
         return []
     w, h = c["size"]
@@ -469,9 +482,25 @@ def changes_summary(c: dict | None) -> list[str]:
                      f"{_fmt(g['scattering']['baked_to_live'][m])}; |Δ| mean/max ground "
                      f"{eg['mean_abs']:.1e}/{eg['max_abs']:.1e}, space "
                      f"{es['mean_abs']:.1e}/{es['max_abs']:.1e}")
+    gp = c.get("ground_pass")
+    if gp:
+        for m in ("brute_force", "lut"):
+            eg, es = gp["error"][f"ground:{m}"], gp["error"][f"space:{m}"]
+            lines.append(f"  ground pass in the G-buffer / in the scattering pass, {m:11s}: frame "
+                         f"{_fmt(gp['frame']['gbuffer_to_scattering'][m])}, scattering pass "
+                         f"{_fmt(gp['scattering']['gbuffer_to_scattering'][m])}; |Δ| max ground "
+                         f"{eg['max_abs']:.1e}, space {es['max_abs']:.1e}")
     for part in ("frame", "scattering"):
         su = g[part]["lut_speedup_over_brute_force"]
-        lines.append(f"  LUT speed-up over brute force, ground view, {part:10s}: before (live) "
-                     f"{_fmt(su['live'])}, after (baked) {_fmt(su['baked'])} "
+        after = f", ground pass in the G-buffer {_fmt(su['gbuffer'])}" if "gbuffer" in su else ""
+        lines.append(f"  LUT speed-up over brute force, ground view, {part:10s}: live noise "
+                     f"{_fmt(su['live'])}, baked {_fmt(su['baked'])}{after} "
                      "(the thesis: 3.3–7×)")
+    rows = {r["method"]: r for r in (accuracy or {}).get("rows", [])
+            if r["knob"] == "n_steps" and r["value"] == c["n_steps"]}
+    if "brute_force" in rows and "lut" in rows:
+        lines.append(f"  their error against the reference at N = {c['n_steps']} (in-scatter / "
+                     "transmittance, mean): " + ", ".join(
+                         f"{m} {rows[m]['in_mean']:.2e} / {rows[m]['t_mean']:.2e}"
+                         for m in ("brute_force", "lut")))
     return lines

@@ -41,7 +41,12 @@
 // ground_noise = live) the live sum is the reference. The bake moves coastlines by a fraction of
 // a texel (bilinear f between texel centres); the image is otherwise the same (the bench's
 // "changes" section states mean and max |Δ|). Shadow comparisons are the hardware's unless
-// SHADOW_COMPARE_MANUAL (shadow.glsl).
+// SHADOW_COMPARE_MANUAL (shadow.glsl). With SURFACES_IN_GBUFFER (the default, planet.ground_pass
+// = gbuffer) the analytic ground and the background are not shaded here at all: the surfaces'
+// pass shades them once into the G-buffer's colour where no mesh is (planet/ground.frag), so this
+// pass reads Color_original(O) of every pixel with one texelFetch and its time is what the
+// method's integral costs; without the define (planet.ground_pass = scattering) they are shaded
+// here as before (planet/surroundings.glsl), the same image.
 // Failure cases: method 1 keeps the thesis's own (the unclipped segment and its dark horizon
 // band, see above; a ray into space that misses the universe sphere gets no in-scattering, the
 // sphere containing the atmosphere); methods 2–4 guard rays that miss or only
@@ -54,22 +59,6 @@
 // =============================================================================================
 #include "atmosphere/model.glsl"
 #include "camera.glsl"
-#ifdef GROUND_NOISE_BAKED
-// f(n) of planet/ground_noise.glsl baked at texel centres (planet/ground_noise_bake.frag): the
-// fine cap about the scene's origin where n falls in its gnomonic square, else the coarse cubemap.
-uniform sampler2D uGroundNoiseCap;
-uniform samplerCube uGroundNoise;
-uniform float uGroundCapTan;        // tan of the cap's half-angle
-float GroundNoise(vec3 n) {
-    vec2 g = n.xz / (max(n.y, 1.0e-6) * uGroundCapTan);
-    float near = texture(uGroundNoiseCap, g * 0.5 + 0.5).r;
-    float far = texture(uGroundNoise, n).r;
-    return n.y > 0.0 && max(abs(g.x), abs(g.y)) < 1.0 ? near : far;
-}
-#else
-#include "ground_noise.glsl"
-float GroundNoise(vec3 n) { return GroundNoiseFbm(n); }
-#endif
 
 #if METHOD >= 2 && METHOD <= 3
 #define SUN_DEPTH_LUT
@@ -83,6 +72,9 @@ uniform vec3 uCameraLocal;   // camera in the local frame at the scene origin (m
 #include "atmosphere/optical_depth_lut.glsl"
 #include "atmosphere/sun_transmittance.glsl"
 #include "shadow.glsl"
+#ifndef SURFACES_IN_GBUFFER
+#include "surroundings.glsl"
+#endif
 #include "atmosphere/inscatter.glsl"
 #if METHOD == 4
 #include "atmosphere/hillaire/hillaire_lookup.glsl"
@@ -93,25 +85,9 @@ out vec4 fragColor;
 
 uniform sampler2D uGColor;
 uniform sampler2D uGPosition;
-uniform sampler2D uStarTex;
-uniform float uStarIntensity;
-uniform bool uSunDisk;
-uniform float uSunDiskCos;        // cos of the sun's angular radius
-uniform float uSunDiskRadiance;
 uniform float uUniverseRadius;    // method 1 integrates to this sphere for rays into space
 uniform vec3 uUniverseCenter;     // its centre relative to the camera: the Earth's, or 0
 uniform int uDebugView;           // 0 final, 1 in-scattering on black, 2 out-scattering on white
-uniform int uGroundShading;       // 0 texture only, 1 Lambert + shadows + sun transmittance
-uniform float uKa;
-uniform float uKd;
-
-vec3 Background(vec3 dir) {
-    vec2 uv = vec2(atan(dir.x, dir.z) / TWO_PI, asin(ClampCosine(dir.y)) / HALF_PI);
-    float s = texture(uStarTex, uv * 2.0).r;
-    vec3 c = vec3(saturate(s * s * s * 3.0) * uStarIntensity);
-    if (uSunDisk && dot(dir, uSunDir) > uSunDiskCos) c += vec3(uSunDiskRadiance);
-    return c;
-}
 
 // Method 1's end of a ray into space: where it leaves the universe sphere (0 if it misses it).
 float UniverseDistance(vec3 dir) {
@@ -120,43 +96,29 @@ float UniverseDistance(vec3 dir) {
                                                                                     : 0.0;
 }
 
-// The analytic Earth: land and sea from gradient fBm over the sphere (baked, or live), the scene
-// origin on land.
-vec3 GroundColor(vec3 rel) {
-    vec3 n = normalize(rel - uEarthCenter);
-    vec3 local = rel + uCameraLocal;
-    float nearOrigin = exp(-dot(local.xz, local.xz) / (2.0 * 16000.0 * 16000.0));
-    float f = GroundNoise(n);
-    float land = smoothstep(-0.02, 0.02, f + 0.6 * nearOrigin - 0.05);
-    vec3 albedo = mix(vec3(0.02, 0.05, 0.09), vec3(0.2, 0.24, 0.11), land);
-    if (uGroundShading == 0) return albedo;
-    float nl = max(dot(n, uSunDir), 0.0);
-    // No depth bias: the analytic ground is not in the shadow map, so it cannot shadow itself, and
-    // any bias only detaches the meshes' shadows from them (0.0004 of the 60 km depth range is 24 m
-    // along the light — more than most of the city's boxes are wide).
-    float diffuse = min(ShadowVisibility(local, 0.0), nl);
-    return albedo * (uKa + uKd * diffuse * SunTransmittanceAt(rel));
-}
-
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     vec4 gpos = texelFetch(uGPosition, px, 0);
     vec3 dir = CameraRayDirection(vUV);
+#ifdef SURFACES_IN_GBUFFER
+    vec3 surface = texelFetch(uGColor, px, 0).rgb;   // a mesh's, or planet/ground.frag's
+#else
     vec3 surface;
+#endif
     float dist;
     bool space = false;
     if (gpos.w > 0.5) {
         dist = length(gpos.xyz);
         dir = gpos.xyz / dist;
+#ifndef SURFACES_IN_GBUFFER
         surface = texelFetch(uGColor, px, 0).rgb;
+#endif
     } else {
         dist = GroundDistance(dir);
-        if (dist < 1.0e29) {
-            surface = GroundColor(dir * dist);
-        } else {
-            space = true;
-            surface = Background(dir);
-        }
+        space = dist >= 1.0e29;
+#ifndef SURFACES_IN_GBUFFER
+        surface = space ? Background(dir) : GroundColor(dir * dist);
+#endif
     }
     if (uDebugView == 1) surface = vec3(0.0);
     if (uDebugView == 2) surface = vec3(1.0);

@@ -1,8 +1,9 @@
 """The planet's fixed per-pixel work out of the per-method pass: the shadow filter's hardware
 depth compares (``sampler2DShadow``, glsl/common/shadow_pcf.glsl) against the manual path, and
 the baked ground noise (glsl/planet/ground_noise_bake.frag) against the live 5-octave sum; the
-shared PCF's numpy twin (app/render/shadows.py) and the bench's "changes" section. Harness:
-tests/helpers/planet.py."""
+ground pass (glsl/planet/ground.frag: the analytic ground and the background into the G-buffer)
+against shading them in the scattering pass; the shared PCF's numpy twin (app/render/shadows.py)
+and the bench's "changes" section. Harness: tests/helpers/planet.py."""
 
 from __future__ import annotations
 
@@ -52,6 +53,26 @@ def test_baked_ground_noise_keeps_the_image(planet):
     assert effect.ground_noise_builds == builds + 1
 
 
+def test_ground_pass_keeps_the_image_and_leaves_the_scattering_pass_the_atmosphere(planet):
+    """The analytic ground and the background shaded into the G-buffer (planet.ground_pass =
+    gbuffer, the default) give the image of shading them in the scattering pass, bit for bit,
+    for every method, lit or textured ground, on the ground and the space view; the default
+    scattering pass then samples neither the stars nor the ground noise."""
+    for cam in (GROUND, SPACE):
+        for method in ("brute_force", "lut", "shadowed", "hillaire"):
+            for noise in ("baked", "live"):
+                sets = {"planet.method": method, "planet.ground_noise": noise}
+                old = planet.shoot(cam, (64, 36), {**sets, "planet.ground_pass": "scattering"})
+                new = planet.shoot(cam, (64, 36), {**sets, "planet.ground_pass": "gbuffer"})
+                assert np.array_equal(new.rgb, old.rgb), (cam.position, method, noise)
+                assert np.all(new.gpos[~new.mesh] == 0.0)
+    shot = planet.shoot(GROUND, (64, 36), {"planet.method": "lut"})
+    ground = ~shot.mesh & (np.arange(36)[:, None] > 20)   # below the horizon, no mesh
+    assert ground.any() and np.all(shot.gcolour[ground].max(axis=-1) > 0.0)
+    prog = planet.effect.program(planet.effect.composite_spec())
+    assert not {"uStarTex", "uGroundNoise", "uGroundNoiseCap"} & set(prog.samplers())
+
+
 def test_pcf_twin_matches_the_glsl_kernel():
     """The numpy twin's radius and σ are the shared GLSL file's defaults; its weights are the
     normalised Gaussian; a uniform map is fully lit or fully dark; one step edge gives the
@@ -87,8 +108,12 @@ def test_bench_changes_section_reports_ratios_and_errors(gl_ctx):
     assert sc["frame_ratio_hardware_to_manual"]["median"] > 0.0
     g = c["ground_noise"]
     assert g["error"]["ground:lut"]["mean_abs"] < 1e-6
+    gp = c["ground_pass"]
+    assert all(e["max_abs"] == 0.0 for e in gp["error"].values()), gp["error"]
+    assert gp["scattering"]["gbuffer_to_scattering"]["lut"]["median"] > 0.0
     for part in ("frame", "scattering"):
-        assert set(g[part]["lut_speedup_over_brute_force"]) == {"live", "baked"}
+        assert set(g[part]["lut_speedup_over_brute_force"]) == {"live", "baked", "gbuffer"}
     lines = pbench.changes_summary(c)
     text = "\n".join(lines)
     assert "hardware depth compares / manual" in text and "LUT speed-up" in text
+    assert "ground pass in the G-buffer" in text

@@ -91,9 +91,10 @@ def test_methods_1_to_3_and_shadow_programs_compile_and_render_finite(planet):
 
 @pytest.mark.parametrize("method", ["brute_force", "lut"])
 def test_scattering_parameters_change_the_image_without_recompiling(planet, method):
-    # no constants as #define: the method and the default path switches only (baked ground noise)
+    # no constants as #define: the method and the default path switches only (the ground and
+    # the background read from the G-buffer)
     assert dict(COMPOSITE[method].defines) == {"METHOD": METHODS.index(method) + 1,
-                                               "GROUND_NOISE_BAKED": 1}
+                                               "SURFACES_IN_GBUFFER": 1}
     cam = camera(pitch=8.0)
     base_sets = {"planet.method": method, "planet.debug_view": "in_scatter", **DARK_SPACE}
     base = planet.shoot(cam, SMALL, base_sets)

@@ -7,6 +7,8 @@ Per frame:
    map size) changed (spec/002 §3.1, §4) — published as ``frame.shadows["sun"]``;
 2. opaque stage: surfaces (mountains, city block) into a G-buffer: colour and camera-relative
    position;
+   then the ground pass: the analytic Earth and the background where no mesh is (the default
+   ``planet.ground_pass = gbuffer``);
 3. fog stage: one full-screen scattering pass that finds what each pixel sees (G-buffer, the
    analytic Earth, or space) and applies the chosen method (``glsl/planet/composite.frag``):
    the sky and the aerial perspective of everything in front of it.
@@ -15,8 +17,13 @@ Fixed work kept out of the per-method pass: the analytic Earth's land/sea noise 
 into a cubemap (``glsl/planet/ground_noise_bake.frag``, rebuilt only when its size changes;
 ``planet.ground_noise = live`` sums it per pixel as before), and the shadow filter's depth
 comparisons are the hardware's (``sampler2DShadow``, ``glsl/common/shadow_pcf.glsl``;
-``planet.shadow_compare = manual`` does them by hand as before). ``natura bench planet``'s
-"changes" section times each against its earlier path in one interleaved run.
+``planet.shadow_compare = manual`` does them by hand as before); the analytic Earth and the
+space background (stars, the sun's disk) are shaded once per frame into the G-buffer's colour
+by a ground pass after the meshes (``glsl/planet/ground.frag``, only where no mesh is), so the
+scattering pass reads every pixel's surface colour with one fetch and its time is what the
+method's integral costs (``planet.ground_pass = scattering`` shades them there as before, the
+same image). ``natura bench planet``'s "changes" section times each against its earlier path in
+one interleaved run.
 
 Slots: produces ``exposure`` (the thesis's pupil) and ``shadows``.
 
@@ -50,30 +57,54 @@ PC_RULES = ("by_method", "midpoint", "thesis")
 UNIVERSE_RADIUS = atm.BOTTOM_RADIUS_M + 200_000.0
 
 GROUND_NOISE = ("baked", "live")
+#: where the analytic ground and the space background are shaded: once into the G-buffer by the
+#: ground pass (planet/ground.frag), or in the per-method scattering pass (the earlier path)
+GROUND_PASS = ("gbuffer", "scattering")
 #: half-angle of the baked ground noise's fine cap about the scene's origin (the space view's
 #: horizon is 17° from it)
 GROUND_CAP_DEG = 25.0
 GROUND_CAP_TAN = math.tan(math.radians(GROUND_CAP_DEG))
 
 
-def composite_spec(method: str, compare: str = "hardware", noise: str = "baked") -> ProgramSpec:
+def composite_spec(method: str, compare: str = "hardware", noise: str = "baked",
+                   ground: str = "gbuffer") -> ProgramSpec:
     """The scattering pass for ``method``, with the shadow comparisons ``compare`` (hardware or
-    manual) and the ground's noise ``noise`` (baked or live)."""
+    manual), the ground's noise ``noise`` (baked or live; only where the pass shades the ground
+    itself) and ``ground``: ``gbuffer`` reads the analytic ground's and the background's colour
+    from the G-buffer (the ground pass's, :func:`ground_spec`), ``scattering`` shades them here."""
     defines: tuple = (("METHOD", METHODS.index(method) + 1),)
     if compare == "manual":
         defines += (("SHADOW_COMPARE_MANUAL", 1),)
-    if noise == "baked":
+    if ground == "gbuffer":
+        defines += (("SURFACES_IN_GBUFFER", 1),)
+    elif noise == "baked":
         defines += (("GROUND_NOISE_BAKED", 1),)
     return ProgramSpec("planet/composite", vert="common/fullscreen.vert",
                        frag="planet/composite.frag", defines=defines)
 
 
-#: the defaults (hardware compares, baked noise) by method
+def ground_spec(compare: str = "hardware", noise: str = "baked") -> ProgramSpec:
+    """The ground pass (planet/ground.frag): the analytic Earth and the background into the
+    G-buffer where no mesh is, with the shadow comparisons ``compare`` and the noise ``noise``."""
+    defines: tuple = ()
+    if compare == "manual":
+        defines += (("SHADOW_COMPARE_MANUAL", 1),)
+    if noise == "baked":
+        defines += (("GROUND_NOISE_BAKED", 1),)
+    return ProgramSpec("planet/ground", defines=defines)
+
+
+#: the defaults (hardware compares, the ground in the G-buffer) by method
 COMPOSITE = {m: composite_spec(m) for m in METHODS}
 #: every variant `natura shaders check` compiles: the defaults and each earlier path alone
-COMPOSITE_VARIANTS = tuple(composite_spec(m, c, n) for m in METHODS
-                           for c, n in (("hardware", "baked"), ("manual", "baked"),
-                                        ("hardware", "live")))
+COMPOSITE_VARIANTS = tuple(composite_spec(m, c, n, g) for m in METHODS
+                           for c, n, g in (("hardware", "baked", "gbuffer"),
+                                           ("manual", "baked", "gbuffer"),
+                                           ("hardware", "baked", "scattering"),
+                                           ("manual", "baked", "scattering"),
+                                           ("hardware", "live", "scattering")))
+GROUND = ground_spec()
+GROUND_VARIANTS = (GROUND, ground_spec("manual"), ground_spec("hardware", "live"))
 SURFACE = ProgramSpec("planet/surface")
 SURFACE_MANUAL = ProgramSpec("planet/surface", defines=(("SHADOW_COMPARE_MANUAL", 1),))
 GROUND_NOISE_BAKE = ProgramSpec("planet/ground_noise_bake", vert="common/fullscreen.vert",
@@ -108,7 +139,8 @@ class Planet(Effect):
     name = "planet"
     title = "Atmospheric scattering"
     spec = "spec/002"
-    programs = (COMPOSITE_VARIANTS + (SURFACE, SURFACE_MANUAL, SHADOW_DEPTH, GROUND_NOISE_BAKE)
+    programs = (COMPOSITE_VARIANTS + GROUND_VARIANTS
+                + (SURFACE, SURFACE_MANUAL, SHADOW_DEPTH, GROUND_NOISE_BAKE)
                 + tuple(hillaire.HillaireLuts.programs))
     extra_groups = ("atmosphere", "hillaire")
     stages = (Stage.SHADOW, Stage.OPAQUE, Stage.FOG)
@@ -147,6 +179,11 @@ class Planet(Effect):
                   "baked (a cubemap made once, one lookup per pixel) or live (5 octaves of Perlin "
                   "noise per pixel, the reference)", kind="choice", choices=GROUND_NOISE,
                   section=f"{s} §5"),
+            Param("planet.ground_pass", "gbuffer", doc="where the analytic ground and the "
+                  "space background are shaded: gbuffer (once per frame into the G-buffer by the "
+                  "ground pass, outside the per-method scattering pass, whose time is then the "
+                  "atmosphere's alone) or scattering (in the scattering pass: the earlier path, "
+                  "the same image)", kind="choice", choices=GROUND_PASS, section=f"{s} §5"),
             Param("planet.ground_noise_size", 2048, 64, 8192, "texels per side of the baked ground "
                   "noise's cap about the origin (its cubemap for the rest: a quarter of that)",
                   kind="int", section=f"{s} §5"),
@@ -442,7 +479,30 @@ class Planet(Effect):
 
     def composite_spec(self) -> ProgramSpec:
         p = self.params
-        return composite_spec(self.method(), p["planet.shadow_compare"], p["planet.ground_noise"])
+        return composite_spec(self.method(), p["planet.shadow_compare"], p["planet.ground_noise"],
+                              p["planet.ground_pass"])
+
+    def ground_spec(self) -> ProgramSpec:
+        p = self.params
+        return ground_spec(p["planet.shadow_compare"], p["planet.ground_noise"])
+
+    def _surroundings(self, prog, frame, textures: dict) -> None:
+        """Uniforms and textures of planet/surroundings.glsl (the analytic ground and the
+        background) into ``prog`` and ``textures``."""
+        p = self.params
+        prog.set_many({
+            "uStarIntensity": p["planet.star_intensity"],
+            "uSunDisk": p["planet.sun_disk"], "uSunDiskCos": math.cos(math.radians(0.27)),
+            "uSunDiskRadiance": 100.0 * self.model().sun_intensity,
+            "uGroundShading": self.shading(),
+        })
+        textures["uStarTex"] = self._stars
+        if p["planet.ground_noise"] == "baked":
+            cap, cube = self.ground_noise()
+            textures.update({"uGroundNoiseCap": cap, "uGroundNoise": cube})
+            prog.set("uGroundCapTan", GROUND_CAP_TAN)
+        else:
+            textures.update(self._gradient_textures())
 
     def projection(self, frame) -> np.ndarray:
         altitude = max(frame.camera.position[1], 0.0)
@@ -480,6 +540,29 @@ class Planet(Effect):
         ctx.enable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
         self._draw_meshes(prog)
         ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+        if p["planet.ground_pass"] == "gbuffer":
+            self.render_ground(frame, size)
+
+    def render_ground(self, frame, size) -> None:
+        """The analytic Earth and the background into the G-buffer where no mesh is (the far
+        plane, depth test '<=' against the meshes' depth, no depth writes)."""
+        ctx = self.gpu.ctx
+        _, _, _, fbo = self._gbuffer_for(size)
+        prog = self.program(self.ground_spec())
+        textures = self._shared(prog, frame)
+        self._surroundings(prog, frame, textures)
+        prog.set_many(frame.camera_uniforms())
+        prog.bind_textures(textures)
+        fbo.use()  # the shadow map may have been rendered just now
+        fbo.depth_mask = False
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.depth_func = "<="
+        try:
+            draw_fullscreen(prog)
+        finally:
+            ctx.depth_func = "<"
+            ctx.disable(moderngl.DEPTH_TEST)
+            fbo.depth_mask = True
 
     def render_composite(self, frame, target) -> None:
         method = self.method()
@@ -487,25 +570,17 @@ class Planet(Effect):
         textures = self._shared(prog, frame)
         p = self.params
         colour, position, _, _ = self._gbuffer_for(target.size)
-        textures.update({"uGColor": colour, "uGPosition": position, "uStarTex": self._stars})
+        textures.update({"uGColor": colour, "uGPosition": position})
         prog.set_many(frame.camera_uniforms())
         prog.set_many({
-            "uStarIntensity": p["planet.star_intensity"],
-            "uSunDisk": p["planet.sun_disk"], "uSunDiskCos": math.cos(math.radians(0.27)),
-            "uSunDiskRadiance": 100.0 * self.model().sun_intensity,
             "uUniverseRadius": p["planet.universe_radius"],
             "uUniverseCenter": self.universe_centre(frame),
             "uDebugView": DEBUG_VIEWS.index(p["planet.debug_view"]),
-            "uGroundShading": self.shading(),
             "uSteps": p["planet.n_steps"], "uInnerSteps": p["planet.inner_steps"],
             "uThesisPcRule": self.pc_rule() == "thesis",
         })
-        if p["planet.ground_noise"] == "baked":
-            cap, cube = self.ground_noise()
-            textures.update({"uGroundNoiseCap": cap, "uGroundNoise": cube})
-            prog.set("uGroundCapTan", GROUND_CAP_TAN)
-        else:
-            textures.update(self._gradient_textures())
+        if p["planet.ground_pass"] == "scattering":
+            self._surroundings(prog, frame, textures)
         if method == "hillaire":
             luts = self.hillaire()
             luts.update(self.model_uniforms(frame), frame.camera_uniforms())
