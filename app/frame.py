@@ -17,10 +17,17 @@ The slots (:data:`SLOTS` is the machine-readable list):
     An :class:`Environment`: the scene's reflection probe, a cubemap of linear radiance with or
     without the sun disk, re-rendered by its producer only when it changed.
 ``wind``
-    (x, z) wind velocity in m/s over the scene.
+    (x, z) wind velocity in m/s over the scene (None until an effect fills it: the scene's
+    ``wind`` effect, or the ocean from its own parameters when none did).
 ``water``
     A :class:`WaterSurface`: height, displacement and normal of the water at world points, and
     the simulation time those answers describe.
+``wakes``
+    Trails floating objects leave on the water (:class:`app.sim.wake.WakeTrail`: samples in
+    world space, so a wake has inertia); the water draws them as foam.
+``dry_mask``
+    A :class:`DryMask`: window depths of the volumes the water must not enter (a hull and its
+    deck), drawn in the opaque stage; the water discards its fragments inside them.
 ``image``
     The :class:`SceneImage` the frame is drawn into: colour (linear radiance of every stage drawn
     so far) and depth (window depth of the opaque geometry drawn so far), for effects that
@@ -46,6 +53,7 @@ import numpy as np
 from .errors import NaturaError
 from .sim.camera import Camera
 from .sim.daynight import Light
+from .sim.wake import WakeTrail
 
 if TYPE_CHECKING:
     from .gpu.targets import RenderTarget
@@ -159,6 +167,16 @@ class ShadowMap:
     bias: float = 0.0
 
 
+@dataclass
+class DryMask:
+    """Where water must not be drawn: window depths (textures at the frame's size, one float
+    channel) of the nearest front faces and the farthest back faces of the dry volumes; a water
+    fragment whose depth lies between them is inside a boat."""
+
+    front: Any
+    back: Any
+
+
 #: slot name → what it holds (the attributes of FrameContext effects may produce and consume)
 SLOTS: dict[str, str] = {
     "hour": "time of day in hours",
@@ -168,6 +186,8 @@ SLOTS: dict[str, str] = {
     "environment": "reflection probe (Environment)",
     "wind": "(x, z) wind velocity in m/s",
     "water": "water heights, displacements and normals (WaterSurface)",
+    "wakes": "trails left on the water (WakeTrail list)",
+    "dry_mask": "volumes the water must not enter (DryMask)",
     "image": "colour and depth drawn so far (SceneImage)",
     "shadows": "shadow maps by light name (ShadowMap)",
     "exposure": "factor on output.exposure",
@@ -194,8 +214,10 @@ class FrameContext:
     moon: Light | None = None
     main_light: Light | None = None
     environment: Environment | None = None
-    wind: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    wind: np.ndarray | None = None  # (x, z) m/s; None until an effect fills it
     water: WaterSurface | None = None
+    wakes: list[WakeTrail] = field(default_factory=list)
+    dry_mask: DryMask | None = None
     image: SceneImage | None = None
     shadows: dict[str, ShadowMap] = field(default_factory=dict)
     exposure: float = 1.0  # multiplies output.exposure (e.g. the atmosphere thesis's "pupil")

@@ -33,6 +33,9 @@ out vec4 fragColor;
 
 #include "ocean/waves.glsl"
 #include "ocean/shading.glsl"
+#ifdef OCEAN_FLOATING  // a scene with floating objects: their wakes
+#include "wake.glsl"
+#endif
 
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
@@ -45,6 +48,9 @@ void main() {
     vec3 n;
     float foam, lost;
     OceanSurface(s.xy, s.z, n, foam, lost);
+#ifdef OCEAN_FLOATING
+    foam = max(foam, WakeFoam(s.xy));  // a boat's wake, left in world space (wake.glsl)
+#endif
     vec3 v = normalize(-r.xyz);
     float crest = r.w / max(uSeaHs, 1e-3);
     vec3 c;

@@ -12,7 +12,9 @@
 // removes the waves the pixel cannot show and hands their slope variance to the glitter);
 // a back face seen from above at grazing angles is a depth-test near-tie, not the underside
 // (only uViewMode decides, per pixel near the surface: the waterline); the refracted lookup
-// into the scene copy is clamped to the screen; negative radiance is clamped to 0.
+// into the scene copy is clamped to the screen; negative radiance is clamped to 0; waves
+// through a hull (a floating object's dry volume, dry_mask.glsl) are discarded; a boat's wake
+// (wake.glsl) is foam left in world space, so it does not turn with the boat.
 in vec2 vOff;
 in vec3 vRel;
 in float vHeight;
@@ -29,12 +31,22 @@ out vec4 fragColor;
 
 #include "ocean/waves.glsl"
 #include "ocean/shading.glsl"
+#ifdef OCEAN_FLOATING  // a scene with floating objects: their wakes and dry volumes
+#include "wake.glsl"
+#include "dry_mask.glsl"
+#endif
 
 void main() {
+#ifdef OCEAN_FLOATING
+    if (InsideDryVolume()) discard;  // inside a hull: the deck stays dry
+#endif
     float footprint = max(length(fwidth(vOff)), 1e-4);
     vec3 n;
     float foam, lost;
     OceanSurface(vOff, footprint, n, foam, lost);
+#ifdef OCEAN_FLOATING
+    foam = max(foam, WakeFoam(vOff));
+#endif
     vec3 v = normalize(-vRel);
     vec3 c;
     // Seen from below only when the camera is under the water (a back face seen from above is a

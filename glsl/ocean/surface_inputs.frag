@@ -10,7 +10,8 @@
 // Failure cases guarded: the footprint comes from fwidth here, where the triangle's derivatives
 // exist (the full-screen shading pass has none), with the forward pass's floor of 1e-4 m; float
 // targets (RGBA32F) keep metres exact at the mesh's extent; depth is tested and written against
-// the scene's depth exactly as the forward pass does, so the same fragments win.
+// the scene's depth exactly as the forward pass does, so the same fragments win; fragments
+// inside a floating object's dry volume (dry_mask.glsl) are discarded as in the forward pass.
 in vec2 vOff;
 in vec3 vRel;
 in float vHeight;
@@ -19,7 +20,14 @@ layout(location = 0) out vec4 gRel;
 layout(location = 1) out vec4 gSurf;
 layout(location = 2) out vec4 gGrad;
 
+#ifdef OCEAN_FLOATING  // a scene with floating objects: their dry volumes
+#include "dry_mask.glsl"
+#endif
+
 void main() {
+#ifdef OCEAN_FLOATING
+    if (InsideDryVolume()) discard;  // inside a hull: no input, so no water shaded there
+#endif
     float footprint = max(length(fwidth(vOff)), 1e-4);
     gRel = vec4(vRel, vHeight);
     gSurf = vec4(vOff, footprint, 1.0);

@@ -55,9 +55,12 @@ def test_gerstner_query_matches_the_numpy_inversion_and_normals_point_up(ocean_s
 def test_fft_query_lags_one_frame_and_matches_the_reference(ocean_shot):
     s = ocean_shot(("ocean.model=fft", "ocean.wind=12", "ocean.cascades=2"))
     s.frame(dt=0.0)
-    assert s.ocean.query_time is None  # nothing read back yet: flat water, documented
+    # the first frame of a sea reads its own simulation at once (one stall): never flat water
+    assert s.ocean.query_time == pytest.approx(0.0)
+    first = s.ocean.water(np.array([1.0, 7.0]), np.array([2.0, -3.0])).height
+    assert np.abs(first).max() > 1e-3
     s.frame(dt=0.5)
-    assert s.ocean.query_time == pytest.approx(0.0)  # the sea of the previous frame
+    assert s.ocean.query_time == pytest.approx(0.0)  # then the sea of the previous frame
     s.frame(dt=0.5)
     assert s.ocean.query_time == pytest.approx(0.5)
     ref = oc.FFTOcean(s.ocean.spectrum_params(), n=64, patch_sizes=s.ocean.patch_sizes(),

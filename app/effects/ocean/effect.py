@@ -15,11 +15,17 @@ What lives where (``app/effects/ocean/``)
   synthesis, inversion) and ``app/sim/ocean_validation.py``; GLSL: ``glsl/ocean/`` (waves.glsl =
   the three models, shading.glsl = Fresnel, glitter, foam, underwater light).
 
-Slots: produces ``wind`` and ``water``; reads ``environment`` (fallback: a flat grey probe),
-``main_light`` (fallback: a fixed white light) and ``image`` (Snell's window refracts it).
+Slots: produces ``water``, and ``wind`` from its own parameters when no effect before it filled
+the slot (the maritime scene's one wind: then the sea is built on that wind); reads
+``environment`` (fallback: a flat grey probe), ``main_light`` (fallback: a fixed white light),
+``image`` (Snell's window refracts it), ``wakes``
+(foam trails, glsl/common/wake.glsl; none: no wake) and ``dry_mask`` (the hulls it must not draw
+through, glsl/common/dry_mask.glsl; none: nothing masked).
 """
 
 from __future__ import annotations
+
+import math
 
 import moderngl
 import numpy as np
@@ -52,6 +58,18 @@ SHADE = ProgramSpec("ocean/shade", vert="ocean/band.vert", frag="ocean/shade.fra
 # software rasteriser would run it on every pixel, uniform branch or not)
 SHADE_ABOVE = ProgramSpec("ocean/shade_above", vert="ocean/band.vert", frag="ocean/shade.frag",
                           defines=(("OCEAN_EXPLICIT_GRADIENTS", 1), ("OCEAN_SEEN_FROM_ABOVE", 1)))
+
+
+def floating(spec: ProgramSpec) -> ProgramSpec:
+    """``spec`` for a scene with floating objects: their wakes and dry volumes compiled in
+    (OCEAN_FLOATING; a software rasteriser would run the wake's loop on every pixel of a scene
+    without one, so the other scenes' programs leave it out)."""
+    return ProgramSpec(spec.name + "_floating", vert=spec.vert or f"{spec.name}.vert",
+                       frag=spec.frag or f"{spec.name}.frag",
+                       defines=spec.defines + (("OCEAN_FLOATING", 1),))
+
+
+FLOATING = {s.name: floating(s) for s in (SURFACE, SURFACE_INPUTS, SHADE, SHADE_ABOVE)}
 # the GPU simulation's programs (app/effects/ocean/fft.py, app/gpu/fft.py), listed so that
 # `natura shaders check` compiles them and their @param annotations are found
 SIMULATION = (
@@ -72,11 +90,12 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     title = "Ocean"
     spec = "spec/000"
     programs = (SURFACE, FAR, UNDERWATER, SURFACE_INPUTS, FAR_INPUTS, SHADE,
-                SHADE_ABOVE) + SIMULATION
+                SHADE_ABOVE) + tuple(FLOATING.values()) + SIMULATION
     #: water stage seen from above; fog stage near or under the surface (see passes())
     stages = (Stage.WATER, Stage.FOG)
     produces = frozenset({"wind", "water"})
-    consumes = {"environment": "optional", "main_light": "optional", "image": "optional"}
+    consumes = {"environment": "optional", "main_light": "optional", "image": "optional",
+                "wind": "optional", "wakes": "optional", "dry_mask": "optional"}
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -117,6 +136,13 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         p = self.params
         self.time = frame.time
         self.camera_pos = np.asarray(frame.camera.position, dtype=float)
+        # the scene's one wind, when an effect before the ocean filled the slot (spec/000 §1.4)
+        own_wind = frame.wind is None
+        if own_wind:
+            self.frame_wind = None
+        else:
+            vx, vz = (float(v) for v in frame.wind)
+            self.frame_wind = (math.hypot(vx, vz), math.degrees(math.atan2(vx, -vz)) % 360.0)
         model = p["ocean.model"]
         if model == "fft":
             self._ensure_fft()
@@ -127,6 +153,8 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
                             foam_width=[w for _, w in thresholds])
             self.sim.request_readback()
             got = self.sim.poll_readback()  # the previous frame's request: no stall
+            if got is None:  # the first frame of this sea: read it now (one stall), so floating
+                got = self.sim.read_newest()  # objects and the camera never start on flat water
             if got is not None:
                 self._readback = got
                 self.query_time = got[0]
@@ -139,7 +167,8 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
             else:
                 a, k, _ = self.sine_wave()
                 self.resolved_mss = 0.5 * (k * a) ** 2
-        frame.wind = wind_vector(p["ocean.wind_direction"]) * p["ocean.wind"]
+        if own_wind:
+            frame.wind = wind_vector(p["ocean.wind_direction"]) * p["ocean.wind"]
         frame.water = self
         self.camera_height_water = float(self.height(self.camera_pos[0], self.camera_pos[2]))
         self.underwater = bool(self.camera_pos[1] < self.camera_height_water)
@@ -170,6 +199,9 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     def panel_notes(self) -> list[str]:
         model = self.params["ocean.model"]
         lines = [self.LESSONS[model]]
+        if self.frame_wind is not None:
+            lines.append(f"wind {self.frame_wind[0]:.1f} m/s toward {self.frame_wind[1]:.0f}° from "
+                         "the scene's wind (ocean.wind and ocean.wind_direction are not used)")
         lines.append(f"Hs {self.significant_height():.2f} m · slope variance "
                      f"{self.resolved_mss:.4f} (Cox–Munk {self.cox_munk_mss():.4f})")
         if model == "fft" and self.sim is not None:
@@ -228,6 +260,11 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         else:
             self._render_deferred(frame, target)
 
+    @staticmethod
+    def variant(spec: ProgramSpec, frame) -> ProgramSpec:
+        """The floating-objects variant of ``spec`` when the frame has a wake or a dry mask."""
+        return FLOATING[spec.name] if (frame.wakes or frame.dry_mask is not None) else spec
+
     def _mesh_draw(self, prog, frame) -> None:
         p = self.params
         self.mesh.draw(prog, frame.camera, frame.aspect, p["ocean.mesh_segments"],
@@ -245,9 +282,11 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         target.use()
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE)
-        prog = self.program(SURFACE)
+        prog = self.program(self.variant(SURFACE, frame))
         textures = self.wave_uniforms(prog)
         textures.update(self.shading_uniforms(prog, frame, env))
+        textures.update(self.dry_mask_textures(prog, frame))
+        self.wake_uniforms(prog, frame)
         textures["uSceneCopy"] = scene_copy
         prog.bind_textures(textures)
         prog.set_many({"uViewProjRel": vp, "uCameraPos": tuple(frame.camera.position),
@@ -280,8 +319,8 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         self._inputs.of(target).use()
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE)
-        prog = self.program(SURFACE_INPUTS)
-        prog.bind_textures(self.wave_uniforms(prog))
+        prog = self.program(self.variant(SURFACE_INPUTS, frame))
+        prog.bind_textures({**self.wave_uniforms(prog), **self.dry_mask_textures(prog, frame)})
         prog.set_many({"uViewProjRel": vp, "uCameraPos": tuple(frame.camera.position)})
         self._mesh_draw(prog, frame)
         self.far_band = (far_band(frame.camera, frame.aspect, int(target.size[1]),
@@ -302,9 +341,10 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         viewport = tuple(float(s) for s in target.size)
         target.use()
         ctx.enable(moderngl.DEPTH_TEST)
-        shade = self.program(SHADE_ABOVE if self.view_mode() == 0 else SHADE)
+        shade = self.program(self.variant(SHADE_ABOVE if self.view_mode() == 0 else SHADE, frame))
         textures = self.wave_uniforms(shade)
         textures.update(self.shading_uniforms(shade, frame, self.environment(frame)))
+        self.wake_uniforms(shade, frame)
         textures.update({"uSceneCopy": scene_copy, "uInputRel": self._inputs.rel,
                          "uInputSurf": self._inputs.surf, "uInputGrad": self._inputs.grad})
         shade.bind_textures(textures)

@@ -468,6 +468,20 @@ class GpuOceanSim:
         self._rb_previous = self._rb_pending
         self._rb_pending = (self.time, slot)
 
+    def read_newest(self):
+        """The newest request's result *now* — a stall until the GPU has filled it; for the
+        first frame of a sea, when there is no earlier request to map. ``(time, arrays)`` as
+        :meth:`poll_readback`, or None without a request."""
+        if self._rb_pending is None:
+            return None
+        t, slot = self._rb_pending
+        n = self.n
+        arrays = [np.frombuffer(buf.read(), dtype=np.float32).reshape(n, n, 4).copy()
+                  for buf in self._pbo[slot]]
+        self._rb_latest = (t, arrays)
+        self._rb_previous = None
+        return self._rb_latest
+
     def poll_readback(self):
         """``(time, [(N, N, 4) float32 arrays, one per cascade])`` of the most recent request
         *before* the newest one, or None until there is one.

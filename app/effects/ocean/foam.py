@@ -24,7 +24,7 @@ class FoamCalibration:
             t = p["ocean.foam_threshold"]
             return [(t, t)] * (len(self.cascade_bands) if model == "fft" and self.cascade_bands
                                else 1)
-        return self._foam.get((model, p["ocean.choppiness"], p["ocean.wind"],
+        return self._foam.get((model, p["ocean.choppiness"], self.wind_speed(),
                                self._sim_key if model == "fft" else self._waves.key))
 
     def _calibrate_foam(self, key) -> list[tuple[float, float]]:

@@ -3,9 +3,10 @@
 
 Sine and Gerstner are evaluated exactly in numpy; the FFT reads back the displacement textures
 asynchronously — the answer describes the sea **one frame earlier** (the frame before the last
-``update``), never stalls the GPU, and its time is ``query_time``. Heights come from the
-iterative inversion of the horizontal displacement (spec/000 §1.3, 3 corrections + a final
-read); normals from central differences with a step inside the shortest wave.
+``update``), never stalls the GPU, and its time is ``query_time`` — except on the first frame
+of a sea, which reads its own simulation at once (one stall) so nothing starts on flat water.
+Heights come from the iterative inversion of the horizontal displacement (spec/000 §1.3, 3
+corrections + a final read); normals from central differences with a step inside the shortest wave.
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ class WaterQueries:
         model = self.params["ocean.model"]
         if model == "sine":
             a, k, w = self.sine_wave()
-            d = wind_vector(self.params["ocean.wind_direction"])
+            d = wind_vector(self.wind_direction())
             eta = a * np.sin(k * (d[0] * x + d[1] * z) - w * self.time)
             out = np.stack([np.zeros_like(eta), eta, np.zeros_like(eta)], axis=-1)
         elif model == "gerstner":

@@ -14,10 +14,25 @@ from .params import wind_vector
 class SeaState:
     """Mixin of :class:`~app.effects.ocean.Ocean`: the sea its parameters describe."""
 
+    #: (speed m/s, direction °) of the frame's ``wind`` slot when an effect before the ocean
+    #: filled it (the scene's one wind); None: the ocean's own parameters
+    frame_wind: tuple[float, float] | None = None
+
+    def wind_speed(self) -> float:
+        """Wind speed [m/s] the sea is built on: the frame's wind, else ``ocean.wind``."""
+        return self.frame_wind[0] if self.frame_wind is not None else self.params["ocean.wind"]
+
+    def wind_direction(self) -> float:
+        """Direction [°] the wind blows toward (0 = north, −z; 90 = east, +x): the frame's wind,
+        else ``ocean.wind_direction``."""
+        if self.frame_wind is not None:
+            return self.frame_wind[1]
+        return self.params["ocean.wind_direction"]
+
     def spectrum_params(self) -> oc.SpectrumParams:
         p = self.params
-        d = wind_vector(p["ocean.wind_direction"])
-        return oc.SpectrumParams(kind=p["ocean.spectrum"], wind_speed=p["ocean.wind"],
+        d = wind_vector(self.wind_direction())
+        return oc.SpectrumParams(kind=p["ocean.spectrum"], wind_speed=self.wind_speed(),
                                  wind_direction=math.atan2(d[1], d[0]),
                                  fetch=p["ocean.fetch"] * 1000.0,
                                  gamma=p["ocean.gamma"], depth=p["ocean.depth"],
@@ -114,4 +129,4 @@ class SeaState:
 
     def cox_munk_mss(self) -> float:
         """Cox & Munk 1954 clean-surface mean-square slope 0.003 + 5.12e-3·U."""
-        return 0.003 + 5.12e-3 * self.params["ocean.wind"]
+        return 0.003 + 5.12e-3 * self.wind_speed()

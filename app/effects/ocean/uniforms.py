@@ -23,7 +23,7 @@ class OceanUniforms:
         foam_t, foam_w = self.foam_thresholds()[0]
         prog.set_many({"uWaveModel": model, "uTime": float(self.time), "uFadeStart": fade_start,
                        "uFadeEnd": fade_end, "uFoamThreshold": foam_t, "uFoamWidth": foam_w})
-        d = wind_vector(p["ocean.wind_direction"])
+        d = wind_vector(self.wind_direction())
         if model == 0:
             a, k, w = self.sine_wave()
             phase = math.fmod(k * (d[0] * cam[0] + d[1] * cam[2]), 2.0 * math.pi)
@@ -78,3 +78,35 @@ class OceanUniforms:
                            "uMainLightRadiance": (1.0, 1.0, 1.0)})
         self.apply_params(prog)
         return {"uEnvironment": env}
+
+    def wake_uniforms(self, prog, frame) -> None:
+        """The first wake of the frame's ``wakes`` slot (glsl/common/wake.glsl), its samples
+        relative to the camera in float64; none: ``uWakeCount`` 0."""
+        trail = frame.wakes[0] if frame.wakes else None
+        if trail is None or len(trail) == 0:
+            prog.set("uWakeCount", 0)
+            return
+        cam = np.asarray(frame.camera.position, dtype=float)[[0, 2]]
+        n = len(trail)
+        rel = trail.positions - cam
+        samples = np.zeros((64, 4), dtype=np.float32)
+        samples[:n, :2] = rel
+        samples[:n, 2] = frame.time - trail.times
+        samples[:n, 3] = trail.speeds
+        dirs = np.zeros((64, 2), dtype=np.float32)
+        dirs[:n] = trail.directions
+        x0, z0, x1, z1 = trail.bounds(frame.time)
+        w = trail.params
+        prog.set_array("uWakeSample", samples)
+        prog.set_array("uWakeDir", dirs)
+        prog.set_many({"uWakeCount": n,
+                       "uWakeBounds": (x0 - cam[0], z0 - cam[1], x1 - cam[0], z1 - cam[1]),
+                       "uWakeShape": (trail.beam, w.cusp_width, w.spacing, w.wash_spread),
+                       "uWakeLife": (w.cusp_life, w.wash_life, w.strength)})
+
+    def dry_mask_textures(self, prog, frame) -> dict:
+        """The frame's ``dry_mask`` (glsl/common/dry_mask.glsl): its textures by sampler name;
+        none: ``uDryMask`` 0 and nothing bound."""
+        mask = frame.dry_mask
+        prog.set("uDryMask", 0 if mask is None else 1)
+        return {} if mask is None else {"uDryFront": mask.front, "uDryBack": mask.back}

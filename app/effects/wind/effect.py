@@ -1,0 +1,63 @@
+"""The global wind manager of the maritime thesis (spec/000 §1.4, ``Wind.cs``): one wind speed
+and direction for the whole scene.
+
+It draws nothing. Its ``update`` fills the frame's ``wind`` slot with the (x, z) velocity in m/s
+before any other effect runs (a scene lists it first), so everything that reads the slot follows
+one change: the ocean builds its spectrum on it (its own ``ocean.wind`` and
+``ocean.wind_direction`` are then overridden, and the panel says so), the maritime clouds drift
+with it, the boat's sails and flag fill with it.
+
+Direction convention (the ocean's, ``app.effects.ocean.params.wind_vector``): the direction the
+wind blows *toward*, 0° = north (−z), 90° = east (+x).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...frame import Stage
+from ...params import Param
+from ..base import Effect
+
+
+def wind_velocity(speed: float, direction_deg: float) -> np.ndarray:
+    """(x, z) velocity [m/s] of a wind of ``speed`` blowing toward ``direction_deg``
+    (0° = north = −z, 90° = east = +x)."""
+    a = math.radians(direction_deg)
+    return speed * np.array([math.sin(a), -math.cos(a)])
+
+
+class Wind(Effect):
+    name = "wind"
+    title = "Wind"
+    spec = "spec/000"
+    stages = (Stage.BACKGROUND,)
+    produces = frozenset({"wind"})
+
+    @classmethod
+    def python_params(cls) -> list[Param]:
+        s = "spec/000 §1.4"
+        return [
+            Param("wind.speed", 8.0, 0.0, 40.0, "wind speed over the sea (10 m above it): the "
+                  "ocean's spectrum, the clouds' drift, the sails and the flag all take it",
+                  step=0.1, unit="m/s", section=s),
+            Param("wind.direction", 90.0, 0.0, 360.0, "direction the wind blows toward: 0 = "
+                  "north (−z), 90 = east (+x)", step=1.0, unit="°", section=s),
+        ]
+
+    def velocity(self) -> np.ndarray:
+        return wind_velocity(self.params["wind.speed"], self.params["wind.direction"])
+
+    def update(self, frame, dt: float) -> None:
+        frame.wind = self.velocity()
+
+    def passes(self, frame, target) -> list:
+        return []
+
+    def panel_notes(self) -> list[str]:
+        v = self.velocity()
+        speed, direction = self.params["wind.speed"], self.params["wind.direction"]
+        return [f"wind {speed:.1f} m/s toward {direction:.0f}° = ({v[0]:+.1f}, {v[1]:+.1f}) m/s "
+                "(x, z): sea, clouds, sails and flag follow it"]

@@ -1,0 +1,159 @@
+"""The boat's wake (beyond the maritime thesis, which left it out: spec/000 §4 item 7): foam that
+trails in world space and opens into a Kelvin wedge. Twin of ``glsl/common/wake.glsl``.
+
+The thesis's failure: a displacement texture or a triangular decal fixed to the boat turns
+rigidly with it in a sharp turn (the texture has no inertia). Here the wake is a trail of
+samples left where the stern *was*, each remembering its age a, the boat's speed U and its
+direction of travel d when it was left; nothing is tied to the boat afterwards.
+
+Kelvin's construction (Kelvin 1887; Lighthill, "Waves in Fluids", 1978, §3.10): a point P the
+boat passed a seconds ago sent out waves in every direction θ from its course; the one that keeps
+station with the boat has phase speed U·cos θ, and its energy travels at the group speed, half
+of that, so it is now U·a·cos θ / 2 from P: on the circle of diameter U·a/2 from P toward the
+boat (centre P + d·U·a/4, radius U·a/4). The circles' envelope, seen from the boat 3·U·a/4
+ahead of the centre, is a wedge of half-angle asin(1/3) = 19.47° for any speed in deep water.
+Each sample paints
+
+* its **cusp** foam: that ring (its width at least the spacing between successive rings),
+  brightest where it touches the envelope — at the ring points whose direction from the centre
+  makes cos = 1/3 with the travel direction — so a straight run shows the two arms of the V and
+  a turn bends them along the path actually sailed;
+* its **wash**: a band along the path from it to the sample before it, as wide as the beam and
+  spreading slowly: the turbulent foam of the hull and the rudder.
+
+Both fade with age and need way on (a drifting boat leaves no wake): intensity × the speed
+ramp smoothstep(0.3, 2.0, U).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ParamError
+
+#: half-angle of the Kelvin wedge: asin(1/3) [rad]
+KELVIN_HALF_ANGLE = math.asin(1.0 / 3.0)
+#: samples the trail keeps (the shader's uniform arrays hold as many)
+MAX_SAMPLES = 64
+
+
+@dataclass
+class WakeParams:
+    spacing: float = 0.3        # s between samples
+    cusp_life: float = 14.0     # s: cusp foam fades with age as exp(−a / life)
+    wash_life: float = 6.0      # s: the wash's fade
+    cusp_width: float = 0.35    # m: the ring's half-width (at least the ring spacing)
+    wash_spread: float = 0.06   # the wash widens by this × U·a
+    strength: float = 1.0       # foam scale
+
+    def validate(self) -> None:
+        for name, lo, hi in (("spacing", 0.02, 5.0), ("cusp_life", 0.1, 600.0),
+                             ("wash_life", 0.1, 600.0), ("cusp_width", 0.01, 20.0),
+                             ("wash_spread", 0.0, 1.0), ("strength", 0.0, 10.0)):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and lo <= v <= hi):
+                raise ParamError(f"boat.wake_{name}: {v!r} is outside the allowed range "
+                                 f"[{lo:g}, {hi:g}]")
+
+
+@dataclass
+class WakeTrail:
+    """Samples left behind a moving boat, newest first: world (x, z), time left, speed,
+    unit direction of travel (x, z). ``beam`` [m] sets the wash's width."""
+
+    params: WakeParams = field(default_factory=WakeParams)
+    beam: float = 2.6
+    positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    speeds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    _last: float | None = None
+
+    def record(self, t: float, stern_xz, velocity_xz) -> None:
+        """Leave a sample at the stern when ``spacing`` seconds have passed since the last one
+        (time going back — a scrubbed clock — starts a new trail)."""
+        if self._last is not None and t < self._last:
+            self.clear()
+        if self._last is not None and t - self._last < self.params.spacing:
+            return
+        v = np.asarray(velocity_xz, dtype=float)
+        speed = float(np.hypot(v[0], v[1]))
+        d = v / speed if speed > 1e-6 else np.array([0.0, 1.0])
+        stern = np.asarray(stern_xz, float)[None]
+        self.positions = np.vstack([stern, self.positions])[:MAX_SAMPLES]
+        self.times = np.concatenate([[t], self.times])[:MAX_SAMPLES]
+        self.speeds = np.concatenate([[speed], self.speeds])[:MAX_SAMPLES]
+        self.directions = np.vstack([d[None], self.directions])[:MAX_SAMPLES]
+        self._last = t
+
+    def clear(self) -> None:
+        self.positions = np.zeros((0, 2))
+        self.times = np.zeros(0)
+        self.speeds = np.zeros(0)
+        self.directions = np.zeros((0, 2))
+        self._last = None
+
+    def __len__(self) -> int:
+        return len(self.times)
+
+    def foam(self, x, z, t: float) -> np.ndarray:
+        """Wake foam in [0, 1] at world points (x, z) at time t."""
+        return wake_foam(np.asarray(x, float), np.asarray(z, float), self.positions,
+                         t - self.times, self.speeds, self.directions, self.beam, self.params)
+
+    def bounds(self, t: float, margin: float = 2.0) -> tuple[float, float, float, float]:
+        """(x min, z min, x max, z max) of everything the trail can paint at time t."""
+        if len(self) == 0:
+            return (0.0, 0.0, -1.0, -1.0)
+        r = self.speeds * np.maximum(t - self.times, 0.0) / 2.0 + self.beam + margin
+        return (float((self.positions[:, 0] - r).min()), float((self.positions[:, 1] - r).min()),
+                float((self.positions[:, 0] + r).max()), float((self.positions[:, 1] + r).max()))
+
+
+def wake_foam(x: np.ndarray, z: np.ndarray, positions: np.ndarray, ages: np.ndarray,
+              speeds: np.ndarray, directions: np.ndarray, beam: float,
+              params: WakeParams) -> np.ndarray:
+    """Foam of trail samples at world points (the max over samples, in [0, 1]); the twin of
+    ``WakeFoam`` in glsl/common/wake.glsl (Kelvin 1887: ring centre P + d·U·a/4, radius
+    U·a/4, cusp at cos = 1/3)."""
+    p = params
+    shape = np.broadcast(x, z).shape
+    out = np.zeros(shape)
+    if len(ages) == 0:
+        return out
+    px = x[..., None] - positions[:, 0]
+    pz = z[..., None] - positions[:, 1]
+    a = np.maximum(ages, 0.0)
+    way = _smoothstep(0.3, 2.0, speeds)
+    radius = speeds * a / 4.0
+    cx = px - directions[:, 0] * radius  # from the ring's centre P + d·U·a/4
+    cz = pz - directions[:, 1] * radius
+    rc = np.hypot(cx, cz)
+    width = np.maximum(p.cusp_width, speeds * p.spacing / 4.0)
+    ring = np.exp(-((rc - radius) / width) ** 2)
+    cos_d = (cx * directions[:, 0] + cz * directions[:, 1]) / np.maximum(rc, 1e-6)
+    cusp = np.exp(-((cos_d - 1.0 / 3.0) / 0.18) ** 2)
+    cusp_foam = ring * cusp * np.exp(-a / p.cusp_life) * _smoothstep(0.0, 1.0, radius)
+    # the wash: a band along the path — the distance to the segment from each sample to the
+    # one left before it, the age and speed interpolated along it (a chain of discs would
+    # show as beads)
+    nxt = np.minimum(np.arange(len(ages)) + 1, len(ages) - 1)
+    sx = positions[nxt, 0] - positions[:, 0]
+    sz = positions[nxt, 1] - positions[:, 1]
+    s2 = np.maximum(sx * sx + sz * sz, 1e-12)
+    f = np.clip((px * sx + pz * sz) / s2, 0.0, 1.0)
+    rw = np.hypot(px - f * sx, pz - f * sz)
+    aw = a + f * (a[nxt] - a)
+    uw = speeds + f * (speeds[nxt] - speeds)
+    half = 0.5 * beam + p.wash_spread * uw * aw
+    wash = np.exp(-(rw / half) ** 2) * np.exp(-aw / p.wash_life)
+    foam = np.maximum(cusp_foam, wash) * way * p.strength
+    return np.clip(foam.max(axis=-1), 0.0, 1.0)
+
+
+def _smoothstep(e0: float, e1: float, x):
+    t = np.clip((np.asarray(x, float) - e0) / (e1 - e0), 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
