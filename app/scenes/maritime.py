@@ -1,0 +1,190 @@
+"""The ``maritime`` scene: the maritime thesis's whole demo (spec/000 §0, §1.3–1.5, §2) — the
+captain of a sailing boat on the FFT ocean under the day–night sky and the maritime clouds, one
+wind for sea, clouds, sails and flag, and the thesis's HUD (the window draws it from
+:meth:`MaritimeScene.hud`).
+
+It builds only what it uses: the wind, the day–night sky (with its reflection probe, which also
+lights the boat), the maritime clouds (model B), the ocean and the boat — no cloud-thesis bakes,
+no Preetham sky.
+
+Cameras (``maritime.camera``): ``chase`` follows behind the boat (smoothed, so it does not
+shake with the swell); ``free`` is the fly camera, which can dive under the water and rise
+above the clouds. C switches between them.
+
+Weather (``maritime.weather``, the thesis's forced weather states, §2): calm, fair, overcast and
+storm each set the wind, the sea and the cloud cover at once (:data:`WEATHER`); any later
+change to one of those parameters keeps the others as they are.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..effects.boat import Boat
+from ..effects.clouds_b import CloudsB
+from ..effects.ocean import Ocean
+from ..effects.sky import Sky
+from ..effects.wind import Wind
+from ..frame import FrameContext
+from ..params import Param, ParamSet
+from .base import Scene
+from .keymaps import FLY, KeyMap
+
+#: forced weather states: the parameters each sets (spec/000 §2, the weather panel)
+WEATHER: dict[str, dict[str, object]] = {
+    "calm": {"wind.speed": 3.0, "clouds_b.density_threshold": 0.75,
+             "clouds_b.density_multiplier": 0.6, "ocean.choppiness": 0.8},
+    "fair": {"wind.speed": 8.0, "clouds_b.density_threshold": 0.55,
+             "clouds_b.density_multiplier": 1.0, "ocean.choppiness": 1.0},
+    "overcast": {"wind.speed": 12.0, "clouds_b.density_threshold": 0.1,
+                 "clouds_b.density_multiplier": 1.6, "ocean.choppiness": 1.0},
+    "storm": {"wind.speed": 22.0, "clouds_b.density_threshold": -0.2,
+              "clouds_b.density_multiplier": 3.0, "ocean.choppiness": 1.4},
+}
+
+MARITIME = KeyMap("maritime", {
+    **{k: v for k, v in FLY.bindings.items() if k not in ("SPACE", "UP", "DOWN", "ESCAPE")},
+    "LEFT": "hold:boat.helm=-0.8", "RIGHT": "hold:boat.helm=0.8",
+    "UP": "hold:boat.throttle=0.5", "DOWN": "hold:boat.throttle=-0.5",
+    "Z": "hold:boat.sails=-0.4", "X": "hold:boat.sails=0.4",
+    "H": "set:boat.helm=0", "C": "cycle:maritime.camera", "T": "toggle_time",
+    "SPACE": "toggle_ui", "ESCAPE": "pause_menu",
+    "NUMBER_1": "set:maritime.weather=calm", "NUMBER_2": "set:maritime.weather=fair",
+    "NUMBER_3": "set:maritime.weather=overcast", "NUMBER_4": "set:maritime.weather=storm",
+}, (
+    ("Left / Right", "helm to port / starboard (H: centre)"),
+    ("Up / Down", "throttle + / −"), ("Z / X", "sheet the sails in / let them out"),
+    ("C", "chase camera / free camera"), ("W A S D, Q / E", "fly (free camera)"),
+    ("Space", "UI mode / free navigation (mouse look)"),
+    ("1 2 3 4", "weather: calm, fair, overcast, storm"), ("T", "pause / resume time"),
+    ("[ / ]", "time -/+ 15 min"), ("R", "reset camera"), ("P or F12", "screenshot"),
+    ("F1", "hide / show panel"), ("Esc", "pause menu (Esc again: quit)"),
+))
+
+
+@dataclass
+class HudState:
+    """What the HUD shows, as plain numbers (tested without a window)."""
+
+    heading: float          # compass heading of the bow [°]
+    speed: float            # through the water, along the bow [m/s]
+    wind_speed: float       # true wind [m/s]
+    wind_direction: float   # direction the wind blows toward [°]
+    wind_relative: float    # the dial: wind direction − heading, in (−180, 180] [°]
+    apparent_angle: float   # apparent wind off the bow (where it comes from) [°]
+    helm: float
+    sails: float
+    throttle: float
+    hour: float
+    playing: bool
+    weather: str
+    camera: str
+
+
+def wrap180(angle: float) -> float:
+    """An angle in degrees folded into (−180, 180]."""
+    a = math.fmod(angle + 180.0, 360.0)
+    if a <= 0.0:
+        a += 360.0
+    return a - 180.0
+
+
+class MaritimeScene(Scene):
+    name = "maritime"
+    order = 75
+    title = "Sailing (maritime demo)"
+    description = ("the maritime thesis's demo: a sailing boat that floats (probes or Kerner's "
+                   "hydrostatics), steers and sails on the FFT ocean, one wind for sea, clouds, "
+                   "sails and flag, the cloth shader, a wake and the HUD (spec/000 §1.3–1.5, §2)")
+    effects = (Wind, Sky, CloudsB, Ocean, Boat)
+    default_camera = {"position": (0.0, 6.0, 18.0), "yaw": 270.0, "pitch": -10.0, "fov": 60.0,
+                      "far": 200000.0}
+    keymap = MARITIME
+
+    @classmethod
+    def declare_params(cls, library) -> ParamSet:
+        params = super().declare_params(library)
+        params.add(Param("maritime.camera", "chase", doc="chase: behind the boat; free: the fly "
+                         "camera (under the water, above the clouds)", kind="choice",
+                         choices=("chase", "free")))
+        params.add(Param("maritime.weather", "fair", doc="forced weather state: wind, sea and "
+                         "cloud cover at once (custom: as the parameters are)", kind="choice",
+                         choices=(*WEATHER, "custom"), section="spec/000 §2"))
+        params.add(Param("maritime.chase_distance", 16.0, 4.0, 200.0, "chase camera: distance "
+                         "behind the boat", step=0.5, unit="m"))
+        params.add(Param("maritime.chase_height", 5.0, 0.5, 100.0, "chase camera: height above "
+                         "the water", step=0.5, unit="m"))
+        return params
+
+    def __init__(self, gpu, params, camera=None):
+        super().__init__(gpu, params, camera)
+        self._weather_applied: str | None = None
+        self._chase: np.ndarray | None = None  # smoothed (x, y, z, heading)
+
+    def apply_weather(self) -> None:
+        """Set the parameters of the chosen weather state once, when it changes."""
+        w = self.params["maritime.weather"]
+        if w == self._weather_applied:
+            return
+        self._weather_applied = w
+        for name, value in WEATHER.get(w, {}).items():
+            if name in self.params:
+                self.params.set(name, value)
+
+    def frame(self, size, dt: float = 0.0) -> FrameContext:
+        self.apply_weather()
+        frame = super().frame(size, dt)
+        if self.params["maritime.camera"] == "chase":
+            self._follow(dt)
+        else:
+            self._chase = None
+        return frame
+
+    def boat(self) -> Boat:
+        effect = self.effect("boat")
+        assert isinstance(effect, Boat)
+        return effect
+
+    def _follow(self, dt: float) -> None:
+        """The chase camera: behind the boat along its heading, above the water, looking at the
+        deck; position and heading low-pass filtered (time constant 0.6 s)."""
+        sim = self.boat().sim
+        if sim is None:
+            return
+        pos = sim.body.position
+        target = np.array([pos[0], 0.0, pos[2], sim.heading])
+        if self._chase is None or dt <= 0.0:
+            self._chase = target
+        else:
+            a = 1.0 - math.exp(-dt / 0.6)
+            d = target - self._chase
+            d[3] = math.atan2(math.sin(d[3]), math.cos(d[3]))
+            self._chase = self._chase + a * d
+        x, _, z, psi = self._chase
+        back = self.params["maritime.chase_distance"]
+        height = self.params["maritime.chase_height"]
+        bow = np.array([math.sin(psi), 0.0, -math.cos(psi)])
+        eye = np.array([x, height, z]) - back * bow
+        look = np.array([x, 2.5, z]) - eye
+        yaw = math.degrees(math.atan2(look[0], -look[2])) % 360.0  # compass, as the camera
+        pitch = math.degrees(math.atan2(look[1], math.hypot(look[0], look[2])))
+        self.camera.set(position=tuple(eye), yaw=yaw, pitch=pitch)
+
+    def hud(self) -> HudState:
+        """The HUD's figures (spec/000 §2): the wind dial is the wind's direction minus the
+        heading (criterion 36)."""
+        p = self.params
+        sim = self.boat().sim
+        heading = math.degrees(sim.heading) % 360.0 if sim is not None else p["boat.heading"]
+        speed = sim.speed() if sim is not None else 0.0
+        st = self.boat().sail_state
+        return HudState(heading=heading, speed=speed, wind_speed=p["wind.speed"],
+                        wind_direction=p["wind.direction"],
+                        wind_relative=wrap180(p["wind.direction"] - heading),
+                        apparent_angle=math.degrees(st.awa) if st is not None else 0.0,
+                        helm=p["boat.helm"], sails=p["boat.sails"], throttle=p["boat.throttle"],
+                        hour=p["time.hour"], playing=p["time.playing"],
+                        weather=p["maritime.weather"], camera=p["maritime.camera"])
