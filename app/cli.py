@@ -9,6 +9,7 @@
     natura shaders check        compile every program, print file:line errors (exit 1 on any)
     natura shaders copy DIR     copy the shader folder for editing (then --shaders DIR)
     natura bench SCENE          time each pass, write JSON
+    natura bench boat           the boat's physics and speed polar (numpy, no GL): JSON, charts
 
 Exit codes: 0 success, 1 shader errors, 2 bad arguments or an output that cannot be written
 (one line naming the culprit and what is allowed), 3 no OpenGL, 70 an internal error (a bug:
@@ -37,6 +38,11 @@ MAX_WARMUP = 1_000
 MAX_SIZES = 32
 MAX_BUDGET_MS = 100_000.0
 FPS_RANGE = (0.001, 1000.0)
+#: ``natura bench SCENE``'s default untimed runs and timed rounds
+BENCH_WARMUP, BENCH_REPEAT = 3, 15
+#: the benches that are not scenes (app.bench.NUMPY_BENCHES, named here so that --help does not
+#: import the bench package) and what each measures
+NUMPY_BENCH_NAMES = {"boat": "the floating boat's physics and the sailing speed polar"}
 INTERNAL_ERROR = 70
 
 
@@ -179,16 +185,27 @@ def build_parser() -> argparse.ArgumentParser:
     cp = s_sub.add_parser("copy", help="copy the shader folder to DIR for editing")
     cp.add_argument("dest", metavar="DIR")
 
-    b = sub.add_parser("bench", help="time each pass of a scene; write JSON")
-    b.add_argument("scene")
+    b = sub.add_parser("bench", help="time each pass of a scene, or run the boat bench; "
+                       "write JSON",
+                       description="Time each pass of a scene (and its sweeps), or run a numpy "
+                       "bench that is not a scene: " + ", ".join(
+                           f"{name} ({about})" for name, about in NUMPY_BENCH_NAMES.items())
+                       + ". A numpy bench takes --out, --quick and --force only.")
+    b.add_argument("scene", metavar="NAME",
+                   help="a scene (see natura scenes) or a numpy bench: "
+                   + ", ".join(NUMPY_BENCH_NAMES))
     _add_scene_options(b)
-    b.add_argument("--warmup", type=_int_in("--warmup", 0, MAX_WARMUP), default=3,
-                   help=f"untimed runs first, 0..{MAX_WARMUP}")
-    b.add_argument("--repeat", type=_int_in("--repeat", 1, MAX_REPEAT), default=15,
+    b.add_argument("--warmup", type=_int_in("--warmup", 0, MAX_WARMUP), default=None,
+                   help=f"untimed runs first, 0..{MAX_WARMUP} (default {BENCH_WARMUP})")
+    b.add_argument("--repeat", type=_int_in("--repeat", 1, MAX_REPEAT), default=None,
                    help=f"timed rounds (every pass once per round, shuffled; the median and "
-                   f"quartiles are reported), 1..{MAX_REPEAT}")
+                   f"quartiles are reported), 1..{MAX_REPEAT} (default {BENCH_REPEAT})")
     b.add_argument("--out", default=None, metavar="FILE.json",
-                   help="default: bench-results/SCENE-NNNN.json")
+                   help="default: bench-results/NAME-NNNN.json (a numpy bench's charts beside "
+                   "it: FILE.png, FILE-polar.png)")
+    b.add_argument("--quick", action="store_true",
+                   help="numpy benches (boat): a reduced run, the same figures on fewer masses, "
+                   "steps and poses")
     b.add_argument("--sizes", default=None, metavar="WxH,WxH,...",
                    help="image sizes of the scene's table "
                    "(planet: the thesis's 800x600,1280x720,1920x1080)")
@@ -441,9 +458,10 @@ def cmd_shaders(args) -> int:
     return 1 if failures else 0
 
 
-def _bench_outputs(args, with_chart: bool) -> tuple[Path, Path | None]:
-    """The report's path and its chart's (the .png beside it, when the scene has sweeps),
-    both checked before anything runs: nothing is overwritten without --force."""
+def _bench_outputs(args, charts: tuple[str, ...] = ()) -> tuple[Path, list[Path]]:
+    """The report's path and its charts' (``charts`` are suffixes put after the report's stem:
+    ``.png`` beside a scene's sweeps, ``.png`` and ``-polar.png`` beside the boat bench's), all
+    checked before anything runs: nothing is overwritten without --force."""
     from .imageio import check_output_path, next_free_path
 
     if args.out is not None:
@@ -462,23 +480,90 @@ def _bench_outputs(args, with_chart: bool) -> tuple[Path, Path | None]:
                                  "bench-results/): allowed --out FILE.json in a writable folder")
             path = folder / f"{args.scene}-0001.json"
         else:
-            path = check_output_path(next_free_path(folder, args.scene, ".json", also=(".png",)),
+            also = tuple(dict.fromkeys((".png", *charts)))
+            path = check_output_path(next_free_path(folder, args.scene, ".json", also=also),
                                      suffixes=(".json",))
-    chart = None
-    if with_chart:
-        chart = path.with_suffix(".png")
-        if path.parent.is_dir():
+    chart_paths = [path.with_name(path.stem + suffix) for suffix in charts]
+    if path.parent.is_dir():
+        for chart in chart_paths:
             check_output_path(chart, force=args.force)
-    return path, chart
+    return path, chart_paths
+
+
+def _make_results_folder(args, path: Path) -> None:
+    """bench-results/, made only once the bench has run (not when --out names the file)."""
+    if args.out is None and not path.parent.is_dir():
+        try:
+            path.parent.mkdir(exist_ok=True)
+        except OSError as exc:
+            raise UsageError(f"cannot create {quote(str(path.parent))} ({exc.strerror}): "
+                             "allowed --out FILE.json in a writable folder") from None
+
+
+#: ``natura bench`` options that only a scene takes: (option, its attribute, its value when
+#: not given)
+_SCENE_BENCH_OPTIONS = (
+    ("--size", "size", None), ("--sizes", "sizes", None), ("--budget", "budget", None),
+    ("--warmup", "warmup", None), ("--repeat", "repeat", None), ("--no-sweep", "no_sweep", False),
+    ("--time", "time", None), ("--camera", "camera", None), ("--yaw", "yaw", None),
+    ("--pitch", "pitch", None), ("--fov", "fov", None), ("--set", "sets", []),
+    ("--preset", "preset", None), ("--shaders", "shaders", None),
+)
+
+
+def cmd_numpy_bench(args) -> int:
+    """``natura bench boat``: numpy only (no GL context), every section's report in one JSON,
+    a chart per section beside it, every summary printed."""
+    import json
+    import time
+
+    from .bench import NUMPY_BENCHES
+    from .imageio import write_text_atomic
+
+    bench = NUMPY_BENCHES[args.scene]
+    for option, attr, unset in _SCENE_BENCH_OPTIONS:
+        if getattr(args, attr) != unset:
+            raise UsageError(f"bench {bench.name}: {option} is for scene benches ({bench.name} "
+                             "is a numpy bench: no image, no GL): allowed with "
+                             f"{bench.name} --out FILE.json, --quick, --force")
+    path, chart_paths = _bench_outputs(args, bench.chart_suffixes())
+    how = "quick run" if args.quick else "full run; --quick for a reduced one"
+    start = time.perf_counter()
+
+    def progress(title: str) -> None:
+        print(f"running the {bench.name} bench: {title} ({how})", file=sys.stderr, flush=True)
+
+    report = bench.run(quick=args.quick, progress=progress)
+    report["charts"] = {key: chart.name for (key, *_), chart in zip(bench.sections, chart_paths)}
+    _make_results_folder(args, path)
+    path = write_text_atomic(path, json.dumps(report, indent=2) + "\n", force=args.force)
+    for (key, _, _, title), chart in zip(bench.sections, chart_paths):
+        module = bench.module(key)
+        print(f"{title} ({report['seconds'][key]:.1f} s):")
+        print(module.summary(report[key]), flush=True)
+        module.chart(report[key], chart, force=args.force)
+        print(f"chart → {chart}")
+    print(f"numpy {bench.name} bench, {'quick' if args.quick else 'full'} run, "
+          f"{time.perf_counter() - start:.1f} s → {path}")
+    return 0
 
 
 def cmd_bench(args) -> int:
-    from .bench import bench_scene, scene_sweeps, write_report
+    from .bench import NUMPY_BENCHES, bench_scene, scene_sweeps, write_report
     from .runtime import open_session, parse_size
     from .scenes import SCENES
 
+    if args.scene in NUMPY_BENCHES:
+        return cmd_numpy_bench(args)
     if args.scene not in SCENES:
-        raise UsageError(f"unknown scene {quote(args.scene, 40)}: allowed {', '.join(SCENES)}")
+        raise UsageError(f"unknown scene or bench {quote(args.scene, 40)}: allowed "
+                         f"{', '.join([*SCENES, *NUMPY_BENCHES])}")
+    if args.quick:
+        raise UsageError(f"bench {args.scene}: --quick is for the numpy benches "
+                         f"({', '.join(NUMPY_BENCHES)}): allowed with a scene --repeat N and "
+                         "--warmup N for a shorter run, --no-sweep to skip its sweeps")
+    warmup = BENCH_WARMUP if args.warmup is None else args.warmup
+    repeat = BENCH_REPEAT if args.repeat is None else args.repeat
     params, camera, size = _session_inputs(args, args.scene)
     if args.size is None:
         size = (640, 360)
@@ -490,24 +575,19 @@ def cmd_bench(args) -> int:
                              f"1..{MAX_SIZES} comma-separated WxH")
         table_sizes = [parse_size(t, "--sizes item") for t in items]
     sweeps = None if args.no_sweep else scene_sweeps(args.scene)
-    path, chart_path = _bench_outputs(args, with_chart=sweeps is not None)
+    path, _ = _bench_outputs(args, (".png",) if sweeps is not None else ())
     session = open_session(args.scene, params, args.shaders, camera=camera)
     try:
-        report = bench_scene(session, size, args.warmup, args.repeat)
+        report = bench_scene(session, size, warmup, repeat)
         if sweeps is not None:
             print(f"running the {args.scene} speed/accuracy sweeps "
                   "(this takes a while on a software renderer)", file=sys.stderr)
             kwargs = {"sizes": table_sizes} if table_sizes else {}
-            report["sweep"] = sweeps.sweep(session, size, warmup=min(args.warmup, 2),
-                                           repeat=max(3, args.repeat // 2), **kwargs)
+            report["sweep"] = sweeps.sweep(session, size, warmup=min(warmup, 2),
+                                           repeat=max(3, repeat // 2), **kwargs)
     finally:
         session.release()
-    if args.out is None and not path.parent.is_dir():
-        try:
-            path.parent.mkdir(exist_ok=True)
-        except OSError as exc:
-            raise UsageError(f"cannot create {quote(str(path.parent))} ({exc.strerror}): "
-                             "allowed --out FILE.json in a writable folder") from None
+    _make_results_folder(args, path)
     path = write_report(report, str(path), force=args.force)
     print(f"{'pass':24s} {'median [p25–p75] ms':>30s}   ×full-screen pass [p25–p75]")
     for name, t in report["passes"].items():

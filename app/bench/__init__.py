@@ -9,6 +9,9 @@ the ratios. Pipeline-statistics counts (GL_ARB_pipeline_statistics_query) of one
 pass are added where the driver has them, and from them the fragment shader invocations per
 covered pixel and the cost per fragment relative to the constant shader. GPU timer queries are
 added only on a hardware GPU.
+
+``natura bench boat`` is not a scene: ``NUMPY_BENCHES`` lists such benches (numpy only, no GL
+context), each a few sections with a report, a chart and a summary.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ import importlib.util
 import json
 import math
 import platform
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
@@ -224,6 +228,55 @@ def scene_sweeps(scene: str):
         return None
     module = importlib.import_module(f"{__name__}.{scene}")
     return module if all(hasattr(module, f) for f in ("sweep", "chart", "summary")) else None
+
+
+@dataclass(frozen=True)
+class NumpyBench:
+    """A bench that is not a scene: numpy only, no GL context is created. Each section is a
+    module under app/bench with ``run(quick=False) -> dict``, ``chart(report, path,
+    force=False)`` and ``summary(report) -> str``; its report goes into the JSON under the
+    section's key, its chart beside the JSON, named by the section's suffix (``FILE.png``,
+    ``FILE-polar.png``)."""
+
+    name: str
+    about: str
+    #: (key in the report, module under app/bench, chart suffix, title)
+    sections: tuple[tuple[str, str, str, str], ...]
+
+    def module(self, key: str):
+        (name,) = [m for k, m, _, _ in self.sections if k == key]
+        return importlib.import_module(f"{__name__}.{name}")
+
+    def chart_suffixes(self) -> tuple[str, ...]:
+        return tuple(suffix for _, _, suffix, _ in self.sections)
+
+    def run(self, quick: bool = False, progress: Callable[[str], None] | None = None) -> dict:
+        """Every section's report, with the time each took, under one dict."""
+        import os
+        import time
+
+        report: dict = {"bench": self.name, "about": self.about, "quick": quick,
+                        "python": platform.python_version(), "cpus": os.cpu_count(),
+                        "when": datetime.datetime.now(datetime.timezone.utc).isoformat(
+                            timespec="seconds"),
+                        "sections": {k: title for k, _, _, title in self.sections},
+                        "seconds": {}}
+        for key, _, _, title in self.sections:
+            if progress is not None:
+                progress(title)
+            start = time.perf_counter()
+            report[key] = self.module(key).run(quick=quick)
+            report["seconds"][key] = round(time.perf_counter() - start, 2)
+        return report
+
+
+#: the benches that are not scenes, by the name ``natura bench NAME`` takes (never a scene's)
+NUMPY_BENCHES = {
+    "boat": NumpyBench("boat", "the floating boat's physics (app/bench/boat.py) and the sailing "
+                       "speed polar (app/bench/polar.py), numpy only",
+                       (("physics", "boat", ".png", "boat physics"),
+                        ("polar", "polar", "-polar.png", "speed polar"))),
+}
 
 
 def write_report(report: dict, out: str | None, force: bool = False) -> Path:
