@@ -4,6 +4,10 @@ A scene's :class:`~app.scenes.keymaps.KeyMap` maps key names to actions; a :clas
 turns actions into camera motion, time and sun changes, and collects the one-shot actions the
 window carries out. The window translates its key codes to names and forwards presses and
 releases.
+
+A ``hold:NAME=RATE`` action moves parameter NAME by RATE per second while its key is down,
+clamped to the parameter's range (the maritime helm, throttle and sails); the controller applies
+it in :meth:`Controller.update`, like the held camera actions.
 """
 
 from __future__ import annotations
@@ -47,6 +51,49 @@ def key_names(keys, pyglet_key=None) -> dict[int, str]:
 # actions held down while the key is pressed
 HELD = {"forward", "back", "left", "right", "up", "down", "turn_left", "turn_right", "pitch_up",
         "pitch_down", "sun_up", "sun_down", "fast"}
+#: one-shot actions the controller carries out itself
+CONTROLLER_ACTIONS = {"toggle_turbo", "turbo_faster", "turbo_slower", "turbo_faster_100",
+                      "turbo_slower_100", "toggle_controls"}
+#: one-shot actions the window carries out (:meth:`app.ui.window.NaturaWindow.run_events`)
+WINDOW_ACTIONS = {"quit", "screenshot", "toggle_time", "time_back", "time_forward",
+                  "toggle_mouse", "toggle_panel", "reset_camera", "print_gl_version",
+                  "print_camera", "toggle_ui", "pause_menu"}
+#: actions on a parameter, by prefix: ``set:NAME=VALUE``, ``toggle:NAME``, ``cycle:NAME`` (a
+#: choice steps to its next choice, wrapping), ``hold:NAME=RATE`` (held: RATE per second)
+PARAM_PREFIXES = ("set:", "toggle:", "cycle:", "hold:")
+
+
+def action_kind(action: str) -> str | None:
+    """What kind of action ``action`` is — "held", "controller", "window", or its parameter
+    prefix ("set", "toggle", "cycle", "hold") — or None for an action nothing carries out."""
+    if action in HELD:
+        return "held"
+    if action in CONTROLLER_ACTIONS:
+        return "controller"
+    if action in WINDOW_ACTIONS:
+        return "window"
+    for prefix in PARAM_PREFIXES:
+        if action.startswith(prefix) and len(action) > len(prefix):
+            return prefix[:-1]
+    return None
+
+
+def action_parameter(action: str) -> str | None:
+    """The parameter a ``set:`` / ``toggle:`` / ``cycle:`` / ``hold:`` action names."""
+    for prefix in PARAM_PREFIXES:
+        if action.startswith(prefix):
+            return action[len(prefix):].partition("=")[0]
+    return None
+
+
+def parse_hold(action: str) -> tuple[str, float]:
+    """``hold:NAME=RATE`` → (NAME, RATE per second); a ValueError when it is not one."""
+    if not action.startswith("hold:"):
+        raise ValueError(f"not a hold action: {action!r}")
+    name, sep, rate = action[5:].partition("=")
+    if not name or not sep:
+        raise ValueError(f"a hold action is hold:NAME=RATE, not {action!r}")
+    return name, float(rate)
 
 
 @dataclass
@@ -68,7 +115,7 @@ class Controller:
         action = self.keymap.action(key)
         if action is None:
             return None
-        if action in HELD:
+        if action in HELD or action.startswith("hold:"):
             self.held.add(action)
         elif action == "toggle_turbo":
             self.turbo = not self.turbo
@@ -93,8 +140,12 @@ class Controller:
 
     def release(self, key: str) -> None:
         action = self.keymap.action(key)
-        if action in HELD:
+        if action is not None:
             self.held.discard(action)
+
+    def release_all(self) -> None:
+        """Let go of every held action (the window lost the keyboard)."""
+        self.held.clear()
 
     def take_events(self) -> list:
         out, self.events = self.events, []
@@ -108,6 +159,8 @@ class Controller:
             d = ((("sun_up" in h) - ("sun_down" in h)) * self.sun_rate * dt)
             if d:
                 params.set(sun, max(-90.0, min(90.0, params[sun] + d)))
+        if params is not None:
+            self._hold_params(params, dt)
         if not self.controls_enabled:
             return
         v = self.turbo_speed if self.turbo else self.speed * (4.0 if "fast" in h else 1.0)
@@ -117,3 +170,39 @@ class Controller:
         camera.move(forward=(("forward" in h) - ("back" in h)) * step,
                     right=(("right" in h) - ("left" in h)) * step,
                     up=(("up" in h) - ("down" in h)) * step)
+
+    def _hold_params(self, params, dt: float) -> None:
+        """Apply the held ``hold:NAME=RATE`` actions: NAME moves RATE × dt, clamped to its
+        range (two keys on one parameter add up; an unknown parameter is ignored)."""
+        rates: dict[str, float] = {}
+        for action in self.held:
+            if isinstance(action, str) and action.startswith("hold:"):
+                try:
+                    name, rate = parse_hold(action)
+                except ValueError:
+                    continue
+                if name in params:
+                    rates[name] = rates.get(name, 0.0) + rate
+        for name, rate in rates.items():
+            if not rate or not dt:
+                continue
+            spec = params.spec(name)
+            value = float(params[name]) + rate * dt
+            if spec.lo is not None:
+                value = max(float(spec.lo), value)
+            if spec.hi is not None:
+                value = min(float(spec.hi), value)
+            if value != params[name]:
+                params.set(name, value)
+
+
+def cycle_value(spec, value):
+    """The value a ``cycle:NAME`` action gives parameter ``spec`` now at ``value``: a choice's
+    next choice (after the last, the first), a boolean's opposite."""
+    if spec.kind == "choice" and spec.choices:
+        choices = list(spec.choices)
+        i = choices.index(value) if value in choices else -1
+        return choices[(i + 1) % len(choices)]
+    if spec.kind == "bool":
+        return not value
+    raise ValueError(f"cycle: {spec.name} is a {spec.kind}, not a choice or a boolean")

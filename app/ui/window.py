@@ -18,6 +18,12 @@ F1                 hide / show the panel
 Esc                quit
 =================  =========================================================
 
+A scene's map may also bind ``cycle:NAME`` (a choice steps to its next one), ``hold:NAME=RATE``
+(app/ui/keymap.py), ``toggle_ui`` (the maritime thesis's Space: the UI mode, where the HUD and
+the panel take the mouse, or free navigation with mouse look) and ``pause_menu`` (Esc opens a
+centred "Paused" window with Resume and Quit, time and the world stop; Esc again quits). A scene
+with a ``hud()`` method gets the HUD of app/ui/hud.py.
+
 Shader files are polled every 0.25 s: saving one recompiles what includes it; a broken edit
 keeps the last good program running and lists ``file:line`` errors in the panel.
 """
@@ -36,11 +42,13 @@ from ..errors import OutputExistsError, UsageError
 from ..imageio import next_free_path, write_png, write_text_atomic
 from ..params import ParamSet
 from ..sim.camera import Camera
-from .keymap import CHARACTER_KEYS, CHARACTERS, Controller, key_names
+from .keymap import CHARACTER_KEYS, CHARACTERS, Controller, cycle_value, key_names
 
 POLL_SECONDS = 0.25
 MOVE_SPEED = 5.0  # m/s
 LOOK_DEGREES_PER_PIXEL = 0.15
+#: what keys still do while the pause menu is open (everything else waits for Resume)
+PAUSED_ACTIONS = {"pause_menu", "quit", "screenshot", "toggle_panel"}
 
 
 def _key_names(keys) -> dict:
@@ -172,6 +180,13 @@ class NaturaWindow:
         self.progress_frames = 0
         self._last_poll = 0.0
         self.target = None
+        self._rendering = False  # inside render_scene (a resize then waits for its end)
+        self._resize_pending: tuple[int, int] | None = None
+        self.ui_mode = True  # toggle_ui: the HUD and panel take the mouse; False: navigation
+        self.paused = False  # the pause menu is open
+        self._before_pause: tuple[bool | None, bool] = (None, True)  # time.playing, ui_mode
+        self.hud_state = None  # the scene's last HudState (scenes with a hud() method)
+        self.hud_rects: dict = {}  # screen rectangles of the HUD's windows and pause buttons
         self.session.gpu.progress = self.show_progress
         self.on_resize(*self.wnd.buffer_size)
 
@@ -180,7 +195,42 @@ class NaturaWindow:
         return self.imgui.get_io().want_capture_keyboard
 
     def _ui_wants_mouse(self) -> bool:
-        return self.show_panel and self.imgui.get_io().want_capture_mouse
+        shown = self.show_panel or self.paused or callable(getattr(self.scene, "hud", None))
+        return shown and self.imgui.get_io().want_capture_mouse
+
+    def set_ui_mode(self, on: bool) -> None:
+        """The UI mode (the HUD and the panel take the mouse, the pointer is free) or free
+        navigation (mouse look with the pointer captured; ImGui ignores the mouse)."""
+        self.ui_mode = on
+        self.mouse_look = not on
+        self.looking = False
+        self.wnd.mouse_exclusivity = not on
+        io = self.imgui.get_io()
+        no_mouse = int(self.imgui.ConfigFlags_.no_mouse)
+        io.config_flags = (int(io.config_flags) & ~no_mouse) | (0 if on else no_mouse)
+
+    def open_pause_menu(self) -> None:
+        """Pause: time stops (time.playing false), the world stands still, the pointer is free
+        for the menu's buttons."""
+        if self.paused:
+            return
+        p = self.params
+        self._before_pause = (p["time.playing"] if "time.playing" in p else None, self.ui_mode)
+        if "time.playing" in p:
+            p.set("time.playing", False)
+        self.paused = True
+        self.set_ui_mode(True)
+        self._say("paused: Resume, or Esc again to quit")
+
+    def resume(self) -> None:
+        """Close the pause menu: time and the mode are as they were before it opened."""
+        if not self.paused:
+            return
+        playing, ui_mode = self._before_pause
+        self.paused = False
+        if playing is not None and "time.playing" in self.params:
+            self.params.set("time.playing", playing)
+        self.set_ui_mode(ui_mode)
 
     def on_key(self, key, action, modifiers):
         self.ui.key_event(key, action, modifiers)
@@ -208,8 +258,17 @@ class NaturaWindow:
         p = self.params
         for action, arg in self.controller.take_events():
             action = self.controller.keymap.resolve(action)
+            if self.paused and action not in PAUSED_ACTIONS:
+                continue
             if action == "quit":
                 self.wnd.close()
+            elif action == "pause_menu":  # Esc: the menu; Esc while it is open: quit
+                if self.paused:
+                    self.wnd.close()
+                else:
+                    self.open_pause_menu()
+            elif action == "toggle_ui":
+                self.set_ui_mode(not self.ui_mode)
             elif action == "screenshot":
                 self.screenshot_requested = True
             elif action == "toggle_time" and "time.playing" in p:
@@ -243,6 +302,11 @@ class NaturaWindow:
                 name = action[7:]
                 if name in p:
                     p.set(name, not p[name])
+            elif action.startswith("cycle:"):  # a choice steps to its next one, wrapping
+                name = action[6:]
+                if name in p:
+                    p.set(name, cycle_value(p.spec(name), p[name]))
+                    self._say(f"{name} = {p[name]}")
 
     def _say(self, text: str) -> None:
         print(text)
@@ -288,7 +352,12 @@ class NaturaWindow:
 
     def on_resize(self, width, height):
         self.ui.resize(width, height)
+        if self._rendering:  # a progress frame (a bake) dispatched events mid-render: the
+            self._resize_pending = (width, height)  # target is swapped after the render
+            return
         if width > 0 and height > 0:
+            if self.target is not None and tuple(self.target.size) == (width, height):
+                return  # the same size again (pyglet repeats it when the window maps)
             if self.target is not None:
                 self.session.gpu.free(self.target)
             self.target = self.session.gpu.target("window", "scene radiance", (width, height))
@@ -328,11 +397,17 @@ class NaturaWindow:
         ctx = self.ctx
         ctx.disable(moderngl.BLEND)  # the ImGui renderer leaves blending on
         error = None
+        self._rendering = True
         try:
             frame = self.scene.frame(self.target.size, dt)
             self.scene.render(frame, self.target)
         except Exception as exc:  # keep the window alive; show why the image stopped updating
             error = f"render failed: {exc}"
+        finally:
+            self._rendering = False
+        if self._resize_pending is not None:
+            pending, self._resize_pending = self._resize_pending, None
+            self.on_resize(*pending)
         self.wnd.use()
         ctx.viewport = (0, 0, *self.wnd.buffer_size)
         try:
@@ -504,11 +579,37 @@ class NaturaWindow:
         panel.messages(self.messages)
         imgui.end()
 
+    def build_hud(self) -> None:
+        """The HUD of a scene that has a ``hud()`` method (app/ui/hud.py), and the pause menu."""
+        from . import hud as hud_ui
+
+        size = self.wnd.size
+        rects: dict = {}
+        figures = getattr(self.scene, "hud", None)
+        if callable(figures):
+            error = None
+            try:
+                self.hud_state = figures()
+            except Exception as exc:  # a figure that cannot be computed must not close the window
+                self.hud_state, error = None, _one_line(exc)
+            rects = hud_ui.draw_hud(self.hud_state, self.params, size, ui_mode=self.ui_mode,
+                                    paused=self.paused,
+                                    keys_help=self.controller.keymap.help, error=error)
+        if self.paused:
+            choice = hud_ui.pause_menu(size, rects)
+            if choice == "resume":
+                self.resume()
+            elif choice == "quit":
+                self.wnd.close()
+        self.hud_rects = rects
+
     def frame(self, dt: float) -> None:
         imgui = self.imgui
         self.frame_ms.append(dt * 1000.0)
         self.poll_shaders()
-        if not self._ui_wants_keyboard():
+        if self.paused:
+            dt = 0.0  # the world stands still behind the pause menu
+        elif not self._ui_wants_keyboard():
             self.controller.update(self.scene.camera, dt, self.params)
         self.render_scene(dt)
         if self.screenshot_requested:
@@ -519,6 +620,7 @@ class NaturaWindow:
         imgui.new_frame()
         if self.show_panel:
             self.build_panel(dt)
+        self.build_hud()
         imgui.render()
         self.ui.render(imgui.get_draw_data())
 

@@ -3,8 +3,9 @@ findings as one ``RESULT {json}`` line on stdout.
 
 The default run feeds the window's own event handlers (panel, mouse look, screenshots, live
 shader edits on a copy of glsl/). The key runs (``fly-keys``, ``planet-keys``, ``ocean-models``,
-``robustness``, ``cli-escape``) type real X key events with xdotool (:class:`XKeys`), so they
-go through pyglet's key codes and the window's key names as a person's typing does.
+``robustness``, ``cli-escape``, ``maritime-keys``, ``maritime-cli-escape``) type real X key
+events with xdotool (:class:`XKeys`), so they go through pyglet's key codes and the window's key
+names as a person's typing does.
 """
 
 from __future__ import annotations
@@ -734,8 +735,161 @@ def ocean_models(work: str) -> int:
     return 0
 
 
+#: the maritime scene kept small for the window tests: tiny cloud bakes and FFT, no spin-up
+MARITIME_SMALL = ["clouds_b.volume_resolution=16", "clouds_b.detail_resolution=8",
+                  "clouds_b.gradient_resolution=16", "ocean.fft_size=64",
+                  "ocean.mesh_segments=64", "boat.spin_up=0", "time.hour=10",
+                  "time.playing=false"]
+
+
+def maritime_keys(work: str) -> int:
+    """The maritime map (spec/000 §2) typed as X events in the maritime window: Right / Left
+    (helm), Up (throttle), X (sails), H (centre the helm), C (chase / free camera), Space (UI
+    mode / free navigation), 4 (storm), T (time), Esc (the pause menu: Resume clicked with the
+    real pointer, then Esc, Esc quits)."""
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    os.chdir(work)
+    params = scene_params("maritime", sets=MARITIME_SMALL)
+    win = W.NaturaWindow("maritime", params, get_scene("maritime").new_camera(), (400, 300))
+    win.show_panel = False
+    begun: list = []
+    wrapped: list = []
+    undo = [_spy(win.imgui, "begin", begun), _spy(win.imgui, "text_wrapped", wrapped)]
+    t0 = time.perf_counter()
+    keys = XKeys(win, "^Natura .* maritime$")
+    out: dict = {"dt": keys.dt, "first_frames_s": time.perf_counter() - t0,
+                 "hud_windows": sorted({b["text"] for b in begun})}
+
+    def value(name):
+        return params[name]
+
+    helm0 = value("boat.helm")
+    n = keys.hold("Right", 60, "hold:boat.helm=0.8")
+    out["right"] = {"frames": n, "helm0": helm0, "helm": value("boat.helm")}
+    helm0 = value("boat.helm")
+    n = keys.hold("Left", 20, "hold:boat.helm=-0.8")
+    out["left"] = {"frames": n, "helm0": helm0, "helm": value("boat.helm")}
+    keys.tap("h")
+    out["h_centres"] = value("boat.helm")
+    throttle0 = value("boat.throttle")
+    n = keys.hold("Up", 30, "hold:boat.throttle=0.5")
+    out["up"] = {"frames": n, "throttle0": throttle0, "throttle": value("boat.throttle")}
+    sails0 = value("boat.sails")
+    n = keys.hold("x", 20, "hold:boat.sails=0.4")
+    out["x"] = {"frames": n, "sails0": sails0, "sails": value("boat.sails")}
+    out["held_after"] = sorted(win.controller.held)
+    # C: the free camera, which W then flies; C again: the chase camera
+    out["camera0"] = value("maritime.camera")
+    keys.tap("c")
+    out["c_camera"] = value("maritime.camera")
+    cam = win.scene.camera
+    p0 = np.array(cam.position)
+    n = keys.hold("w", 6, "forward")
+    out["free_w"] = {"frames": n, "m": float(np.dot(np.array(cam.position) - p0, cam.forward())),
+                     "speed": win.controller.speed}
+    keys.tap("c")
+    out["cc_camera"] = value("maritime.camera")
+    # Space: free navigation (mouse look, pointer captured, the HUD passive), Space: UI mode
+    out["ui_mode0"] = win.ui_mode
+    wrapped.clear()
+    keys.tap("space")
+    out["space"] = {"ui_mode": win.ui_mode, "mouse_look": win.mouse_look,
+                    "exclusive": bool(win.wnd.mouse_exclusivity),
+                    "mode_line": [w["text"] for w in wrapped if "Space" in w["text"]][-1]}
+    wrapped.clear()
+    keys.tap("space")
+    out["space_again"] = {"ui_mode": win.ui_mode, "mouse_look": win.mouse_look,
+                          "exclusive": bool(win.wnd.mouse_exclusivity),
+                          "mode_line": [w["text"] for w in wrapped
+                                                if "Space" in w["text"]][-1]}
+    # 4: the storm sets the wind (the scene applies it on its next frame)
+    out["weather0"] = value("maritime.weather")
+    keys.tap("4")
+    keys.frames(1)
+    out["storm"] = {"weather": value("maritime.weather"), "wind_speed": value("wind.speed"),
+                    "hud_weather": win.hud_state.weather if win.hud_state else None,
+                    "hud_wind_speed": win.hud_state.wind_speed if win.hud_state else None}
+    # T: time plays; Esc: the pause menu stops it; Resume (clicked) restores it
+    keys.tap("t")
+    out["t_playing"] = value("time.playing")
+    begun.clear()
+    keys.tap("Escape")
+    out["esc"] = {"paused": win.paused, "playing": value("time.playing"),
+                  "closing": bool(win.wnd.is_closing),
+                  "windows": sorted({b["text"] for b in begun})}
+    hour = value("time.hour")
+    keys.frames(5)
+    out["paused_hour_still"] = value("time.hour") == hour
+    x0, y0, x1, y1 = win.hud_rects["Resume"]
+    subprocess.run(["xdotool", "mousemove", "--window", keys.id, str(int((x0 + x1) / 2)),
+                    str(int((y0 + y1) / 2))], check=True, timeout=30)
+    keys.frames(3)
+    # a press and a release a few frames apart, as a hand clicks (the renderer keeps only the
+    # button's state, so a press and release within one frame would not reach ImGui)
+    subprocess.run(["xdotool", "mousedown", "1"], check=True, timeout=30)
+    keys.frames(3)
+    subprocess.run(["xdotool", "mouseup", "1"], check=True, timeout=30)
+    for _ in range(60):
+        keys.frames(1)
+        if not win.paused:
+            break
+    out["resume"] = {"paused": win.paused, "playing": value("time.playing"),
+                     "ui_mode": win.ui_mode}
+    keys.tap("Escape")
+    out["esc_again_paused"] = win.paused
+    keys.tap("Escape")
+    out["esc_esc_closes"] = bool(win.wnd.is_closing)
+    out["render_error"] = str(win.render_error or "")
+    out["presses"] = keys.presses
+    for u in undo:
+        u()
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
+def maritime_cli_escape(work: str) -> int:
+    """``natura window maritime`` as a user starts it: the first Esc opens the pause menu (the
+    process keeps running), the second quits it with exit status 0."""
+    os.chdir(work)
+    root = Path(__file__).resolve().parents[2]
+    env = {**os.environ, "PYTHONPATH": str(root)}
+    sets = [arg for s in MARITIME_SMALL for arg in ("--set", s)]
+    t0 = time.perf_counter()
+    proc = subprocess.Popen([sys.executable, "-m", "app.cli", "window", "maritime", "--size",
+                             "320x180", *sets], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    out: dict = {}
+    try:
+        found = subprocess.run(["xdotool", "search", "--sync", "--name",
+                                "^Natura .* maritime$"],
+                               capture_output=True, text=True, timeout=60).stdout.split()
+        subprocess.run(["xdotool", "windowfocus", "--sync", found[0]], check=True, timeout=30)
+        out["window_seen_s"] = time.perf_counter() - t0
+        time.sleep(2.0)  # the first frames (the cloud bakes, the boat) run
+        subprocess.run(["xdotool", "key", "Escape"], check=True, timeout=30)
+        time.sleep(1.0)
+        out["running_after_first_esc"] = proc.poll() is None
+        t1 = time.perf_counter()
+        subprocess.run(["xdotool", "key", "Escape"], check=True, timeout=30)
+        out["returncode"] = proc.wait(timeout=30)
+        out["exit_after_second_esc_s"] = time.perf_counter() - t1
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        stdout, stderr = proc.communicate()
+    out["stdout"] = stdout[-2000:]
+    out["stderr"] = stderr[-2000:]
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
 if __name__ == "__main__":
     runs = {"bake-progress": bake_progress, "ocean-models": ocean_models,
             "planet-keys": planet_keys, "sky-keyframes": sky_keyframes, "fly-keys": fly_keys,
-            "cli-escape": cli_escape, "robustness": robustness}
+            "cli-escape": cli_escape, "robustness": robustness,
+            "maritime-keys": maritime_keys, "maritime-cli-escape": maritime_cli_escape}
     sys.exit(runs.get(sys.argv[2] if len(sys.argv) > 2 else "", main)(sys.argv[1]))
