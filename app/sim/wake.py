@@ -36,6 +36,9 @@ from ..errors import ParamError
 
 #: half-angle of the Kelvin wedge: asin(1/3) [rad]
 KELVIN_HALF_ANGLE = math.asin(1.0 / 3.0)
+#: angle between the travel direction and the ring's cusp point, seen from the ring's centre:
+#: acos(1/3) [rad]
+CUSP_ANGLE = math.acos(1.0 / 3.0)
 #: samples the trail keeps (the shader's uniform arrays hold as many)
 MAX_SAMPLES = 64
 
@@ -44,7 +47,7 @@ MAX_SAMPLES = 64
 class WakeParams:
     spacing: float = 0.3        # s between samples
     cusp_life: float = 14.0     # s: cusp foam fades with age as exp(−a / life)
-    wash_life: float = 6.0      # s: the wash's fade
+    wash_life: float = 4.0      # s: the wash's fade
     cusp_width: float = 0.35    # m: the ring's half-width (at least the ring spacing)
     wash_spread: float = 0.06   # the wash widens by this × U·a
     strength: float = 1.0       # foam scale
@@ -135,7 +138,11 @@ def wake_foam(x: np.ndarray, z: np.ndarray, positions: np.ndarray, ages: np.ndar
     width = np.maximum(p.cusp_width, speeds * p.spacing / 4.0)
     ring = np.exp(-((rc - radius) / width) ** 2)
     cos_d = (cx * directions[:, 0] + cz * directions[:, 1]) / np.maximum(rc, 1e-6)
-    cusp = np.exp(-((cos_d - 1.0 / 3.0) / 0.18) ** 2)
+    # along the ring, the distance to its cusp point: at least the spacing of successive cusps
+    # (0.75·U·spacing apart along the arm), so the arm is a line and not a string of beads
+    arc = radius * np.abs(np.arccos(np.clip(cos_d, -1.0, 1.0)) - CUSP_ANGLE)
+    reach = np.maximum(p.cusp_width, 0.75 * speeds * p.spacing)
+    cusp = np.exp(-(arc / reach) ** 2)
     cusp_foam = ring * cusp * np.exp(-a / p.cusp_life) * _smoothstep(0.0, 1.0, radius)
     # the wash: a band along the path — the distance to the segment from each sample to the
     # one left before it, the age and speed interpolated along it (a chain of discs would
@@ -148,8 +155,8 @@ def wake_foam(x: np.ndarray, z: np.ndarray, positions: np.ndarray, ages: np.ndar
     rw = np.hypot(px - f * sx, pz - f * sz)
     aw = a + f * (a[nxt] - a)
     uw = speeds + f * (speeds[nxt] - speeds)
-    half = 0.5 * beam + p.wash_spread * uw * aw
-    wash = np.exp(-(rw / half) ** 2) * np.exp(-aw / p.wash_life)
+    half = 0.35 * beam + p.wash_spread * uw * aw
+    wash = 0.7 * np.exp(-(rw / half) ** 2) * np.exp(-aw / p.wash_life)
     foam = np.maximum(cusp_foam, wash) * way * p.strength
     return np.clip(foam.max(axis=-1), 0.0, 1.0)
 

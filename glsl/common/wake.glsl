@@ -36,7 +36,11 @@ float WakeFoam(vec2 off) {
         float width = max(uWakeShape.y, speed * uWakeShape.z / 4.0);
         float ring = exp(-((rc - radius) / width) * ((rc - radius) / width));
         float c = dot(q, uWakeDir[i]) / max(rc, 1e-6);
-        float cusp = exp(-((c - 1.0 / 3.0) / 0.18) * ((c - 1.0 / 3.0) / 0.18));
+        // along the ring, the distance to its cusp point (acos(1/3) from the travel direction),
+        // at least the spacing of successive cusps: a line, not a string of beads
+        float arc = radius * abs(acos(clamp(c, -1.0, 1.0)) - 1.2309594);
+        float reach = max(uWakeShape.y, 0.75 * speed * uWakeShape.z);
+        float cusp = exp(-(arc / reach) * (arc / reach));
         float cuspFoam = ring * cusp * exp(-a / uWakeLife.x) * WakeSmooth(0.0, 1.0, radius);
         // the wash: a band along the path to the sample left before this one
         int j = min(i + 1, uWakeCount - 1);
@@ -46,8 +50,8 @@ float WakeFoam(vec2 off) {
         float rw = length(p - f * seg);
         float aw = a + f * (max(sj.z, 0.0) - a);
         float uw = speed + f * (sj.w - speed);
-        float half_ = 0.5 * uWakeShape.x + uWakeShape.w * uw * aw;
-        float wash = exp(-(rw / half_) * (rw / half_)) * exp(-aw / uWakeLife.y);
+        float half_ = 0.35 * uWakeShape.x + uWakeShape.w * uw * aw;
+        float wash = 0.7 * exp(-(rw / half_) * (rw / half_)) * exp(-aw / uWakeLife.y);
         foam = max(foam, max(cuspFoam, wash) * WakeSmooth(0.3, 2.0, speed));
     }
     return clamp(foam * uWakeLife.z, 0.0, 1.0);
