@@ -199,7 +199,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"untimed runs first, 0..{MAX_WARMUP} (default {BENCH_WARMUP})")
     b.add_argument("--repeat", type=_int_in("--repeat", 1, MAX_REPEAT), default=None,
                    help=f"timed rounds (every pass once per round, shuffled; the median and "
-                   f"quartiles are reported), 1..{MAX_REPEAT} (default {BENCH_REPEAT})")
+                   f"quartiles are reported), 1..{MAX_REPEAT} (default {BENCH_REPEAT}, fewer — "
+                   "at least 5 — once the rounds have taken 6 s)")
     b.add_argument("--out", default=None, metavar="FILE.json",
                    help="default: bench-results/NAME-NNNN.json (a numpy bench's charts beside "
                    "it: FILE.png, FILE-polar.png)")
@@ -549,7 +550,7 @@ def cmd_numpy_bench(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from .bench import NUMPY_BENCHES, bench_scene, scene_sweeps, write_report
+    from .bench import NUMPY_BENCHES, ROUNDS_BUDGET_S, bench_scene, scene_sweeps, write_report
     from .runtime import open_session, parse_size
     from .scenes import SCENES
 
@@ -578,7 +579,10 @@ def cmd_bench(args) -> int:
     path, _ = _bench_outputs(args, (".png",) if sweeps is not None else ())
     session = open_session(args.scene, params, args.shaders, camera=camera)
     try:
-        report = bench_scene(session, size, warmup, repeat)
+        # a slow scene stops adding timed rounds after ROUNDS_BUDGET_S (at least 5 rounds)
+        # unless --repeat asked for a number
+        budget = ROUNDS_BUDGET_S if args.repeat is None else None
+        report = bench_scene(session, size, warmup, repeat, budget_s=budget)
         if sweeps is not None:
             print(f"running the {args.scene} speed/accuracy sweeps "
                   "(this takes a while on a software renderer)", file=sys.stderr)

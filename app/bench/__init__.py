@@ -138,8 +138,13 @@ def per_draw(timing, draws: int) -> None:
     timing.gpu_ms[:] = [t / draws for t in timing.gpu_ms]
 
 
+#: seconds of timed rounds after which ``natura bench`` stops adding rounds (at least 5 are
+#: run) unless --repeat asks for a number
+ROUNDS_BUDGET_S = 6.0
+
+
 def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat: int = 15,
-                seed: int = 0) -> dict:
+                seed: int = 0, budget_s: float | None = None) -> dict:
     gpu = session.gpu
     target = gpu.target("bench", "scene radiance", size)
     try:
@@ -170,7 +175,7 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
         passes.append(Pass("frame", lambda: session.scene.render(frame, target)))
         hardware = not gpu.caps.software
         result = time_interleaved(gpu.ctx, {p.name: p.run for p in passes}, warmup, repeat,
-                                  seed=seed, gpu_queries=hardware)
+                                  seed=seed, gpu_queries=hardware, budget_s=budget_s)
         per_draw(result.timings["reference.fullscreen"], draws)
         counts, pipeline_status = _pipeline(gpu, target, [single, *passes[1:]], inner)
     finally:
@@ -209,6 +214,7 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
         "when": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "warmup": warmup,
         "repeat": repeat,
+        "rounds_budget_s": budget_s,
         "timing": {"method": "interleaved", "rounds": result.rounds, "seed": seed,
                    "order": "every pass once per round, shuffled", "reference": ref,
                    "reference_draws": draws},

@@ -104,10 +104,13 @@ def _quartiles(values: list[float]) -> tuple[float, float, float]:
 
 def time_interleaved(ctx: moderngl.Context, variants: dict[str, Callable[[], None]],
                      warmup: int = 2, rounds: int = 15, seed: int = 0,
-                     gpu_queries: bool = False) -> Interleaved:
+                     gpu_queries: bool = False, budget_s: float | None = None,
+                     min_rounds: int = 5) -> Interleaved:
     """Warm each variant up, then ``rounds`` rounds in which every variant runs once (shuffled
     order per round, ``ctx.finish()`` on both sides of each run). With ``gpu_queries`` a GPU
-    timer query is wrapped around each run too (hardware GPUs only; beside wall time)."""
+    timer query is wrapped around each run too (hardware GPUs only; beside wall time). With
+    ``budget_s``, no round starts once the rounds have taken that long and at least
+    ``min_rounds`` are done (a slow scene then reports fewer rounds, never fewer than that)."""
     import random
 
     rng = random.Random(seed)
@@ -118,7 +121,13 @@ def time_interleaved(ctx: moderngl.Context, variants: dict[str, Callable[[], Non
     ctx.finish()
     query = ctx.query(time=True) if gpu_queries else None
     timings = {name: Timing(name) for name in names}
+    start = time.perf_counter()
+    done = 0
     for _ in range(max(1, rounds)):
+        if (budget_s is not None and done >= max(1, min_rounds)
+                and time.perf_counter() - start > budget_s):
+            break
+        done += 1
         order = names[:]
         rng.shuffle(order)
         for name in order:
@@ -133,7 +142,7 @@ def time_interleaved(ctx: moderngl.Context, variants: dict[str, Callable[[], Non
             timings[name].wall_ms.append((time.perf_counter() - t0) * 1e3)
             if query is not None:
                 timings[name].gpu_ms.append(query.elapsed / 1e6)
-    return Interleaved(timings, max(1, rounds))
+    return Interleaved(timings, done)
 
 
 # ---- pipeline-statistics queries (GL_ARB_pipeline_statistics_query, raw GL via ctypes) ------

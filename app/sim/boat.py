@@ -246,8 +246,13 @@ class BoatSim:
         """Sail the last ``seconds`` before ``t_end`` at once (a single rendered frame then shows
         a boat under way with its wake behind it); the water is queried as it is given."""
         steps = max(1, int(round(seconds / dt)))
-        for i in range(steps):
-            self.step(dt, water, wind_xz, t_end - seconds + (i + 1) * dt)
+        keep = self.body.max_substep
+        self.body.max_substep = max(keep, dt)  # one substep a step: stable (ω·h ≈ 0.2 in heave)
+        try:
+            for i in range(steps):
+                self.step(dt, water, wind_xz, t_end - seconds + (i + 1) * dt)
+        finally:
+            self.body.max_substep = keep
 
 
 @contextmanager
