@@ -8,12 +8,13 @@ lights the boat), the maritime clouds (model B), the ocean and the boat — no c
 no Preetham sky.
 
 Cameras (``maritime.camera``): ``chase`` follows behind the boat (smoothed, so it does not
-shake with the swell); ``free`` is the fly camera, which can dive under the water and rise
-above the clouds. C switches between them.
+shake with the swell; looking around orbits it about the boat); ``free`` is the fly camera,
+which can dive under the water and rise above the clouds. C switches between them.
 
 Weather (``maritime.weather``, the thesis's forced weather states, §2): calm, fair, overcast and
-storm each set the wind, the sea and the cloud cover at once (:data:`WEATHER`); any later
-change to one of those parameters keeps the others as they are.
+storm each set the wind, the sea and the cloud cover at once (:data:`WEATHER`); fair is what the
+defaults are. Changing one of those parameters by hand afterwards (or with ``--set`` at the
+start) keeps the others and the state reads ``custom``.
 """
 
 from __future__ import annotations
@@ -34,16 +35,26 @@ from .base import Scene
 from .keymaps import FLY, KeyMap
 
 #: forced weather states: the parameters each sets (spec/000 §2, the weather panel)
+_LIGHT = {"clouds_b.light_absortion_sun": 0.03, "clouds_b.base_brightness": 0.8,
+          "clouds_b.darkness_threshold": 0.2}
 WEATHER: dict[str, dict[str, object]] = {
-    "calm": {"wind.speed": 3.0, "clouds_b.density_threshold": 0.75,
-             "clouds_b.density_multiplier": 0.6, "ocean.choppiness": 0.8},
-    "fair": {"wind.speed": 8.0, "clouds_b.density_threshold": 0.55,
-             "clouds_b.density_multiplier": 1.0, "ocean.choppiness": 1.0},
-    "overcast": {"wind.speed": 12.0, "clouds_b.density_threshold": 0.1,
-                 "clouds_b.density_multiplier": 1.6, "ocean.choppiness": 1.0},
-    "storm": {"wind.speed": 22.0, "clouds_b.density_threshold": -0.2,
-              "clouds_b.density_multiplier": 3.0, "ocean.choppiness": 1.4},
+    "calm": {"wind.speed": 3.0, "clouds_b.density_threshold": -7.0,
+             "clouds_b.density_multiplier": 0.6, "ocean.choppiness": 0.8, **_LIGHT},
+    "fair": {"wind.speed": 8.0, "clouds_b.density_threshold": -5.5,
+             "clouds_b.density_multiplier": 1.0, "ocean.choppiness": 1.0, **_LIGHT},
+    # thick layers: more of the sun's light absorbed on its way in, a darker floor (grey)
+    "overcast": {"wind.speed": 12.0, "clouds_b.density_threshold": -3.5,
+                 "clouds_b.density_multiplier": 1.2, "ocean.choppiness": 1.0,
+                 "clouds_b.light_absortion_sun": 0.08, "clouds_b.base_brightness": 0.45,
+                 "clouds_b.darkness_threshold": 0.12},
+    "storm": {"wind.speed": 22.0, "clouds_b.density_threshold": -2.5,
+              "clouds_b.density_multiplier": 2.0, "ocean.choppiness": 1.4,
+              "clouds_b.light_absortion_sun": 0.15, "clouds_b.base_brightness": 0.25,
+              "clouds_b.darkness_threshold": 0.06},
 }
+
+
+DEFAULT_WEATHER = "fair"
 
 MARITIME = KeyMap("maritime", {
     **{k: v for k, v in FLY.bindings.items() if k not in ("SPACE", "UP", "DOWN", "ESCAPE")},
@@ -110,8 +121,9 @@ class MaritimeScene(Scene):
         params.add(Param("maritime.camera", "chase", doc="chase: behind the boat; free: the fly "
                          "camera (under the water, above the clouds)", kind="choice",
                          choices=("chase", "free")))
-        params.add(Param("maritime.weather", "fair", doc="forced weather state: wind, sea and "
-                         "cloud cover at once (custom: as the parameters are)", kind="choice",
+        params.add(Param("maritime.weather", DEFAULT_WEATHER, doc="forced weather state: wind, "
+                         "sea and cloud cover at once (custom: as the parameters are)",
+                         kind="choice",
                          choices=(*WEATHER, "custom"), section="spec/000 §2"))
         params.add(Param("maritime.chase_distance", 16.0, 4.0, 200.0, "chase camera: distance "
                          "behind the boat", step=0.5, unit="m"))
@@ -121,18 +133,31 @@ class MaritimeScene(Scene):
 
     def __init__(self, gpu, params, camera=None):
         super().__init__(gpu, params, camera)
-        self._weather_applied: str | None = None
+        # the default state's values are the parameters' defaults (and the preset's): it is
+        # not applied at the start, so a --set of the wind or the clouds is kept (and the state
+        # then reads custom); a state chosen with --set is applied on the first frame
+        w = params["maritime.weather"]
+        self._weather_applied: str | None = w if w == DEFAULT_WEATHER else None
         self._chase: np.ndarray | None = None  # smoothed (x, y, z, heading)
+        #: the chase camera's orbit about the boat [°] (yaw, pitch), from looking around
+        self._orbit = np.zeros(2)
+        self._placed: tuple[float, float] | None = None  # (yaw, pitch) the chase last set
 
     def apply_weather(self) -> None:
-        """Set the parameters of the chosen weather state once, when it changes."""
-        w = self.params["maritime.weather"]
-        if w == self._weather_applied:
+        """Set the parameters of the chosen weather state once, when it changes; once one of
+        them is changed by hand (the wind slider, ``--set``), the state reads ``custom``."""
+        p = self.params
+        w = p["maritime.weather"]
+        if w != self._weather_applied:
+            self._weather_applied = w
+            for name, value in WEATHER.get(w, {}).items():
+                if name in p:
+                    p.set(name, value)
             return
-        self._weather_applied = w
-        for name, value in WEATHER.get(w, {}).items():
-            if name in self.params:
-                self.params.set(name, value)
+        state = WEATHER.get(w)
+        if state and any(name in p and p[name] != value for name, value in state.items()):
+            p.set("maritime.weather", "custom")
+            self._weather_applied = "custom"
 
     def frame(self, size, dt: float = 0.0) -> FrameContext:
         self.apply_weather()
@@ -141,6 +166,7 @@ class MaritimeScene(Scene):
             self._follow(dt)
         else:
             self._chase = None
+            self._placed = None
         return frame
 
     def boat(self) -> Boat:
@@ -163,15 +189,24 @@ class MaritimeScene(Scene):
             d = target - self._chase
             d[3] = math.atan2(math.sin(d[3]), math.cos(d[3]))
             self._chase = self._chase + a * d
+        # looking around (mouse look, the turn keys) since the last frame orbits the camera
+        # about the boat instead of being overwritten
+        if self._placed is not None:
+            self._orbit[0] += math.remainder(self.camera.yaw - self._placed[0], 360.0)
+            self._orbit[1] = min(60.0, max(-20.0, self._orbit[1]
+                                           + self.camera.pitch - self._placed[1]))
         x, _, z, psi = self._chase
+        psi = psi + math.radians(self._orbit[0])
         back = self.params["maritime.chase_distance"]
-        height = self.params["maritime.chase_height"]
+        height = self.params["maritime.chase_height"] + back * math.sin(
+            math.radians(self._orbit[1]))
         bow = np.array([math.sin(psi), 0.0, -math.cos(psi)])
-        eye = np.array([x, height, z]) - back * bow
+        eye = np.array([x, max(height, 0.5), z]) - back * bow
         look = np.array([x, 2.5, z]) - eye
         yaw = math.degrees(math.atan2(look[0], -look[2])) % 360.0  # compass, as the camera
         pitch = math.degrees(math.atan2(look[1], math.hypot(look[0], look[2])))
         self.camera.set(position=tuple(eye), yaw=yaw, pitch=pitch)
+        self._placed = (self.camera.yaw, self.camera.pitch)
 
     def hud(self) -> HudState:
         """The HUD's figures (spec/000 §2): the wind dial is the wind's direction minus the

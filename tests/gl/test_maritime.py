@@ -14,7 +14,8 @@ from app.sim.wake import KELVIN_HALF_ANGLE
 
 #: small bakes and FFT so each session starts quickly on llvmpipe
 LIGHT = ("clouds_b.volume_resolution=24", "clouds_b.detail_resolution=12",
-         "clouds_b.gradient_resolution=64", "ocean.fft_size=64", "boat.spin_up=8")
+         "clouds_b.max_steps=48", "clouds_b.gradient_resolution=64", "ocean.fft_size=64",
+         "boat.spin_up=8")
 
 
 def _session(gl_ctx, *sets):
@@ -62,15 +63,17 @@ def test_one_wind_moves_sea_clouds_sails_and_flag(maritime):
         spec = ocean.spectrum_params()
         drift = clouds.wind_velocity(frame)
         sail_force = boat.sim.sailing.sail.forces(boat.sim.state(), _wind(frame.wind))[0]
+        flag = boat.flag_angle() + boat.sim.heading  # the flag's bearing, heading removed
         seen[direction] = (spec.wind_direction, math.atan2(drift[1], drift[0]),
-                           math.atan2(sail_force[2], sail_force[0]))
+                           math.atan2(sail_force[2], sail_force[0]), flag)
     for a, b in zip(seen[90.0], seen[180.0]):
         turn = abs(math.remainder(b - a, 2 * math.pi))
         assert turn > math.radians(30), seen
-    # the sea and the clouds turn by exactly the wind's turn (x, z angles: 90° clockwise)
-    for i in (0, 1):
+    # the sea and the clouds turn by exactly the wind's turn (x, z angles: 90° clockwise), the
+    # flag too (a compass bearing: +90°)
+    for i, turn in ((0, math.pi / 2), (1, math.pi / 2), (3, math.pi / 2)):
         assert math.remainder(seen[180.0][i] - seen[90.0][i], 2 * math.pi) == pytest.approx(
-            math.pi / 2, abs=1e-6)
+            turn, abs=0.02)
 
 
 def _wind(xz):
@@ -201,3 +204,33 @@ def _deck_pixels(sim, frame, target) -> np.ndarray:
     for t in px:
         inside |= Path(t).contains_points(centres)
     return inside.reshape(h, w) & (target.read_depth() < 1.0)
+
+
+def test_forcing_a_weather_state_changes_the_cloud_cover_in_pixels(maritime):
+    """spec/000 §6 criterion 36: calm, fair, overcast and storm cover the sky seen from the sea
+    more and more, and the storm's clouds are the darkest."""
+    size = (96, 54)
+    cover, shade = {}, {}
+    for weather in ("calm", "fair", "overcast", "storm"):
+        s = maritime(f"maritime.weather={weather}", "boat.spin_up=0", "maritime.camera=free",
+                     "time.hour=12")
+        sc = s.scene
+        sc.frame((8, 8), 0.0)
+        sc.camera.set(position=(300.0, 5.0, 300.0), yaw=0.0, pitch=10.0, fov=70.0)
+        frame = sc.frame(size, 0.0)
+        target = s.gpu.target("test", "image", size)
+        passes = sc.passes(frame, target)
+        images = []
+        for with_clouds in (True, False):
+            target.use()
+            target.clear((0.0, 0.0, 0.0, 1.0))
+            for p in passes:
+                if with_clouds or not p.name.startswith("clouds_b"):
+                    p.run()
+            images.append(target.read()[..., :3])
+        cloudy = np.abs(images[0] - images[1]).max(axis=-1) > 0.02
+        cover[weather] = float(cloudy.mean())
+        shade[weather] = float(images[0][cloudy].mean()) if cloudy.any() else 0.0
+    assert cover["calm"] < 0.5 * cover["fair"], cover
+    assert cover["fair"] < cover["overcast"] <= cover["storm"] + 0.02, cover
+    assert shade["storm"] < shade["fair"], shade

@@ -738,8 +738,8 @@ def ocean_models(work: str) -> int:
 #: the maritime scene kept small for the window tests: tiny cloud bakes and FFT, no spin-up
 MARITIME_SMALL = ["clouds_b.volume_resolution=16", "clouds_b.detail_resolution=8",
                   "clouds_b.gradient_resolution=16", "ocean.fft_size=64",
-                  "ocean.mesh_segments=64", "boat.spin_up=0", "time.hour=10",
-                  "time.playing=false"]
+                  "clouds_b.max_steps=24", "ocean.mesh_segments=64", "boat.spin_up=0",
+                  "time.hour=10", "time.playing=false"]
 
 
 def maritime_keys(work: str) -> int:

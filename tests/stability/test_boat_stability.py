@@ -1,8 +1,8 @@
 """The whole sailing boat (app/sim/boat.py: hull, rigid body, buoyancy, sails, keel, skeg,
 navigation, wake) swept where it could fail: every buoyancy method, wind 0–40 m/s from every
-side, frame steps 1/240…1/10 s, the helm hard over, an upside-down start, a 1-minute storm (the boat physics' own
-stability tests, tests/stability/test_buoyancy_stability.py, sweep masses and the query lag) —
-finite, bounded speed, floating at the end."""
+side, frame steps 1/240…1/10 s, the helm hard over, an upside-down start, a 1-minute storm —
+finite, bounded speed, floating at the end. (The boat physics' own stability tests,
+tests/stability/test_buoyancy_stability.py, sweep masses and the query lag.)"""
 
 from __future__ import annotations
 

@@ -256,12 +256,7 @@ class Boat(Effect):
         side = -float(st.side) if st is not None else 1.0  # the rig's +z is boat +x
         fill = float(st.fill) if st is not None else 0.0
         prog = self.program(CLOTH)
-        wind = self.wind
-        # the flag streams downwind: its angle off the bow, in the rig's sign
-        flag_angle = 0.0
-        if float(np.hypot(*wind)) > 1e-3:
-            rel = math.atan2(wind[0], -wind[1]) - self.sim.heading
-            flag_angle = -(math.pi - rel)
+        flag_angle = self.flag_angle()
         for name, transform, prefix, tex in (
                 ("main", rigging.boom_transform(boom_angle), "boat.sail_", "sail"),
                 ("jib", rigging.jib_transform(0.8 * boom_angle), "boat.sail_", "sail"),
@@ -277,6 +272,16 @@ class Boat(Effect):
             prog.set_many(u)
             prog.vao([(vbo, rigging.CLOTH_FORMAT, *rigging.CLOTH_ATTRIBUTES)], ibo).render(
                 moderngl.TRIANGLES)
+
+    def flag_angle(self) -> float:
+        """The masthead flag's angle about the mast [rad, the rig's sign: 0 streaming aft, +
+        toward boat +x]: it streams downwind — the direction the frame's wind blows toward,
+        relative to the heading (spec/000 §1.4: the pennant shows the wind). 0 in no wind."""
+        wind = self.wind
+        if self.sim is None or float(np.hypot(*wind)) <= 1e-3:
+            return 0.0
+        rel = math.atan2(wind[0], -wind[1]) - self.sim.heading
+        return math.remainder(rel - math.pi, 2.0 * math.pi)
 
     def _draw_dry_mask(self, frame, target, model_rel, vp, meshes) -> None:
         """Front faces nearest into one depth texture, back faces farthest into another."""
