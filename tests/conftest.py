@@ -22,10 +22,13 @@ TESTS = Path(__file__).resolve().parent
 LAYERS = ("unit", "gl", "stability", "bench", "cli", "window")
 
 
+@pytest.hookimpl(tryfirst=True)  # before xdist's, which turns the groups into node ids
 def pytest_collection_modifyitems(config, items):
     """Every test gets the marker of its folder: ``pytest -m unit`` selects tests/unit. Under
     pytest-xdist (``-n``, with ``--dist loadgroup``) the window tests run on one worker, one
-    after another: two ``xvfb-run -a`` started at once can pick the same display number."""
+    after another: two ``xvfb-run -a`` started at once can pick the same display number; and
+    the tests of a module that share a module-scoped fixture (a bench run, a scene with its
+    programs) run on one worker, so the fixture is made once, not once per worker."""
     xdist = config.pluginmanager.hasplugin("xdist")
     for item in items:
         try:
@@ -34,8 +37,19 @@ def pytest_collection_modifyitems(config, items):
             continue
         if folder in LAYERS:
             item.add_marker(getattr(pytest.mark, folder))
-        if xdist and folder == "window":
+        if not xdist:
+            continue
+        if folder == "window":
             item.add_marker(pytest.mark.xdist_group("window"))
+        elif _uses_module_fixture(item):
+            item.add_marker(pytest.mark.xdist_group(f"module {item.path.name}"))
+
+
+def _uses_module_fixture(item) -> bool:
+    info = getattr(item, "_fixtureinfo", None)
+    if info is None:
+        return False
+    return any(defs and defs[-1].scope == "module" for defs in info.name2fixturedefs.values())
 
 
 @pytest.fixture(scope="session", autouse=True)

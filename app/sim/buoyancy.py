@@ -421,7 +421,7 @@ class ProbeForces:
     def forces(self, body: RigidBody, water: Any, t: float | None = None):
         w = water_at(water, t)
         p = body.to_world(self.points)
-        eta = np.asarray(w.water(p[:, 0], p[:, 2]).height, float)
+        eta = _heights(w, p[:, 0], p[:, 2])
         s = np.clip(eta - p[:, 1] + self.design_submersion, 0.0, self.max_submersion)
         wet = s > 0
         f = np.zeros_like(p)
@@ -433,6 +433,14 @@ class ProbeForces:
         r = p - body.com_world
         self.last = {"submersion": s, "wet": int(wet.sum())}
         return f.sum(0), np.cross(r, f).sum(0)
+
+
+def _heights(water: Any, x, z) -> np.ndarray:
+    """Water heights at world points: ``height()`` where the surface has it (no normals: half
+    the work of ``water()`` on the FFT ocean), else ``water().height``."""
+    if hasattr(water, "height"):
+        return np.asarray(water.height(x, z), float)
+    return np.asarray(water.water(x, z).height, float)
 
 
 def _limit_drag(drag: np.ndarray, v: np.ndarray, w: np.ndarray, body: RigidBody) -> np.ndarray:
@@ -501,7 +509,7 @@ class HydrostaticBuoyancy:
         """The submerged pieces in world space: (corners (M, 3, 3), depths (M, 3), source)."""
         w = water_at(water, t)
         vw = body.to_world(self.mesh.vertices)
-        depth = np.asarray(w.water(vw[:, 0], vw[:, 2]).height, float) - vw[:, 1]
+        depth = _heights(w, vw[:, 0], vw[:, 2]) - vw[:, 1]
         tri = self.mesh.triangles
         return clip_below(vw[tri], depth[tri])
 
