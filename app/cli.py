@@ -146,6 +146,8 @@ def _add_scene_options(p: argparse.ArgumentParser) -> None:
                    help="set a parameter (repeatable); see `natura params SCENE`")
     p.add_argument("--preset", default=None, metavar="FILE.toml",
                    help="apply a TOML preset before --set")
+    p.add_argument("--mesh", default=None, metavar="FILE",
+                   help="your own mesh on the shading lab's turntable (.obj, .stl, .gltf, .glb)")
     _add_common(p)
 
 
@@ -274,6 +276,32 @@ def _session_inputs(args, scene_name: str):
     return params, camera, size
 
 
+def _user_mesh(args, scene_name: str):
+    """``--mesh FILE`` loaded and checked before any GL work (one-line errors), or None."""
+    path = getattr(args, "mesh", None)
+    if path is None:
+        return None
+    from .scenes import get_scene
+
+    _nonempty("--mesh", path, "a mesh file (.obj, .stl, .gltf, .glb)")
+    takers = [e for e in get_scene(scene_name).effects if hasattr(e, "set_user_mesh")]
+    if not takers:
+        raise UsageError(f"--mesh: scene {scene_name!r} shows no mesh of yours: allowed with the "
+                         "shading scene (natura render shading --mesh FILE)")
+    from .sim.mesh_files import load_mesh
+
+    return load_mesh(path)
+
+
+def attach_mesh(scene, mesh) -> None:
+    """Hand a loaded ``--mesh`` to the effect of ``scene`` that shows one."""
+    if mesh is None:
+        return
+    for effect in scene.instances:
+        if hasattr(effect, "set_user_mesh"):
+            effect.set_user_mesh(mesh)
+
+
 def frame_path(base: Path, i: int, frames: int) -> Path:
     """The name of frame ``i`` (1-based) of ``frames``: ``base`` itself for one frame, else
     ``stem-0001.suffix`` ... (wider when there are more than 9999 frames)."""
@@ -288,6 +316,7 @@ def cmd_render(args) -> int:
 
     _nonempty("--out", args.out, "a file name ending in .png or .exr")
     params, camera, size = _session_inputs(args, args.scene)
+    mesh = _user_mesh(args, args.scene)
     if args.out is not None:
         base = check_output_path(args.out, force=True)  # suffix and folder; per-file check below
     else:
@@ -296,6 +325,7 @@ def cmd_render(args) -> int:
         # the frames share base's folder, which the check above probed once
         check_output_path(frame_path(base, i, args.frames), force=args.force, probe_folder=False)
     session = open_session(args.scene, params, args.shaders, camera=camera)
+    attach_mesh(session.scene, mesh)
     written = []
     frames = render_frames(session, size, args.frames, args.fps, progress=args.frames > 1)
     try:
@@ -318,6 +348,7 @@ def cmd_window(args) -> int:
 
     scene_name = args.scene if args.scene is not None else DEFAULT_SCENE
     params, camera, size = _session_inputs(args, scene_name)
+    mesh = _user_mesh(args, scene_name)
     from .ui.window import display_problem, run_window
 
     problem = display_problem()
@@ -330,6 +361,7 @@ def cmd_window(args) -> int:
         print(f"natura: no display ({problem}): "
               f"rendering {scene_name!r} headless instead", file=sys.stderr)
         session = open_session(scene_name, params, args.shaders, camera=camera)
+        attach_mesh(session.scene, mesh)
         frames = render_frames(session, size)
         try:
             image = next(frames)
@@ -340,7 +372,9 @@ def cmd_window(args) -> int:
         print(out)
         return 0
     return run_window(scene_name, params, camera, size,
-                      shader_root=resolve_shader_root(args.shaders), frames=args.frames)
+                      shader_root=resolve_shader_root(args.shaders), frames=args.frames,
+                      setup=(lambda scene: attach_mesh(scene, mesh)) if mesh is not None
+                      else None)
 
 
 def cmd_scenes(args) -> int:
@@ -508,7 +542,7 @@ _SCENE_BENCH_OPTIONS = (
     ("--warmup", "warmup", None), ("--repeat", "repeat", None), ("--no-sweep", "no_sweep", False),
     ("--time", "time", None), ("--camera", "camera", None), ("--yaw", "yaw", None),
     ("--pitch", "pitch", None), ("--fov", "fov", None), ("--set", "sets", []),
-    ("--preset", "preset", None), ("--shaders", "shaders", None),
+    ("--preset", "preset", None), ("--shaders", "shaders", None), ("--mesh", "mesh", None),
 )
 
 
@@ -566,6 +600,7 @@ def cmd_bench(args) -> int:
     warmup = BENCH_WARMUP if args.warmup is None else args.warmup
     repeat = BENCH_REPEAT if args.repeat is None else args.repeat
     params, camera, size = _session_inputs(args, args.scene)
+    mesh = _user_mesh(args, args.scene)
     if args.size is None:
         size = (640, 360)
     table_sizes = None
@@ -578,6 +613,7 @@ def cmd_bench(args) -> int:
     sweeps = None if args.no_sweep else scene_sweeps(args.scene)
     path, _ = _bench_outputs(args, (".png",) if sweeps is not None else ())
     session = open_session(args.scene, params, args.shaders, camera=camera)
+    attach_mesh(session.scene, mesh)
     try:
         # a slow scene stops adding timed rounds after ROUNDS_BUDGET_S (at least 5 rounds)
         # unless --repeat asked for a number

@@ -198,11 +198,16 @@ class Controller:
 
 def cycle_value(spec, value):
     """The value a ``cycle:NAME`` action gives parameter ``spec`` now at ``value``: a choice's
-    next choice (after the last, the first), a boolean's opposite."""
+    next choice (after the last, the first), a boolean's opposite, an integer's next value in
+    its range (after the highest, the lowest: a mode switch such as shading.toon)."""
     if spec.kind == "choice" and spec.choices:
         choices = list(spec.choices)
         i = choices.index(value) if value in choices else -1
         return choices[(i + 1) % len(choices)]
     if spec.kind == "bool":
         return not value
-    raise ValueError(f"cycle: {spec.name} is a {spec.kind}, not a choice or a boolean")
+    if spec.kind == "int":
+        lo, hi = int(spec.lo), int(spec.hi)
+        return lo if int(value) >= hi else int(value) + 1
+    raise ValueError(f"cycle: {spec.name} is a {spec.kind}, not a choice, a boolean or an "
+                     "integer")

@@ -646,8 +646,12 @@ class NaturaWindow:
 
 
 def run_window(scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720),
-               shader_root=None, frames: int | None = None) -> int:
+               shader_root=None, frames: int | None = None, setup=None) -> int:
+    """Open the window on a scene and run it (``frames`` at most); ``setup(scene)`` runs once
+    the scene exists (``natura window shading --mesh FILE`` hands over the mesh there)."""
     win = NaturaWindow(scene_name, params, camera, size, shader_root)
+    if setup is not None:
+        setup(win.scene)
     try:
         win.run(frames)
     finally:

@@ -156,6 +156,8 @@ def test_cycle_steps_through_the_choices_and_wraps():
         seen.append(w)
     assert sorted(seen) == sorted(weather.choices) and w == params["maritime.weather"]
     assert cycle_value(Param("x.on", True, kind="bool"), True) is False
+    mode = Param("x.mode", 0, 0, 3, kind="int")
+    assert [cycle_value(mode, v) for v in (0, 1, 2, 3)] == [1, 2, 3, 0]
     with pytest.raises(ValueError):
         cycle_value(Param("x.v", 1.0, 0.0, 2.0), 1.0)
 

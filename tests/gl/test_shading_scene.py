@@ -1,0 +1,94 @@
+"""The shading lab scene (spec/003 §2.1–2.3, §2.12): the test objects render finite; every
+lighting model, toon mode, the Gouraud switch and the parallax modes change the image of the
+objects (and nothing else); the lamps and the spot add light; a user's mesh replaces the row."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from app.runtime import open_session, scene_params
+from app.sim import lab_meshes
+
+SIZE = (160, 90)
+
+
+@pytest.fixture
+def shading(gl_ctx):
+    made = []
+
+    def make(*sets):
+        s = open_session("shading", scene_params("shading", sets=[*sets]), ctx=gl_ctx)
+        made.append(s)
+        return s
+    yield make
+    for s in made:
+        s.release()
+
+
+def _render(session, **values):
+    for name, value in values.items():
+        session.params.set(f"shading.{name}", value)
+    frame = session.scene.frame(SIZE, 0.0)
+    target = session.gpu.target("test", "image", SIZE)
+    session.scene.render(frame, target)
+    return target.read()[..., :3]
+
+
+def test_the_test_objects_render_finite_on_the_background(shading):
+    s = shading("shading.turntable=0")
+    img = _render(s)
+    assert np.isfinite(img).all()
+    background = np.asarray(s.scene.background)
+    covered = np.abs(img - background).max(axis=-1) > 1e-3
+    assert 0.05 < covered.mean() < 0.6
+    # five objects side by side: covered columns in at least five separate runs
+    cols = covered.any(axis=0).astype(int)
+    runs = int(((np.diff(cols) == 1).sum()) + cols[0])
+    assert runs >= 5, runs
+
+
+@pytest.mark.parametrize("name, values", [
+    ("lighting_model", (0, 1, 2)), ("toon", (0, 1, 2, 3)), ("gouraud", (False, True)),
+    ("rim", (False, True)), ("parallax_mode", (0, 1, 2, 3, 4)), ("spot", (False, True)),
+])
+def test_every_switch_changes_the_image(shading, name, values):
+    s = shading("shading.turntable=0", "shading.lamps=1")
+    images = [_render(s, **{name: v}) for v in values]
+    for a, b in zip(images, images[1:]):
+        assert np.isfinite(b).all()
+        assert np.abs(a - b).max() > 1e-3, name
+
+
+def test_the_lamps_add_light(shading):
+    s = shading("shading.turntable=0")
+    dark = _render(s, lamps=0).mean()
+    lit = [_render(s, lamps=n).mean() for n in (1, 2, 4)]
+    assert dark < lit[0] < lit[1] < lit[2]
+
+
+def test_stepped_toon_leaves_few_levels_on_the_sphere(shading):
+    s = shading("shading.turntable=0", "shading.object=sphere", "shading.lamps=0",
+                "shading.specularity=0", "shading.ambient=0")
+    smooth = _render(s, toon=0)
+    stepped = _render(s, toon=2)
+    background = np.asarray(s.scene.background)
+    on = np.abs(stepped - background).max(axis=-1) > 1e-3
+    levels = np.unique(np.round(stepped[on][:, 0], 3))
+    assert len(levels) <= 6 < len(np.unique(np.round(smooth[on][:, 0], 3)))
+
+
+def test_a_user_mesh_replaces_the_row(shading):
+    s = shading("shading.turntable=0")
+    cube = lab_meshes.from_arrays(
+        "cube", np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float),
+        np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                  [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]]))
+    row = _render(s)
+    s.scene.effect("shading").set_user_mesh(cube)
+    assert s.params["shading.object"] == "user"
+    one = _render(s)
+    background = np.asarray(s.scene.background)
+    assert (np.abs(one - background).max(axis=-1) > 1e-3).mean() < (
+        np.abs(row - background).max(axis=-1) > 1e-3).mean()
+    assert np.isfinite(one).all()
