@@ -851,6 +851,54 @@ def maritime_keys(work: str) -> int:
     return 0
 
 
+def shading_keys(work: str) -> int:
+    """The shading lab's map (spec/003 §2.1–2.3, §2.12) typed as X events in its window: 1 / 2 /
+    3 the lighting model, T four times through the toon modes back to none, G Gouraud, B the rim,
+    V the parallax methods, O the objects; each key's parameter and the image it gives."""
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    os.chdir(work)
+    params = scene_params("shading", sets=["shading.turntable=0"])
+    win = W.NaturaWindow("shading", params, get_scene("shading").new_camera(), (320, 180))
+    win.show_panel = False
+    keys = XKeys(win, "^Natura .* shading$")
+    out: dict = {"dt": keys.dt}
+
+    def image_sum() -> float:
+        return float(win.target.read()[..., :3].sum()) if win.target is not None else 0.0
+
+    out["model"] = []
+    for key in ("1", "2", "3"):
+        keys.tap(key)
+        keys.frames(1)
+        out["model"].append((params["shading.lighting_model"], image_sum()))
+    out["toon"] = []
+    for _ in range(4):
+        keys.tap("t")
+        keys.frames(1)
+        out["toon"].append((params["shading.toon"], image_sum()))
+    keys.tap("g")
+    out["gouraud"] = params["shading.gouraud"]
+    keys.tap("b")
+    out["rim"] = params["shading.rim"]
+    out["parallax"] = []
+    for _ in range(5):
+        keys.tap("v")
+        out["parallax"].append(params["shading.parallax_mode"])
+    out["objects"] = []
+    for _ in range(3):
+        keys.tap("o")
+        out["objects"].append(params["shading.object"])
+    out["render_error"] = str(win.render_error or "")
+    keys.tap("Escape")
+    out["closing"] = bool(win.wnd.is_closing)
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
 def maritime_cli_escape(work: str) -> int:
     """``natura window maritime`` as a user starts it: the first Esc opens the pause menu (the
     process keeps running), the second quits it with exit status 0."""
@@ -891,5 +939,6 @@ if __name__ == "__main__":
     runs = {"bake-progress": bake_progress, "ocean-models": ocean_models,
             "planet-keys": planet_keys, "sky-keyframes": sky_keyframes, "fly-keys": fly_keys,
             "cli-escape": cli_escape, "robustness": robustness,
-            "maritime-keys": maritime_keys, "maritime-cli-escape": maritime_cli_escape}
+            "maritime-keys": maritime_keys, "maritime-cli-escape": maritime_cli_escape,
+            "shading-keys": shading_keys}
     sys.exit(runs.get(sys.argv[2] if len(sys.argv) > 2 else "", main)(sys.argv[1]))

@@ -1,0 +1,31 @@
+"""The shading lab's keys (spec/003 §2.1–2.3, §2.12) typed as real X key events with xdotool
+into its window under Xvfb: each key sets its parameter and the image changes with it."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+
+from tests.helpers.window_driver import XDOTOOL_SKIP, XVFB_SKIP, drive
+
+pytestmark = [
+    pytest.mark.window,
+    pytest.mark.skipif(shutil.which("xvfb-run") is None, reason=XVFB_SKIP),
+    pytest.mark.skipif(shutil.which("xdotool") is None, reason=XDOTOOL_SKIP),
+]
+
+
+def test_the_lab_keys_typed_in_the_window(tmp_path):
+    r, _ = drive("shading-keys", tmp_path)
+    assert r["render_error"] == ""
+    assert [m for m, _ in r["model"]] == [0, 1, 2]
+    sums = [s for _, s in r["model"]]
+    assert sums[0] != sums[1] != sums[2]  # Lambert, Phong, Blinn–Phong differ
+    assert [t for t, _ in r["toon"]] == [1, 2, 3, 0]  # T steps through and wraps
+    toon_sums = [s for _, s in r["toon"]]
+    assert len(set(toon_sums)) == 4
+    assert r["gouraud"] is True and r["rim"] is True
+    assert r["parallax"] == [2, 3, 4, 0, 1]  # from the thesis's default, bare
+    assert r["objects"] == ["sphere", "table", "barrel"]
+    assert r["closing"] is True
