@@ -21,7 +21,7 @@ import re
 import reprlib
 import stat
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable
 
@@ -56,6 +56,19 @@ _WORDS = {3: "three", 4: "four"}
 
 def _fmt(x: float) -> str:
     return str(int(x)) if float(x).is_integer() and abs(x) < 1e15 else f"{x:g}"
+
+
+@dataclass
+class Inspector:
+    """A material inspector an effect offers the window's panel (``Effect.panel_items``), like
+    the toon-village thesis's custom inspectors (spec/003 Fig. 130): ``popups`` — a button per
+    title opening that popup with the widgets of those parameters (names of the effect's
+    parameters) — and ``textures`` — the generated maps shown as thumbnails (label → a texture
+    object the window's renderer can draw)."""
+
+    title: str
+    popups: dict[str, list[str]] = field(default_factory=dict)
+    textures: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass

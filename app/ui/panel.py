@@ -129,3 +129,30 @@ def messages(lines) -> None:
             imgui.text_disabled(m)
     finally:
         imgui.pop_text_wrap_pos()
+
+
+def inspector_panel(params: ParamSet, inspector, register=None) -> None:
+    """A material inspector (app.params.Inspector): a button per popup (its parameters' widgets
+    inside) and the generated maps as thumbnails (``register(texture)`` makes a texture
+    drawable by the window's renderer first)."""
+    for i, (title, names) in enumerate(inspector.popups.items()):
+        if i:
+            imgui.same_line()
+        popup = f"{title}##inspector-{inspector.title}"
+        if imgui.button(f"{title}…##btn-{inspector.title}"):
+            imgui.open_popup(popup)
+        if imgui.begin_popup(popup):
+            imgui.text(title)
+            for name in names:
+                if name in params:
+                    param_widget(params, params.spec(name))
+            imgui.end_popup()
+    for label, tex in inspector.textures.items():
+        if register is not None:
+            register(tex)
+        imgui.begin_group()
+        imgui.image(tex.glo, (64.0, 64.0 if tex.height > 1 else 12.0))
+        imgui.text_disabled(label)
+        imgui.end_group()
+        imgui.same_line()
+    imgui.new_line()

@@ -561,6 +561,7 @@ class NaturaWindow:
                 notes[e.name] = [f"({exc})"]
         panel.params_panel(self.params, titles, skip={"time.hour"}, open_groups=set(titles),
                            notes=notes)
+        from ..params import Inspector
         from ..sim.daynight import Keyframes
 
         for effect in self.scene.active_instances():
@@ -570,6 +571,9 @@ class NaturaWindow:
                     panel.keyframes_panel(item)
                     if imgui.button("Save keyframes"):
                         self.save_keyframes(item)
+                elif isinstance(item, Inspector) and imgui.collapsing_header(
+                        item.title, imgui.TreeNodeFlags_.default_open):
+                    panel.inspector_panel(self.params, item, self.ui.register_texture)
         if imgui.collapsing_header("Resources"):
             for a in gpu.allocations:
                 imgui.text(f"{a.owner}: {a.kind} {a.name}")

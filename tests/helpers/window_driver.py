@@ -891,6 +891,19 @@ def shading_keys(work: str) -> int:
     for _ in range(3):
         keys.tap("o")
         out["objects"].append(params["shading.object"])
+    # the panel's material inspector: its header, a popup button each, the maps' thumbnails
+    headers: list = []
+    images: list = []
+    buttons: list = []
+    undo = [_spy(win.imgui, "collapsing_header", headers), _spy(win.imgui, "image", images),
+            _spy(win.imgui, "button", buttons)]
+    win.show_panel = True
+    keys.frames(2)
+    for u in undo:
+        u()
+    out["inspector"] = {"headers": sorted({h["text"] for h in headers}),
+                        "images": len(images) // 2,
+                        "buttons": sorted({b["text"] for b in buttons})}
     out["render_error"] = str(win.render_error or "")
     keys.tap("Escape")
     out["closing"] = bool(win.wnd.is_closing)

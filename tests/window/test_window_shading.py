@@ -28,4 +28,9 @@ def test_the_lab_keys_typed_in_the_window(tmp_path):
     assert r["gouraud"] is True and r["rim"] is True
     assert r["parallax"] == [2, 3, 4, 0, 1]  # from the thesis's default, bare
     assert r["objects"] == ["sphere", "table", "barrel"]
+    # the material inspector (spec/003 Fig. 130): its popups and the generated maps
+    inspector = r["inspector"]
+    assert any(h.startswith("Material inspector") for h in inspector["headers"])
+    assert {"Lighting…", "Toon…", "Parallax…"} <= {b.split("##")[0] for b in inspector["buttons"]}
+    assert inspector["images"] >= 5  # ramp, masks, normal, height, albedo
     assert r["closing"] is True

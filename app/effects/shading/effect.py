@@ -20,7 +20,7 @@ import numpy as np
 
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec
-from ...params import Param
+from ...params import Inspector, Param
 from ...sim import lab_meshes, surface_maps
 from ..base import Effect
 
@@ -256,6 +256,34 @@ class Shading(Effect):
                            "uUseMasks": wall, "uUseMaps": maps, "uUseAlbedoMap": maps})
             prog.vao([(vbo, *FORMAT)], ibo).render(moderngl.TRIANGLES)
         ctx.disable(moderngl.DEPTH_TEST)
+
+    #: the inspector's popups (spec/003 Fig. 130: the CelShader's and ComplexCelShader's
+    #: custom inspectors): title → the parameters in it
+    INSPECTOR = {
+        "Lighting": ["shading.lighting_model", "shading.phong_exponent",
+                     "shading.blinn_exponent", "shading.gouraud", "shading.rim",
+                     "shading.rim_power", "shading.rim_color"],
+        "Toon": ["shading.toon", "shading.stepped_repository", "shading.specularity",
+                 "shading.smoothness", "shading.emission_color", "shading.flicker"],
+        "Parallax": ["shading.maps", "shading.parallax_mode", "shading.parallax_layers",
+                     "shading.parallax_scale", "shading.bumpiness", "shading.normal_unpack",
+                     "shading.normal_dxt5nm"],
+        "Contour": ["shading.contour", "shading.contour_width", "shading.contour_color",
+                    "shading.edge_depth_threshold", "shading.edge_normal_threshold",
+                    "shading.bloom", "shading.bloom_threshold", "shading.bloom_radius",
+                    "shading.bloom_intensity"],
+    }
+
+    def panel_items(self) -> list:
+        """The material inspector: popups for Lighting, Toon, Parallax and Contour, and the
+        generated maps (ramp, masks, the bricks' normal, height and albedo)."""
+        popups = {title: [n for n in names if n in self.params]
+                  for title, names in self.INSPECTOR.items()}
+        textures = {label: self._textures[key] for label, key in (
+            ("ramp", "ramp"), ("masks", "masks wall"), ("normal", "bricks normal"),
+            ("height", "bricks height"), ("albedo", "bricks albedo")) if key in self._textures}
+        return [Inspector("Material inspector (the thesis's CelShader inspectors)",
+                          {t: n for t, n in popups.items() if n}, textures)]
 
     def panel_notes(self) -> list[str]:
         names = self.shown()
