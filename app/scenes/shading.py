@@ -14,10 +14,12 @@ SHADING = KeyMap("shading", {
     "NUMBER_2": "set:shading.lighting_model=1", "NUMBER_3": "set:shading.lighting_model=2",
     "T": "cycle:shading.toon", "G": "toggle:shading.gouraud", "B": "toggle:shading.rim",
     "V": "cycle:shading.parallax_mode", "O": "cycle:shading.object",
+    "K": "cycle:shading.contour", "L": "toggle:shading.bloom",
 }, FLY.help[:-2] + (
     ("1 / 2 / 3", "Lambert / Phong / Blinn–Phong"), ("T", "toon: none, flat, stepped, ramp"),
     ("G", "Gouraud (per vertex) on / off"), ("B", "rim light on / off"),
     ("V", "parallax: off, bare, steep, occlusion, reference"), ("O", "next object"),
+    ("K", "contour: none, hulls, rim silhouettes, edge detectors"), ("L", "bloom on / off"),
 ) + FLY.help[-2:])
 
 

@@ -51,6 +51,8 @@ def test_the_test_objects_render_finite_on_the_background(shading):
 @pytest.mark.parametrize("name, values", [
     ("lighting_model", (0, 1, 2)), ("toon", (0, 1, 2, 3)), ("gouraud", (False, True)),
     ("rim", (False, True)), ("parallax_mode", (0, 1, 2, 3, 4)), ("spot", (False, True)),
+    ("contour", ("none", "hull", "hull_smooth", "rim_threshold", "rim_soft", "rim_50x2",
+                 "edges_sobel", "edges_roberts")),
 ])
 def test_every_switch_changes_the_image(shading, name, values):
     s = shading("shading.turntable=0", "shading.lamps=1")
@@ -92,3 +94,17 @@ def test_a_user_mesh_replaces_the_row(shading):
     assert (np.abs(one - background).max(axis=-1) > 1e-3).mean() < (
         np.abs(row - background).max(axis=-1) > 1e-3).mean()
     assert np.isfinite(one).all()
+
+
+def test_bloom_runs_after_everything_and_brightens_around_the_lit_windows(shading):
+    s = shading("shading.turntable=0", "shading.object=wall", "shading.emission_color=4,3,2",
+                "shading.bloom_threshold=0.8")
+    plain = _render(s, bloom=False)
+    frame = s.scene.frame(SIZE, 0.0)
+    target = s.gpu.target("test", "image", SIZE)
+    s.params.set("shading.bloom", True)
+    passes = s.scene.passes(frame, target)
+    assert [p.name for p in passes][-1] == "shading.bloom"
+    bloomed = _render(s, bloom=True)
+    assert np.isfinite(bloomed).all()
+    assert bloomed.sum() > plain.sum()
