@@ -43,6 +43,8 @@ from ..imageio import save_figure
 from ..sim import lab_meshes, surface_maps
 from ..sim.camera import Camera
 from ..sim.parallax import error_grid, parallax_error, parallax_uv, view_at
+from .shading_outlines import outline_sweep
+from .shading_outlines import summary_lines as outline_summary
 
 ANGLES = (10.0, 30.0, 60.0)
 LAYERS = (4, 8, 12, 16, 32, 64)
@@ -283,7 +285,7 @@ def lighting_sweep(session, size, warmup: int, repeat: int) -> dict:
 
 
 def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None, angles=ANGLES,
-          layers=LAYERS, lighting: bool = True) -> dict:
+          layers=LAYERS, lighting: bool = True, outlines: bool = True) -> dict:
     """The shading lab's sweeps (the module's docstring): ``parallax`` (one entry per render
     size), ``critical_angle``, ``lighting`` and ``outlines``."""
     params = session.params
@@ -302,10 +304,9 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None, angles=AN
                                                scale=float(params["shading.parallax_scale"]))
         out["lighting"] = (lighting_sweep(session, render_sizes[0], warmup, repeat)
                            if lighting else None)
-        # Outline IoU figures (IoU and gap count per contour method on the sphere and the
-        # table, against their cost) are added by the outline module when it is present
-        # (app/effects/shading/outlines.py, app/sim/outline_metrics.py); None until then.
-        out["outlines"] = None
+        # IoU and gaps per contour method on the sphere and the table, against their cost
+        out["outlines"] = (outline_sweep(session.gpu, warmup=warmup, rounds=max(3, repeat))
+                           if outlines else None)
     finally:
         for name, value in saved.items():
             params.set(name, value)
@@ -332,8 +333,10 @@ def chart(report: dict, path, force: bool = False) -> None:
     par = s["parallax"][0]
     angles = [v["angle"] for v in par["views"]]
     floor = 1e-4
-    fig, axes = plt.subplots(2, len(angles) + 1, figsize=(5.2 * (len(angles) + 1), 9.0),
-                             squeeze=False)
+    outlines = s.get("outlines")
+    nrows = 3 if outlines else 2
+    fig, axes = plt.subplots(nrows, len(angles) + 1, figsize=(5.2 * (len(angles) + 1),
+                                                              4.5 * nrows), squeeze=False)
     colours = {"bare": "tab:red", "steep": "tab:blue", "occlusion": "tab:green"}
     lo, hi = ADVICE
     for col, angle in enumerate(angles):
@@ -405,6 +408,20 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.set_ylabel(f"albedo |Δ|, n = {CRITICAL_PAIR[0]} vs {CRITICAL_PAIR[1]}")
     ax.set_title("the critical angle (spec/003 §2.3)", fontsize=9)
     ax.legend(fontsize=7)
+    if outlines:
+        for k, obj in enumerate(("sphere", "table")):
+            ax = axes[2, k]
+            rs = [r for r in outlines["rows"] if r["object"] == obj]
+            for r in rs:
+                ax.scatter(r["contour_ms"], r["iou"], s=30)
+                ax.annotate(f"{r['method']} ({r['gaps']} gaps)", (r["contour_ms"], r["iou"]),
+                            fontsize=7, xytext=(3, 3), textcoords="offset points")
+            ax.set_xlabel("contour pass [ms]")
+            ax.set_ylabel("IoU against the analytic silhouette band")
+            ax.set_ylim(0.0, 1.05)
+            ax.set_title(f"outlines on the {obj} (spec/003 §2.13)", fontsize=9)
+        for k in range(2, len(angles) + 1):
+            axes[2, k].axis("off")
     size = par["size"]
     fig.suptitle(f"natura bench shading — parallax on the brick wall at {size[0]}×{size[1]}, "
                  f"{report.get('renderer', '')}", fontsize=10)
@@ -447,6 +464,6 @@ def summary(report: dict) -> str:
             lines.append(f"  {r['lighting_model']:11s} {r['toon']:8s} "
                          f"{'vertex  ' if r['gouraud'] else 'fragment'} {r['median_ms']:8.3f} ms"
                          f"  ×{r['ratio_to_default']:.2f}")
-    if s.get("outlines") is None:
-        lines.append("outlines: not measured here (added by the outline module when present)")
+    if s.get("outlines"):
+        lines.extend(outline_summary(s["outlines"]))
     return "\n".join(lines)

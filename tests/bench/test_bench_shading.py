@@ -27,7 +27,14 @@ def test_cli_bench_shading_writes_json_chart_and_summary(tmp_path):
     assert "lighting × toon × Gouraud" in r.stdout and "critical angle" in r.stdout
 
     sweep = report["sweep"]
-    assert sweep["outlines"] is None
+    # the outline figures (spec/003 §2.13): every method on the sphere and the table; the
+    # per-vertex hull tears open on the low-poly table, the smoothed-normal hull does not
+    outlines = {(r["object"], r["method"]): r for r in sweep["outlines"]["rows"]}
+    assert len(outlines) == 14 and all(r["finite"] for r in outlines.values())
+    assert all(0.0 <= r["iou"] <= 1.0 and r["contour_ms"] >= 0.0 for r in outlines.values())
+    assert outlines[("table", "hull")]["gaps"] > outlines[("table", "hull_smooth")]["gaps"]
+    assert outlines[("sphere", "hull")]["iou"] > 0.7
+    assert "outlines at 128x128" in r.stdout
     (par,) = sweep["parallax"]
     assert par["size"] == [160, 90]
     for view in par["views"]:  # the wall fills the view, at nearly the nominal angle
