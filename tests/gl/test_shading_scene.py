@@ -53,6 +53,7 @@ def test_the_test_objects_render_finite_on_the_background(shading):
     ("rim", (False, True)), ("parallax_mode", (0, 1, 2, 3, 4)), ("spot", (False, True)),
     ("contour", ("none", "hull", "hull_smooth", "rim_threshold", "rim_soft", "rim_50x2",
                  "edges_sobel", "edges_roberts")),
+    ("wall_map", ("bricks", "planks", "stones")),
 ])
 def test_every_switch_changes_the_image(shading, name, values):
     s = shading("shading.turntable=0", "shading.lamps=1")
@@ -108,3 +109,17 @@ def test_bloom_runs_after_everything_and_brightens_around_the_lit_windows(shadin
     bloomed = _render(s, bloom=True)
     assert np.isfinite(bloomed).all()
     assert bloomed.sum() > plain.sum()
+
+
+def test_the_ramp_is_edited_in_the_panel_and_the_ramp_mode_follows(shading):
+    """spec/003 §2.12 Ramp: the bands are parameters (the inspector's Toon popup); darkening the
+    light band darkens the lit side, and the other modes do not read it."""
+    s = shading("shading.turntable=0", "shading.object=sphere", "shading.toon=3")
+    before = _render(s)
+    after = _render(s, ramp_light=(0.2, 0.2, 0.2))
+    on = np.abs(before - np.asarray(s.scene.background)).max(axis=-1) > 1e-3
+    assert on.sum() > 100
+    assert after[on].mean() < 0.9 * before[on].mean()
+    s.params.set("shading.toon", 0)
+    plain = _render(s)
+    assert np.array_equal(plain, _render(s, ramp_light=(1.0, 1.0, 1.0)))
