@@ -69,6 +69,8 @@ class Inspector:
     title: str
     popups: dict[str, list[str]] = field(default_factory=dict)
     textures: dict[str, Any] = field(default_factory=dict)
+    #: the parameter set the popups edit (None: the scene's own)
+    params: "ParamSet | None" = None
 
 
 @dataclass

@@ -135,6 +135,7 @@ def inspector_panel(params: ParamSet, inspector, register=None) -> None:
     """A material inspector (app.params.Inspector): a button per popup (its parameters' widgets
     inside) and the generated maps as thumbnails (``register(texture)`` makes a texture
     drawable by the window's renderer first)."""
+    params = inspector.params if inspector.params is not None else params
     for i, (title, names) in enumerate(inspector.popups.items()):
         if i:
             imgui.same_line()

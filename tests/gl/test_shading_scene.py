@@ -123,3 +123,25 @@ def test_the_ramp_is_edited_in_the_panel_and_the_ramp_mode_follows(shading):
     s.params.set("shading.toon", 0)
     plain = _render(s)
     assert np.array_equal(plain, _render(s, ramp_light=(1.0, 1.0, 1.0)))
+
+
+def test_each_object_can_have_its_own_material(shading):
+    """spec/003 Fig. 130: one inspector per material — the table switched to its own Stepped
+    material changes the table's pixels and no other object's."""
+    s = shading("shading.turntable=0", "shading.lamps=0")
+    effect = s.scene.effect("shading")
+    shared = _render(s)
+    table = effect.material("table")
+    assert table["shading.toon"] == s.params["shading.toon"]  # starts as the lab's
+    table.set("shading.toon", 2)
+    assert np.array_equal(_render(s), shared)  # not its own yet: the lab's values
+    table.set("material.own", True)
+    own = _render(s)
+    changed = np.abs(own - shared).max(axis=-1) > 1e-3
+    cols = np.nonzero(changed.any(axis=0))[0]
+    assert changed.sum() > 20
+    # the table stands second from the left: its columns only
+    width = SIZE[0]
+    assert cols.min() > 0.15 * width and cols.max() < 0.45 * width, (cols.min(), cols.max())
+    titles = [item.title for item in effect.panel_items()]
+    assert "table: CelShader" in titles and "wall: ComplexCelShader" in titles

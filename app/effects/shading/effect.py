@@ -20,7 +20,7 @@ import numpy as np
 
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec
-from ...params import Inspector, Param
+from ...params import Inspector, Param, ParamSet
 from ...sim import lab_meshes, surface_maps
 from ..base import Effect, Pass
 from .outlines import PROGRAMS as OUTLINE_PROGRAMS
@@ -130,6 +130,7 @@ class Shading(Effect):
         self.user_mesh: lab_meshes.LabMesh | None = None
         self.time = 0.0
         self.outlines = Outlines(gpu, self.name, params)
+        self._materials: dict[str, ParamSet] = {}
 
     def set_user_mesh(self, mesh: lab_meshes.LabMesh) -> lab_meshes.LabMesh:
         """A user's own mesh (``natura … --mesh FILE``, loaded by app.sim.mesh_files), fitted to
@@ -280,7 +281,12 @@ class Shading(Effect):
             albedo = LAYOUT[name][2] if name in LAYOUT else (0.6, 0.6, 0.6)
             prog.set_many({"uModel": self.model_matrix(name), "uAlbedo": albedo,
                            "uUseMasks": wall, "uUseMaps": maps, "uUseAlbedoMap": maps})
+            own = name in self._materials and self._materials[name]["material.own"]
+            if own:
+                self._material_uniforms(prog, name)
             prog.vao([(vbo, *FORMAT)], ibo).render(moderngl.TRIANGLES)
+            if own:
+                self._restore_uniforms(prog)
         # the contour of shading.contour, over the objects (spec/003 §2.13)
         objects = [(*held, self.model_matrix(name)) for name in self.shown()
                    if (held := self._meshes.get(name)) is not None]
@@ -312,9 +318,47 @@ class Shading(Effect):
                     "shading.bloom_intensity"],
     }
 
+    #: what each object's own material may set (the thesis's per-material inspectors): the
+    #: lighting and toon uniforms; the wall's ComplexCelShader adds its masks and emission
+    MATERIAL = ("shading.lighting_model", "shading.phong_exponent", "shading.blinn_exponent",
+                "shading.rim", "shading.rim_power", "shading.rim_color", "shading.toon",
+                "shading.stepped_repository", "shading.specularity", "shading.smoothness",
+                "shading.emission_color", "shading.flicker")
+
+    def material(self, name: str) -> ParamSet:
+        """Object ``name``'s own material (spec/003 §2.12, Fig. 130: one inspector per
+        material): ``material.own`` off — the default — draws it with the lab's shared values
+        (the ``shading`` group); on, with the values of this set, which start as the lab's."""
+        if name not in self._materials:
+            own = Param("material.own", False, doc=f"{name}: its own material instead of the "
+                        "lab's shared one", kind="bool", section="spec/003 §2.12")
+            specs = [own] + [self.params.spec(n) for n in self.MATERIAL if n in self.params]
+            material = ParamSet(specs)
+            for n in self.MATERIAL:
+                if n in self.params:
+                    material.set(n, self.params[n])
+            self._materials[name] = material
+        return self._materials[name]
+
+    def _material_uniforms(self, prog, name: str) -> None:
+        """Object ``name``'s own values over the lab's, when it has its own material."""
+        m = self._materials.get(name)
+        if m is None or not m["material.own"]:
+            return
+        for n in self.MATERIAL:
+            if n in m:
+                spec = m.spec(n)
+                if spec.uniform:
+                    prog.set(spec.uniform, m[n])
+
+    def _restore_uniforms(self, prog) -> None:
+        self.apply_params(prog)
+
     def panel_items(self) -> list:
-        """The material inspector: popups for Lighting, Toon, Parallax and Contour, and the
-        generated maps (ramp, masks, the bricks' normal, height and albedo)."""
+        """The lab's material inspector (popups for Lighting, Toon, Parallax and Contour, and
+        the generated maps: ramp, masks, the relief's normal, height and albedo), then one
+        inspector per object shown — CelShader on the props, ComplexCelShader on the wall —
+        whose popups edit that object's own material (:meth:`material`)."""
         popups = {title: [n for n in names if n in self.params]
                   for title, names in self.INSPECTOR.items()}
         relief = self.params["shading.wall_map"]
@@ -322,8 +366,16 @@ class Shading(Effect):
             ("ramp", "ramp"), ("masks", "masks wall"), ("normal", f"{relief} normal"),
             ("height", f"{relief} height"), ("albedo", f"{relief} albedo"))
             if key in self._textures}
-        return [Inspector("Material inspector (the thesis's CelShader inspectors)",
-                          {t: n for t, n in popups.items() if n}, textures)]
+        out = [Inspector("Material inspector (the thesis's CelShader inspectors)",
+                         {t: n for t, n in popups.items() if n}, textures)]
+        for name in self.shown():
+            m = self.material(name)
+            shader = "ComplexCelShader" if name in LAYOUT and LAYOUT[name][3] else "CelShader"
+            out.append(Inspector(f"{name}: {shader}", {
+                "Material": ["material.own"],
+                "Lighting": [n for n in self.INSPECTOR["Lighting"] if n in m],
+                "Toon": [n for n in self.INSPECTOR["Toon"] if n in m]}, {}, m))
+        return out
 
     def panel_notes(self) -> list[str]:
         names = self.shown()
