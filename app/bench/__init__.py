@@ -138,6 +138,23 @@ def per_draw(timing, draws: int) -> None:
     timing.gpu_ms[:] = [t / draws for t in timing.gpu_ms]
 
 
+def write_chart(fig, path, force: bool = False, title: str | None = None) -> None:
+    """Finish a bench chart: its ``title`` (when given) and tight layout, then written atomically
+    and never over an existing file without ``force`` (``app.imageio.save_figure``); the figure is
+    closed whatever happens."""
+    import matplotlib.pyplot as plt
+
+    from ..imageio import save_figure
+
+    if title is not None:
+        fig.suptitle(title, fontsize=10)
+        fig.tight_layout()
+    try:
+        save_figure(fig, path, force=force)
+    finally:
+        plt.close(fig)
+
+
 #: seconds of timed rounds after which ``natura bench`` stops adding rounds (at least 5 are
 #: run) unless --repeat asks for a number
 ROUNDS_BUDGET_S = 6.0

@@ -36,10 +36,10 @@ import time
 
 import numpy as np
 
-from ..imageio import save_figure
 from ..sim import buoyancy as bu
 from ..sim import hull as hl
 from ..sim.rigid_body import G, quat_from_axis_angle, quat_from_matrix
+from . import write_chart
 
 MASSES = (1500.0, 3000.0, 5000.0)
 MASS = 3000.0
@@ -408,12 +408,7 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.set_xlabel("ms per force evaluation")
     ax.set_ylabel("force error / weight vs 16× hydrostatic")
     ax.set_title("speed against accuracy (sine sea, λ 12 m)", fontsize=9)
-    fig.suptitle("natura bench boat", fontsize=10)
-    fig.tight_layout()
-    try:
-        save_figure(fig, path, force=force)  # atomic, never over an existing file
-    finally:
-        plt.close(fig)
+    write_chart(fig, path, force, title="natura bench boat")
 
 
 def summary(report: dict) -> str:

@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..gpu.timing import time_call, time_interleaved
-from ..imageio import save_figure
+from . import write_chart
 
 PRESETS = ("cumulus", "stratocumulus", "stratus")
 DEFAULT_SIZES = ((256, 256), (512, 512), (800, 800), (1920, 1080))
@@ -289,12 +289,7 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.set_yscale("log")
     ax.set_title("the cloud thesis's Table 6.1 layout")
     ax.legend(fontsize=8)
-    fig.suptitle(f"natura bench clouds — {report['renderer']}", fontsize=10)
-    fig.tight_layout()
-    try:
-        save_figure(fig, path, force=force)  # atomic, never over an existing file
-    finally:
-        plt.close(fig)
+    write_chart(fig, path, force, title=f"natura bench clouds — {report['renderer']}")
 
 
 def summary(report: dict) -> str:

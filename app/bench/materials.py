@@ -31,7 +31,7 @@ from ..effects.materials.effect import (
     Materials,
 )
 from ..gpu.timing import time_call, time_interleaved
-from ..imageio import save_figure
+from . import write_chart
 
 TOP_VIEW = np.array([[2.0, 0, 0, 0], [0, 0, -2.0, 0], [0, 0, 0, 0], [0, 0, 0, 1.0]])
 BAKE_SIZES = (8, 16, 32, 64, 128)
@@ -260,12 +260,7 @@ def chart(report: dict, path, force: bool = False) -> None:
         ax.set_ylabel("time ratio, one interleaved run")
         ax.set_title(f"tessellation: auto (edges ≈ {tess['edge_pixels']:g} px) vs fixed 48×96")
         ax.legend(fontsize=8, loc="lower right")
-    fig.suptitle(f"natura bench materials — {report['renderer']}", fontsize=10)
-    fig.tight_layout()
-    try:
-        save_figure(fig, path, force=force)  # atomic, never over an existing file
-    finally:
-        plt.close(fig)
+    write_chart(fig, path, force, title=f"natura bench materials — {report['renderer']}")
 
 
 def summary(report: dict) -> str:

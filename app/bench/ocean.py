@@ -50,7 +50,6 @@ import numpy as np
 
 from ..errors import NaturaError, ParamError, UsageError
 from ..gpu.timing import time_call, time_interleaved
-from ..imageio import save_figure
 from ..sim import ocean as oc
 from ..sim.ocean_validation import (
     cascade_moments,
@@ -64,6 +63,7 @@ from ..sim.ocean_validation import (
     spectrum_peak_period,
 )
 from ..sim.ocean_validation import summary as oceanography_summary
+from . import write_chart
 
 FFT_SIZES = (64, 128, 256, 512)
 CASCADES = (1, 2, 3, 4)
@@ -512,13 +512,9 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.set_ylabel("spectrum shape distance (½ L1 over log k × direction bins)")
     ax.set_title("(d) time against how well the waves fill the directional spectrum")
     ax.legend(fontsize=7)
-    fig.suptitle(f"natura bench ocean — {report.get('renderer', s.get('renderer'))}, "
-                 f"{s['spectrum']}, U = {s['wind']:g} m/s", fontsize=10)
-    fig.tight_layout()
-    try:
-        save_figure(fig, path, force=force)  # atomic, never over an existing file
-    finally:
-        plt.close(fig)
+    write_chart(fig, path, force,
+                title=f"natura bench ocean — {report.get('renderer', s.get('renderer'))}, "
+                      f"{s['spectrum']}, U = {s['wind']:g} m/s")
 
 
 def _pct(x) -> str:

@@ -30,8 +30,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..gpu.timing import time_call, time_interleaved
-from ..imageio import save_figure
 from ..sim import atmosphere as atm
+from . import write_chart
 
 DEFAULT_SIZES = ((800, 600), (1280, 720), (1920, 1080))
 VIEWS = {
@@ -419,12 +419,7 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.set_ylabel("ms per frame")
     ax.set_title("the thesis's table layout (spec/002 §5)")
     ax.legend(fontsize=8)
-    fig.suptitle(f"natura bench planet — {report['renderer']}", fontsize=10)
-    fig.tight_layout()
-    try:
-        save_figure(fig, path, force=force)  # atomic, never over an existing file
-    finally:
-        plt.close(fig)
+    write_chart(fig, path, force, title=f"natura bench planet — {report['renderer']}")
 
 
 def summary(report: dict) -> str:

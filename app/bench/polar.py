@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from ..imageio import save_figure
 from ..sim.sailing import KNOT, speed_polar
+from . import write_chart
 
 
 def polar_report(wind_speeds=(4.0, 8.0, 12.0), angles=None, boat=None) -> dict:
@@ -82,10 +82,7 @@ def chart(report: dict, path, force: bool = False) -> None:
                  f"sail {b.get('sail_area', float('nan')):g} m²", fontsize=10)
     fig.legend(fontsize=8, loc="lower center", ncol=2)
     fig.subplots_adjust(left=0.02, right=0.9, top=0.93, bottom=0.2)
-    try:
-        save_figure(fig, path, force=force)  # atomic, never over an existing file
-    finally:
-        plt.close(fig)
+    write_chart(fig, path, force)
 
 
 def summary(report: dict) -> str:

@@ -39,10 +39,10 @@ import numpy as np
 
 from ..colour import linear_to_srgb
 from ..gpu.timing import time_interleaved
-from ..imageio import save_figure
 from ..sim import lab_meshes, surface_maps
 from ..sim.camera import Camera
 from ..sim.parallax import error_grid, parallax_error, parallax_uv, view_at
+from . import write_chart
 from .shading_outlines import outline_sweep
 from .shading_outlines import summary_lines as outline_summary
 
@@ -423,13 +423,9 @@ def chart(report: dict, path, force: bool = False) -> None:
         for k in range(2, len(angles) + 1):
             axes[2, k].axis("off")
     size = par["size"]
-    fig.suptitle(f"natura bench shading — parallax on the brick wall at {size[0]}×{size[1]}, "
-                 f"{report.get('renderer', '')}", fontsize=10)
-    fig.tight_layout()
-    try:
-        save_figure(fig, path, force=force)  # atomic, never over an existing file
-    finally:
-        plt.close(fig)
+    write_chart(fig, path, force,
+                title=f"natura bench shading — parallax on the brick wall at {size[0]}×{size[1]}, "
+                      f"{report.get('renderer', '')}")
 
 
 def summary(report: dict) -> str:
