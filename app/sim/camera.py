@@ -98,6 +98,14 @@ class Camera:
         return matrix44.create_perspective_projection(self.fov, aspect, self.near, self.far,
                                                       dtype=np.float64).T
 
+    def view_projection_relative(self, aspect: float) -> np.ndarray:
+        """Projection × view for camera-relative positions (world − camera position): the
+        transform every pass that keeps float32 exact far from the origin shares, so their
+        depths agree where their surfaces meet."""
+        view = self.view_matrix().copy()
+        view[:3, 3] = 0.0
+        return self.projection_matrix(aspect) @ view
+
     def ray_directions(self, width: int, height: int) -> np.ndarray:
         """World-space unit view directions through pixel centres, row 0 at the top."""
         r, u, f = self.basis()

@@ -780,6 +780,12 @@ def maritime_keys(work: str) -> int:
     sails0 = value("boat.sails")
     n = keys.hold("x", 20, "hold:boat.sails=0.4")
     out["x"] = {"frames": n, "sails0": sails0, "sails": value("boat.sails")}
+    throttle0 = value("boat.throttle")
+    n = keys.hold("Down", 10, "hold:boat.throttle=-0.5")
+    out["down"] = {"frames": n, "throttle0": throttle0, "throttle": value("boat.throttle")}
+    sails0 = value("boat.sails")
+    n = keys.hold("z", 10, "hold:boat.sails=-0.4")
+    out["z"] = {"frames": n, "sails0": sails0, "sails": value("boat.sails")}
     out["held_after"] = sorted(win.controller.held)
     # C: the free camera, which W then flies; C again: the chase camera
     out["camera0"] = value("maritime.camera")
@@ -805,8 +811,13 @@ def maritime_keys(work: str) -> int:
                           "exclusive": bool(win.wnd.mouse_exclusivity),
                           "mode_line": [w["text"] for w in wrapped
                                                 if "Space" in w["text"]][-1]}
-    # 4: the storm sets the wind (the scene applies it on its next frame)
+    # 1 2 3 4: the weather states, each with its wind (the scene applies it on its next frame)
     out["weather0"] = value("maritime.weather")
+    out["weathers"] = []
+    for key in ("1", "2", "3"):
+        keys.tap(key)
+        keys.frames(1)
+        out["weathers"].append((value("maritime.weather"), value("wind.speed")))
     keys.tap("4")
     keys.frames(1)
     out["storm"] = {"weather": value("maritime.weather"), "wind_speed": value("wind.speed"),
@@ -891,6 +902,14 @@ def shading_keys(work: str) -> int:
     for _ in range(3):
         keys.tap("o")
         out["objects"].append(params["shading.object"])
+    out["contours"] = []
+    for _ in range(3):
+        keys.tap("k")
+        keys.frames(1)
+        out["contours"].append((params["shading.contour"], image_sum()))
+    keys.tap("l")
+    keys.frames(1)
+    out["bloom"] = params["shading.bloom"]
     # the panel's material inspector: its header, a popup button each, the maps' thumbnails
     headers: list = []
     images: list = []

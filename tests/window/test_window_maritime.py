@@ -39,6 +39,15 @@ def test_maritime_keys_typed_in_the_window(tmp_path):
     up = r["up"]
     assert up["frames"] >= 25
     assert up["throttle"] == pytest.approx(up["throttle0"] + 0.5 * up["frames"] * dt, rel=1e-6)
+    down = r["down"]
+    assert down["frames"] >= 8
+    assert down["throttle"] == pytest.approx(max(-1.0, down["throttle0"]
+                                                 - 0.5 * down["frames"] * dt), rel=1e-6)
+    z = r["z"]
+    assert z["frames"] >= 8
+    assert z["sails"] == pytest.approx(max(-1.0, z["sails0"] - 0.4 * z["frames"] * dt), rel=1e-6)
+    # 1 2 3: calm, fair, overcast, each with its wind
+    assert r["weathers"] == [["calm", 3.0], ["fair", 8.0], ["overcast", 12.0]]
     x = r["x"]
     assert x["sails"] == pytest.approx(x["sails0"] + 0.4 * x["frames"] * dt, rel=1e-6)
     assert r["held_after"] == []  # released keys stop: nothing stuck

@@ -28,6 +28,10 @@ def test_the_lab_keys_typed_in_the_window(tmp_path):
     assert r["gouraud"] is True and r["rim"] is True
     assert r["parallax"] == [2, 3, 4, 0, 1]  # from the thesis's default, bare
     assert r["objects"] == ["sphere", "table", "barrel"]
+    # K: the contours in order, each changing the image; L: bloom on
+    assert [c for c, _ in r["contours"]] == ["hull", "hull_smooth", "rim_threshold"]
+    assert len({s for _, s in r["contours"]}) == 3
+    assert r["bloom"] is True
     # the material inspector (spec/003 Fig. 130): its popups and the generated maps
     inspector = r["inspector"]
     assert any(h.startswith("Material inspector") for h in inspector["headers"])

@@ -206,13 +206,6 @@ class Boat(Effect):
     def passes(self, frame, target) -> list[Pass]:
         return [Pass("boat", lambda: self.draw(frame, target), Stage.OPAQUE)]
 
-    def view_proj_rel(self, frame) -> np.ndarray:
-        """The ocean's camera-relative view-projection (the same depths where they meet)."""
-        cam = frame.camera
-        view = cam.view_matrix().copy()
-        view[:3, 3] = 0.0
-        return cam.projection_matrix(frame.aspect) @ view
-
     def draw(self, frame, target) -> None:
         sim = self.sim
         if sim is None:
@@ -222,7 +215,7 @@ class Boat(Effect):
             self.release_meshes()
             meshes = self._mesh_buffers()
         ctx = self.gpu.ctx
-        vp = self.view_proj_rel(frame)
+        vp = frame.camera.view_projection_relative(frame.aspect)  # as the water's
         model_rel = _translate(-np.asarray(frame.camera.position, float)) @ sim.model_matrix()
         env, use_probe = self._environment(frame)
         lods = float(max(0, int(math.log2(env.size[0]))))

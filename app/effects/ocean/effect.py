@@ -226,10 +226,7 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         return self.mesh.drawn
 
     def view_proj_rel(self, frame) -> np.ndarray:
-        cam = frame.camera
-        view = cam.view_matrix().copy()
-        view[:3, 3] = 0.0  # camera-relative positions
-        return cam.projection_matrix(frame.aspect) @ view
+        return frame.camera.view_projection_relative(frame.aspect)
 
     def view_mode(self) -> int:
         """0: the camera is clearly above the water, 1: clearly below, 2: within 0.5 m of it (the

@@ -474,7 +474,10 @@ class GpuOceanSim:
         :meth:`poll_readback`, or None without a request."""
         if self._rb_pending is None:
             return None
-        t, slot = self._rb_pending
+        return self._map(*self._rb_pending)
+
+    def _map(self, t: float, slot: int):
+        """Read readback ``slot`` (the request made at simulation time ``t``) as the latest."""
         n = self.n
         arrays = [np.frombuffer(buf.read(), dtype=np.float32).reshape(n, n, 4).copy()
                   for buf in self._pbo[slot]]
@@ -491,10 +494,5 @@ class GpuOceanSim:
         ago and map without stalling.  Calling again without a new request returns the same
         result.  Arrays are indexed [iz, ix] with channels (λD_x, η, λD_z, J)."""
         if self._rb_previous is not None:
-            t, slot = self._rb_previous
-            n = self.n
-            arrays = [np.frombuffer(buf.read(), dtype=np.float32).reshape(n, n, 4).copy()
-                      for buf in self._pbo[slot]]
-            self._rb_latest = (t, arrays)
-            self._rb_previous = None
+            self._map(*self._rb_previous)
         return self._rb_latest

@@ -286,7 +286,7 @@ class Shading(Effect):
                 self._material_uniforms(prog, name)
             prog.vao([(vbo, *FORMAT)], ibo).render(moderngl.TRIANGLES)
             if own:
-                self._restore_uniforms(prog)
+                self.apply_params(prog)  # back to the lab's shared values
         # the contour of shading.contour, over the objects (spec/003 §2.13)
         objects = [(*held, self.model_matrix(name)) for name in self.shown()
                    if (held := self._meshes.get(name)) is not None]
@@ -350,9 +350,6 @@ class Shading(Effect):
                 spec = m.spec(n)
                 if spec.uniform:
                     prog.set(spec.uniform, m[n])
-
-    def _restore_uniforms(self, prog) -> None:
-        self.apply_params(prog)
 
     def panel_items(self) -> list:
         """The lab's material inspector (popups for Lighting, Toon, Parallax and Contour, and
