@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..params import Param
+from .optics import schlick_fresnel  # noqa: F401  (the one twin of fresnel.glsl's SchlickFresnel; re-exported)
 
 #: Fresnel reflectance of water at normal incidence (n = 1.333)
 SEA_F0 = 0.0204
@@ -42,12 +43,6 @@ def ground_params(group: str, section: str, horizon_doc: str, sky_doc: str) -> l
 def cox_munk_mss(wind_speed: float) -> float:
     """Cox & Munk 1954's isotropic slope variance 0.003 + 0.00512·U for the wind U (m/s)."""
     return 0.003 + 0.00512 * float(wind_speed)
-
-
-def schlick_fresnel(f0, cos_theta) -> np.ndarray:
-    """F0 + (1 − F0)(1 − cos θ)^5, cos θ clamped into [0, 1] (``SchlickFresnel``, math.glsl)."""
-    m = 1.0 - np.clip(np.asarray(cos_theta, dtype=np.float64), 0.0, 1.0)
-    return f0 + (1.0 - f0) * m**5
 
 
 def sea_rough_incidence(p, mss: float) -> np.ndarray:

@@ -4,7 +4,7 @@
 // blurred mips for the diffuse part, a sharper mip for the gloss of the gelcoat — and a Blinn
 // highlight of the sun (the probe is sampled without its sun disk).
 // Equations: Lambert E·max(n·l, 0)/π·albedo; Schlick 1994's Fresnel F = F0 + (1 − F0)(1 − n·v)^5
-// (math.glsl) between the diffuse body and the probe's reflection; the bottom paint below the
+// (fresnel.glsl) between the diffuse body and the probe's reflection; the bottom paint below the
 // design waterline (uBootTop, a boot stripe above it).
 // Failure cases guarded: a back face seen through a gap is shaded with its flipped normal
 // (two-sided); the mip level is clamped to the cubemap's levels; negative radiance clamped to 0;
@@ -27,6 +27,7 @@ uniform float uGloss;             // 0 matte … 1 mirror-like gelcoat
 out vec4 fragColor;
 
 #include "math.glsl"
+#include "fresnel.glsl"
 
 void main() {
     vec3 n = normalize(vNormal);

@@ -1,6 +1,6 @@
 // Small shared helpers. Twins where tests need them: saturate is sat in app/sim/clouds.py;
-// SmoothStepDown(hi, lo, x) is smoothstep(hi, lo, x) in app/sim/sky.py; SchlickFresnel is
-// schlick_fresnel in app/sim/sea_plane.py.
+// SmoothStepDown(hi, lo, x) is smoothstep(hi, lo, x) in app/sim/sky.py. SchlickFresnel lives in
+// fresnel.glsl (the project's one Fresnel).
 const float PI = 3.14159265358979;
 const float TWO_PI = 6.28318530717959;
 const float HALF_PI = 1.57079632679490;
@@ -14,13 +14,6 @@ vec3 saturate(vec3 x) { return clamp(x, 0.0, 1.0); }
 float ClampCosine(float mu) { return clamp(mu, -1.0, 1.0); }
 
 float SafeSqrt(float x) { return sqrt(max(x, 0.0)); }
-
-// Schlick's Fresnel reflectance F = F0 + (1 − F0)(1 − cos θ)^5, cos θ clamped into [0, 1].
-float SchlickFresnel(float f0, float cosTheta) {
-    float m = 1.0 - clamp(cosTheta, 0.0, 1.0);
-    float m2 = m * m;
-    return f0 + (1.0 - f0) * m2 * m2 * m;
-}
 
 // GLSL's smoothstep(e0, e1, x) is undefined when e0 >= e1, so the reversed ramps HLSL code
 // writes as smoothstep(0.6, 0.0, x) are written out by hand:

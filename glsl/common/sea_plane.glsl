@@ -29,6 +29,7 @@
 // Numpy twin: app/sim/sea_plane.py (one function per GLSL function; tests/gl/test_sea_plane.py).
 // =============================================================================================
 #include "math.glsl"
+#include "fresnel.glsl"
 
 const float SEA_F0 = 0.0204;
 

@@ -11,6 +11,7 @@
 // does not reflect itself), the cubemap LOD clamped to the map's levels.
 
 #include "math.glsl"
+#include "fresnel.glsl"
 #include "sea_plane.glsl"  // SEA_F0 = ((n − 1)/(n + 1))² and SeaBeckmann, shared with the skies' sea
 
 uniform samplerCube uEnvironment;

@@ -6,6 +6,7 @@
 // Failure cases: rays that miss or graze the sphere (discriminant ≤ 0) are discarded; the
 // reflection lookup uses an explicit LOD so roughness does not depend on screen derivatives.
 #include "math.glsl"
+#include "fresnel.glsl"
 #include "camera.glsl"
 
 in vec2 vUV;
