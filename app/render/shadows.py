@@ -10,6 +10,8 @@ The receivers' filter is ``glsl/common/shadow_pcf.glsl`` (percentage-closer filt
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 #: the PCF kernel of glsl/common/shadow_pcf.glsl: (2 r + 1)² taps, Gaussian σ in texels
@@ -121,3 +123,107 @@ def pcf_visibility(depths: np.ndarray, uv: np.ndarray, depth, radius: int = PCF_
 def slope_bias(bias: float, n_dot_l) -> np.ndarray:
     """``ShadowSlopeBias``: bias · (1 + 4 (1 − N·L))."""
     return bias * (1.0 + 4.0 * (1.0 - np.asarray(n_dot_l, dtype=np.float64)))
+
+
+# -- the shared shadow module's settings (spec/003 §2.8) -----------------------------------------
+#: receiver filters, in uniform order (uShadowSunFilter 0..4)
+SHADOW_FILTERS = ("hard", "four_tap", "pcf", "pcss", "vsm")
+SHADOW_SECTION = "spec/003 §2.8"
+
+
+@dataclass(frozen=True)
+class ShadowSettings:
+    """Everything a shadow map and its receivers depend on (hashable: part of a map's key).
+    Biases are in texels of the map (Unity's normal bias 0.3 and linear bias 0.01 by default,
+    spec/003 §2.8 Fig. 86); ``distance`` and ``near_offset`` are metres (Unity's Shadow Distance
+    and Near Plane Offset); ``fixed_centre``/``fixed_radius`` are the one map's area for 0
+    cascades."""
+
+    map_size: int = 1024
+    cascades: int = 4
+    split_lambda: float = 0.5
+    stable_fit: bool = True
+    linear_bias: float = 0.01
+    normal_bias: float = 0.3
+    filter: str = "four_tap"
+    pcss_light_size: float = 0.02
+    vsm_blur: int = 1
+    vsm_bleed: float = 0.2
+    dithered: bool = True
+    sun_enabled: bool = True
+    point_enabled: bool = True
+    spot_enabled: bool = True
+    strength: float = 1.0
+    distance: float = 20.0
+    near_offset: float = 20.0
+    fixed_centre: tuple[float, float, float] = (0.0, 1.5, 0.0)
+    fixed_radius: float = 6.0
+
+    def __post_init__(self):
+        if self.cascades not in (0, 2, 4):
+            raise ValueError(f"shadow cascades {self.cascades}: allowed 0, 2, 4")
+        if self.filter not in SHADOW_FILTERS:
+            raise ValueError(f"shadow filter {self.filter!r}: allowed {', '.join(SHADOW_FILTERS)}")
+        if not (16 <= self.map_size <= 8192):
+            raise ValueError(f"shadow map size {self.map_size}: allowed 16..8192")
+        if not (self.distance > 0 and self.fixed_radius > 0):
+            raise ValueError(f"shadow distance {self.distance} / fixed radius "
+                             f"{self.fixed_radius}: allowed > 0")
+
+    @property
+    def filter_index(self) -> int:
+        return SHADOW_FILTERS.index(self.filter)
+
+    @classmethod
+    def from_params(cls, params, group: str) -> ShadowSettings:
+        """The settings of ``<group>.shadow_*`` (the Params of :func:`shadow_params`)."""
+        def p(name):
+            return params[f"{group}.shadow_{name}"]
+        return cls(map_size=int(p("map_size")), cascades=int(p("cascades")),
+                   split_lambda=float(p("split_lambda")), stable_fit=bool(p("stable_fit")),
+                   linear_bias=float(p("linear_bias")), normal_bias=float(p("normal_bias")),
+                   filter=str(p("filter")), pcss_light_size=float(p("pcss_light_size")),
+                   vsm_blur=int(p("vsm_blur")), vsm_bleed=float(p("vsm_bleed")),
+                   dithered=bool(p("dithered")), sun_enabled=bool(p("sun")),
+                   point_enabled=bool(p("point")), spot_enabled=bool(p("spot")),
+                   strength=float(p("strength")), distance=float(p("distance")))
+
+
+def shadow_params(group: str) -> list:
+    """The Params of the shared shadow module under ``<group>.shadow_*`` (spec/003 §2.8)."""
+    from ..params import Param
+
+    g, s = f"{group}.shadow_", SHADOW_SECTION
+    return [
+        Param(g + "map_size", 1024, 64, 4096, "shadow-map resolution (texels per side; the "
+              "cascades share it as a 2 × 2 atlas)", kind="int", section=s),
+        Param(g + "cascades", "4", doc="cascaded shadow maps of the sun: 0 (one map over the "
+              "room), 2 or 4 over the camera frustum", kind="choice", choices=("0", "2", "4"),
+              section=s),
+        Param(g + "split_lambda", 0.5, 0.0, 1.0, "cascade splits: λ blend of logarithmic (1) "
+              "and uniform (0) splits (the practical split scheme)", section=s),
+        Param(g + "stable_fit", True, doc="stable fit: bounding sphere per cascade, origin "
+              "snapped to texels (no shimmering as the camera moves)", kind="bool", section=s),
+        Param(g + "distance", 20.0, 1.0, 200.0, "shadow distance: the cascades' far end",
+              unit="m", section=s),
+        Param(g + "linear_bias", 0.01, 0.0, 2.0, "linear bias: the caster pushed away from the "
+              "light by this many texels (too much: Peter Panning)", section=s),
+        Param(g + "normal_bias", 0.3, 0.0, 3.0, "normal bias: the caster pushed inward along −n "
+              "by sin(l, n) × this many texels (0: acne)", section=s),
+        Param(g + "filter", "four_tap", doc="receiver filter: hard (one compare), four_tap (the "
+              "thesis's soft shadows), pcf (Gaussian), pcss (contact-hardening), vsm (variance)",
+              kind="choice", choices=SHADOW_FILTERS, section=s),
+        Param(g + "pcss_light_size", 0.02, 0.0, 0.2, "PCSS light size (the light's angular "
+              "size, tangent)", section=s),
+        Param(g + "vsm_blur", 1, 0, 4, "VSM moments blur radius (texels)", kind="int",
+              section=s),
+        Param(g + "vsm_bleed", 0.2, 0.0, 0.9, "VSM light-bleeding reduction", section=s),
+        Param(g + "dithered", True, doc="semitransparent casters cast dithered shadows (17 4×4 "
+              "patterns by α)", kind="bool", section=s),
+        Param(g + "sun", True, doc="the sun casts shadows", kind="bool", section=s),
+        Param(g + "point", True, doc="point lights cast shadows (six-face map)", kind="bool",
+              section=s),
+        Param(g + "spot", True, doc="spot lights cast shadows (perspective map)", kind="bool",
+              section=s),
+        Param(g + "strength", 1.0, 0.0, 1.0, "shadow strength (0: no shadow)", section=s),
+    ]

@@ -42,6 +42,7 @@ import numpy as np
 from ...frame import ShadowMap, Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen
 from ...params import Param
+from ...render.shadow_maps import render_depth_pass
 from ...render.shadows import COMPARE_MODES, configure_compare, depth_target, directional_view_proj
 from ...sim import atmosphere as atm
 from ..base import Effect, Pass
@@ -431,11 +432,8 @@ class Planet(Effect):
         _, fbo = self._shadow.get(self.params["planet.shadow_map_size"])
         prog = self.program(SHADOW_DEPTH)
         prog.set("uLightViewProj", light_view_proj(self.sun_dir))
-        fbo.use()
-        fbo.clear(depth=1.0)
-        ctx.enable(moderngl.DEPTH_TEST)
-        ctx.disable(moderngl.CULL_FACE)
-        self._draw_meshes(prog, depth_only=True)
+        # the shared shadow module's depth pass (app/render/shadow_maps.py)
+        render_depth_pass(ctx, fbo, prog, lambda: self._draw_meshes(prog, depth_only=True))
         self.shadow_passes += 1
 
     def _make_gbuffer(self, size):

@@ -1,0 +1,231 @@
+// =============================================================================================
+// Shadow receivers of every scene (spec/003 §2.8: Unity's directional, spot and point shadows,
+// cascades, soft shadows; PCSS and VSM beside them). The maps are made by
+// app.render.shadow_maps with common/shadow_caster (which applies the normal and linear biases,
+// as Unity's caster does); this file only compares. Numpy twin: app/sim/shadows.py (hard,
+// four_tap, pcss_penumbra, chebyshev, point_encode) and app/render/shadows.py (pcf_visibility).
+//
+// Layout: the sun's cascades share one depth atlas (uShadowSunMap; 1 tile for 0 cascades, a
+// 2 × 2 grid for 2 or 4): uShadowSunMatrix[c] maps a world point to atlas (u, v, depth) and
+// uShadowSunTile[c] is the tile's uv rectangle, which every tap is clamped into (a filter never
+// reads the neighbouring cascade). A point light's six faces lie in a 3 × 2 atlas of
+// (|l| + bias)/range (colour, uShadowPointMap), face f's matrix uShadowPointFace[f].
+// uShadowSunFilter / uShadowSpotFilter: 0 hard (one compare), 1 the thesis's four-tap (the mean
+// of the four diagonal neighbours), 2 PCF (shadow_pcf.glsl's Gaussian), 3 PCSS (blocker search,
+// penumbra w = size (d_r − d_b) / d_b, a PCF of that width), 4 VSM (moments, a box blur of
+// radius uShadow*VsmBlur texels, Chebyshev with light-bleeding reduction uShadow*VsmBleed).
+//
+// Failure cases guarded: a point outside every map (or past the shadow distance) is lit; a
+// disabled light returns 1; maps are read with texelFetch on clamped indices (no wrap); the
+// VSM variance is floored (no 0/0); a zero-size cascade (all splits equal) is skipped by the
+// cascade search, the last cascade taking the point; a point exactly at a point light is lit.
+// =============================================================================================
+#include "shadow_pcf.glsl"
+
+uniform bool uShadowSunEnabled;
+uniform sampler2D uShadowSunMap;       // depth atlas, compare off, NEAREST
+uniform sampler2D uShadowSunMoments;   // (d, d²) atlas for VSM, LINEAR
+uniform mat4 uShadowSunMatrix[4];
+uniform vec4 uShadowSunTile[4];
+uniform vec4 uShadowSunSplits;         // far view depth of each cascade
+uniform int uShadowSunCascades;        // 1..4 maps in use
+uniform int uShadowSunFilter;
+uniform vec4 uShadowSunPcssScale;      // per cascade: texels of penumbra per unit (d_r − d_b)/d_b
+uniform int uShadowSunVsmBlur;
+uniform float uShadowSunVsmBleed;
+uniform float uShadowSunStrength;
+uniform vec4 uShadowSunTexelWorld;     // per cascade: a texel's world size (metres)
+
+uniform bool uShadowSpotEnabled;
+uniform sampler2D uShadowSpotMap;
+uniform sampler2D uShadowSpotMoments;
+uniform mat4 uShadowSpotMatrix;
+uniform int uShadowSpotFilter;
+uniform float uShadowSpotPcssScale;
+uniform int uShadowSpotVsmBlur;
+uniform float uShadowSpotVsmBleed;
+uniform float uShadowSpotStrength;
+uniform float uShadowSpotTexelPerM;    // a texel's world size per metre from the light
+uniform vec3 uShadowSpotPosition;
+
+uniform bool uShadowPointEnabled;
+uniform sampler2D uShadowPointMap;     // 3 × 2 faces of (|l| + bias)/range, R of RG32F
+uniform mat4 uShadowPointFace[6];
+uniform vec3 uShadowPointPosition;
+uniform float uShadowPointRange;
+uniform int uShadowPointFilter;
+uniform float uShadowPointStrength;
+uniform float uShadowPointTexelPerM;
+
+ivec2 ShadowTexel(sampler2D map, vec2 uv, vec4 tile) {
+    vec2 size = vec2(textureSize(map, 0));
+    vec2 lo = tile.xy * size, hi = tile.zw * size - 1.0;
+    return ivec2(clamp(floor(uv * size), lo, hi));
+}
+
+float ShadowHardAt(sampler2D map, vec2 uv, float depth, vec4 tile) {
+    return step(depth, texelFetch(map, ShadowTexel(map, uv, tile), 0).r);
+}
+
+float ShadowBilinearAt(sampler2D map, vec2 uv, float depth, vec4 tile) {
+    vec2 size = vec2(textureSize(map, 0));
+    vec2 st = uv * size - 0.5;
+    vec2 f = fract(st);
+    vec2 t = 1.0 / size;
+    vec2 base = (floor(st) + 0.5) * t;
+    float s00 = ShadowHardAt(map, base, depth, tile);
+    float s10 = ShadowHardAt(map, base + vec2(t.x, 0.0), depth, tile);
+    float s01 = ShadowHardAt(map, base + vec2(0.0, t.y), depth, tile);
+    float s11 = ShadowHardAt(map, base + t, depth, tile);
+    return mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
+}
+
+// The Gaussian PCF of shadow_pcf.glsl, its taps scaled by `scale` texels and kept in the tile.
+float ShadowPcfAt(sampler2D map, vec2 uv, float depth, vec4 tile, float scale) {
+    vec2 t = scale / vec2(textureSize(map, 0));
+    float sum = 0.0, wsum = 0.0;
+    for (int y = -SHADOW_PCF_RADIUS; y <= SHADOW_PCF_RADIUS; ++y) {
+        for (int x = -SHADOW_PCF_RADIUS; x <= SHADOW_PCF_RADIUS; ++x) {
+            float w = ShadowPcfWeight(x, y);
+            sum += w * ShadowBilinearAt(map, uv + vec2(x, y) * t, depth, tile);
+            wsum += w;
+        }
+    }
+    return sum / wsum;
+}
+
+float ShadowFourTap(sampler2D map, vec2 uv, float depth, vec4 tile) {
+    vec2 t = 1.0 / vec2(textureSize(map, 0));
+    return 0.25 * (ShadowHardAt(map, uv + vec2(-t.x, -t.y), depth, tile)
+                   + ShadowHardAt(map, uv + vec2(t.x, -t.y), depth, tile)
+                   + ShadowHardAt(map, uv + vec2(-t.x, t.y), depth, tile)
+                   + ShadowHardAt(map, uv + vec2(t.x, t.y), depth, tile));
+}
+
+// PCSS: the mean blocker depth over a 7 × 7 search (2-texel steps), the penumbra
+// w = pcssScale (d_r − d_b) / d_b in texels, then the PCF at that width (1..8 texels per tap).
+float ShadowPcss(sampler2D map, vec2 uv, float depth, vec4 tile, float pcssScale) {
+    vec2 t = 1.0 / vec2(textureSize(map, 0));
+    float sum = 0.0, count = 0.0;
+    for (int y = -3; y <= 3; ++y) {
+        for (int x = -3; x <= 3; ++x) {
+            float d = texelFetch(map, ShadowTexel(map, uv + 2.0 * vec2(x, y) * t, tile), 0).r;
+            if (d < depth) { sum += d; count += 1.0; }
+        }
+    }
+    if (count < 0.5) return 1.0;
+    float blocker = sum / count;
+    float w = pcssScale * (depth - blocker) / max(blocker, 1e-4);
+    return ShadowPcfAt(map, uv, depth, tile, clamp(w / float(2 * SHADOW_PCF_RADIUS), 0.5, 8.0));
+}
+
+float ShadowVsm(sampler2D moments, vec2 uv, float depth, vec4 tile, int blur, float bleed) {
+    vec2 size = vec2(textureSize(moments, 0));
+    vec2 t = 1.0 / size;
+    vec2 lo = tile.xy + 0.5 * t, hi = tile.zw - 0.5 * t;
+    vec2 m = vec2(0.0);
+    float n = 0.0;
+    int r = clamp(blur, 0, 4);
+    for (int y = -r; y <= r; ++y) {
+        for (int x = -r; x <= r; ++x) {
+            m += texture(moments, clamp(uv + vec2(x, y) * t, lo, hi)).rg;
+            n += 1.0;
+        }
+    }
+    m /= n;
+    float d = depth - m.x;
+    if (d <= 0.0) return 1.0;
+    float variance = max(m.y - m.x * m.x, 1e-6);
+    float p = variance / (variance + d * d);
+    return clamp((p - bleed) / max(1.0 - bleed, 1e-6), 0.0, 1.0);
+}
+
+// How many texels a filter reaches from its centre: the receiver moves that many texels along
+// its normal before comparing (normal-offset shadows), so a wide kernel over a sloped receiver
+// does not shadow the receiver itself (the casters' biases are sized for one comparison).
+float ShadowFilterReach(int mode, int blur) {
+    if (mode == 1) return 1.0;
+    if (mode == 2 || mode == 3) return float(SHADOW_PCF_RADIUS) + 1.0;
+    if (mode == 4) return float(blur) + 1.0;
+    return 0.0;
+}
+
+float ShadowFiltered(sampler2D map, sampler2D moments, vec3 c, vec4 tile, int mode,
+                     float pcssScale, int blur, float bleed) {
+    if (mode == 1) return ShadowFourTap(map, c.xy, c.z, tile);
+    if (mode == 2) return ShadowPcfAt(map, c.xy, c.z, tile, 1.0);
+    if (mode == 3) return ShadowPcss(map, c.xy, c.z, tile, pcssScale);
+    if (mode == 4) return ShadowVsm(moments, c.xy, c.z, tile, blur, bleed);
+    return ShadowHardAt(map, c.xy, c.z, tile);
+}
+
+bool ShadowInside(vec3 c, vec4 tile) {
+    return all(greaterThanEqual(c.xy, tile.xy)) && all(lessThanEqual(c.xy, tile.zw))
+        && c.z >= 0.0 && c.z <= 1.0;
+}
+
+// The sun's cascade of a point at view depth viewDepth (−1 past the shadow distance).
+int ShadowCascade(float viewDepth) {
+    for (int i = 0; i < 4; ++i) {
+        if (i >= uShadowSunCascades) break;
+        if (viewDepth <= uShadowSunSplits[i]) return i;
+    }
+    return -1;
+}
+
+float ShadowSun(vec3 worldPos, vec3 worldNormal, float viewDepth) {
+    if (!uShadowSunEnabled) return 1.0;
+    int c = ShadowCascade(viewDepth);
+    if (c < 0) return 1.0;
+    vec3 offset = worldNormal * uShadowSunTexelWorld[c]
+                * ShadowFilterReach(uShadowSunFilter, uShadowSunVsmBlur);
+    vec4 h = uShadowSunMatrix[c] * vec4(worldPos + offset, 1.0);
+    vec3 p = h.xyz / h.w;
+    vec4 tile = uShadowSunTile[c];
+    if (!ShadowInside(p, tile)) return 1.0;
+    float v = ShadowFiltered(uShadowSunMap, uShadowSunMoments, p, tile, uShadowSunFilter,
+                             uShadowSunPcssScale[c], uShadowSunVsmBlur, uShadowSunVsmBleed);
+    return mix(1.0, v, clamp(uShadowSunStrength, 0.0, 1.0));
+}
+
+float ShadowSpot(vec3 worldPos, vec3 worldNormal) {
+    if (!uShadowSpotEnabled) return 1.0;
+    vec3 offset = worldNormal * uShadowSpotTexelPerM * length(worldPos - uShadowSpotPosition)
+                * ShadowFilterReach(uShadowSpotFilter, uShadowSpotVsmBlur);
+    vec4 h = uShadowSpotMatrix * vec4(worldPos + offset, 1.0);
+    if (h.w <= 1e-6) return 1.0;
+    vec3 p = h.xyz / h.w;
+    vec4 tile = vec4(0.0, 0.0, 1.0, 1.0);
+    if (!ShadowInside(p, tile)) return 1.0;
+    float v = ShadowFiltered(uShadowSpotMap, uShadowSpotMoments, p, tile, uShadowSpotFilter,
+                             uShadowSpotPcssScale, uShadowSpotVsmBlur, uShadowSpotVsmBleed);
+    return mix(1.0, v, clamp(uShadowSpotStrength, 0.0, 1.0));
+}
+
+// The face of the cube a direction leaves by: +x −x +y −y +z −z = 0..5.
+int ShadowCubeFace(vec3 d) {
+    vec3 a = abs(d);
+    if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0 ? 0 : 1;
+    if (a.y >= a.z) return d.y >= 0.0 ? 2 : 3;
+    return d.z >= 0.0 ? 4 : 5;
+}
+
+float ShadowPoint(vec3 worldPos, vec3 worldNormal) {
+    if (!uShadowPointEnabled || uShadowPointRange <= 0.0) return 1.0;
+    float reach = uShadowPointFilter == 0 ? 0.0 : (uShadowPointFilter == 1 ? 1.0 : 3.0);
+    worldPos += worldNormal * reach * uShadowPointTexelPerM * length(worldPos - uShadowPointPosition);
+    vec3 l = worldPos - uShadowPointPosition;
+    float dist = length(l);
+    if (dist < 1e-6 || dist >= uShadowPointRange) return 1.0;
+    int f = ShadowCubeFace(l);
+    vec4 h = uShadowPointFace[f] * vec4(worldPos, 1.0);
+    vec2 uv = h.xy / h.w;
+    vec4 tile = vec4(float(f % 3) / 3.0, float(f / 3) / 2.0,
+                     float(f % 3 + 1) / 3.0, float(f / 3 + 1) / 2.0);
+    float ref = dist / uShadowPointRange;
+    float v;
+    if (uShadowPointFilter == 0) v = ShadowHardAt(uShadowPointMap, uv, ref, tile);
+    else if (uShadowPointFilter == 1) v = ShadowFourTap(uShadowPointMap, uv, ref, tile);
+    else v = ShadowPcfAt(uShadowPointMap, uv, ref, tile, 1.0);
+    return mix(1.0, v, clamp(uShadowPointStrength, 0.0, 1.0));
+}
