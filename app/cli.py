@@ -611,7 +611,10 @@ def cmd_bench(args) -> int:
                              f"1..{MAX_SIZES} comma-separated WxH")
         table_sizes = [parse_size(t, "--sizes item") for t in items]
     sweeps = None if args.no_sweep else scene_sweeps(args.scene)
-    path, _ = _bench_outputs(args, (".png",) if sweeps is not None else ())
+    # a sweep module with several charts lists their suffixes (CHART_SUFFIXES, ".png" first):
+    # all are checked before anything runs, and its chart() writes them all
+    suffixes = tuple(getattr(sweeps, "CHART_SUFFIXES", (".png",))) if sweeps is not None else ()
+    path, _ = _bench_outputs(args, suffixes)
     session = open_session(args.scene, params, args.shaders, camera=camera)
     attach_mesh(session.scene, mesh)
     try:
@@ -641,7 +644,8 @@ def cmd_bench(args) -> int:
         chart_path = Path(path).with_suffix(".png")
         sweeps.chart(report, chart_path, force=args.force)
         print(sweeps.summary(report))
-        print(f"chart → {chart_path}")
+        for suffix in suffixes:
+            print(f"chart → {path.with_name(path.stem + suffix)}")
     if args.budget is not None:
         from .bench.budget import budget_view
 

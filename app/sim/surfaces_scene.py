@@ -58,7 +58,8 @@ class Cylinder:
 @dataclass(frozen=True)
 class Quad:
     """A two-sided rectangle ``centre`` ± ``u`` ± ``v`` (half-extent vectors); uv (0, 0) at
-    centre − u − v, (1, 1) at centre + u + v. Its alpha is ``alpha_texture(alpha)`` × ``opacity``."""
+    centre − u − v, (1, 1) at centre + u + v. Its alpha is ``alpha_texture(alpha)`` ×
+    ``opacity``."""
 
     name: str
     centre: tuple[float, float, float]
@@ -75,7 +76,7 @@ class Room:
 
     lo: tuple[float, float, float] = (-4.0, 0.0, -4.0)
     hi: tuple[float, float, float] = (4.0, 3.0, 4.0)
-    albedo: tuple[float, float, float] = (0.75, 0.72, 0.66)
+    albedo: tuple[float, float, float] = (0.5, 0.48, 0.44)
 
     @property
     def centre(self) -> np.ndarray:
@@ -221,14 +222,17 @@ def mesh(obj) -> LabMesh:
 
 # -- exact ray casting (the references) --------------------------------------------------------
 def _hit_sphere(o, d, s: Sphere):
+    """Nearest t > 0 of |o + t d − C| = r for any direction length: a t² + 2 b t + c = 0."""
     oc = o - np.asarray(s.centre)
+    a = np.einsum("...i,...i", d, d)
     b = np.einsum("...i,...i", oc, d)
     c = np.einsum("...i,...i", oc, oc) - s.radius ** 2
-    disc = b * b - c
+    disc = b * b - a * c
     root = np.sqrt(np.maximum(disc, 0.0))
-    t0, t1 = -b - root, -b + root
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t0, t1 = (-b - root) / a, (-b + root) / a
     t = np.where(t0 > 0, t0, t1)
-    return np.where((disc >= 0) & (t > 0), t, np.inf)
+    return np.where((disc >= 0) & (a > 0) & (t > 0), t, np.inf)
 
 
 def _slab(o, d, lo, hi):

@@ -1,0 +1,75 @@
+"""Speed against accuracy for the surfaces lab (spec/003 §2.4–2.8), each section against an
+exact reference of the same analytic scene (app.sim.surfaces_scene):
+
+1. **shadows** (app/bench/surfaces_shadows.py) — the shadow mismatch rate (acne, Peter
+   Panning, aliasing) of the shared shadow module against the ray-cast visibility, per map
+   size, bias setting, cascades and filter, against ms; the soft shadow of an area light
+   averaged from 256 jittered hard maps against PCF, PCSS and VSM; chart ``NAME.png``;
+2. **transparency** (surfaces_transparency.py) — sorted blending, ZWrite off, weighted blended
+   OIT and peeling with k layers against the depth-peeled reference, on the intersecting panes,
+   the blue pane over the fence and the smoke, against ms; the cutoff sweep and the
+   alpha-to-coverage edge counts; chart ``NAME-transparency.png``;
+3. **reflections** (surfaces_reflections.py) — each correction of the probe's lookup (cube,
+   box projection, quadratic stretch, perfect sphere) against ray-cast reflections on the
+   mirror floor and the mirror sphere, against ms; the thesis's metallic/dielectric weights
+   against the split-sum GGX reference; chart ``NAME-reflections.png``;
+4. **fresnel** (surfaces_fresnel.py, numpy) — Schlick against exact Fresnel for n = 1.31, 1.52
+   and 2.42 (the thesis's Fig. 67 as numbers), and from inside the medium; chart
+   ``NAME-fresnel.png``.
+
+``natura bench surfaces --repeat N`` with N ≤ :data:`QUICK_REPEAT` runs every section's quick
+variant (fewer sizes and samples, the same figures); the sections render at their own sizes,
+which the report records. On llvmpipe absolute times mean little; ratios within one
+interleaved set hold.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from . import surfaces_fresnel, surfaces_reflections, surfaces_shadows, surfaces_transparency
+
+#: the charts beside the report, in the order of the sections (the CLI checks them all first)
+CHART_SUFFIXES = (".png", "-transparency.png", "-reflections.png", "-fresnel.png")
+SECTIONS = (("shadows", surfaces_shadows), ("transparency", surfaces_transparency),
+            ("reflections", surfaces_reflections), ("fresnel", surfaces_fresnel))
+#: a sweep asked for this many timed rounds or fewer runs the quick variants
+QUICK_REPEAT = 5
+
+
+def sweep(session, size, warmup: int = 1, repeat: int = 7, sizes=None) -> dict:
+    """Every section's report (the module's docstring), with ``quick`` when ``repeat`` ≤
+    :data:`QUICK_REPEAT`. ``size`` and ``sizes`` are recorded; the sections choose theirs."""
+    import time
+
+    quick = repeat <= QUICK_REPEAT
+    gpu = session.gpu
+    out: dict = {"quick": quick, "seconds": {}}
+    for key, module in SECTIONS:
+        start = time.perf_counter()
+        if key == "shadows":
+            out[key] = module.run(gpu, quick=quick)
+        elif key == "fresnel":
+            out[key] = module.run(quick=quick)
+        else:
+            out[key] = module.run(gpu, quick=quick)
+        out["seconds"][key] = round(time.perf_counter() - start, 2)
+    return out
+
+
+def chart(report: dict, path, force: bool = False) -> None:
+    """The four charts: ``path`` (shadows) and its siblings of :data:`CHART_SUFFIXES`."""
+    path = Path(path)
+    stem = path.with_suffix("")
+    for (key, module), suffix in zip(SECTIONS, CHART_SUFFIXES):
+        module.chart(report["sweep"][key], Path(f"{stem}{suffix}"), force=force)
+
+
+def summary(report: dict) -> str:
+    s = report["sweep"]
+    lines = [f"surfaces sweeps ({'quick' if s['quick'] else 'full'}; seconds per section: "
+             + ", ".join(f"{k} {v:g}" for k, v in s["seconds"].items()) + ")"]
+    for key, module in SECTIONS:
+        lines.append(f"-- {key}")
+        lines.extend(module.summary(s[key]))
+    return "\n".join(lines)
