@@ -931,6 +931,43 @@ def shading_keys(work: str) -> int:
     return 0
 
 
+def surfaces_keys(work: str) -> int:
+    """The surfaces lab's map (spec/003 §2.4–2.8) typed as X events in its window: T the
+    transparency methods, G the reflection lookups, F the Fresnel, H the shadow filters, J the
+    cascades, X the failures, N MSAA, V the debug views; each key's parameter and its image."""
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    os.chdir(work)
+    params = scene_params("surfaces", sets=["surfaces.probe_size=64",
+                                            "surfaces.shadow_map_size=512"])
+    win = W.NaturaWindow("surfaces", params, get_scene("surfaces").new_camera(), (320, 180))
+    win.show_panel = False
+    keys = XKeys(win, "^Natura .* surfaces$")
+    out: dict = {"dt": keys.dt}
+
+    def image_sum() -> float:
+        return float(win.target.read()[..., :3].sum()) if win.target is not None else 0.0
+
+    keys.frames(1)
+    for key, name, times in (("t", "transparency", 3), ("g", "reflection", 5),
+                             ("f", "fresnel", 2), ("h", "shadow_filter", 5),
+                             ("j", "shadow_cascades", 3), ("x", "failure", 2),
+                             ("n", "msaa", 2), ("v", "debug", 2)):
+        out[name] = []
+        for _ in range(times):
+            keys.tap(key)
+            keys.frames(1)
+            out[name].append((params[f"surfaces.{name}"], image_sum()))
+    out["render_error"] = str(win.render_error or "")
+    keys.tap("Escape")
+    out["closing"] = bool(win.wnd.is_closing)
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
 def maritime_cli_escape(work: str) -> int:
     """``natura window maritime`` as a user starts it: the first Esc opens the pause menu (the
     process keeps running), the second quits it with exit status 0."""
@@ -972,5 +1009,5 @@ if __name__ == "__main__":
             "planet-keys": planet_keys, "sky-keyframes": sky_keyframes, "fly-keys": fly_keys,
             "cli-escape": cli_escape, "robustness": robustness,
             "maritime-keys": maritime_keys, "maritime-cli-escape": maritime_cli_escape,
-            "shading-keys": shading_keys}
+            "shading-keys": shading_keys, "surfaces-keys": surfaces_keys}
     sys.exit(runs.get(sys.argv[2] if len(sys.argv) > 2 else "", main)(sys.argv[1]))

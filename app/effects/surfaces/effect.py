@@ -113,7 +113,7 @@ class Surfaces(Effect):
                   "above the horizon", step=0.5, unit="°", section=s1),
             Param("surfaces.sun_azimuth", 150.0, 0.0, 360.0, "the sun's compass azimuth",
                   step=1.0, unit="°", section=s1),
-            Param("surfaces.sun_intensity", 1.0, 0.0, 50.0, "the sun's irradiance on a surface "
+            Param("surfaces.sun_intensity", 0.8, 0.0, 50.0, "the sun's irradiance on a surface "
                   "facing it (the room's roof lets it through: the walls cast no shadow)",
                   step=0.1, section=s1),
             Param("surfaces.ambient", 0.05, 0.0, 5.0, "ambient radiance", step=0.01, section=s1),
@@ -127,7 +127,7 @@ class Surfaces(Effect):
                   kind="bool", section="spec/003 §2.8"),
             Param("surfaces.spot_angle", 32.0, 1.0, 80.0, "the spot's half-angle (its inner "
                   "cone is 80 % of it)", step=0.5, unit="°", section="spec/003 §2.8"),
-            Param("surfaces.spot_intensity", 6.0, 0.0, 500.0, "the spot's intensity",
+            Param("surfaces.spot_intensity", 4.0, 0.0, 500.0, "the spot's intensity",
                   step=0.5, section=s1),
             Param("surfaces.spot_range", 8.0, 0.5, 50.0, "the spot's range", step=0.1,
                   unit="m", section="spec/003 §2.8"),

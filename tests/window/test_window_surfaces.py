@@ -1,0 +1,36 @@
+"""The surfaces lab's keys (spec/003 §2.4–2.8) typed as real X key events with xdotool into its
+window under Xvfb: each key steps its parameter through its choices and the image changes."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+
+from tests.helpers.window_driver import XDOTOOL_SKIP, XVFB_SKIP, drive
+
+pytestmark = [
+    pytest.mark.window,
+    pytest.mark.skipif(shutil.which("xvfb-run") is None, reason=XVFB_SKIP),
+    pytest.mark.skipif(shutil.which("xdotool") is None, reason=XDOTOOL_SKIP),
+]
+
+
+def test_the_lab_keys_typed_in_the_window(tmp_path):
+    r, _ = drive("surfaces-keys", tmp_path)
+    assert r["render_error"] == ""
+    steps = {
+        "transparency": ["wboit", "peeled", "sorted"],
+        "reflection": ["approximation", "perfect", "none", "cube", "box"],
+        "fresnel": ["schlick", "exact"],
+        "shadow_filter": ["pcf", "pcss", "vsm", "hard", "four_tap"],
+        "shadow_cascades": ["0", "2", "4"],
+        "failure": ["queue_order", "intersecting"],
+        "msaa": ["0", "4"],
+        "debug": ["cascades", "shadow"],
+    }
+    for name, expected in steps.items():
+        assert [v for v, _ in r[name]] == expected, name
+        sums = [s for _, s in r[name]]
+        assert len(set(sums)) > 1, name  # the image changes as the key steps
+    assert r["closing"] is True
