@@ -1,0 +1,84 @@
+"""`natura bench surfaces` as a user runs it (its quick sweeps, `--repeat 3`): the JSON, the four
+charts, the printed summary, and the references' figures within stated tolerances — shadow
+mismatch against the ray-cast visibility, soft shadows against 32 jittered hard maps (256 in
+the full run), transparency against depth peeling, reflection lookups against ray casting,
+Schlick against exact Fresnel."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from tests.helpers.cli import run
+
+
+@pytest.fixture(scope="module")
+def bench(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("bench-surfaces")
+    out = tmp / "s.json"
+    r = run("bench", "surfaces", "--size", "160x90", "--repeat", "3", "--warmup", "0",
+            "--out", str(out), cwd=tmp)
+    assert r.returncode == 0, r.stderr[-2000:]
+    return r, out, json.loads(out.read_text())
+
+
+def test_json_four_charts_and_summary(bench):
+    r, out, report = bench
+    assert {"surfaces.shadows", "surfaces.opaque", "surfaces.transparent"} <= set(report["passes"])
+    for suffix in (".png", "-transparency.png", "-reflections.png", "-fresnel.png"):
+        chart = out.with_name(out.stem + suffix)
+        assert chart.stat().st_size > 20000, chart
+        assert f"chart → {chart}" in r.stdout
+    for section in ("-- shadows", "-- transparency", "-- reflections", "-- fresnel"):
+        assert section in r.stdout
+    assert report["sweep"]["quick"] is True
+
+
+def test_shadow_mismatch_against_the_ray_cast(bench):
+    rows = {x["name"]: x for x in bench[2]["sweep"]["shadows"]["rows"]}
+    for size in (256, 1024):
+        acne = rows[f"{size} none hard c0"]
+        thesis = rows[f"{size} thesis 0.3+0.01 hard c0"]
+        assert acne["acne"] > 0.05  # criterion 23: more than 5 % falsely shadowed without bias
+        assert thesis["mismatch"] < acne["mismatch"] / 10
+        assert all(math.isfinite(x["ms"]) and x["ms"] > 0 for x in rows.values())
+    # a larger map aliases less
+    assert rows["1024 thesis 0.3+0.01 hard c0"]["mismatch"] < \
+        rows["256 thesis 0.3+0.01 hard c0"]["mismatch"]
+    assert rows["1024 thesis 0.3+0.01 hard c0"]["mismatch"] < 0.01
+    soft = {x["filter"]: x for x in bench[2]["sweep"]["shadows"]["soft"]}
+    assert set(soft) == {"pcf", "pcss", "vsm"}
+    assert all(0.0 <= x["mae"] < 0.05 for x in soft.values())
+
+
+def test_transparency_against_depth_peeling(bench):
+    t = bench[2]["sweep"]["transparency"]
+    rows = {(x["view"], x["method"]): x for x in t["rows"]}
+    assert rows[("crossing", "wboit")]["rms"] < rows[("crossing", "sorted")]["rms"]
+    assert rows[("crossing", "peeled_reference")]["rms"] == 0.0
+    assert rows[("blue_fence", "sorted_blue_geometry")]["max"] > 0.05  # Fig. 44c
+    assert rows[("blue_fence", "sorted")]["max"] < 2e-3
+    fractions = [c["discarded"] for c in t["alpha_test"]["cutoff"]]
+    assert fractions == sorted(fractions) and fractions[0] == 0.0 and fractions[-1] == 1.0
+    assert t["alpha_test"]["a2c"]["alpha-to-coverage"] > 0 == t["alpha_test"]["a2c"]["cutout"]
+
+
+def test_reflections_against_ray_casting(bench):
+    rf = bench[2]["sweep"]["reflections"]
+    assert rf["table_1"] == {"s0_m0": 0.0, "s0_m1": 0.75, "s1_m0": 0.25, "s1_m1": 1.0}
+    rows = {(x["surface"], x["mode"]): x for x in rf["directions"]}
+    for surface in ("floor", "sphere"):
+        # in a box room box projection is the exact one; the plain cube lookup is metres off
+        assert rows[(surface, "box")]["hit_error_m_median"] < 0.01
+        assert rows[(surface, "cube")]["hit_error_m_median"] > 1.0
+
+
+def test_fresnel_figures(bench):
+    fr = bench[2]["sweep"]["fresnel"]
+    assert abs(fr["criterion_20"]["F1"] - 0.0180) < 5e-4
+    assert abs(fr["criterion_20"]["F_half"] - 0.0487) < 1e-3
+    for row, c in zip(fr["outside"], (0.0180, 0.0426, 0.1724)):
+        assert abs(row["c"] - c) < 1e-4 and abs(row["exact_normal"] - row["c"]) < 1e-12
+        assert 0.0 < row["max_abs_error"] < 0.1 and 80.0 < row["max_error_at_deg"] < 90.0
