@@ -287,7 +287,7 @@ def _user_mesh(args, scene_name: str):
     takers = [e for e in get_scene(scene_name).effects if hasattr(e, "set_user_mesh")]
     if not takers:
         raise UsageError(f"--mesh: scene {scene_name!r} shows no mesh of yours: allowed with the "
-                         "shading scene (natura render shading --mesh FILE)")
+                         "shading and surfaces scenes (natura render shading --mesh FILE)")
     from .sim.mesh_files import load_mesh
 
     return load_mesh(path)

@@ -104,3 +104,29 @@ def test_stability(lab, values, camera):
     img = _render(s, d, camera=camera, **values)
     assert np.isfinite(img).all()
     assert img.max() > 0.0
+
+
+def test_a_users_mesh_stands_in_the_room_and_casts(lab, tmp_path):
+    """``--mesh FILE``: the mesh is fitted under the occluder, drawn, and the shadow maps and
+    the probe are rendered again with it."""
+    import trimesh
+
+    from app.sim.mesh_files import load_mesh
+
+    s, d = lab
+    path = tmp_path / "torus.obj"
+    trimesh.creation.torus(0.5, 0.2).export(path)
+    effect = s.scene.effect("surfaces")
+    before = _render(s, d)
+    sun, probe = effect.shadows.sun.renders, effect.probe.captures
+    fitted = effect.set_user_mesh(load_mesh(path))
+    try:
+        lo, hi = fitted.bounds()
+        assert abs(lo[1]) < 1e-5 and hi[1] < 1.15  # on the floor, under the slab
+        after = _render(s, d)
+        assert np.isfinite(after).all()
+        assert np.abs(after - before).max() > 0.05
+        assert effect.shadows.sun.renders == sun + 1 and effect.probe.captures == probe + 1
+    finally:
+        effect.user_mesh = None
+        effect._user_revision += 1

@@ -69,6 +69,20 @@ FAILURES: dict[str, dict[str, object]] = {
 }
 
 
+#: where a user's ``--mesh`` stands: under the occluder slab (fitted to USER_SIZE, so it
+#: clears the slab's underside at 1.15 m), casting and receiving shadows
+USER_SPOT = (0.6, 0.0, -1.6)
+USER_SIZE = 1.0
+
+
+@dataclass(frozen=True)
+class UserObject:
+    """A user's mesh in the room (``natura … surfaces --mesh FILE``): a grey dielectric."""
+
+    name: str = "user"
+    albedo: tuple[float, float, float] = (0.62, 0.62, 0.64)
+
+
 @dataclass
 class WorkTarget:
     """Where the lab draws: the frame's own target, or its 4× multisampled twin (resolved into
@@ -180,15 +194,38 @@ class Surfaces(Effect):
         self.transparency = Transparency(gpu, self.name, params)
         self._msaa = self.keyed(self._make_msaa, release=self._free_msaa)
         self._failure_applied = "none"
+        self.user_mesh = None
+        self._user_revision = 0
         self._camera_pos: tuple = self.layout.probe_position
         self.time = 0.0
 
     # -- resources -------------------------------------------------------------------------
+    def set_user_mesh(self, mesh):
+        """A user's own mesh (``--mesh FILE``, loaded by app.sim.mesh_files), fitted to
+        :data:`USER_SIZE` and stood at :data:`USER_SPOT` among the solids: it casts and
+        receives shadows and shows in the probe (the ray-cast references do not know it)."""
+        from ...sim.lab_meshes import transformed
+        from ...sim.mesh_files import fit
+
+        fitted = transformed(fit(mesh, size=USER_SIZE), 1.0, USER_SPOT)
+        held = self._meshes.pop("user", None)
+        if held is not None:
+            for obj in held[:2]:
+                self.gpu.free(obj)
+        self.user_mesh = fitted
+        self._user_revision += 1
+        return fitted
+
+    def solids(self) -> list:
+        """The solids drawn and casting: the scene's, and the user's mesh when there is one."""
+        return [*self.layout.solids(), *([UserObject()] if self.user_mesh is not None else [])]
+
     def _mesh(self, obj):
         """(vertex buffer, index buffer, LabMesh) of a primitive of the scene, made once."""
         name = "room" if isinstance(obj, surfaces_scene.Room) else obj.name
         if name not in self._meshes:
-            mesh = surfaces_scene.mesh(obj)
+            mesh = (self.user_mesh if isinstance(obj, UserObject)
+                    else surfaces_scene.mesh(obj))
             vbo = self.gpu.buffer(self.name, f"{name} vertices", mesh.vertex_data(ATTRIBUTES))
             ibo = self.gpu.buffer(self.name, f"{name} indices", mesh.index_data())
             self._meshes[name] = (vbo, ibo, mesh)
@@ -267,7 +304,7 @@ class Surfaces(Effect):
         dithered = bool(self.params["surfaces.shadow_dithered"])
         cutoff = float(self.params["surfaces.cutoff"])
         white = self.alpha_texture("solid")
-        for obj in self.layout.solids():
+        for obj in self.solids():
             vbo, ibo, _ = self._mesh(obj)
             prog.set_many({"uAlphaMode": 0, "uOpacity": 1.0, "uCutoff": cutoff})
             prog.bind_textures({"uAlphaTex": white})
@@ -296,8 +333,9 @@ class Surfaces(Effect):
         self.shadows.publish(frame)
 
     def _caster_revision(self) -> int:
-        """What the casters draw beyond the shadow settings: the cutoff of the cut-out quads."""
-        return hash(float(self.params["surfaces.cutoff"]))
+        """What the casters draw beyond the shadow settings: the cutoff of the cut-out quads and
+        the user's mesh."""
+        return hash((float(self.params["surfaces.cutoff"]), self._user_revision))
 
     def material(self, obj) -> dict:
         """The surface uniforms of one object: albedo, metallic, smoothness, refraction."""
@@ -361,13 +399,18 @@ class Surfaces(Effect):
         target_fbo.use()
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.enable(moderngl.CULL_FACE)
-        for obj in (self.layout.room, *self.layout.solids()):
+        for obj in (self.layout.room, *self.solids()):
             vbo, ibo, _ = self._mesh(obj)
             mat = self.material(obj)
             if not probe:
                 mat["uRefractive"] = False
             prog.set_many(mat)
+            user = isinstance(obj, UserObject)
+            if user:  # a user's winding may be either way
+                ctx.disable(moderngl.CULL_FACE)
             prog.vao([(vbo, *FORMAT)], ibo).render(moderngl.TRIANGLES)
+            if user:
+                ctx.enable(moderngl.CULL_FACE)
         ctx.disable(moderngl.CULL_FACE)
 
     def probe_key(self) -> tuple:
@@ -378,7 +421,7 @@ class Surfaces(Effect):
                                                         "surfaces.ambient", "surfaces.floor",
                                                         "surfaces.mirror", "surfaces.dielectric",
                                                         "surfaces.probe"))]
-        return tuple((n, _hashable(p[n])) for n in names)
+        return (*((n, _hashable(p[n])) for n in names), ("user", self._user_revision))
 
     def render_probe(self, frame) -> None:
         def draw_scene(view, proj, fbo):
