@@ -63,7 +63,12 @@ class Gpu:
 
     def texture(self, owner: str, name: str, size, components: int, data=None, dtype: str = "f4",
                 filter=(moderngl.LINEAR, moderngl.LINEAR),
-                repeat: bool = False) -> moderngl.Texture:
+                repeat: bool = False, samples: int = 0) -> moderngl.Texture:
+        """A 2D texture; ``samples`` > 0 makes it multisampled (no data, filter or repeat:
+        a multisampled texture is only rendered to, resolved or texelFetch-ed)."""
+        if samples:
+            tex = self.ctx.texture(tuple(size), components, dtype=dtype, samples=samples)
+            return self._record(owner, "texture", name, tex)
         tex = self.ctx.texture(tuple(size), components, data=data, dtype=dtype)
         tex.filter = filter
         tex.repeat_x = tex.repeat_y = repeat
@@ -84,7 +89,10 @@ class Gpu:
         tex.repeat_x = tex.repeat_y = tex.repeat_z = repeat
         return self._record(owner, "texture3d", name, tex)
 
-    def depth_texture(self, owner: str, name: str, size):
+    def depth_texture(self, owner: str, name: str, size, samples: int = 0):
+        if samples:
+            return self._record(owner, "texture", name,
+                                self.ctx.depth_texture(tuple(size), samples=samples))
         tex = self.ctx.depth_texture(tuple(size))
         tex.repeat_x = tex.repeat_y = False
         return self._record(owner, "texture", name, tex)

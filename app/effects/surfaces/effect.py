@@ -248,12 +248,9 @@ class Surfaces(Effect):
 
     def _make_msaa(self, key):
         size, samples = key
-        ctx = self.gpu.ctx
-        colour = ctx.texture(size, 4, dtype="f2", samples=samples)
-        depth = ctx.depth_texture(size, samples=samples)
-        fbo = ctx.framebuffer([colour], depth)
-        for obj, what in ((colour, "colour"), (depth, "depth"), (fbo, "framebuffer")):
-            self.gpu._record(self.name, "msaa", f"msaa {what}", obj)
+        colour = self.gpu.texture(self.name, "msaa colour", size, 4, dtype="f2", samples=samples)
+        depth = self.gpu.depth_texture(self.name, "msaa depth", size, samples=samples)
+        fbo = self.gpu.framebuffer(self.name, "msaa", [colour], depth)
         return WorkTarget(fbo, colour, depth, size, samples)
 
     def _free_msaa(self, work: WorkTarget) -> None:

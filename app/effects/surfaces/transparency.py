@@ -279,14 +279,12 @@ class Transparency:
         key = (size, samples, id(target.depth))
         if self._oit is None or self._oit[0] != key:
             self._free(self._oit)
-            ctx = self.gpu.ctx
-            accum = ctx.texture(size, 4, dtype="f2", samples=samples)
-            weight = ctx.texture(size, 1, dtype="f2", samples=samples)
-            fbo = ctx.framebuffer([accum, weight], target.depth)
-            for obj, name in ((accum, "wboit accumulation"), (weight, "wboit weights"),
-                              (fbo, "wboit framebuffer")):
-                self.gpu._record(self.owner, "framebuffer" if obj is fbo else "texture", name,
-                                 obj)
+            gpu = self.gpu
+            accum = gpu.texture(self.owner, "wboit accumulation", size, 4, dtype="f2",
+                                samples=samples)
+            weight = gpu.texture(self.owner, "wboit weights", size, 1, dtype="f2",
+                                 samples=samples)
+            fbo = gpu.framebuffer(self.owner, "wboit framebuffer", [accum, weight], target.depth)
             self._oit = (key, fbo, accum, weight)
         return self._oit
 
