@@ -960,6 +960,19 @@ def surfaces_keys(work: str) -> int:
             keys.tap(key)
             keys.frames(1)
             out[name].append((params[f"surfaces.{name}"], image_sum()))
+    # the panel's inspector: its header, a popup button per thesis section, the maps
+    headers: list = []
+    images: list = []
+    buttons: list = []
+    undo = [_spy(win.imgui, "collapsing_header", headers), _spy(win.imgui, "image", images),
+            _spy(win.imgui, "button", buttons)]
+    win.show_panel = True
+    keys.frames(2)
+    for u in undo:
+        u()
+    out["inspector"] = {"headers": sorted({h["text"] for h in headers}),
+                        "images": len(images) // 2,
+                        "buttons": sorted({b["text"] for b in buttons})}
     out["render_error"] = str(win.render_error or "")
     keys.tap("Escape")
     out["closing"] = bool(win.wnd.is_closing)

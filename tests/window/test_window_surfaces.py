@@ -33,4 +33,9 @@ def test_the_lab_keys_typed_in_the_window(tmp_path):
         assert [v for v, _ in r[name]] == expected, name
         sums = [s for _, s in r[name]]
         assert len(set(sums)) > 1, name  # the image changes as the key steps
+    inspector = r["inspector"]
+    assert any(h.startswith("Surfaces inspector") for h in inspector["headers"])
+    assert {"Lights…", "Transparency…", "Reflections…", "Refraction…", "Shadows…"} <= {
+        b.split("##")[0] for b in inspector["buttons"]}
+    assert inspector["images"] >= 4  # the shadow atlas, the lamp's faces, the two LUTs
     assert r["closing"] is True

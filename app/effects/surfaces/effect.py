@@ -462,6 +462,49 @@ class Surfaces(Effect):
                 Pass("surfaces.transparent", lambda: self.draw_transparent(frame, target),
                      Stage.TRANSPARENT)]
 
+    #: the inspector's popups, grouped as the thesis's sections are (§2.4–2.8)
+    INSPECTOR = {
+        "Lights": ["surfaces.sun_elevation", "surfaces.sun_azimuth", "surfaces.sun_intensity",
+                   "surfaces.ambient", "surfaces.lamp", "surfaces.lamp_intensity",
+                   "surfaces.lamp_range", "surfaces.spot", "surfaces.spot_angle",
+                   "surfaces.spot_intensity", "surfaces.spot_range"],
+        "Transparency": ["surfaces.transparency", "surfaces.cutoff", "surfaces.a2c",
+                         "surfaces.zwrite_blended", "surfaces.blue_queue", "surfaces.fence_queue",
+                         "surfaces.fence_mode", "surfaces.leaves_mode", "surfaces.smoke_mode",
+                         "surfaces.blue_mode", "surfaces.cross_mode", "surfaces.wboit_weight",
+                         "surfaces.peel_layers", "surfaces.msaa"],
+        "Reflections": ["surfaces.reflection", "surfaces.specular_model", "surfaces.probe_size",
+                        "surfaces.probe_sphere_radius", "surfaces.prefilter_samples",
+                        "surfaces.mirror_smoothness", "surfaces.mirror_metallic",
+                        "surfaces.dielectric_smoothness", "surfaces.dielectric_metallic",
+                        "surfaces.floor_smoothness", "surfaces.floor_metallic"],
+        "Refraction": ["surfaces.n1", "surfaces.n2", "surfaces.fresnel",
+                       "surfaces.transparency_lod", "surfaces.glass_smoothness",
+                       "surfaces.distortion", "surfaces.interfaces"],
+        "Shadows": ["surfaces.shadow_map_size", "surfaces.shadow_cascades",
+                    "surfaces.shadow_split_lambda", "surfaces.shadow_stable_fit",
+                    "surfaces.shadow_distance", "surfaces.shadow_linear_bias",
+                    "surfaces.shadow_normal_bias", "surfaces.shadow_filter",
+                    "surfaces.shadow_pcss_light_size", "surfaces.shadow_vsm_blur",
+                    "surfaces.shadow_vsm_bleed", "surfaces.shadow_dithered",
+                    "surfaces.shadow_strength"],
+    }
+
+    def panel_items(self) -> list:
+        """The lab's inspector: a popup per thesis section (transparency, reflections,
+        refraction, shadows) and thumbnails of the generated maps — the sun's shadow atlas
+        (its first moment: depth), the lamp's six faces, the split-sum and NHxRoughness LUTs."""
+        from ...params import Inspector
+
+        popups = {t: [n for n in names if n in self.params] for t, names in self.INSPECTOR.items()}
+        textures = {label: tex for label, tex in (
+            ("sun shadow atlas", self.shadows.sun.colour),
+            ("lamp faces", self.shadows.point.colour),
+            ("split-sum LUT", self.probe.brdf), ("NHxRoughness LUT", self.probe.nhx))
+            if tex is not None}
+        return [Inspector("Surfaces inspector (spec/003 §2.4–2.8)",
+                          {t: n for t, n in popups.items() if n}, textures)]
+
     def panel_notes(self) -> list[str]:
         p = self.params
         return [f"failure shown: {p['surfaces.failure']}",
