@@ -175,6 +175,10 @@ def chart(report: dict, path, force: bool = False) -> None:
     for bias in BIASES:
         rs = [r for r in report["rows"] if r["bias"] == bias]
         a.scatter([r["ms"] for r in rs], [100 * r["mismatch"] for r in rs], label=bias, s=14)
+        for r in rs:  # each point: map size, filter, cascades
+            a.annotate(f"{r['size']} {r['filter']} c{r['cascades']}",
+                       (r["ms"], 100 * r["mismatch"]), fontsize=6, xytext=(3, 2),
+                       textcoords="offset points")
     a.set_xlabel("map + receiver ms")
     a.set_ylabel("mismatch % of floor points")
     a.set_yscale("symlog", linthresh=0.1)
@@ -184,6 +188,8 @@ def chart(report: dict, path, force: bool = False) -> None:
         b.annotate(r["filter"], (r["ms"], r["mae"]), fontsize=8)
     b.set_xlabel("ms")
     b.set_ylabel(f"mean |V − truth| ({report['soft_maps']} jittered maps)")
+    a.set_title("mismatch (acne + Peter Panning + aliasing) against the ray cast", fontsize=9)
+    b.set_title("soft shadow of an area light against jittered hard maps", fontsize=9)
     write_chart(fig, path, force=force, title="spec/003 §2.8 shadows on the lab floor")
 
 

@@ -862,6 +862,22 @@ def maritime_keys(work: str) -> int:
     return 0
 
 
+def _inspector_drawn(win, keys) -> dict:
+    """Show the panel for two frames and list what its inspectors drew: the collapsing headers,
+    the thumbnails (each drawn once a frame) and the buttons."""
+    headers: list = []
+    images: list = []
+    buttons: list = []
+    undo = [_spy(win.imgui, "collapsing_header", headers), _spy(win.imgui, "image", images),
+            _spy(win.imgui, "button", buttons)]
+    win.show_panel = True
+    keys.frames(2)
+    for u in undo:
+        u()
+    return {"headers": sorted({h["text"] for h in headers}), "images": len(images) // 2,
+            "buttons": sorted({b["text"] for b in buttons})}
+
+
 def shading_keys(work: str) -> int:
     """The shading lab's map (spec/003 §2.1–2.3, §2.12) typed as X events in its window: 1 / 2 /
     3 the lighting model, T four times through the toon modes back to none, G Gouraud, B the rim,
@@ -911,18 +927,7 @@ def shading_keys(work: str) -> int:
     keys.frames(1)
     out["bloom"] = params["shading.bloom"]
     # the panel's material inspector: its header, a popup button each, the maps' thumbnails
-    headers: list = []
-    images: list = []
-    buttons: list = []
-    undo = [_spy(win.imgui, "collapsing_header", headers), _spy(win.imgui, "image", images),
-            _spy(win.imgui, "button", buttons)]
-    win.show_panel = True
-    keys.frames(2)
-    for u in undo:
-        u()
-    out["inspector"] = {"headers": sorted({h["text"] for h in headers}),
-                        "images": len(images) // 2,
-                        "buttons": sorted({b["text"] for b in buttons})}
+    out["inspector"] = _inspector_drawn(win, keys)
     out["render_error"] = str(win.render_error or "")
     keys.tap("Escape")
     out["closing"] = bool(win.wnd.is_closing)
@@ -961,18 +966,7 @@ def surfaces_keys(work: str) -> int:
             keys.frames(1)
             out[name].append((params[f"surfaces.{name}"], image_sum()))
     # the panel's inspector: its header, a popup button per thesis section, the maps
-    headers: list = []
-    images: list = []
-    buttons: list = []
-    undo = [_spy(win.imgui, "collapsing_header", headers), _spy(win.imgui, "image", images),
-            _spy(win.imgui, "button", buttons)]
-    win.show_panel = True
-    keys.frames(2)
-    for u in undo:
-        u()
-    out["inspector"] = {"headers": sorted({h["text"] for h in headers}),
-                        "images": len(images) // 2,
-                        "buttons": sorted({b["text"] for b in buttons})}
+    out["inspector"] = _inspector_drawn(win, keys)
     out["render_error"] = str(win.render_error or "")
     keys.tap("Escape")
     out["closing"] = bool(win.wnd.is_closing)
