@@ -40,6 +40,7 @@ in vec3 vWorldNormal;
 in vec4 vWorldTangent;
 in vec2 vUV;
 in float vViewDepth;
+in vec3 vReflect;
 
 uniform vec3 uCameraPos;
 uniform vec3 uSunDir;
@@ -71,6 +72,7 @@ uniform sampler2D uDistortionMap;
 uniform int uInterfaces;
 uniform bool uProbeOn;
 uniform int uDebug;
+uniform bool uReflectionOptimize;  // its parameter annotation is in surface.vert
 
 // the probe (app.effects.surfaces.reflections.ReflectionProbe.bind)
 uniform samplerCube uProbe;            // the room seen from the probe, with mips
@@ -155,6 +157,9 @@ void main() {
 
     vec3 colour = diffuse + specular;
     vec3 r = reflect(-v, n);
+    if (uReflectionOptimize && dot(vReflect, vReflect) > 1e-12 && uDistortion <= 0.0) {
+        r = normalize(vReflect);  // REFLECTION_OPTIMIZE: interpolated from the vertices
+    }
     if (uProbeOn && uRefractive) {
         // the glass: refraction against reflection, weighted by the reflectance (spec/003 §2.7)
         float cosI = clamp(dot(n, v), 0.0, 1.0);
