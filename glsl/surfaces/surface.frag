@@ -20,7 +20,8 @@
 // Interface: vertex inputs in_position, in_normal, in_uv, in_tangent (world space);
 // uViewProj, uView, uCameraPos; lights uSunDir/uSunRadiance, uLampOn/uLampPos/uLampRadiance/
 // uLampRange, uSpotOn/uSpotPos/uSpotDir/uSpotCos/uSpotRadiance/uSpotRange, uAmbient; material
-// uAlbedo, uMetallic, uSmoothness, uRefractive, uSphereCentre/uSphereRadius, uN1, uN2,
+// uAlbedo, uMetallic, uSmoothness (or uUseMetallicMap with uMetallicMap: R metallic, G
+// smoothness), uRefractive, uSphereCentre/uSphereRadius, uN1, uN2,
 // uFresnelSchlick, uTransparency, uDistortion, uDistortionMap, uInterfaces; uProbeOn with the
 // probe's samplers (reflection.glsl); the shadows' uniforms (common/shadow.glsl); uDebug.
 //
@@ -60,6 +61,9 @@ uniform float uSpotRange;
 uniform vec3 uAlbedo;
 uniform float uMetallic;
 uniform float uSmoothness;
+uniform bool uUseMetallicMap;      // the object's R = metallic, G = smoothness texture (spec/003 §2.6)
+uniform sampler2D uMetallicMap;
+float gMetallic, gSmoothness;      // this fragment's: the sliders', or the texture's
 uniform bool uRefractive;
 uniform vec3 uSphereCentre;
 uniform float uSphereRadius;
@@ -111,7 +115,7 @@ void AddLight(vec3 l, vec3 radiance, vec3 n, vec3 v, float roughness, inout vec3
     vec3 h = SafeUnit(l + v, n);
     float nh = max(dot(n, h), 0.0);
     float spec = uSpecularModel == 0 ? SpecularIntensityFromLUT(uNhxLut, nh, roughness) : 0.0;
-    specular += spec * nl * SpecularColorByMetallic(radiance, uAlbedo, uMetallic);
+    specular += spec * nl * SpecularColorByMetallic(radiance, uAlbedo, gMetallic);
 }
 
 vec3 ProbeAt(vec3 dir, float smoothness) {
@@ -121,15 +125,22 @@ vec3 ProbeAt(vec3 dir, float smoothness) {
 }
 
 void main() {
+    gMetallic = uMetallic;
+    gSmoothness = uSmoothness;
+    if (uUseMetallicMap) {
+        vec2 ms = texture(uMetallicMap, vUV).rg;
+        gMetallic = ms.r;
+        gSmoothness = ms.g;
+    }
     vec3 v = SafeUnit(uCameraPos - vWorldPos, vec3(0.0, 0.0, 1.0));
     vec3 n = SafeUnit(vWorldNormal, v);
     if (uRefractive && uDistortion > 0.0) {
         vec3 t = SafeUnit(vWorldTangent.xyz, vec3(1.0, 0.0, 0.0));
         vec3 b = cross(n, t) * (vWorldTangent.w < 0.0 ? -1.0 : 1.0);
         vec2 xy = texture(uDistortionMap, vUV * 4.0).xy * 2.0 - 1.0;
-        n = DistortNormal(n, t, b, xy, DistortionStrength(uDistortion, uSmoothness));
+        n = DistortNormal(n, t, b, xy, DistortionStrength(uDistortion, gSmoothness));
     }
-    float roughness = 1.0 - uSmoothness;
+    float roughness = 1.0 - gSmoothness;
 
     // the lights, each with its shadow map (spec/003 §2.8)
     vec3 diffuse = uAmbient;
@@ -174,20 +185,20 @@ void main() {
         vec3 d = ComputeReflexDirection(uReflection == 0 ? 1 : uReflection, vWorldPos, t,
                                         uProbePos, uProbeBoxMin, uProbeBoxMax, uProbeSphereRadius);
         vec3 refracted = textureLod(uProbe, d, RefractionLod(uTransparency, uProbeMips)).rgb * uAlbedo;
-        vec3 reflected = ProbeAt(r, uSmoothness);
+        vec3 reflected = ProbeAt(r, gSmoothness);
         colour = RefractReflectMix(refracted, reflected, F) + specular;
     } else if (uProbeOn && uReflection != 0) {
         if (uSpecularModel == 1) {
             // the physically based reference: split-sum prefiltered GGX (Karis 2013)
             vec3 d = ComputeReflexDirection(uReflection, vWorldPos, r, uProbePos,
                                             uProbeBoxMin, uProbeBoxMax, uProbeSphereRadius);
-            vec3 f0 = mix(vec3(0.04), uAlbedo, uMetallic);
+            vec3 f0 = mix(vec3(0.04), uAlbedo, gMetallic);
             vec3 spec = PrefilteredSpecular(uProbePrefiltered, uBrdfLut, d, max(dot(n, v), 0.0),
                                             roughness, f0, uPrefilteredMips);
-            colour = diffuse * (1.0 - uMetallic) + spec;
+            colour = diffuse * (1.0 - gMetallic) + spec;
         } else {
-            float w = ReflectionWeight(uSmoothness, uMetallic);
-            colour = mix(diffuse, ProbeAt(r, uSmoothness), w) + specular;
+            float w = ReflectionWeight(gSmoothness, gMetallic);
+            colour = mix(diffuse, ProbeAt(r, gSmoothness), w) + specular;
         }
     }
 

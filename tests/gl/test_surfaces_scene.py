@@ -56,6 +56,7 @@ def test_the_room_renders_finite_and_lit(lab):
     ("n2", (1.0, 1.31, 2.42)),
     ("interfaces", (1, 2)),
     ("reflection_optimize", (False, True)),
+    ("metallic_map", (False, True)),
 ])
 def test_every_switch_changes_the_image(lab, name, values):
     s, d = lab

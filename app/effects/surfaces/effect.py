@@ -154,6 +154,10 @@ class Surfaces(Effect):
                   "smoothness", step=0.01, section=s5),
             Param("surfaces.dielectric_metallic", 0.0, 0.0, 1.0, "the red sphere's metallic",
                   step=0.01, section=s5),
+            Param("surfaces.metallic_map", False, doc="the red sphere reads metallic (R) and "
+                  "smoothness (G) from a texture (generated: four metal and dielectric bands "
+                  "around it, smoothness rising from its foot to its top) instead of the sliders",
+                  kind="bool", section=s5),
             Param("surfaces.floor_smoothness", 0.0, 0.0, 1.0, "the floor's smoothness: 1 with "
                   "metallic 1 makes it the flat mirror of Fig. 53 (the box probe's cube shape)",
                   step=0.01, section="spec/003 §2.5"),
@@ -338,7 +342,7 @@ class Surfaces(Effect):
         """The surface uniforms of one object: albedo, metallic, smoothness, refraction."""
         p = self.params
         out = {"uAlbedo": tuple(obj.albedo), "uMetallic": 0.0, "uSmoothness": 0.0,
-               "uRefractive": False, "uReflects": True}
+               "uRefractive": False, "uReflects": True, "uUseMetallicMap": False}
         if isinstance(obj, surfaces_scene.Room):
             out.update(uMetallic=p["surfaces.floor_metallic"],
                        uSmoothness=p["surfaces.floor_smoothness"])
@@ -347,7 +351,8 @@ class Surfaces(Effect):
                        uSmoothness=p["surfaces.mirror_smoothness"])
         elif obj.name == "dielectric":
             out.update(uMetallic=p["surfaces.dielectric_metallic"],
-                       uSmoothness=p["surfaces.dielectric_smoothness"])
+                       uSmoothness=p["surfaces.dielectric_smoothness"],
+                       uUseMetallicMap=bool(p["surfaces.metallic_map"]))
         elif obj.name == "glass":
             out.update(uSmoothness=p["surfaces.glass_smoothness"], uRefractive=True,
                        uSphereCentre=tuple(obj.centre), uSphereRadius=float(obj.radius))
@@ -388,6 +393,7 @@ class Surfaces(Effect):
                            p["surfaces.debug"])})
         self.apply_params(prog)
         textures = {"uDistortionMap": self._texture("distortion", _distortion_rgba),
+                    "uMetallicMap": self._texture("metallic", metallic_map),
                     **self.shadows.bind(prog)}
         if probe:
             textures.update(self.probe.textures())
@@ -413,11 +419,10 @@ class Surfaces(Effect):
     def probe_key(self) -> tuple:
         """What the probe's cubemap shows: the lights, the materials of the room and solids."""
         p = self.params
-        names = [n for n in p.values("surfaces") if n.startswith(("surfaces.sun", "surfaces.lamp",
-                                                        "surfaces.spot", "surfaces.shadow",
-                                                        "surfaces.ambient", "surfaces.floor",
-                                                        "surfaces.mirror", "surfaces.dielectric",
-                                                        "surfaces.probe"))]
+        shown = ("surfaces.sun", "surfaces.lamp", "surfaces.spot", "surfaces.shadow",
+                 "surfaces.ambient", "surfaces.floor", "surfaces.mirror", "surfaces.dielectric",
+                 "surfaces.metallic", "surfaces.probe")
+        names = [n for n in p.values("surfaces") if n.startswith(shown)]
         return (*((n, _hashable(p[n])) for n in names), ("user", self._user_revision))
 
     def render_probe(self, frame) -> None:
@@ -478,6 +483,7 @@ class Surfaces(Effect):
                         "surfaces.probe_sphere_radius", "surfaces.prefilter_samples",
                         "surfaces.mirror_smoothness", "surfaces.mirror_metallic",
                         "surfaces.dielectric_smoothness", "surfaces.dielectric_metallic",
+                        "surfaces.metallic_map",
                         "surfaces.floor_smoothness", "surfaces.floor_metallic"],
         "Refraction": ["surfaces.n1", "surfaces.n2", "surfaces.fresnel",
                        "surfaces.transparency_lod", "surfaces.glass_smoothness",
@@ -521,6 +527,18 @@ class Surfaces(Effect):
         self._meshes = {}
         self._textures = {}
         super().release()
+
+
+def metallic_map(size: int = 128) -> np.ndarray:
+    """The red sphere's metallic/smoothness texture (spec/003 §2.6: R = metallic, G =
+    smoothness): four bands around the sphere (u) alternating metal and dielectric, smoothness
+    rising with v from 0.1 at the foot to 1 at the top."""
+    v, u = (np.mgrid[0:size, 0:size] + 0.5) / size
+    out = np.ones((size, size, 4), np.float32)
+    out[..., 0] = (np.floor(u * 4) % 2 == 0)
+    out[..., 1] = 0.1 + 0.9 * v
+    out[..., 2] = 0.0
+    return out
 
 
 def _distortion_rgba() -> np.ndarray:
