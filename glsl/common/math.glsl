@@ -15,6 +15,13 @@ float ClampCosine(float mu) { return clamp(mu, -1.0, 1.0); }
 
 float SafeSqrt(float x) { return sqrt(max(x, 0.0)); }
 
+// x normalised, or ``fallback`` for a (near) zero vector (an interpolated normal that vanished,
+// a point at the camera): never a NaN from normalize(vec3(0)).
+vec3 SafeNormalize(vec3 x, vec3 fallback) {
+    float len2 = dot(x, x);
+    return len2 > 1e-20 ? x * inversesqrt(len2) : fallback;
+}
+
 // GLSL's smoothstep(e0, e1, x) is undefined when e0 >= e1, so the reversed ramps HLSL code
 // writes as smoothstep(0.6, 0.0, x) are written out by hand:
 // SmoothStepDown(hi, lo, x) = 1 - smoothstep(lo, hi, x), i.e. 1 at x <= lo and 0 at x >= hi.

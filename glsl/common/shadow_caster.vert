@@ -13,6 +13,8 @@
 // texels.
 // Failure cases guarded: sin from cos = n·l is clamped (never NaN at n ∥ l); a zero normal or a
 // vertex at the light's position keeps its place (no normalise of zero).
+#include "math.glsl"
+
 in vec3 in_position;
 in vec3 in_normal;
 in vec2 in_uv;
@@ -27,15 +29,14 @@ uniform float uShadowCasterLinearBias;
 out vec3 vWorld;
 out vec2 vUV;
 
-vec3 SafeNormalize(vec3 v) { float m = length(v); return m > 1e-12 ? v / m : vec3(0.0); }
 
 void main() {
     vec3 p = in_position;
-    vec3 n = SafeNormalize(in_normal);
-    vec3 toLight = uShadowCasterKind == 0 ? SafeNormalize(uShadowCasterLight)
+    vec3 n = SafeNormalize(in_normal, vec3(0.0));
+    vec3 toLight = uShadowCasterKind == 0 ? SafeNormalize(uShadowCasterLight, vec3(0.0))
                                           : uShadowCasterLight - p;
     float dist = length(toLight);
-    vec3 l = uShadowCasterKind == 0 ? toLight : SafeNormalize(toLight);
+    vec3 l = uShadowCasterKind == 0 ? toLight : SafeNormalize(toLight, vec3(0.0));
     float texel = uShadowCasterKind == 0 ? uShadowCasterTexel : uShadowCasterTexel * dist;
     float c = clamp(dot(n, l), -1.0, 1.0);
     float s = sqrt(max(1.0 - c * c, 0.0));

@@ -98,11 +98,6 @@ uniform bool uSpotOn;
 
 const float SPEC_MIN_EXPONENT = 1e-3;
 
-vec3 SafeNormalize(vec3 x, vec3 fallback) {
-    float len2 = dot(x, x);
-    return len2 > 1e-20 ? x * inversesqrt(len2) : fallback;
-}
-
 // Lambert's diffuse term k_diff = max(0, n·l) (spec/003 §2.1).
 float LambertTerm(vec3 n, vec3 l) { return max(dot(n, l), 0.0); }
 

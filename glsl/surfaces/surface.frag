@@ -94,11 +94,6 @@ uniform int uSpecularModel;    // surfaces.specular_model: 0 the thesis's, 1 spl
 
 out vec4 fragColor;
 
-vec3 SafeUnit(vec3 v, vec3 fallback) {
-    float len2 = dot(v, v);
-    return len2 > 1e-20 ? v * inversesqrt(len2) : fallback;
-}
-
 // Unity's distance falloff of a point light within its range: (1 − (d/range)²)², 0 beyond.
 float RangeFalloff(float d, float range) {
     float x = clamp(d / max(range, 1e-4), 0.0, 1.0);
@@ -112,7 +107,7 @@ void AddLight(vec3 l, vec3 radiance, vec3 n, vec3 v, float roughness, inout vec3
     float nl = max(dot(n, l), 0.0);
     if (nl <= 0.0) return;
     diffuse += radiance * nl;
-    vec3 h = SafeUnit(l + v, n);
+    vec3 h = SafeNormalize(l + v, n);
     float nh = max(dot(n, h), 0.0);
     float spec = uSpecularModel == 0 ? SpecularIntensityFromLUT(uNhxLut, nh, roughness) : 0.0;
     specular += spec * nl * SpecularColorByMetallic(radiance, uAlbedo, gMetallic);
@@ -132,10 +127,10 @@ void main() {
         gMetallic = ms.r;
         gSmoothness = ms.g;
     }
-    vec3 v = SafeUnit(uCameraPos - vWorldPos, vec3(0.0, 0.0, 1.0));
-    vec3 n = SafeUnit(vWorldNormal, v);
+    vec3 v = SafeNormalize(uCameraPos - vWorldPos, vec3(0.0, 0.0, 1.0));
+    vec3 n = SafeNormalize(vWorldNormal, v);
     if (uRefractive && uDistortion > 0.0) {
-        vec3 t = SafeUnit(vWorldTangent.xyz, vec3(1.0, 0.0, 0.0));
+        vec3 t = SafeNormalize(vWorldTangent.xyz, vec3(1.0, 0.0, 0.0));
         vec3 b = cross(n, t) * (vWorldTangent.w < 0.0 ? -1.0 : 1.0);
         vec2 xy = texture(uDistortionMap, vUV * 4.0).xy * 2.0 - 1.0;
         n = DistortNormal(n, t, b, xy, DistortionStrength(uDistortion, gSmoothness));
@@ -146,7 +141,7 @@ void main() {
     vec3 diffuse = uAmbient;
     vec3 specular = vec3(0.0);
     float sunVis = ShadowSun(vWorldPos, n, vViewDepth);
-    AddLight(SafeUnit(uSunDir, vec3(0.0, 1.0, 0.0)), uSunRadiance * sunVis, n, v, roughness,
+    AddLight(SafeNormalize(uSunDir, vec3(0.0, 1.0, 0.0)), uSunRadiance * sunVis, n, v, roughness,
              diffuse, specular);
     if (uLampOn) {
         vec3 toLamp = uLampPos - vWorldPos;

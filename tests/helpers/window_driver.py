@@ -938,8 +938,9 @@ def shading_keys(work: str) -> int:
 
 def surfaces_keys(work: str) -> int:
     """The surfaces lab's map (spec/003 §2.4–2.8) typed as X events in its window: T the
-    transparency methods, G the reflection lookups, F the Fresnel, H the shadow filters, J the
-    cascades, X the failures, N MSAA, V the debug views; each key's parameter and its image."""
+    transparency methods, G the reflection lookups, K the specular model, F the Fresnel, H the
+    shadow filters, J the cascades, X the failures, N MSAA, V the debug views; each key's
+    parameter and its image."""
     from app.runtime import scene_params
     from app.scenes import get_scene
     from app.ui import window as W
@@ -957,7 +958,8 @@ def surfaces_keys(work: str) -> int:
 
     keys.frames(1)
     for key, name, times in (("t", "transparency", 3), ("g", "reflection", 5),
-                             ("f", "fresnel", 2), ("h", "shadow_filter", 5),
+                             ("k", "specular_model", 2), ("f", "fresnel", 2),
+                             ("h", "shadow_filter", 5),
                              ("j", "shadow_cascades", 3), ("x", "failure", 2),
                              ("n", "msaa", 2), ("v", "debug", 2)):
         out[name] = []

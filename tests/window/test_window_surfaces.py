@@ -22,6 +22,7 @@ def test_the_lab_keys_typed_in_the_window(tmp_path):
     steps = {
         "transparency": ["wboit", "peeled", "sorted"],
         "reflection": ["approximation", "perfect", "none", "cube", "box"],
+        "specular_model": ["ggx", "thesis"],
         "fresnel": ["schlick", "exact"],
         "shadow_filter": ["pcf", "pcss", "vsm", "hard", "four_tap"],
         "shadow_cascades": ["0", "2", "4"],

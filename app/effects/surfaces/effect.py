@@ -49,6 +49,8 @@ CASTER_FORMAT = ("3f 3f 2f 16x", "in_position", "in_normal", "in_uv")
 ATTRIBUTES = ("position", "normal", "uv", "tangent")
 #: the lamp (point light) and the spot light of the lab
 LAMP_POSITION = (-0.6, 2.3, 0.9)
+#: the multisampled target's clear colour (the room hides it: the camera is inside)
+CLEAR = (0.05, 0.06, 0.08, 1.0)
 SPOT_POSITION = (1.2, 2.85, -0.4)
 SPOT_TARGET = (0.3, 0.0, -2.2)
 
@@ -342,7 +344,7 @@ class Surfaces(Effect):
         """The surface uniforms of one object: albedo, metallic, smoothness, refraction."""
         p = self.params
         out = {"uAlbedo": tuple(obj.albedo), "uMetallic": 0.0, "uSmoothness": 0.0,
-               "uRefractive": False, "uReflects": True, "uUseMetallicMap": False}
+               "uRefractive": False, "uUseMetallicMap": False}
         if isinstance(obj, surfaces_scene.Room):
             out.update(uMetallic=p["surfaces.floor_metallic"],
                        uSmoothness=p["surfaces.floor_smoothness"])
@@ -436,16 +438,13 @@ class Surfaces(Effect):
     def draw_opaque(self, frame, target) -> None:
         self._camera_pos = tuple(frame.camera.position)
         work = self.work_target(target)
-        if work.samples:
-            work.fbo.clear(*self._clear_colour(target), depth=1.0)
+        if work.samples:  # the frame's own target is cleared by the scene
+            work.fbo.clear(*CLEAR, depth=1.0)
         cam = frame.camera
         view = cam.view_matrix()
         self.draw_solids(cam.projection_matrix(frame.aspect) @ view, view, cam.position,
                          work.fbo, probe=True)
         self.gpu.ctx.disable(moderngl.DEPTH_TEST)
-
-    def _clear_colour(self, target) -> tuple:
-        return (0.05, 0.06, 0.08, 1.0)
 
     def draw_transparent(self, frame, target) -> None:
         work = self.work_target(target)
@@ -518,7 +517,7 @@ class Surfaces(Effect):
                 f"shadow renders: sun {self.shadows.sun.renders}, lamp "
                 f"{self.shadows.point.renders}, spot {self.shadows.spot.renders}; probe "
                 f"captures {self.probe.captures}",
-                *self.transparency.notes([q for q in self.layout.quads], self._camera_pos)]
+                *self.transparency.notes(self.layout.quads, self._camera_pos)]
 
     def release(self) -> None:
         self.shadows.release()
@@ -545,7 +544,7 @@ def _distortion_rgba() -> np.ndarray:
     """The glass's distortion texture (app.sim.distortion) as RGBA: xy in [−1, 1] → [0, 1]."""
     xy = distortion.distortion_map(128)
     out = np.ones((*xy.shape[:2], 4), np.float32)
-    out[..., :2] = 0.5 * xy + 0.5
+    out[..., :2] = distortion.encode(xy) / 255.0
     return out
 
 
