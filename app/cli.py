@@ -148,6 +148,8 @@ def _add_scene_options(p: argparse.ArgumentParser) -> None:
                    help="apply a TOML preset before --set")
     p.add_argument("--mesh", default=None, metavar="FILE",
                    help="your own mesh on the shading lab's turntable (.obj, .stl, .gltf, .glb)")
+    p.add_argument("--vr", action="store_true",
+                   help="VR mode: a side-by-side stereo pair, one eye per half (the village)")
     _add_common(p)
 
 
@@ -269,9 +271,18 @@ def _session_inputs(args, scene_name: str):
             raise UsageError(f"--time: scene {scene_name!r} has no time of day: allowed with the "
                              "scenes that have a day–night sky (see natura scenes)")
         params.set("time.hour", args.time % 24.0)
+    if getattr(args, "vr", False):
+        if "vr.enabled" not in params:
+            vr_scenes = [n for n, c in SCENES.items() if any(e.name == "vr" for e in c.effects)]
+            raise UsageError(f"--vr: scene {scene_name!r} has no VR mode: allowed "
+                             f"{', '.join(vr_scenes) or 'none'}")
+        params.set("vr.enabled", True)
     camera = cls.new_camera()
     if args.camera is not None:
         parse_camera(args.camera, camera)
+        hook = getattr(cls, "on_user_camera", None)
+        if hook is not None:  # a scene that places its camera itself lets this one be
+            hook(params)
     camera.set(yaw=args.yaw, pitch=args.pitch, fov=args.fov)
     return params, camera, size
 

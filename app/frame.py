@@ -36,6 +36,16 @@ The slots (:data:`SLOTS` is the machine-readable list):
     Shadow maps by light name (:class:`ShadowMap`), filled in the shadow stage.
 ``exposure``
     A factor on ``output.exposure`` (the atmosphere thesis's "pupil").
+``terrain``
+    A :class:`Terrain`: the height field a scene stands on (the village's island) — heights,
+    normals, where grass grows, its bounds and sea level — for what grows or stands on it.
+``fog``
+    An ``app.sim.fog.FogSettings``: the scene's global fog (mode, density, start and end,
+    colour, the height-fog switch), which every lit surface applies once after its lighting
+    (``glsl/common/fog.glsl``); None: no fog.
+``npcs``
+    The characters a scene's player can talk to (:class:`Npc`: name, role, where their head
+    is), for world-space markers above them.
 
 Stages (:class:`Stage`) order the passes of a frame: each pass says in which stage it runs, and
 the scene runs them stage by stage (effects in the scene's order within a stage).
@@ -46,13 +56,14 @@ from __future__ import annotations
 import contextlib
 from dataclasses import dataclass, field
 from enum import IntEnum
-from typing import TYPE_CHECKING, Any, Iterator, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, Callable, Iterator, Protocol, runtime_checkable
 
 import numpy as np
 
 from .errors import NaturaError
 from .sim.camera import Camera
 from .sim.daynight import Light
+from .sim.fog import FogSettings
 from .sim.wake import WakeTrail
 
 if TYPE_CHECKING:
@@ -125,6 +136,40 @@ class WaterSurface(Protocol):
         ...
 
 
+@runtime_checkable
+class Terrain(Protocol):
+    """A height field over the xz plane (metres, world axes; arrays broadcast over points)."""
+
+    #: (x_min, z_min, x_max, z_max) of the field
+    bounds: tuple[float, float, float, float]
+    #: height of the water at rest around it
+    sea_level: float
+    #: changes whenever the field or its masks change (consumers rebuild what they derived)
+    revision: int
+
+    def height(self, x: Any, z: Any) -> np.ndarray:
+        """Ground height at (x, z) (outside the bounds: the field's border value)."""
+        ...
+
+    def normal(self, x: Any, z: Any) -> np.ndarray:
+        """Unit ground normal at (x, z), (..., 3)."""
+        ...
+
+    def grass_density(self, x: Any, z: Any) -> np.ndarray:
+        """Where grass grows, in [0, 1]: 0 on sand, paths, rock, under water and under the
+        buildings, 1 on open meadow."""
+        ...
+
+
+@dataclass(frozen=True)
+class Npc:
+    """A character the player can talk to (spec/003 §1: Lord Barus, the vendor)."""
+
+    name: str
+    role: str  # what talking to them does ("missions", "shop", ...)
+    head: tuple[float, float, float]  # world position of the top of the head [m]
+
+
 @dataclass
 class SceneImage:
     """The target a frame is drawn into, as compositing effects read it."""
@@ -165,6 +210,10 @@ class ShadowMap:
     texture: Any  # depth texture (a cubemap for a point light)
     view_proj: np.ndarray  # world → the light's clip space (directional and spot)
     bias: float = 0.0
+    #: sets every ``glsl/common/shadow.glsl`` uniform of this light on a program and returns
+    #: its textures by sampler name (None: a map shadow.glsl does not read, e.g. the planet's);
+    #: ``app.render.shadow_maps.bind_published`` binds a frame's whole slot at once
+    bind: Callable[[Any], dict[str, Any]] | None = None
 
 
 @dataclass
@@ -191,6 +240,9 @@ SLOTS: dict[str, str] = {
     "image": "colour and depth drawn so far (SceneImage)",
     "shadows": "shadow maps by light name (ShadowMap)",
     "exposure": "factor on output.exposure",
+    "terrain": "the ground's height field, normals and grass mask (Terrain)",
+    "fog": "the global fog every lit surface applies (app.sim.fog.FogSettings)",
+    "npcs": "characters to mark in the world (Npc list)",
 }
 
 
@@ -221,6 +273,11 @@ class FrameContext:
     image: SceneImage | None = None
     shadows: dict[str, ShadowMap] = field(default_factory=dict)
     exposure: float = 1.0  # multiplies output.exposure (e.g. the atmosphere thesis's "pupil")
+    terrain: Terrain | None = None
+    fog: FogSettings | None = None
+    npcs: list[Npc] = field(default_factory=list)
+    #: in a stereo (VR) frame, which eye this frame is drawn for: "left", "right"; None mono
+    eye: str | None = None
     interactive: bool = False  # rendered in the window (frames follow each other)
 
     @property

@@ -353,12 +353,33 @@ class PointShadow(_Map):
 
 def frame_entry(light: str, kind: str, m: _Map, view_proj) -> Any:
     """The :class:`app.frame.ShadowMap` of one map (for ``frame.shadows[light]``): its depth
-    atlas (the point light's (|l| + bias)/range atlas) and first world → map matrix."""
+    atlas (the point light's (|l| + bias)/range atlas), first world → map matrix, and the
+    map's own ``bind`` (every shadow.glsl uniform of the light, for another effect's program)."""
     from ..frame import ShadowMap
 
     tex = m.colour if kind == "point" else m.depth
     bias = m.settings.linear_bias if getattr(m, "settings", None) is not None else 0.0
-    return ShadowMap(light, kind, tex, np.asarray(view_proj), bias)
+    return ShadowMap(light, kind, tex, np.asarray(view_proj), bias,
+                     bind=getattr(m, "bind", None))
+
+
+#: shadow.glsl's switch of each light kind
+_ENABLED = {"directional": "uShadowSunEnabled", "spot": "uShadowSpotEnabled",
+            "point": "uShadowPointEnabled"}
+
+
+def bind_published(program, shadows: dict) -> dict[str, Any]:
+    """Bind a frame's ``shadows`` slot to a program that includes ``glsl/common/shadow.glsl``:
+    every light kind off first, then each published map that shadow.glsl reads sets its own
+    uniforms; returns their textures by sampler name (for one ``bind_textures`` call). A
+    consumer of the slot (grass, water) receives the producer's shadows without knowing it."""
+    for name in _ENABLED.values():
+        program.set(name, False)
+    textures: dict[str, Any] = {}
+    for entry in shadows.values():
+        if getattr(entry, "bind", None) is not None and entry.kind in _ENABLED:
+            textures.update(entry.bind(program))
+    return textures
 
 
 class ShadowSet:

@@ -1,4 +1,4 @@
-"""Bump (normal) mapping — numpy twin of ``glsl/shading/bump.glsl`` (spec/003 §2.2).
+"""Bump (normal) mapping — numpy twin of ``glsl/common/bump.glsl`` (spec/003 §2.2).
 
 One function per GLSL function, vectorised over leading axes (float64 inside):
 

@@ -1,5 +1,5 @@
 """Lighting and toon models of the shading lab (spec/003 §2.1, spec/003 §2.12): the numpy twin
-of ``glsl/shading/lighting.glsl``, one function per GLSL function (snake case), float64 and
+of ``glsl/common/lighting.glsl``, one function per GLSL function (snake case), float64 and
 vectorised over the leading axes of the (..., 3) direction arrays. See the GLSL file's header for
 the equations, the toon modes, the forward light sum and the guards (the same here).
 
@@ -279,19 +279,31 @@ def spot_cone(cos_angle: ArrayLike, cos_inner_outer: tuple[float, float]) -> Arr
     return t * t * (3.0 - 2.0 * t)
 
 
-def shade_forward_base(n: ArrayLike, v: ArrayLike, albedo: ArrayLike, spec_mask: ArrayLike,
-                       emission_mask: ArrayLike, s: Shading, lights: Lights, time: float = 0.0,
-                       ramp: ArrayLike | None = None, nearest: bool = True) -> Array:
-    """ForwardBase: ambient·albedo + the sun + the rim + the emission, once per surface."""
+def shade_forward_base_shadowed(n: ArrayLike, v: ArrayLike, albedo: ArrayLike,
+                                spec_mask: ArrayLike, emission_mask: ArrayLike, s: Shading,
+                                lights: Lights, sun_visibility: ArrayLike = 1.0,
+                                time: float = 0.0, ramp: ArrayLike | None = None,
+                                nearest: bool = True) -> Array:
+    """ForwardBase: ambient·albedo + the sun (its shadow visibility as its attenuation) + the
+    rim + the emission, once per surface."""
     na = _v(n)
     c = _v(lights.ambient) * _v(albedo) * np.ones(na.shape)
     sun = safe_normalize(lights.sun_dir, (0.0, 1.0, 0.0))
+    vis = np.clip(np.broadcast_to(_v(sun_visibility), na.shape[:-1]), 0.0, 1.0)
     c = c + shade_light(na, v, np.broadcast_to(sun, na.shape), lights.sun_radiance,
-                        np.ones(na.shape[:-1]), albedo, spec_mask, s, ramp, nearest)
+                        vis, albedo, spec_mask, s, ramp, nearest)
     if s.rim:
         c = c + _v(s.rim_color) * rim_term(na, v, s.rim_power)[..., None]
     return c + _v(s.emission_color) * (_v(emission_mask)
                                        * flicker_factor(time, s.flicker))[..., None]
+
+
+def shade_forward_base(n: ArrayLike, v: ArrayLike, albedo: ArrayLike, spec_mask: ArrayLike,
+                       emission_mask: ArrayLike, s: Shading, lights: Lights, time: float = 0.0,
+                       ramp: ArrayLike | None = None, nearest: bool = True) -> Array:
+    """ForwardBase with the sun unshadowed."""
+    return shade_forward_base_shadowed(n, v, albedo, spec_mask, emission_mask, s, lights, 1.0,
+                                       time, ramp, nearest)
 
 
 def shade_forward_add(p: ArrayLike, n: ArrayLike, v: ArrayLike, albedo: ArrayLike,
@@ -326,4 +338,14 @@ def shade_surface(p: ArrayLike, n: ArrayLike, v: ArrayLike, albedo: ArrayLike,
     """The whole surface: ForwardBase + ForwardAdd."""
     return (shade_forward_base(n, v, albedo, spec_mask, emission_mask, s, lights, time, ramp,
                                nearest)
+            + shade_forward_add(p, n, v, albedo, spec_mask, s, lights, ramp, nearest))
+
+
+def shade_surface_shadowed(p: ArrayLike, n: ArrayLike, v: ArrayLike, albedo: ArrayLike,
+                           spec_mask: ArrayLike, emission_mask: ArrayLike, s: Shading,
+                           lights: Lights, sun_visibility: ArrayLike = 1.0, time: float = 0.0,
+                           ramp: ArrayLike | None = None, nearest: bool = True) -> Array:
+    """The whole surface with the sun's shadow visibility (the other lights cast none)."""
+    return (shade_forward_base_shadowed(n, v, albedo, spec_mask, emission_mask, s, lights,
+                                        sun_visibility, time, ramp, nearest)
             + shade_forward_add(p, n, v, albedo, spec_mask, s, lights, ramp, nearest))

@@ -1,4 +1,4 @@
-"""Parallax mapping — numpy twin of ``glsl/shading/parallax.glsl`` (spec/003 §2.3).
+"""Parallax mapping — numpy twin of ``glsl/common/parallax.glsl`` (spec/003 §2.3).
 
 The same methods with the same sampling (bilinear with wrap-around, the texel centres of
 :func:`app.sim.surface_maps.sample_bilinear`) on a height array (H, W) in [0, 1], vectorised over

@@ -1,6 +1,6 @@
 #version 330 core
 // Test probe for bump and parallax mapping (tests/gl/test_shading_maps.py): evaluates the
-// functions of glsl/shading/bump.glsl and glsl/shading/parallax.glsl (spec/003 §2.2, §2.3) at
+// functions of glsl/common/bump.glsl and glsl/common/parallax.glsl (spec/003 §2.2, §2.3) at
 // the points of uPoints (one per pixel), so the test compares them with the numpy twins
 // app/sim/bump.py and app/sim/parallax.py.
 //   uProbeMode 0: p = (u, v, 0): (BumpedNormal(uNormalMap, p.xy, uVertexNormal, uTangent), 0)
@@ -8,7 +8,7 @@
 //              2: p = a world direction to the eye: (TangentSpaceView(p, frame), 0), the frame
 //                 BumpTangentFrame(uVertexNormal, uTangent)
 // Failure cases: none of its own — those guarded are the included files' (their headers).
-#include "../shading/parallax.glsl"
+#include "../common/parallax.glsl"
 
 uniform sampler2D uPoints;
 uniform sampler2D uNormalMap;

@@ -1,5 +1,5 @@
 """The shading lab's lit surface, ``ProgramSpec("shading/surface")`` (glsl/shading/surface.vert,
-glsl/shading/surface.frag, glsl/shading/lighting.glsl), against its numpy twin
+glsl/shading/surface.frag, glsl/common/lighting.glsl), against its numpy twin
 app/sim/lighting.py, per pixel: each lighting model and toon mode of spec/003 §2.1 and
 spec/003 §2.12 on a UV sphere (app.render.meshes.uv_sphere) lit by one directional light; the
 Stepped image's four levels (spec/003 §6 criterion 6); Gouraud against per-fragment lighting on

@@ -1,4 +1,4 @@
-"""Bump and parallax mapping (glsl/shading/bump.glsl, glsl/shading/parallax.glsl) against their
+"""Bump and parallax mapping (glsl/common/bump.glsl, glsl/common/parallax.glsl) against their
 numpy twins (app/sim/bump.py, app/sim/parallax.py) per pixel, through the probe
 glsl/tests/shading_maps_probe.frag: each unpack mode with and without DXT5nm, each parallax
 mode, on a grid of texture coordinates drawn as one full-screen quad (spec/003 §2.2, §2.3)."""

@@ -24,7 +24,7 @@ from app.sim.camera import Camera
 
 def test_scenes_are_found_in_their_modules_in_a_stable_order():
     assert list(scenes.SCENES) == ["sky", "probe", "materials", "planet", "noise", "clouds",
-                                   "ocean", "maritime", "shading", "surfaces"]
+                                   "ocean", "maritime", "shading", "surfaces", "village"]
     orders = [cls.order for cls in scenes.SCENES.values()]
     assert orders == sorted(orders)
     assert all(cls.__module__ == f"app.scenes.{name}" for name, cls in scenes.SCENES.items())

@@ -169,7 +169,7 @@ def test_bilinear_sampling_matches_texel_centres_and_wraps():
 
 
 def test_bump_uniforms_are_parameters_with_the_thesis_ranges():
-    text = (DEFAULT_SHADER_ROOT / "shading" / "bump.glsl").read_text(encoding="utf-8")
+    text = (DEFAULT_SHADER_ROOT / "common" / "bump.glsl").read_text(encoding="utf-8")
     params = {p.name: p for p in parse_glsl_annotations(text, "shading")}
     assert params["shading.bumpiness"].lo == 0 and params["shading.bumpiness"].hi == 2
     assert params["shading.bumpiness"].default == 1

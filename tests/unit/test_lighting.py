@@ -1,5 +1,5 @@
 """The lighting and toon models of the shading lab (spec/003 §2.1, spec/003 §2.12),
-app/sim/lighting.py, the numpy twin of glsl/shading/lighting.glsl: spec/003 §6 criteria 3–9 as
+app/sim/lighting.py, the numpy twin of glsl/common/lighting.glsl: spec/003 §6 criteria 3–9 as
 they apply to the functions (the GPU renders are tests/gl/test_shading_lighting.py), the forward
 light sum, and no NaN where the vectors degenerate."""
 
@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from app import DEFAULT_SHADER_ROOT
 from app.sim import lighting as lt
 
-GLSL = DEFAULT_SHADER_ROOT / "shading" / "lighting.glsl"
+GLSL = DEFAULT_SHADER_ROOT / "common" / "lighting.glsl"
 FUNCTION = re.compile(r"^(?:float|vec3)\s+(\w+)\s*\(", re.M)
 unit = st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1)).filter(
     lambda t: 0.01 < sum(c * c for c in t))

@@ -113,7 +113,7 @@ def test_error_in_texels_wraps():
 
 
 def test_parallax_uniforms_are_parameters_with_the_thesis_values():
-    text = (DEFAULT_SHADER_ROOT / "shading" / "parallax.glsl").read_text(encoding="utf-8")
+    text = (DEFAULT_SHADER_ROOT / "common" / "parallax.glsl").read_text(encoding="utf-8")
     params = {p.name: p for p in parse_glsl_annotations(text, "shading")}
     assert params["shading.parallax_mode"].lo == 0 and params["shading.parallax_mode"].hi == 4
     assert params["shading.parallax_layers"].default == 12

@@ -25,9 +25,9 @@
 // normal inside out past s = 2, which Bumpiness 2 reaches); a tangent parallel to the normal or
 // zero (degenerate UVs) replaced by any perpendicular; a zero normal left as (0, 0, 1); w = 0
 // read as +1. The thesis's own failure — bump mapping looks flat at grazing angles — is what
-// glsl/shading/parallax.glsl addresses.
+// glsl/common/parallax.glsl addresses.
 // =============================================================================================
-#include "../common/math.glsl"
+#include "math.glsl"
 
 uniform int uNormalUnpack;   // @param 0 [0, 1] §3.1 z of the unpacked normal: 0 exact sqrt(1 − x² − y²), 1 the cheap 1 − ½(x² + y²)
 uniform bool uNormalDXT5nm;  // @param false §3.1 DXT5nm storage: x in alpha, y in green (Unity's "Normal map" textures)

@@ -1,7 +1,9 @@
 // =============================================================================================
-// Lighting and toon models of the shading lab (spec/003 §2.1, spec/003 §2.12), shared by
-// surface.vert (the Gouraud path: lit per vertex, interpolated) and surface.frag (the thesis's
-// per-fragment path). All directions are world-space unit vectors: n the normal, v toward the
+// Lighting and toon models of the toon-village thesis (spec/003 §2.1, spec/003 §2.12): the
+// shading lab's surface.vert (the Gouraud path: lit per vertex, interpolated) and surface.frag
+// (the thesis's per-fragment path), and the village's CelShader and ComplexCelShader objects,
+// which pass the sun's shadow visibility (ShadeSurfaceShadowed). Its @param uniforms belong to
+// the group of the effect whose program includes it (shading.toon, village.toon, ...). All directions are world-space unit vectors: n the normal, v toward the
 // camera, l toward the light.
 //
 // Lighting models (spec/003 §2.1), chosen by uLightingModel:
@@ -212,14 +214,20 @@ float SpotCone(float cosAngle, vec2 cosInnerOuter) {
     return t * t * (3.0 - 2.0 * t);
 }
 
-// ForwardBase: the ambient, the directional light, the rim and the emission, once per surface.
-vec3 ShadeForwardBase(vec3 n, vec3 v, vec3 albedo, float specMask, float emissionMask) {
+// ForwardBase: the ambient, the directional light (its shadow visibility sunVisibility, 1 lit,
+// 0 in full shadow, enters as the light's attenuation — so the repository's Stepped thresholds
+// see the shadow, as Unity's LIGHT_ATTENUATION does), the rim and the emission, once.
+vec3 ShadeForwardBaseShadowed(vec3 n, vec3 v, vec3 albedo, float specMask, float emissionMask,
+                              float sunVisibility) {
     vec3 c = uAmbient * albedo;
-    c += ShadeLight(n, v, SafeNormalize(uSunDir, vec3(0.0, 1.0, 0.0)), uSunRadiance, 1.0,
-                    albedo, specMask);
+    c += ShadeLight(n, v, SafeNormalize(uSunDir, vec3(0.0, 1.0, 0.0)), uSunRadiance,
+                    clamp(sunVisibility, 0.0, 1.0), albedo, specMask);
     if (uRim) c += uRimColor * RimTerm(n, v, uRimPower);
     c += uEmissionColor * emissionMask * FlickerFactor(uTime, uFlicker);
     return c;
+}
+vec3 ShadeForwardBase(vec3 n, vec3 v, vec3 albedo, float specMask, float emissionMask) {
+    return ShadeForwardBaseShadowed(n, v, albedo, specMask, emissionMask, 1.0);
 }
 
 // ForwardAdd: every further light (the point lights, then the spot), each added.
@@ -246,5 +254,11 @@ vec3 ShadeForwardAdd(vec3 p, vec3 n, vec3 v, vec3 albedo, float specMask) {
 // The whole surface: ForwardBase plus ForwardAdd (the sum Unity's blended passes make).
 vec3 ShadeSurface(vec3 p, vec3 n, vec3 v, vec3 albedo, float specMask, float emissionMask) {
     return ShadeForwardBase(n, v, albedo, specMask, emissionMask)
+           + ShadeForwardAdd(p, n, v, albedo, specMask);
+}
+// The same with the sun's shadow visibility (the point lights and the spot cast none).
+vec3 ShadeSurfaceShadowed(vec3 p, vec3 n, vec3 v, vec3 albedo, float specMask,
+                          float emissionMask, float sunVisibility) {
+    return ShadeForwardBaseShadowed(n, v, albedo, specMask, emissionMask, sunVisibility)
            + ShadeForwardAdd(p, n, v, albedo, specMask);
 }

@@ -1,0 +1,5 @@
+"""Fog (spec/003)."""
+
+from .effect import Fog
+
+__all__ = ["Fog"]

@@ -1,0 +1,5 @@
+"""Stylised water (spec/003)."""
+
+from .effect import ToonWater
+
+__all__ = ["ToonWater"]

@@ -1,0 +1,5 @@
+"""The Fracsland village (spec/003)."""
+
+from .effect import Village
+
+__all__ = ["Village"]

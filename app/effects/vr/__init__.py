@@ -1,0 +1,5 @@
+"""VR mode (spec/003)."""
+
+from .effect import Vr
+
+__all__ = ["Vr"]
