@@ -59,6 +59,11 @@ STAGES = {
     "tese": "tess_evaluation_shader",
     "comp": "compute_shader",
 }
+#: a define every stage gets after #version, so a shared include can hold code that only one
+#: stage may compile (``#ifdef NATURA_FRAGMENT_STAGE`` around a use of gl_FragCoord)
+STAGE_DEFINES = {"vert": "NATURA_VERTEX_STAGE", "frag": "NATURA_FRAGMENT_STAGE",
+                 "geom": "NATURA_GEOMETRY_STAGE", "tesc": "NATURA_TESS_CONTROL_STAGE",
+                 "tese": "NATURA_TESS_EVALUATION_STAGE", "comp": "NATURA_COMPUTE_STAGE"}
 SHADER_ENV = "NATURA_SHADERS"
 #: GL types of sampler uniforms (samplers use texture units; image uniforms do not).
 SAMPLER_TYPES = frozenset(
@@ -781,7 +786,7 @@ class Program:
         tables: dict[str, list[Path]] = {}
         for ext, path in self.stage_paths.items():
             try:
-                src = lib.preprocess(path, self.defines)
+                src = lib.preprocess(path, {**self.defines, STAGE_DEFINES[ext]: 1})
             except PreprocessError as exc:
                 errors.append(exc.error)
                 all_files.extend(exc.files)

@@ -351,6 +351,10 @@ class _Builder:
                        np.concatenate(self.uv), np.concatenate(self.tri))
 
 
+#: the builder other generators of meshes share (the village's houses and props)
+MeshBuilder = _Builder
+
+
 def _sphere_grid(radius: float, rings: int, segments: int, centre=(0.0, 0.0, 0.0)):
     """p, n, uv (rings + 1, segments + 1, ·) of a UV sphere: rows from the north pole (v = 1)
     to the south pole (v = 0), u around +y; counter-clockwise seen from outside with

@@ -107,8 +107,10 @@ float FogVertexFactor(vec4 clipPos) {
     return FogFactor(FogDistance(clipPos.w, uFogNearFar));
 }
 
+#ifdef NATURA_FRAGMENT_STAGE
 // After the lighting: lerp(fogColour, colour, f) with the per-vertex f, or the per-fragment one,
-// or the height fog's transmittance. Must run in a fragment stage (gl_FragCoord).
+// or the height fog's transmittance. Fragment stages only (gl_FragCoord: the library defines
+// NATURA_FRAGMENT_STAGE there).
 vec3 FogApply(vec3 colour, float vertexFactor, vec3 worldPos) {
     if (uFogHeight) return mix(uFogColor, colour, FogHeightTransmittance(worldPos));
     if (uFogMode == 0) return colour;
@@ -116,3 +118,4 @@ vec3 FogApply(vec3 colour, float vertexFactor, vec3 worldPos) {
                            : clamp(vertexFactor, 0.0, 1.0);
     return mix(uFogColor, colour, f);
 }
+#endif
