@@ -125,6 +125,9 @@ class VillageScene(Scene):
         """What the fly controls did to the camera since it was last placed moves the hero:
         the camera's horizontal displacement becomes the hero's step, its yaw the heading."""
         if self._placed is None:
+            # the first frame: a view turned away from the scene's start (--yaw) turns the hero
+            if abs(self.camera.yaw - self.default_camera["yaw"] % 360.0) > 1e-9:
+                village.walk_hero(0.0, 0.0, self.camera.yaw)
             return
         x0, z0, _ = self._placed
         x, _, z = self.camera.position
