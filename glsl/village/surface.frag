@@ -46,6 +46,13 @@ uniform sampler2D uNormalMap;   // tangent-space normals of the relief (0.5·n +
 uniform sampler2D uHeightMap;   // the relief's height in alpha
 uniform float uReliefTile;      // metres (terrain) or uv units (walls) per tile of the relief
 uniform vec3 uFrameColour;      // the window frames' albedo (walls)
+uniform int uDebug;             // 0 the image, 1 each draw's group as a flat colour, 2 the sun's shadow visibility
+uniform int uDebugId;           // the draw's group: 0 terrain, 1 walls, 2 solids, 3 lanterns, 4 flame, 5 people
+
+// A flat colour per group for the debug view (their ids on the three channels: exact to read).
+vec3 DebugGroupColour(int id) {
+    return vec3(float(id & 1), float((id >> 1) & 1), float((id >> 2) & 1)) * 0.8 + 0.1;
+}
 
 out vec4 fragColor;
 
@@ -89,4 +96,6 @@ void main() {
         colour = ShadeSurfaceShadowed(p, n, v, albedo, specMask, emissionMask, sunVisibility);
     }
     fragColor = vec4(FogApply(max(colour, vec3(0.0)), vWorldPos.w, p), 1.0);
+    if (uDebug == 1) fragColor = vec4(DebugGroupColour(uDebugId), 1.0);
+    if (uDebug == 2) fragColor = vec4(vec3(sunVisibility), 1.0);
 }

@@ -41,6 +41,9 @@ from ..base import Effect, Pass
 
 SURFACE = ProgramSpec("village/surface")
 MATERIALS = {"terrain": 0, "walls": 1, "solids": 2, "lanterns": 3, "flame": 3}
+#: the debug view's groups (surface.frag's uDebugId), the people last
+GROUPS = ("terrain", "walls", "solids", "lanterns", "flame", "people")
+DEBUG_VIEWS = ("none", "groups", "shadow")
 #: the hero: a traveller in a blue tunic
 HERO = Person("the hero", "hero", (0.0, 17.0), 0.0, 1.75, (0.16, 0.30, 0.62))
 LAMP_COLOUR = (1.0, 0.72, 0.38)
@@ -109,6 +112,9 @@ class Village(Effect):
                   "relief", step=0.05, unit="m", section=s2),
             Param("village.resolution", 193, 33, 769, "the island's height-field samples per "
                   "side (cells of 220 m / (n − 1))", kind="int", section=s1),
+            Param("village.debug", "none", doc="debug view: the image, each draw's group as a "
+                  "flat colour (terrain, walls, solids, lanterns, flame, people), or the sun's "
+                  "shadow visibility", kind="choice", choices=DEBUG_VIEWS, section=s1),
             *shadow_params("village"),
         ]
 
@@ -322,6 +328,7 @@ class Village(Effect):
         fmt = (village_meshes.FORMAT, *village_meshes.ATTRIBUTES)
         use_relief = bool(p["village.relief"])
         glow = float(p["village.window_glow"]) * self.lights_on
+        prog.set("uDebug", DEBUG_VIEWS.index(p["village.debug"]))
         for name, (vbo, ibo, _) in self.batches().items():
             material = MATERIALS[name]
             textures = {"uMasks": masks, **shadow_textures}
@@ -345,10 +352,10 @@ class Village(Effect):
             prog.set_many({"uMaterial": material, "uUseRelief": use_relief and material < 2,
                            "uReliefTile": tile, "uUseMasks": name == "walls",
                            "uFrameColour": FRAME_COLOUR, "uEmissionColor": emission,
-                           "uFlicker": flicker})
+                           "uFlicker": flicker, "uDebugId": GROUPS.index(name)})
             prog.vao([(vbo, *fmt)], ibo).render(moderngl.TRIANGLES)
         prog.set_many({"uMaterial": 2, "uUseRelief": False, "uUseMasks": False,
-                       "uEmissionColor": (0.0, 0.0, 0.0)})
+                       "uEmissionColor": (0.0, 0.0, 0.0), "uDebugId": GROUPS.index("people")})
         for vbo, ibo, *_ in self.people():
             prog.vao([(vbo, *fmt)], ibo).render(moderngl.TRIANGLES)
         ctx.disable(moderngl.DEPTH_TEST)

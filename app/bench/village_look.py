@@ -1,0 +1,175 @@
+"""The toon look, measured (spec/003 §0's aim — "a less realistic, more child-friendly look",
+"colores más intensos" — and §6 criterion 37): the same village view with the thesis's toon
+look (Stepped CelShader / ComplexCelShader, spec/003 §2.12) against Lambert / Blinn–Phong
+(``village.toon = 0``), everything else equal.
+
+Measured on the **lit opaque objects** — the houses, the props and the people (the village's
+debug view ``groups`` gives the mask), where the sun reaches them (its ``shadow`` view: full
+visibility) — in the image a user gets (tone-mapped sRGB, 8 bits):
+
+* ``levels``: distinct luma values (Rec. 709 weights on the 8-bit sRGB channels, rounded) held
+  by at least :data:`LEVEL_SHARE` of the masked pixels — a band shows as one heavily populated
+  level, a gradient spreads over many thinly populated ones (the share discounts the few pixels
+  of antialiased edges and texture detail); ``levels_all`` counts every distinct value;
+* ``saturation``: the mean HSV saturation (max − min)/max of the masked pixels;
+* ``ms``: the village pass with each look, interleaved rounds (what the toon look costs).
+
+Both under the scene's own tone map (the village's preset: ``clamp``, Unity 5's LDR forward
+output, which the thesis used) and under ACES (``by_tonemap``).
+
+Criterion 37 asks for fewer levels and an equal or higher mean saturation with the toon look.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..colour import to_srgb8
+from ..gpu.timing import time_interleaved
+from ..runtime import open_session, render_frames, scene_params
+from ..sim.camera import Camera
+
+#: a luma level counts when this share of the masked pixels has it
+LEVEL_SHARE = 0.005
+#: the view: from the plaza's south-west toward Lord Barus's hall and the vendor's house, the
+#: afternoon sun from the west
+CAMERA = Camera(position=(-9.0, 4.2, 12.0), yaw=20.0, pitch=-8.0, fov=60.0, near=0.1,
+                far=2000.0)
+HOUR = 15.0
+LOOKS = {"toon": ["village.toon=2"], "lambert_blinn_phong": ["village.toon=0"]}
+#: the tone maps the looks are also measured under (the scene's own first: the village's is
+#: clamp, Unity 5's LDR output; ACES's shoulder desaturates the brighter toon bands)
+TONEMAPS = ("clamp", "aces")
+#: the debug view's flat colours of the groups counted (surface.frag's DebugGroupColour)
+OBJECT_GROUPS = (1, 2, 5)  # walls, solids, people
+
+
+def group_colour(group: int) -> np.ndarray:
+    return np.array([group & 1, (group >> 1) & 1, (group >> 2) & 1], np.float32) * 0.8 + 0.1
+
+
+def luma8(srgb8: np.ndarray) -> np.ndarray:
+    """Rec. 709 luma of 8-bit sRGB pixels, rounded to integer levels."""
+    return np.rint(srgb8[..., :3].astype(np.float64) @ [0.2126, 0.7152, 0.0722]).astype(int)
+
+
+def saturation(srgb8: np.ndarray) -> np.ndarray:
+    rgb = srgb8[..., :3].astype(np.float64)
+    hi, lo = rgb.max(axis=-1), rgb.min(axis=-1)
+    return np.where(hi > 0, (hi - lo) / np.maximum(hi, 1e-9), 0.0)
+
+
+def levels(values: np.ndarray, share: float = LEVEL_SHARE) -> int:
+    """Distinct values held by at least ``share`` of ``values``."""
+    if values.size == 0:
+        return 0
+    _, counts = np.unique(values, return_counts=True)
+    return int((counts >= share * values.size).sum())
+
+
+def run(gpu, quick: bool = False) -> dict:
+    size = (320, 180) if quick else (640, 360)
+    base = [f"time.hour={HOUR}", "village.msaa=0", "fog.mode=off"]
+    out: dict = {"size": list(size), "hour": HOUR, "level_share": LEVEL_SHARE,
+                 "camera": {"position": list(CAMERA.position), "yaw": CAMERA.yaw,
+                            "pitch": CAMERA.pitch}, "looks": {}}
+    sessions = {}
+    try:
+        def session(extra):
+            params = scene_params("village", sets=[*base, *extra])
+            if "fog.mode" not in params:  # pragma: no cover - the scene always has fog
+                raise RuntimeError("the village scene has no fog.mode")
+            cam = Camera(position=CAMERA.position, yaw=CAMERA.yaw, pitch=CAMERA.pitch,
+                         fov=CAMERA.fov, near=CAMERA.near, far=CAMERA.far)
+            s = open_session("village", params, ctx=gpu.ctx, camera=cam)
+            s.params.set("village.camera", "free")
+            return s
+
+        probe = session([])
+        sessions["probe"] = probe
+        probe.params.set("village.debug", "groups")
+        groups = next(render_frames(probe, size))[..., :3]
+        probe.params.set("village.debug", "shadow")
+        shadow = next(render_frames(probe, size))[..., 0]
+        objects = np.zeros(groups.shape[:2], bool)
+        for g in OBJECT_GROUPS:
+            objects |= np.all(np.abs(groups - group_colour(g)) < 1e-3, axis=-1)
+        lit = objects & (shadow > 0.999)
+        out["masked_pixels"] = int(lit.sum())
+        out["object_pixels"] = int(objects.sum())
+        out["tonemap"] = probe.params["output.tonemap"]
+        out["by_tonemap"] = {}
+        for name, sets in LOOKS.items():
+            s = session(sets)
+            sessions[name] = s
+            image = next(render_frames(s, size))[..., :3]
+            for tm in dict.fromkeys((out["tonemap"], *TONEMAPS)):
+                srgb = to_srgb8(image, s.scene.exposure(), tm)
+                y = luma8(srgb)[lit]
+                look = {"levels": levels(y), "levels_all": int(np.unique(y).size),
+                        "saturation": float(saturation(srgb)[lit].mean()) if y.size else 0.0,
+                        "mean_luma": float(y.mean()) if y.size else 0.0}
+                out["by_tonemap"].setdefault(tm, {})[name] = look
+                if tm == out["tonemap"]:
+                    out["looks"][name] = dict(look)
+        # the village pass with each look (what the toon look costs), interleaved
+        variants = {}
+        for name in LOOKS:
+            s = sessions[name]
+            target = s.gpu.target("bench", "look", size)
+            frame = s.scene.frame(size)
+            s.scene.render(frame, target)  # slots (shadows) filled, as in a frame
+            draw = s.scene.effect("village").draw
+            variants[name] = (lambda d=draw, f=frame, t=target: d(f, t))
+        timed = time_interleaved(gpu.ctx, variants, warmup=1, rounds=5 if quick else 15)
+        summary = timed.summary("lambert_blinn_phong")
+        for name in LOOKS:
+            out["looks"][name]["village_pass_ms"] = summary[name]["median_ms"]
+        out["toon_cost_ratio"] = summary["toon"]["ratio_to_lambert_blinn_phong"]["median"]
+    finally:
+        for s in sessions.values():
+            s.release()
+    toon, plain = out["looks"]["toon"], out["looks"]["lambert_blinn_phong"]
+    out["fewer_levels"] = toon["levels"] < plain["levels"]
+    out["saturation_not_lower"] = toon["saturation"] >= plain["saturation"]
+    return out
+
+
+def chart(report: dict, path, force: bool = False) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from . import write_chart
+
+    names = list(report["looks"])
+    looks = report["looks"]
+    fig, axes = plt.subplots(1, 3, figsize=(10, 3.2))
+    labels = ["toon (Stepped)" if n == "toon" else "Lambert / Blinn–Phong" for n in names]
+    colours = ["#d95f02", "#7570b3"]
+    axes[0].bar(labels, [looks[n]["levels"] for n in names], color=colours)
+    axes[0].set_title(f"luma levels (≥ {report['level_share']:.1%} of pixels)", fontsize=9)
+    axes[1].bar(labels, [looks[n]["saturation"] for n in names], color=colours)
+    axes[1].set_title("mean HSV saturation", fontsize=9)
+    axes[2].bar(labels, [looks[n]["village_pass_ms"] for n in names], color=colours)
+    axes[2].set_title("village pass, ms (median)", fontsize=9)
+    for ax in axes:
+        ax.tick_params(axis="x", labelsize=7)
+    write_chart(fig, path, force=force, title="spec/003 criterion 37: the toon look on the lit "
+                f"houses, props and people ({report['masked_pixels']} px)")
+
+
+def summary(report: dict) -> list[str]:
+    t, p = report["looks"]["toon"], report["looks"]["lambert_blinn_phong"]
+    others = [f"under {tm}: levels {v['toon']['levels']} / {v['lambert_blinn_phong']['levels']}, "
+              f"saturation {v['toon']['saturation']:.3f} / "
+              f"{v['lambert_blinn_phong']['saturation']:.3f}"
+              for tm, v in report["by_tonemap"].items() if tm != report["tonemap"]]
+    return [f"lit objects: {report['masked_pixels']} px of {report['object_pixels']} "
+            f"(tone map {report['tonemap']})",
+            f"luma levels: toon {t['levels']} (all {t['levels_all']}) against Lambert/Blinn–Phong "
+            f"{p['levels']} (all {p['levels_all']})",
+            f"mean saturation: toon {t['saturation']:.3f} against {p['saturation']:.3f}",
+            f"village pass: toon {t['village_pass_ms']:.2f} ms, plain "
+            f"{p['village_pass_ms']:.2f} ms (ratio {report['toon_cost_ratio']:.2f})", *others]
