@@ -1,28 +1,74 @@
-"""Global fog — numpy twin of ``glsl/common/fog.glsl`` (spec/003 §2.11 b; beyond the thesis,
-Quílez's analytic exponential height fog) and the settings a scene's fog publishes in the frame's
-``fog`` slot (:class:`FogSettings`; :func:`fog_uniforms` turns them into fog.glsl's uniforms).
+"""Fog — numpy twin of ``glsl/common/fog.glsl`` (spec/003 §2.11 b, the global fog; beyond the
+thesis, Quílez's analytic exponential height fog) and of the ground fog plane's shader
+``glsl/fog/plane.glsl`` (spec/003 §2.11 a), the settings a scene's fog publishes in the frame's
+``fog`` slot (:class:`FogSettings`; :func:`fog_uniforms` turns them into fog.glsl's uniforms),
+and the thesis's ``FogGenerator`` (:class:`FogGenerator`, spec/003 Fig. 124) that derives both
+fogs from one intensity.
 
 Factors follow Unity's convention: 1 means no fog, 0 all fog; a surface's colour becomes
 ``lerp(fog_colour, colour, factor)``. Distances are the thesis's: from Unity's reversed clip z,
 i.e. the planar depth past the near plane stretched by f/(f − n) (:func:`fog_distance`).
+
+FogGenerator, as the thesis's public repository writes it (``FogGenerator.cs``; the document
+only says "Intensity modifies both the plane's fog and the global fog, Speed only the plane's")
+— with the scene's distance scale ``scale`` (metres here per metre of Fracsland's village):
+
+* exp / exp2 density  t = density · I / scale   (``RenderSettings.fogDensity = 0.1·I``: the
+  Lighting window's Density 0.1 of Fig. 123 is the value at I = 1);
+* linear              s = start · scale, e = (start + (end − start)·(1 − I)) · scale
+  (``fogStartDistance = 0``, ``fogEndDistance = 30 − 30·I``);
+* the plane's cutoff  c = saturate((1 − I) · sin(t/8))   (``_Cutoff = 1 − I``, then the shader's
+  ``saturate(_Cutoff·_SinTime.x)``; ``_SinTime.x = sin(t/8)``), its alpha ``saturate(a − c)``:
+  the higher the intensity, the less of the texture's alpha the cutoff removes;
+* the plane's scroll  Δuv = Speed · t/20 along the wind (``uv.y += _Speed·_Time.x``,
+  ``_Time.x = t/20``);
+* I = 0 turns both off (``RenderSettings.fog = false``, the plane's renderer disabled).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .noise.fractal import perlin_fbm2_periodic
+
 #: fog.glsl's uFogMode
 MODES = ("off", "linear", "exp", "exp2")
+#: Unity's _Time.x is t/20 (the plane's UV scroll, uv += Speed·_Time.x)
+UNITY_TIME_X = 1.0 / 20.0
+#: Unity's _SinTime.x is sin(t/8) (the plane's cutoff modulation)
+UNITY_SIN_TIME_X = 1.0 / 8.0
+#: the largest exponent the height fog evaluates (exp(60) ≈ 1e26: fp32-safe even times a
+#: distance of 1e6 m and a density of 100/m; anything denser is opaque anyway)
+HEIGHT_EXPONENT_MAX = 60.0
+#: below this |b·Δy| the height fog uses the series of (1 − e^(−u))/u (fp32 cancellation)
+HEIGHT_SERIES_BELOW = 1e-2
+#: the luminance of the default day–night sky's ambient at noon (resources/sky/keyframes.toml:
+#: 0.40); ``sky_fog_colour`` scales the fog's colour by the sky's ambient luminance over it
+DAY_AMBIENT_LUMINANCE = 0.40
+#: the fog texture's densest wisp: the plane never hides the ground completely
+TEXTURE_MAX_ALPHA = 0.8
+#: Rec. 709 luminance weights (linear RGB)
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+
+
+def _finite(name: str, value: float, lo: float, hi: float = math.inf,
+            what: str = "") -> float:
+    v = float(value)
+    if not (math.isfinite(v) and lo <= v <= hi):
+        rng = f"[{lo:g}, {hi:g}]" if math.isfinite(hi) else f"≥ {lo:g}"
+        raise ValueError(f"fog {name} {value!r}: allowed a finite number {rng}{what}")
+    return v
 
 
 @dataclass(frozen=True)
 class FogSettings:
     """What the ``fog`` slot holds: Unity's Lighting › Fog panel (spec/003 Fig. 123) and the
-    height-fog switch."""
+    height-fog switch, in the scene's metres."""
 
     mode: str = "exp2"
     density: float = 0.1  # t of spec/003 eq. 7.28 and 7.29 [1/m]
@@ -30,7 +76,7 @@ class FogSettings:
     end: float = 10.0  # e of spec/003 eq. 7.27 [m]
     colour: tuple[float, float, float] = (0.5, 0.55, 0.6)  # linear radiance
     per_pixel: bool = False
-    height: bool = False
+    height: bool = False  # the height fog replaces the distance fog (whatever the mode)
     height_density: float = 0.05  # a: density at height_base [1/m]
     height_falloff: float = 0.2  # b [1/m]
     height_base: float = 0.0  # y0 [m]
@@ -38,6 +84,16 @@ class FogSettings:
     def __post_init__(self):
         if self.mode not in MODES:
             raise ValueError(f"fog mode {self.mode!r}: allowed {', '.join(MODES)}")
+        _finite("density", self.density, 0.0, what=" [1/m]")
+        _finite("start", self.start, -math.inf, what=" [m]")
+        _finite("end", self.end, self.start, what=f" [m] (at least the start, {self.start:g})")
+        _finite("height_density", self.height_density, 0.0, what=" [1/m]")
+        _finite("height_falloff", self.height_falloff, 0.0, what=" [1/m]")
+        _finite("height_base", self.height_base, -math.inf, what=" [m]")
+        c = tuple(self.colour)
+        if len(c) != 3 or not all(math.isfinite(float(x)) and float(x) >= 0.0 for x in c):
+            raise ValueError(f"fog colour {self.colour!r}: allowed three finite numbers ≥ 0 "
+                             "(linear RGB)")
 
 
 def fog_uniforms(settings: FogSettings | None, camera_position, near: float,
@@ -76,6 +132,13 @@ def fog_distance(w: ArrayLike, near: float, far: float) -> np.ndarray:
     return np.maximum(f * (1.0 - z / n), 0.0)
 
 
+def fog_view_depth(d: ArrayLike, near: float, far: float) -> np.ndarray:
+    """The view depth w whose thesis distance is ``d`` (the inverse of spec/003 eq. 7.24 on
+    d ≥ 0): w = n + d·(f − n)/f."""
+    n, f = _near_far(near, far)
+    return n + np.asarray(d, np.float64) * (f - n) / f
+
+
 def fog_factor_linear(d: ArrayLike, start: float, end: float) -> np.ndarray:
     """spec/003 eq. 7.27: (e − d)/(e − s), clamped; a step at s when e = s."""
     d = np.asarray(d, np.float64)
@@ -109,24 +172,46 @@ def fog_factor(d: ArrayLike, settings: FogSettings) -> np.ndarray:
 
 
 def fog_one_minus_exp_over_x(x: ArrayLike) -> np.ndarray:
-    """(1 − e^(−x))/x, with the series 1 − x/2 + x²/6 where |x| < 1e-3."""
+    """(1 − e^(−x))/x, with the series 1 − x/2 + x²/6 where |x| < HEIGHT_SERIES_BELOW (fp32
+    cancels there; in float64 ``expm1`` is exact elsewhere)."""
     x = np.asarray(x, np.float64)
-    small = np.abs(x) < 1e-3
+    small = np.abs(x) < HEIGHT_SERIES_BELOW
     safe = np.where(small, 1.0, x)
-    return np.where(small, 1.0 - 0.5 * x + x * x / 6.0, (1.0 - np.exp(-safe)) / safe)
+    return np.where(small, 1.0 - 0.5 * x + x * x / 6.0, -np.expm1(-safe) / safe)
+
+
+def fog_height_optical_depth(p: ArrayLike, camera: ArrayLike, a: float, b: float,
+                             y0: float) -> np.ndarray:
+    """Quílez 2010: the optical depth τ = ∫ a·exp(−b·(y − y0)) dl from ``camera`` to ``p``.
+
+    Along the segment, y runs linearly from the camera's height o_y to p_y over its length t,
+    so with e_i = −b·(y_i − y0) at the two ends
+        τ = a·t·(e^(e0) − e^(e1))/(e0 − e1) = a·t·e^m·(1 − e^(−u))/u,
+    m = max(e0, e1), u = |e0 − e1| = b·|p_y − o_y| — the form Quílez writes as
+    a·e^(−b·o_y)·(1 − e^(−b·d_y·t))/(b·d_y) rewritten around the denser end, so that neither
+    exponential can overflow toward the thin end (a camera high above the fog looking down a
+    long ray) nor divide 0/0 on a grazing ray (u → 0: the series, τ → a·t·e^m) nor at t = 0
+    (τ = 0). a·e^m is taken as exp(ln a + m) clamped at ``HEIGHT_EXPONENT_MAX``: a camera far
+    below y0 sees an opaque fog, not an overflow. b = 0 is a uniform fog (τ = a·t)."""
+    p = np.asarray(p, np.float64)
+    c = np.asarray(camera, np.float64)
+    a, b = max(float(a), 0.0), max(float(b), 0.0)
+    t = np.linalg.norm(p - c, axis=-1)
+    e0 = -b * (c[..., 1] - y0)
+    e1 = -b * (p[..., 1] - y0)
+    m = np.maximum(e0, e1)
+    u = np.abs(e0 - e1)
+    if a <= 0.0:
+        return np.zeros(np.shape(t))
+    dens = np.exp(np.minimum(math.log(a) + m, HEIGHT_EXPONENT_MAX))
+    return dens * t * fog_one_minus_exp_over_x(u)
 
 
 def fog_height_transmittance(p: ArrayLike, camera: ArrayLike, a: float, b: float,
                              y0: float) -> np.ndarray:
-    """Quílez 2010: exp(−τ) of the density a·exp(−b·(y − y0)) from ``camera`` to ``p``."""
-    ray = np.asarray(p, np.float64) - np.asarray(camera, np.float64)
-    t = np.linalg.norm(ray, axis=-1)
-    safe_t = np.maximum(t, 1e-6)
-    a, b = max(a, 0.0), max(b, 1e-6)
-    dy = ray[..., 1] / safe_t
-    start = np.clip(-b * (np.asarray(camera, np.float64)[..., 1] - y0), -60.0, 60.0)
-    tau = a * np.exp(start) * t * fog_one_minus_exp_over_x(np.clip(b * dy * t, -60.0, 60.0))
-    return np.where(t < 1e-6, 1.0, np.clip(np.exp(-tau), 0.0, 1.0))
+    """Quílez 2010: exp(−τ) of the density a·exp(−b·(y − y0)) from ``camera`` to ``p``
+    (:func:`fog_height_optical_depth`)."""
+    return np.clip(np.exp(-fog_height_optical_depth(p, camera, a, b, y0)), 0.0, 1.0)
 
 
 def fog_height_reference(p: ArrayLike, camera: ArrayLike, a: float, b: float, y0: float,
@@ -146,3 +231,158 @@ def fog_apply(colour: ArrayLike, factor: ArrayLike, fog_colour: ArrayLike) -> np
     """lerp(fog colour, colour, f): the lerp with its operands swapped (spec/003 §2.11)."""
     f = np.clip(np.asarray(factor, np.float64), 0.0, 1.0)[..., None]
     return np.asarray(fog_colour, np.float64) * (1.0 - f) + np.asarray(colour, np.float64) * f
+
+
+# ---- the colour of the fog under the day–night sky --------------------------------------------
+
+def luminance(rgb: ArrayLike) -> float:
+    return float(np.dot(np.asarray(rgb, np.float64), LUMINANCE))
+
+
+def sky_fog_colour(colour: ArrayLike, ambient: ArrayLike | None, tint: float = 0.3,
+                   day_luminance: float = DAY_AMBIENT_LUMINANCE) -> tuple[float, float, float]:
+    """The fog's colour under the sky (``fog.color_from_sky``): the day colour ``colour``
+    scaled by the sky ambient's luminance over the day's (at most 1: the fog never outshines
+    its day colour, and at night it is as dark as the sky), and tinted by ``tint`` toward the
+    ambient's chromaticity at the same luminance (dusk turns it purple-orange). None: the
+    colour unchanged (no sky)."""
+    c = np.asarray(colour, np.float64)
+    if ambient is None:
+        return tuple(float(x) for x in c)
+    amb = np.maximum(np.asarray(ambient, np.float64), 0.0)
+    y_amb, y_col = luminance(amb), luminance(c)
+    bright = min(1.0, y_amb / max(day_luminance, 1e-9))
+    chroma = amb / y_amb * y_col if y_amb > 1e-9 else c
+    t = min(max(float(tint), 0.0), 1.0)
+    out = bright * ((1.0 - t) * c + t * chroma)
+    return tuple(float(x) for x in out)
+
+
+# ---- the thesis's FogGenerator ----------------------------------------------------------------
+
+@dataclass(frozen=True)
+class FogGenerator:
+    """``FogGenerator.cs`` (spec/003 Fig. 124: Fog Intensity 0.324, Speed 0.264, Fog Mode
+    Exponential Squared): one intensity drives the global fog and the ground plane (the
+    mapping is in this module's docstring). ``density``, ``start``, ``end`` are the Lighting
+    window's values at intensity 1 / 0 (Fig. 123's Density 0.1; the repository's end 30) in
+    Fracsland's metres; ``scale`` stretches them to this scene's."""
+
+    intensity: float = 0.324
+    speed: float = 0.264
+    mode: str = "exp2"
+    scale: float = 2.0
+    density: float = 0.1
+    start: float = 0.0
+    end: float = 30.0
+
+    def __post_init__(self):
+        if self.mode not in MODES:
+            raise ValueError(f"fog mode {self.mode!r}: allowed {', '.join(MODES)}")
+        _finite("intensity", self.intensity, 0.0, 1.0)
+        _finite("speed", self.speed, 0.0)
+        _finite("scale", self.scale, 1e-3, what=" (metres here per metre of the thesis)")
+        _finite("density", self.density, 0.0, what=" [1/m]")
+        _finite("start", self.start, 0.0, what=" [m]")
+        _finite("end", self.end, self.start, what=f" [m] (at least the start, {self.start:g})")
+
+    @property
+    def on(self) -> bool:
+        """The repository's ``fogOn = intensity != 0`` (both fogs)."""
+        return self.intensity > 0.0
+
+    def global_density(self) -> float:
+        """t of spec/003 eq. 7.28 and spec/003 eq. 7.29 in this scene's metres."""
+        return self.density * self.intensity / self.scale
+
+    def linear_range(self) -> tuple[float, float]:
+        """(s, e) of spec/003 eq. 7.27 in this scene's metres."""
+        s = self.start
+        e = s + (self.end - s) * (1.0 - self.intensity)
+        return s * self.scale, e * self.scale
+
+    def plane_cutoff(self, time: ArrayLike) -> np.ndarray:
+        """The plane's cutoff at ``time`` [s]: saturate((1 − I)·_SinTime.x)."""
+        return plane_cutoff(1.0 - self.intensity, time)
+
+    def plane_scroll(self, time: float, direction=(0.0, 1.0)) -> np.ndarray:
+        """The plane's UV offset at ``time`` for a constant ``direction`` (unit (u, v))."""
+        return plane_scroll(self.speed, time, direction)
+
+    def settings(self, colour=(0.5, 0.55, 0.6), per_pixel: bool = False, height: bool = False,
+                 height_density: float = 0.15, height_falloff: float = 0.35,
+                 height_base: float = 0.0) -> FogSettings | None:
+        """The ``fog`` slot's value (None when the intensity is 0 or the mode off): the height
+        fog's density at its base is ``height_density``·I, as the distance fog's is
+        ``density``·I/scale."""
+        if not self.on or self.mode == "off":
+            return None
+        s, e = self.linear_range()
+        return FogSettings(mode=self.mode, density=self.global_density(), start=s, end=e,
+                           colour=tuple(float(c) for c in colour), per_pixel=per_pixel,
+                           height=height, height_density=height_density * self.intensity,
+                           height_falloff=height_falloff, height_base=height_base)
+
+
+# ---- the ground fog plane (Custom/Fog, spec/003 §2.11 a) --------------------------------------
+
+def plane_cutoff(cutoff: float, time: ArrayLike) -> np.ndarray:
+    """The plane shader's cutoff: saturate(_Cutoff·_SinTime.x), _SinTime.x = sin(t/8) — half of
+    each 16π-second period it is 0 (all the texture's alpha shows), the other half it rises to
+    ``cutoff`` and back (the fog thins and returns)."""
+    t = np.asarray(time, np.float64)
+    return np.clip(float(cutoff) * np.sin(t * UNITY_SIN_TIME_X), 0.0, 1.0)
+
+
+def plane_alpha(texture_alpha: ArrayLike, cutoff: ArrayLike, mask: ArrayLike = 1.0) -> np.ndarray:
+    """The plane's opacity: saturate(a − cutoff) (the repository's ``diffuse.a = tex.a −
+    cutoff``, clamped as an 8-bit target clamps it), times the ground mask (1 over land that
+    lies just below the plane, 0 where the ground drops away: beaches, the sea)."""
+    a = np.asarray(texture_alpha, np.float64) - np.asarray(cutoff, np.float64)
+    return np.clip(a, 0.0, 1.0) * np.clip(np.asarray(mask, np.float64), 0.0, 1.0)
+
+
+def plane_scroll(speed: float, time: float, direction=(0.0, 1.0)) -> np.ndarray:
+    """UV offset Speed·_Time.x along ``direction`` (the thesis: +v), for a constant speed and
+    direction; the effect integrates it frame by frame (a changed speed or wind does not jump)."""
+    d = np.asarray(direction, np.float64)
+    n = np.linalg.norm(d)
+    d = d / n if n > 1e-12 else np.array([0.0, 1.0])
+    return d * float(speed) * float(time) * UNITY_TIME_X
+
+
+def fog_texture(size: int = 256, seed: int = 7, cells: int = 4) -> np.ndarray:
+    """The ground fog's RGBA texture (spec/003 Fig. 118: white-grey wisps in RGB, their
+    coverage in alpha), generated by code and tileable: a domain-warped periodic Perlin fBm
+    (the warp is periodic with the same period, so the warped field tiles too), its wisps
+    stretched along u, at most TEXTURE_MAX_ALPHA opaque; (size, size, 4) float32 in [0, 1], row 0
+    at v = 0."""
+    if not (isinstance(size, (int, np.integer)) and 4 <= size <= 4096):
+        raise ValueError(f"fog texture size {size!r}: allowed an integer in [4, 4096]")
+    u = (np.arange(size) + 0.5) / size
+    x, y = np.meshgrid(u * cells, u * cells, indexing="xy")
+    wx = perlin_fbm2_periodic(x, y, cells, octaves=3, seed=seed)
+    wy = perlin_fbm2_periodic(x + 0.37 * cells, y + 0.61 * cells, cells, octaves=3, seed=seed + 1)
+    n = perlin_fbm2_periodic(x + 0.9 * wx, 2.0 * (y + 0.35 * wy), (cells, 2 * cells),
+                             octaves=4, seed=seed + 2)
+    shade = perlin_fbm2_periodic(x * 2.0, y * 2.0, 2 * cells, octaves=3, seed=seed + 3)
+    n = (n - n.min()) / max(float(n.max() - n.min()), 1e-9)
+    t = np.clip((n - 0.3) / 0.6, 0.0, 1.0)
+    alpha = TEXTURE_MAX_ALPHA * t * t * (3.0 - 2.0 * t)
+    grey = np.clip(0.88 + 0.12 * shade, 0.0, 1.0)
+    rgb = np.stack([grey * 0.97, grey * 0.985, grey], axis=-1)
+    return np.concatenate([rgb, alpha[..., None]], axis=-1).astype(np.float32)
+
+
+def texture_centroid(alpha: np.ndarray) -> np.ndarray:
+    """The circular centroid (u, v) in [0, 1) of a tileable texture's alpha (each axis's mean
+    angle of the alpha mass): the measure the plane's scroll moves (spec/003 §6 criterion 34)."""
+    a = np.asarray(alpha, np.float64)
+    h, w = a.shape
+    out = []
+    for axis, n in ((1, w), (0, h)):
+        ang = 2.0 * math.pi * (np.arange(n) + 0.5) / n
+        mass = a.sum(axis=1 - axis)
+        z = np.sum(mass * np.exp(1j * ang))
+        out.append((math.atan2(z.imag, z.real) / (2.0 * math.pi)) % 1.0)
+    return np.array(out)

@@ -24,17 +24,23 @@
 // uFogPerPixel (beyond the thesis): the factor is recomputed per fragment from 1/gl_FragCoord.w
 // (the same planar depth), instead of interpolated from the vertices — exact on large
 // triangles, where the per-vertex exponential is interpolated linearly (the bench charts the
-// error). uFogHeight (beyond the thesis): density ρ(y) = a·exp(−b·(y − y0)) integrated exactly
-// along the camera ray to the point, optical depth
-//   τ = a·exp(−b·(o_y − y0))·t·(1 − exp(−b·d_y·t))/(b·d_y·t)  (o the camera, d the unit ray,
-//   t the Euclidean distance), f = exp(−τ); replaces the distance fog when on.
+// error). uFogHeight (beyond the thesis, Quílez 2010): density ρ(y) = a·exp(−b·(y − y0))
+// integrated exactly along the camera ray o → p of length t; y runs linearly along it, so with
+// e_i = −b·(y_i − y0) at its two ends
+//   τ = a·t·(e^e0 − e^e1)/(e0 − e1) = a·t·e^m·(1 − e^(−u))/u,  m = max(e0, e1), u = |e0 − e1|
+// (Quílez's a·e^(−b·o_y)·(1 − e^(−b·d_y·t))/(b·d_y), written around the denser end), f = e^(−τ);
+// it replaces the distance fog when on.
 //
 // Failure cases guarded: e = s in the linear mode (a division by zero) — the factor is then a
 // step at s; every factor clamped to [0, 1] (Unity saturates it; the linear one is negative past
-// e and above 1 before s); the height fog's grazing ray (b·d_y·t → 0, 0/0) uses the series
-// 1 − x/2 + x²/6 of (1 − e^(−x))/x below |x| < 1e-3; its exponent clamped so that a camera far
-// below y0 (exp of a large positive number) stays finite; a near plane of 0 (z_u/n) is kept at
-// 1e-6; w ≤ 0 (a vertex behind the camera) gives d = 0, not a negative distance.
+// e and above 1 before s); a near plane of 0 (z_u/n) is kept at 1e-6; w ≤ 0 (a vertex behind
+// the camera) gives d = 0, not a negative distance. The height fog: the grazing ray (u → 0, the
+// 0/0 of Quílez's form) uses the series 1 − u/2 + u²/6 of (1 − e^(−u))/u below u < 1e-2 (fp32
+// cancels there); no division by t or d_y at all (t = 0 gives τ = 0); a camera high above the
+// fog looking down a long ray cannot overflow (the exponent is taken at the denser end, so
+// (1 − e^(−u))/u ≤ 1 and only e^m grows); a·e^m is exp(ln a + m) clamped at 60 (e^60 ≈ 1e26,
+// still finite times any distance and density), so a camera far below y0 sees opaque fog
+// rather than inf·0; b = 0 is a uniform fog (τ = a·t), a = 0 no fog.
 // Numpy twin: app/sim/fog.py (same names in snake case).
 // =============================================================================================
 
@@ -82,22 +88,26 @@ float FogFactor(float d) {
     return 1.0;
 }
 
-// (1 − e^(−x))/x, with its series near 0.
+// (1 − e^(−x))/x, with its series below |x| < 1e-2 (fp32's 1 − e^(−x) cancels there).
 float FogOneMinusExpOverX(float x) {
-    if (abs(x) < 1e-3) return 1.0 - 0.5 * x + x * x / 6.0;
+    if (abs(x) < 1e-2) return 1.0 - 0.5 * x + x * x / 6.0;
     return (1.0 - exp(-x)) / x;
+}
+
+// Quílez 2010: the optical depth of the exponential height fog from the camera to p, around
+// the denser end (see the header).
+float FogHeightOpticalDepth(vec3 p) {
+    float a = uFogHeightParams.x, b = max(uFogHeightParams.y, 0.0), y0 = uFogHeightParams.z;
+    if (a <= 0.0) return 0.0;
+    float t = length(p - uFogCameraPos);
+    float e0 = -b * (uFogCameraPos.y - y0), e1 = -b * (p.y - y0);
+    float dens = exp(min(log(a) + max(e0, e1), 60.0));
+    return dens * t * FogOneMinusExpOverX(abs(e0 - e1));
 }
 
 // Quílez 2010: the transmittance exp(−τ) of the exponential height fog from the camera to p.
 float FogHeightTransmittance(vec3 p) {
-    vec3 ray = p - uFogCameraPos;
-    float t = length(ray);
-    if (t < 1e-6) return 1.0;
-    float a = max(uFogHeightParams.x, 0.0), b = max(uFogHeightParams.y, 1e-6);
-    float dy = ray.y / t;
-    float start = clamp(-b * (uFogCameraPos.y - uFogHeightParams.z), -60.0, 60.0);
-    float tau = a * exp(start) * t * FogOneMinusExpOverX(clamp(b * dy * t, -60.0, 60.0));
-    return clamp(exp(-tau), 0.0, 1.0);
+    return clamp(exp(-FogHeightOpticalDepth(p)), 0.0, 1.0);
 }
 
 // The factor of a vertex, from its clip position (the thesis's per-vertex fog; 1 when off, and

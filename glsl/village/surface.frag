@@ -16,8 +16,8 @@
 //              carry the specular mask)
 //   3 emissive the lanterns' glass and the bonfire's flame: the vertex's emission mask times
 //              uEmissionColor (zero when the lamps are off), flickering by uFlicker
-// Lighting: ShadeSurfaceShadowed of lighting.glsl (the toon modes of spec/003 §2.12, spec/003
-// eq. 8.1, the ForwardBase + ForwardAdd sum of the sun and the four point lights: three street
+// Lighting: ShadeSurfaceShadowed of lighting.glsl (the toon modes of spec/003 §2.12 with
+// spec/003 eq. 8.1, the ForwardBase + ForwardAdd sum of the sun and four point lights: three street
 // lamps and the bonfire), the sun's shadow visibility from shadow.glsl (the shared shadow
 // module, spec/003 §2.8) as the sun's attenuation; then the fog, once, after the lighting
 // (FogApply: lerp(fogColour, colour, f), the operands swapped as spec/003 §2.11 says).

@@ -4,8 +4,8 @@
 // surface.frag. Vertices arrive in world space (app/sim/village_meshes.py: the island, the
 // houses, the props, the lamps, the bonfire, the people placed on the CPU).
 // Equations: the global fog's factor per vertex, carried in the w of the world position — the
-// thesis's packing (spec/003 §2.11; fog.glsl: spec/003 eq. 7.24, spec/003 eq. 7.27, spec/003
-// eq. 7.28, spec/003 eq. 7.29).
+// thesis's packing (spec/003 §2.11; in fog.glsl: spec/003 eq. 7.24, spec/003 eq. 7.27,
+// spec/003 eq. 7.28, spec/003 eq. 7.29).
 // Failure cases guarded: normals and tangents passed as they are and re-normalised per fragment
 // (interpolation shortens them); no model matrix, so no non-uniform scale to mistreat.
 #include "fog.glsl"
