@@ -151,8 +151,15 @@ class VillageScene(Scene):
     # -- drawing ---------------------------------------------------------------------------
     def render(self, frame: FrameContext, target) -> None:
         if self.params["vr.enabled"]:
+            # the shadow maps and the probes once, from the head (the eyes, 3.2 cm either side,
+            # share the frame's slots): each eye's own camera would otherwise invalidate the
+            # cascades the other eye just drew, and a still head would redraw them twice
+            for p in self.passes(frame, target):
+                if p.stage < Stage.BACKGROUND:
+                    p.run()
             self._stereo.render(frame, target, self.params["vr.ipd"],
-                                self.params["vr.render_scale"], self._render_mono)
+                                self.params["vr.render_scale"],
+                                lambda f, t: self._render_mono(f, t, Stage.BACKGROUND))
             return
         self._render_mono(frame, target)
 
@@ -174,22 +181,25 @@ class VillageScene(Scene):
                 self.gpu.free(obj)
             self._msaa = None
 
-    def _render_mono(self, frame: FrameContext, target) -> None:
+    def _render_mono(self, frame: FrameContext, target, first: Stage = Stage.SHADOW) -> None:
+        """One view's passes from stage ``first`` on: up to the opaque stage into the
+        multisampled twin (resolved into ``target``), the rest into ``target``."""
         samples = int(self.params["village.msaa"])
         target.use()
         target.clear((*self.background, 1.0))
         if samples <= 0:
             for p in self.passes(frame, target):
-                p.run()
+                if p.stage >= first:
+                    p.run()
             return
         work = self._msaa_target(target.size, samples)
         work.clear((*self.background, 1.0))
         for p in self.passes(frame, work):
-            if p.stage <= Stage.OPAQUE:
+            if first <= p.stage <= Stage.OPAQUE:
                 p.run()
         self.gpu.ctx.copy_framebuffer(target.fbo, work.fbo)  # resolves colour and depth
         for p in self.passes(frame, target):
-            if p.stage > Stage.OPAQUE:
+            if p.stage > Stage.OPAQUE and p.stage >= first:
                 p.run()
 
     def release(self) -> None:

@@ -65,7 +65,19 @@ def test_each_half_is_the_mono_render_from_its_eye(village, pair):
         for eye in ("left", "right"):
             village.scene.camera.set(position=eyes[eye].position)
             mono, _ = _render(village, size=eye_size(SIZE, 1.0, eye), **mono_sets)
-            assert np.abs(_half(img, eye) - mono).max() < 1e-4, eye
+            # the pair's shadow maps are drawn once from the head (the scene's choice: one
+            # shadow render per stereo frame), the mono render's from the eye: the snapped
+            # cascades fit 3.2 cm apart, so shadow edges may move by a texel
+            diff = np.abs(_half(img, eye) - mono).max(-1)
+            assert diff.mean() < 0.01 and np.mean(diff > 1e-4) < 0.05, eye
+        # without the sun's shadows each half is exactly the mono render from its eye
+        village.scene.camera.set(position=HEAD.position)
+        flat, _ = _render(village, **{"village.shadow_sun": False})
+        for eye in ("left", "right"):
+            village.scene.camera.set(position=eyes[eye].position)
+            mono, _ = _render(village, size=eye_size(SIZE, 1.0, eye),
+                              **{**mono_sets, "village.shadow_sun": False})
+            assert np.abs(_half(flat, eye) - mono).max() < 1e-4, eye
     finally:
         village.scene.camera.set(position=HEAD.position)
 
