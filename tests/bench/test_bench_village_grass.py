@@ -1,0 +1,78 @@
+"""The grass section of ``natura bench village`` (app/bench/village_grass.py), quick: the three
+methods at 10k and 30k blades — times, blades per second, the triangles each drew against its
+budget — and the crossed billboards' side-view coverage for n = 1…4 planes; the chart and the
+summary."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from app.bench import village_grass as vg
+from app.gpu.device import Gpu
+from app.sim import grass as gs
+
+
+@pytest.fixture(scope="module")
+def report(gl_ctx):
+    gpu = Gpu(gl_ctx)
+    try:
+        r = vg.run(gpu, quick=True)
+    finally:
+        gpu.release()
+    json.dumps(r)  # JSON-serialisable
+    return r
+
+
+def test_every_method_at_every_count_with_sane_times(report):
+    assert report["quick"] is True and report["counts"] == [10_000, 30_000]
+    rows = report["speed"]
+    assert {(x["method"], x["blades"]) for x in rows} == {
+        (m, n) for m in gs.METHODS for n in report["counts"]}
+    for x in rows:
+        assert math.isfinite(x["median_ms"]) and x["median_ms"] > 0
+        assert x["p25_ms"] <= x["median_ms"] <= x["p75_ms"]
+        assert x["blades_per_s"] == pytest.approx(x["blades"] / (x["net_ms"] * 1e-3))
+        assert x["rounds"] >= 3
+
+
+def test_triangles_follow_each_methods_budget(report):
+    s = report["settings"]
+    for x in report["speed"]:
+        n = x["blades"]
+        if x["method"] == "geometry":
+            assert x["triangles"] == n * gs.gs_triangles_per_blade(s["gs_sections"])
+        elif x["method"] == "billboard":
+            assert x["triangles"] == gs.units_for(n) * s["bb_planes"] * 2
+        else:  # culled per tile: at most every blade with the full strip
+            assert 0 < x["drawn_blades"] <= n
+            assert x["triangles"] <= n * gs.blade_triangles(s["segments"])
+
+
+def test_the_thesis_ranking_the_pyramids_cost_most(report):
+    """The thesis: the geometry-shader grass is "muy costoso", the billboards "bastante
+    ligero" — at 30k blades the pyramids take the longest of the three."""
+    rows = {x["method"]: x for x in report["speed"] if x["blades"] == 30_000}
+    assert rows["geometry"]["net_ms"] > rows["billboard"]["net_ms"]
+    assert rows["geometry"]["net_ms"] > rows["instanced"]["net_ms"]
+
+
+def test_coverage_rises_to_three_planes_and_levels_off(report):
+    c = report["coverage"]["layouts"]["document"]
+    r = c["rendered"]
+    assert r[0] > 0.02 and r[2] > r[0] and r[1] >= r[0] * 0.99
+    assert abs(c["change_3_to_4"]) < 0.10
+    assert c["angles"][3] == [0.0, 60.0, 120.0]
+    assert report["coverage"]["layouts"]["repository"]["angles"][3] == [-60.0, 0.0, 60.0]
+
+
+def test_chart_and_summary(report, tmp_path):
+    path = tmp_path / "grass.png"
+    vg.chart(report, path)
+    assert path.stat().st_size > 20_000
+    lines = vg.summary(report)
+    assert len(lines) == 4
+    assert "30,000 blades" in lines[1] and "M blades/s" in lines[1]
+    assert "n = 3 → 4" in lines[2]
