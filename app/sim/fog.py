@@ -51,7 +51,7 @@ HEIGHT_SERIES_BELOW = 1e-2
 #: 0.40); ``sky_fog_colour`` scales the fog's colour by the sky's ambient luminance over it
 DAY_AMBIENT_LUMINANCE = 0.40
 #: the fog texture's densest wisp: the plane never hides the ground completely
-TEXTURE_MAX_ALPHA = 0.8
+TEXTURE_MAX_ALPHA = 0.6
 #: Rec. 709 luminance weights (linear RGB)
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
