@@ -977,6 +977,62 @@ def surfaces_keys(work: str) -> int:
     return 0
 
 
+#: a light village for the window runs: a coarse island, few blades, small shadow maps
+VILLAGE_SMALL = ["village.resolution=65", "village.shadow_map_size=512", "grass.blades=3000",
+                 "village.msaa=0"]
+
+
+def village_keys(work: str) -> int:
+    """The village's map (spec/003 §1, §2.9–2.11, §2.15) typed as X events in its window: W
+    walks the hero in the third person, C the cameras, G the grass methods, F the fog modes, H
+    the height fog, T the toon modes, O the water types, L the lamps' clock, V the VR mode (the
+    window then shows two eyes side by side); each key's parameter and its image."""
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    os.chdir(work)
+    params = scene_params("village", sets=VILLAGE_SMALL)
+    win = W.NaturaWindow("village", params, get_scene("village").new_camera(), (320, 180))
+    win.show_panel = False
+    keys = XKeys(win, "^Natura .* village$")
+    out: dict = {"dt": keys.dt}
+
+    def image():
+        return win.target.read()[..., :3]
+
+    keys.frames(1)
+    hero0 = (params["village.hero_x"], params["village.hero_z"])
+    n = keys.hold("w", 10, "forward")
+    out["walk"] = {"frames": n, "from": hero0,
+                   "to": (params["village.hero_x"], params["village.hero_z"]),
+                   "camera": params["village.camera"]}
+    for key, name, times in (("c", "village.camera", 3), ("g", "grass.method", 3),
+                             ("f", "fog.mode", 4), ("h", "fog.height", 2),
+                             ("t", "village.toon", 4), ("o", "toon_water.type", 2),
+                             ("l", "village.lamps_auto", 2)):
+        out[name] = []
+        for _ in range(times):
+            keys.tap(key)
+            keys.frames(1)
+            out[name].append((params[name], float(image().sum())))
+    keys.tap("v")
+    keys.frames(1)
+    img = image()
+    half = img.shape[1] // 2
+    out["vr"] = {"enabled": params["vr.enabled"],
+                 "halves_differ": float(np.abs(img[:, :half] - img[:, half:2 * half]).max())}
+    keys.tap("v")
+    out["vr_off"] = params["vr.enabled"]
+    out["inspector"] = _inspector_drawn(win, keys)
+    out["render_error"] = str(win.render_error or "")
+    keys.tap("Escape")
+    out["closing"] = bool(win.wnd.is_closing)
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
 def maritime_cli_escape(work: str) -> int:
     """``natura window maritime`` as a user starts it: the first Esc opens the pause menu (the
     process keeps running), the second quits it with exit status 0."""
@@ -1018,5 +1074,6 @@ if __name__ == "__main__":
             "planet-keys": planet_keys, "sky-keyframes": sky_keyframes, "fly-keys": fly_keys,
             "cli-escape": cli_escape, "robustness": robustness,
             "maritime-keys": maritime_keys, "maritime-cli-escape": maritime_cli_escape,
-            "shading-keys": shading_keys, "surfaces-keys": surfaces_keys}
+            "shading-keys": shading_keys, "surfaces-keys": surfaces_keys,
+            "village-keys": village_keys}
     sys.exit(runs.get(sys.argv[2] if len(sys.argv) > 2 else "", main)(sys.argv[1]))
