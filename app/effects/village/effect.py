@@ -329,7 +329,18 @@ class Village(Effect):
         use_relief = bool(p["village.relief"])
         glow = float(p["village.window_glow"]) * self.lights_on
         prog.set("uDebug", DEBUG_VIEWS.index(p["village.debug"]))
-        for name, (vbo, ibo, _) in self.batches().items():
+        # near and small first, the terrain last: the depth test then rejects the ground's
+        # hidden fragments before its parallax shader runs (front to back, as Unity sorts the
+        # opaque queue)
+        prog.set_many({"uMaterial": 2, "uUseRelief": False, "uUseMasks": False,
+                       "uEmissionColor": (0.0, 0.0, 0.0), "uDebugId": GROUPS.index("people"),
+                       "uFlicker": 0.0})
+        prog.bind_textures({"uMasks": masks, **shadow_textures})
+        for vbo, ibo, *_ in self.people():
+            prog.vao([(vbo, *fmt)], ibo).render(moderngl.TRIANGLES)
+        batches = self.batches()
+        for name in sorted(batches, key=lambda n: n == "terrain"):
+            vbo, ibo, _ = batches[name]
             material = MATERIALS[name]
             textures = {"uMasks": masks, **shadow_textures}
             if name == "terrain":
@@ -353,10 +364,6 @@ class Village(Effect):
                            "uReliefTile": tile, "uUseMasks": name == "walls",
                            "uFrameColour": FRAME_COLOUR, "uEmissionColor": emission,
                            "uFlicker": flicker, "uDebugId": GROUPS.index(name)})
-            prog.vao([(vbo, *fmt)], ibo).render(moderngl.TRIANGLES)
-        prog.set_many({"uMaterial": 2, "uUseRelief": False, "uUseMasks": False,
-                       "uEmissionColor": (0.0, 0.0, 0.0), "uDebugId": GROUPS.index("people")})
-        for vbo, ibo, *_ in self.people():
             prog.vao([(vbo, *fmt)], ibo).render(moderngl.TRIANGLES)
         ctx.disable(moderngl.DEPTH_TEST)
 
