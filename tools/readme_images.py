@@ -2,10 +2,11 @@
 docs/sky.png (the `sky` scene at four hours), docs/materials.png (wood, marble and granite
 with the thesis's value noise and with Perlin's gradient noise) and docs/planet.png (the
 atmosphere from the ground and from space), docs/clouds.png (the three cloud presets and the
-maritime model over the Preetham sky) and docs/ocean.png (an evening FFT sea, the sine and Gerstner
-waves at noon, and the view from under the water).
+maritime model over the Preetham sky), docs/ocean.png (an evening FFT sea, the sine and Gerstner
+waves at noon, and the view from under the water) and docs/village.png (the toon village at ten,
+at sunset and at night, and its VR pair).
 
-    python tools/readme_images.py [--force]
+    python tools/readme_images.py [--force] [--only village.png]
 """
 
 from __future__ import annotations
@@ -27,9 +28,9 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--force", action="store_true", help="replace docs/sky.png")
     ap.add_argument("--size", default="480x270")
+    ap.add_argument("--only", default=None, help="make only this picture (e.g. village.png)")
     args = ap.parse_args(argv)
     w, h = (int(v) for v in args.size.split("x"))
-    from PIL import Image
 
     def shot(scene, sets, size, camera=None):
         params = scene_params(scene, sets=sets)
@@ -41,8 +42,16 @@ def main(argv=None) -> int:
         session.release()
         return to_srgb8(image[..., :3], exposure, params["output.tonemap"])
 
+    grids: dict = {}
+    if args.only in (None, "village.png"):
+        village = [shot("village", [f"time.hour={hour}"], (w, h)) for hour in (10.0, 18.67, 22.0)]
+        village.append(shot("village", ["time.hour=14", "vr.enabled=true"], (w, h)))
+        grids["village.png"] = np.concatenate([np.concatenate(village[:2], axis=1),
+                                               np.concatenate(village[2:], axis=1)], axis=0)
+        if args.only is not None:
+            return _save(grids, args.force)
     sky = [shot(scene, [f"time.hour={hour}"], (w, h)) for scene, hour, _ in SHOTS]
-    grids = {
+    grids |= {
         "sky.png": np.concatenate([np.concatenate(sky[:2], axis=1),
                                    np.concatenate(sky[2:], axis=1)], axis=0),
         "materials.png": np.concatenate([
@@ -79,9 +88,15 @@ def main(argv=None) -> int:
     ]
     grids["ocean.png"] = np.concatenate([np.concatenate(ocean[:2], axis=1),
                                          np.concatenate(ocean[2:], axis=1)], axis=0)
+    return _save(grids, args.force)
+
+
+def _save(grids: dict, force: bool) -> int:
+    from PIL import Image
+
     for name, grid in grids.items():
         out = PROJECT_ROOT / "docs" / name
-        if out.exists() and not args.force:
+        if out.exists() and not force:
             print(f"{out} exists: pass --force to replace it", file=sys.stderr)
             continue
         Image.fromarray(grid).save(out)

@@ -70,7 +70,7 @@ import numpy as np
 
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
-from ...params import Param
+from ...params import Inspector, Param
 from ...render.environment import flat_environment
 from ...sim import toon_water as tw
 from ...sim.daynight import Light
@@ -263,6 +263,29 @@ class ToonWater(Effect):
 
     def passes(self, frame, target) -> list[Pass]:
         return [Pass(self.name, lambda: self.draw(frame, target), Stage.WATER)]
+
+    #: the inspector's popups: the thesis's water material (spec/003 Fig. 115), then ours
+    INSPECTOR = {
+        "Water": ["toon_water.type", "toon_water.color", "toon_water.wave_intensity",
+                  "toon_water.wave_scale", "toon_water.water_speed", "toon_water.tide_height",
+                  "toon_water.wave_tile"],
+        "Depth fog": ["toon_water.depth_fog", "toon_water.water_fog_intensity",
+                      "toon_water.fog_method", "toon_water.refraction"],
+        "Toon reflection": ["toon_water.toon_value", "toon_water.fresnel",
+                            "toon_water.reflection_tint", "toon_water.band_strength",
+                            "toon_water.highlight", "toon_water.highlight_exponent"],
+        "Debug": ["toon_water.flip_y", "toon_water.output"],
+    }
+
+    def panel_items(self) -> list:
+        """The water's material inspector (the thesis's Custom/Nature/Water, Fig. 115) with the
+        generated wave normal map and the Fresnel ramp as thumbnails."""
+        popups = {title: [n for n in names if n in self.params]
+                  for title, names in self.INSPECTOR.items()}
+        textures = {label: self._textures[key] for label, key in (
+            ("wave normals", "normals"), ("Fresnel ramp", "ramp")) if key in self._textures}
+        return [Inspector("Water (Custom/Nature/Water, spec/003 §2.10)",
+                          {t: n for t, n in popups.items() if n}, textures)]
 
     def panel_notes(self) -> list[str]:
         p = self.params
