@@ -103,9 +103,11 @@ class Gpu:
                                                  depth_attachment=depth_attachment))
 
     def target(self, owner: str, name: str, size, dtype: str = "f4",
-               depth: bool = True) -> RenderTarget:
+               depth: bool = True, samples: int = 0) -> RenderTarget:
+        """A float render target (``samples`` > 0: multisampled, to be resolved)."""
         return self._record(owner, "target", name,
-                            RenderTarget(self.ctx, size, dtype=dtype, depth=depth))
+                            RenderTarget(self.ctx, size, dtype=dtype, depth=depth,
+                                         samples=samples))
 
     def owned_by(self, owner: str) -> list[Allocation]:
         return [a for a in self.allocations if a.owner == owner]

@@ -14,12 +14,16 @@ class RenderTarget:
     """
 
     def __init__(self, ctx: moderngl.Context, size: tuple[int, int], dtype: str = "f4",
-                 depth: bool = True):
+                 depth: bool = True, samples: int = 0):
         self.ctx = ctx
         self.size = (int(size[0]), int(size[1]))
-        self.color = ctx.texture(self.size, 4, dtype=dtype)
-        self.color.filter = (moderngl.LINEAR, moderngl.LINEAR)
-        self.depth = ctx.depth_texture(self.size) if depth else None
+        #: samples per pixel (0: an ordinary target). A multisampled target is drawn into and
+        #: resolved (``ctx.copy_framebuffer`` into an ordinary one: colour and depth), not read
+        self.samples = int(samples)
+        self.color = ctx.texture(self.size, 4, dtype=dtype, samples=self.samples)
+        if not self.samples:
+            self.color.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        self.depth = (ctx.depth_texture(self.size, samples=self.samples) if depth else None)
         self.fbo = ctx.framebuffer(color_attachments=[self.color], depth_attachment=self.depth)
 
     @property

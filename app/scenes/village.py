@@ -164,21 +164,15 @@ class VillageScene(Scene):
         self._render_mono(frame, target)
 
     def _msaa_target(self, size, samples: int):
-        key = (tuple(size), samples)
-        if self._msaa is None or self._msaa[0] != key:
+        """The frame's multisampled twin, kept while its size and samples hold."""
+        if self._msaa is None or (self._msaa.size, self._msaa.samples) != (tuple(size), samples):
             self._free_msaa()
-            g = self.gpu
-            colour = g.texture("village", "msaa colour", size, 4, dtype="f4", samples=samples)
-            depth = g.depth_texture("village", "msaa depth", size, samples=samples)
-            fbo = g.framebuffer("village", "msaa", [colour], depth)
-            self._msaa = (key, _Multisampled(fbo, colour, depth, tuple(size), samples))
-        return self._msaa[1]
+            self._msaa = self.gpu.target("village", "msaa", size, samples=samples)
+        return self._msaa
 
     def _free_msaa(self) -> None:
         if self._msaa is not None:
-            work = self._msaa[1]
-            for obj in (work.fbo, work.colour, work.depth):
-                self.gpu.free(obj)
+            self.gpu.free(self._msaa)
             self._msaa = None
 
     def _render_mono(self, frame: FrameContext, target, first: Stage = Stage.SHADOW) -> None:
@@ -207,24 +201,3 @@ class VillageScene(Scene):
         self._free_msaa()
         super().release()
 
-
-class _Multisampled:
-    """The multisampled twin of a frame's target (what an opaque pass needs of a target)."""
-
-    def __init__(self, fbo, colour, depth, size, samples: int):
-        self.fbo, self.colour, self.depth, self.size, self.samples = (fbo, colour, depth, size,
-                                                                      samples)
-
-    @property
-    def color(self):
-        return self.colour
-
-    @property
-    def aspect(self) -> float:
-        return self.size[0] / self.size[1]
-
-    def use(self) -> None:
-        self.fbo.use()
-
-    def clear(self, rgba=(0.0, 0.0, 0.0, 1.0), depth: float = 1.0) -> None:
-        self.fbo.clear(*rgba, depth=depth)

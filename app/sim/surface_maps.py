@@ -27,6 +27,7 @@ do not divide the square are refused rather than silently not tiling.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Callable
 
@@ -192,6 +193,15 @@ def stones(size: int = 256, cells: int = 6, joint: float = 0.12, roughness: floa
 #: the generators by name (each takes ``size`` first and returns a :class:`HeightField`)
 GENERATORS: dict[str, Callable[..., HeightField]] = {"bricks": bricks, "planks": planks,
                                                     "stones": stones}
+
+
+@functools.lru_cache(maxsize=8)
+def generated(name: str, size: int = 256) -> HeightField:
+    """The generator ``name``'s field at ``size`` with its default settings, made once per
+    process (every effect that shows a relief asks here; the arrays are not to be written)."""
+    if name not in GENERATORS:
+        raise ValueError(f"relief {name!r}: allowed {', '.join(GENERATORS)}")
+    return GENERATORS[name](size)
 
 
 def _field(name: str, height: np.ndarray, albedo: np.ndarray) -> HeightField:

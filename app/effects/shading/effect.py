@@ -185,10 +185,7 @@ class Shading(Effect):
 
     def _relief(self, name: str):
         """The wall's height field ``name`` (bricks, planks, stones), made once."""
-        key = f"field {name}"
-        if key not in self._textures:
-            self._textures[key] = surface_maps.GENERATORS[name](256)
-        return self._textures[key]
+        return surface_maps.generated(name)
 
     def _ramp(self) -> moderngl.Texture:
         """The ramp texture of the three band colours, rebuilt when one is edited."""

@@ -198,10 +198,8 @@ class Village(Effect):
         return self._textures[key]
 
     def _relief(self, name: str):
-        key = f"field {name}"
-        if key not in self._textures:
-            self._textures[key] = surface_maps.GENERATORS[name](256)
-        return self._textures[key]
+        """The relief ``name``'s height field (bricks, planks, stones), made once."""
+        return surface_maps.generated(name)
 
     # -- the hero (the scene's cameras walk it) --------------------------------------------
     def hero(self) -> tuple[float, float, float]:
