@@ -27,6 +27,7 @@ toward east (the compass, as ``Camera.yaw``).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -321,3 +322,10 @@ class Island:
 
     def ground(self, x: float, z: float) -> float:
         return float(self.height(x, z))
+
+
+@functools.lru_cache(maxsize=4)
+def default_island(resolution: int = 193) -> Island:
+    """The village's island at ``resolution``, made once per process (it is never written: every
+    session of the scene shares it)."""
+    return Island(resolution)

@@ -22,6 +22,7 @@ flickering). The people are separate (:func:`person_mesh`): they move.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -29,7 +30,15 @@ import numpy as np
 
 from . import lab_meshes
 from .noise.fractal import perlin_fbm2
-from .village import House, Island, Person, Prop, VillageLayout, path_distance
+from .village import (
+    House,
+    Island,
+    Person,
+    Prop,
+    VillageLayout,
+    default_island,
+    path_distance,
+)
 
 FLOATS = 17
 ATTRIBUTES = ("in_position", "in_normal", "in_uv", "in_tangent", "in_colour", "in_mask")
@@ -105,10 +114,33 @@ def placed(mesh: lab_meshes.LabMesh, facing: float = 0.0, offset=(0.0, 0.0, 0.0)
                               mesh.indices)
 
 
+#: the six faces of a box: (outward normal, u axis); v = n × u, so the handedness is +1
+_FACES = tuple((np.eye(3)[a] * s, np.array([1.0, 0.0, 0.0]) if a == 1 else
+                np.cross([0.0, 1.0, 0.0], np.eye(3)[a] * s)) for a in range(3) for s in (-1, 1))
+
+
 def box(lo, hi) -> lab_meshes.LabMesh:
-    b = lab_meshes.MeshBuilder()
-    b.box(lo, hi)
-    return b.mesh("box")
+    """An axis-aligned box with hard edges (4 vertices per face), UVs in metres along each
+    face's (u, v) — the lab's ``MeshBuilder.box`` without its general normal and tangent
+    passes: a box's are known (a village has a hundred of them)."""
+    lo = np.asarray(lo, np.float64)
+    hi = np.asarray(hi, np.float64)
+    c, h = (lo + hi) / 2.0, (hi - lo) / 2.0
+    corners = np.array([(-1, -1), (1, -1), (1, 1), (-1, 1)], np.float64)
+    p, n, uv, tan = [], [], [], []
+    for nrm, u in _FACES:
+        v = np.cross(nrm, u)
+        q = c + nrm * h + corners[:, :1] * (u * h) + corners[:, 1:] * (v * h)
+        p.append(q)
+        n.append(np.tile(nrm, (4, 1)))
+        uv.append(np.stack([q @ u, q @ v], axis=1))
+        tan.append(np.tile([*u, 1.0], (4, 1)))
+    tri = np.array([[0, 1, 2], [0, 2, 3]])
+    tris = np.concatenate([tri + 4 * k for k in range(6)])
+    normals = np.concatenate(n).astype(np.float32)
+    return lab_meshes.LabMesh("box", np.concatenate(p).astype(np.float32), normals, normals,
+                              np.concatenate(uv).astype(np.float32),
+                              np.concatenate(tan).astype(np.float32), tris.astype(np.uint32))
 
 
 def cylinder(radius: float, height: float, segments: int = 10, axis: str = "y"
@@ -445,6 +477,13 @@ def village_batches(island: Island) -> dict[str, Batch]:
     bonfire_meshes(bx, bz, island.ground(bx, bz), solids, flame)
     return {"terrain": terrain_batch(island), "walls": walls.batch(),
             "solids": solids.batch(), "lanterns": lanterns.batch(), "flame": flame.batch()}
+
+
+@functools.lru_cache(maxsize=4)
+def default_batches(resolution: int = 193) -> dict[str, Batch]:
+    """:func:`village_batches` of the default island at ``resolution``, made once per process
+    (the arrays are uploaded, never written)."""
+    return village_batches(default_island(resolution))
 
 
 def _house_ground(island: Island, h: House) -> float:

@@ -36,7 +36,7 @@ from ...render.shadow_maps import CASTER, ShadowSet
 from ...render.shadows import ShadowSettings, shadow_params
 from ...sim import lighting, surface_maps, village_meshes
 from ...sim.fog import fog_uniforms
-from ...sim.village import Island, Person
+from ...sim.village import Island, Person, default_island
 from ..base import Effect, Pass
 
 SURFACE = ProgramSpec("village/surface")
@@ -135,7 +135,7 @@ class Village(Effect):
     def island(self) -> Island:
         res = int(self.params["village.resolution"])
         if self._island is None or self._island.resolution != res:
-            self._island = Island(res)
+            self._island = default_island(res)
             self._drop_batches()
         return self._island
 
@@ -149,7 +149,7 @@ class Village(Effect):
     def batches(self) -> dict:
         """The static batches on the GPU: name → (vbo, ibo, Batch)."""
         if not self._batches:
-            for name, batch in village_meshes.village_batches(self.island).items():
+            for name, batch in village_meshes.default_batches(self.island.resolution).items():
                 if batch.triangle_count == 0:
                     continue
                 vbo = self.gpu.buffer(self.name, f"{name} vertices", batch.vertices.tobytes())
