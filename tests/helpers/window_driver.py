@@ -1007,11 +1007,13 @@ def village_keys(work: str) -> int:
     out["walk"] = {"frames": n, "from": hero0,
                    "to": (params["village.hero_x"], params["village.hero_z"]),
                    "camera": params["village.camera"]}
-    for key, name, times in (("c", "village.camera", 3), ("g", "grass.method", 3),
-                             ("f", "fog.mode", 4), ("h", "fog.height", 2),
-                             ("t", "village.toon", 4), ("o", "toon_water.type", 2),
-                             ("l", "village.lamps_auto", 2)):
-        out[name] = []
+    # each key once from where the scene starts (its parameter steps, the image changes); the
+    # camera through its three modes back to the third person
+    for key, name, times in (("c", "village.camera", 3), ("g", "grass.method", 1),
+                             ("f", "fog.mode", 1), ("h", "fog.height", 1),
+                             ("t", "village.toon", 1), ("o", "toon_water.type", 1),
+                             ("l", "village.lamps_auto", 1)):
+        out[name] = [(params[name], float(image().sum()))]
         for _ in range(times):
             keys.tap(key)
             keys.frames(1)
