@@ -280,9 +280,7 @@ def _session_inputs(args, scene_name: str):
     camera = cls.new_camera()
     if args.camera is not None:
         parse_camera(args.camera, camera)
-        hook = getattr(cls, "on_user_camera", None)
-        if hook is not None:  # a scene that places its camera itself lets this one be
-            hook(params)
+        cls.on_user_camera(params)
     camera.set(yaw=args.yaw, pitch=args.pitch, fov=args.fov)
     return params, camera, size
 

@@ -57,6 +57,11 @@ class Scene:
         return Camera(**cls.default_camera)
 
     @classmethod
+    def on_user_camera(cls, params: ParamSet) -> None:
+        """A camera was given on the command line (``--camera``): a scene that places its
+        camera itself (a chase or third-person camera) lets this one be. Nothing by default."""
+
+    @classmethod
     def check_slots(cls) -> None:
         """Refuse a scene where an effect requires a frame slot that no effect produces (the
         scene itself fills ``image``: the target the frame is drawn into)."""

@@ -35,6 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .noise.fractal import perlin_fbm2
+from .sky import smoothstep  # e0 > e1 allowed: a falling ramp
 
 #: the field covers [-HALF, HALF] on x and z [m]
 HALF = 110.0
@@ -47,12 +48,6 @@ HILL = ((30.0, -32.0), 7.5, 13.0)  # (x, z) centre, height, sigma [m]
 SEED = 11
 
 
-def _smoothstep(e0: float, e1: float, x: np.ndarray) -> np.ndarray:
-    """smoothstep with e0 > e1 allowed (a falling ramp), written out."""
-    t = np.clip((x - e0) / (e1 - e0), 0.0, 1.0)
-    return t * t * (3.0 - 2.0 * t)
-
-
 def _ring(x, z) -> np.ndarray:
     """The coast's distance: the radius warped by low-frequency noise (a wobbly shore)."""
     r = np.hypot(x, z)
@@ -63,7 +58,7 @@ def _ring(x, z) -> np.ndarray:
 
 def plaza_mask(x, z) -> np.ndarray:
     """1 on the flat plaza, falling to 0 over 6 m past its radius."""
-    return _smoothstep(PLAZA_RADIUS + 6.0, PLAZA_RADIUS, np.hypot(x, z))
+    return smoothstep(PLAZA_RADIUS + 6.0, PLAZA_RADIUS, np.hypot(x, z))
 
 
 def island_height(x: ArrayLike, z: ArrayLike) -> np.ndarray:
@@ -71,8 +66,8 @@ def island_height(x: ArrayLike, z: ArrayLike) -> np.ndarray:
     x = np.asarray(x, np.float64)
     z = np.asarray(z, np.float64)
     r = _ring(x, z)
-    land = _smoothstep(COAST_RADIUS + 2.0, COAST_RADIUS - 16.0, r)
-    sea = _smoothstep(COAST_RADIUS, COAST_RADIUS + 28.0, r)
+    land = smoothstep(COAST_RADIUS + 2.0, COAST_RADIUS - 16.0, r)
+    sea = smoothstep(COAST_RADIUS, COAST_RADIUS + 28.0, r)
     (hx, hz), hh, hs = HILL
     hill = hh * np.exp(-((x - hx) ** 2 + (z - hz) ** 2) / (2.0 * hs * hs))
     bumps = 0.45 * perlin_fbm2(x / 11.0, z / 11.0, octaves=4, seed=SEED + 1)
@@ -284,11 +279,11 @@ class Island:
         z = np.asarray(z, np.float64)
         lay = self.layout
         h = self.height(x, z)
-        d = _smoothstep(0.45, 1.0, h)  # no grass on the sand nor under the water
-        d = d * _smoothstep(0.80, 0.88, self.normal(x, z)[..., 1])  # nor on rock (> 30°)
-        d = d * _smoothstep(PLAZA_RADIUS - 1.0, PLAZA_RADIUS + 2.5, np.hypot(x, z))
+        d = smoothstep(0.45, 1.0, h)  # no grass on the sand nor under the water
+        d = d * smoothstep(0.80, 0.88, self.normal(x, z)[..., 1])  # nor on rock (> 30°)
+        d = d * smoothstep(PLAZA_RADIUS - 1.0, PLAZA_RADIUS + 2.5, np.hypot(x, z))
         w = lay.path_width / 2.0
-        d = d * _smoothstep(w, w + 1.2, path_distance(x, z, lay))
+        d = d * smoothstep(w, w + 1.2, path_distance(x, z, lay))
         for house in lay.houses:
             d = np.where(_inside_house(x, z, house, 0.6), 0.0, d)
         (gx0, gz0), (gx1, gz1) = lay.garden

@@ -30,6 +30,7 @@ import numpy as np
 
 from . import lab_meshes
 from .noise.fractal import perlin_fbm2
+from .sky import smoothstep
 from .village import (
     House,
     Island,
@@ -37,6 +38,7 @@ from .village import (
     Prop,
     VillageLayout,
     default_island,
+    house_corners,
     path_distance,
 )
 
@@ -143,9 +145,8 @@ def box(lo, hi) -> lab_meshes.LabMesh:
                               np.concatenate(tan).astype(np.float32), tris.astype(np.uint32))
 
 
-def cylinder(radius: float, height: float, segments: int = 10, axis: str = "y"
-             ) -> lab_meshes.LabMesh:
-    """A faceted cylinder on y = 0 (or lying along x), capped."""
+def cylinder(radius: float, height: float, segments: int = 10) -> lab_meshes.LabMesh:
+    """A faceted cylinder standing on y = 0, capped."""
     b = lab_meshes.MeshBuilder()
     ang = np.linspace(0.0, 2.0 * math.pi, segments + 1)
     for i in range(segments):
@@ -157,17 +158,7 @@ def cylinder(radius: float, height: float, segments: int = 10, axis: str = "y"
                                            ((i + 1) / segments, 1), (i / segments, 1)])
         b.add([[0.0, height, 0.0], p0 + up, p1 + up], np.tile([0.0, 1.0, 0.0], (3, 1)),
               [(0.5, 0.5), (0.5, 0.0), (0.6, 0.0)], [[0, 1, 2]])
-    mesh = b.mesh("cylinder")
-    if axis == "x":  # lying along +x, centred on the axis
-        p = mesh.positions.astype(np.float64)
-        rot = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
-        t = mesh.tangents.copy()
-        t[:, :3] = t[:, :3] @ rot.T
-        mesh = lab_meshes.LabMesh(mesh.name, (p @ rot.T).astype(np.float32),
-                                  (mesh.normals @ rot.T).astype(np.float32),
-                                  (mesh.smooth_normals @ rot.T).astype(np.float32), mesh.uvs,
-                                  t.astype(np.float32), mesh.indices)
-    return mesh
+    return b.mesh("cylinder")
 
 
 def cone(radius: float, height: float, segments: int = 8) -> lab_meshes.LabMesh:
@@ -198,11 +189,6 @@ def _mix(a, b, t) -> np.ndarray:
     return np.asarray(a) * (1.0 - t) + np.asarray(b) * t
 
 
-def _ramp(e0: float, e1: float, x) -> np.ndarray:
-    t = np.clip((np.asarray(x, np.float64) - e0) / (e1 - e0), 0.0, 1.0)
-    return t * t * (3.0 - 2.0 * t)
-
-
 def terrain_colours(island: Island, p: np.ndarray, n: np.ndarray) -> tuple[np.ndarray,
                                                                             np.ndarray]:
     """Per-vertex splat albedo (V, 3) and relief weight (V,) of the island: meadow with noise,
@@ -210,15 +196,15 @@ def terrain_colours(island: Island, p: np.ndarray, n: np.ndarray) -> tuple[np.nd
     x, h, z = p[:, 0], p[:, 1], p[:, 2]
     tint = perlin_fbm2(x / 7.0, z / 7.0, octaves=3, seed=5)
     meadow = np.asarray(MEADOW) * (1.0 + 0.35 * tint)[:, None]
-    col = _mix(SAND, meadow, _ramp(0.35, 0.9, h))
-    col = _mix(SEABED, col, _ramp(-0.6, 0.05, h))
+    col = _mix(SAND, meadow, smoothstep(0.35, 0.9, h))
+    col = _mix(SEABED, col, smoothstep(-0.6, 0.05, h))
     lay = island.layout
-    dirt = np.maximum(_ramp(16.5, 13.5, np.hypot(x, z)),
-                      _ramp(lay.path_width / 2 + 0.9, lay.path_width / 2 - 0.2,
+    dirt = np.maximum(smoothstep(16.5, 13.5, np.hypot(x, z)),
+                      smoothstep(lay.path_width / 2 + 0.9, lay.path_width / 2 - 0.2,
                             path_distance(x, z, lay)))
-    dirt = dirt * _ramp(0.3, 0.7, h)
+    dirt = dirt * smoothstep(0.3, 0.7, h)
     col = _mix(col, DIRT, dirt)
-    rock = _ramp(0.9, 0.8, n[:, 1])
+    rock = smoothstep(0.9, 0.8, n[:, 1])
     col = _mix(col, ROCK, rock)
     relief = np.clip(0.35 + 0.65 * np.maximum(dirt, rock), 0.0, 1.0)
     return col, relief
@@ -424,7 +410,7 @@ def bonfire_meshes(x: float, z: float, ground: float, solids: _Collector,
     for i in range(6):
         a = i * 60.0
         log = _tilted(cylinder(0.07, 1.0, 6), 55.0)
-        solids.add(placed(_lifted(log, 0.0), a, (x + 0.35 * math.sin(math.radians(a)), ground,
+        solids.add(placed(log, a, (x + 0.35 * math.sin(math.radians(a)), ground,
                                                  z - 0.35 * math.cos(math.radians(a)))),
                    (0.25, 0.15, 0.08))
     for i in range(10):
@@ -489,13 +475,7 @@ def default_batches(resolution: int = 193) -> dict[str, Batch]:
 def _house_ground(island: Island, h: House) -> float:
     """The highest ground under a house's footprint (its floor sits there; the foundation
     reaches down to the rest)."""
-    from .village import house_corners
-
     c = house_corners(h)
     xs = np.concatenate([c[:, 0], [h.centre[0]]])
     zs = np.concatenate([c[:, 1], [h.centre[1]]])
     return float(np.max(island.height(xs, zs)))
-
-
-def house_floor(island: Island, h: House) -> float:
-    return _house_ground(island, h) + 0.15
