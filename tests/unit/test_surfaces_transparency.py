@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from app.sim import surfaces_scene as ss
@@ -87,6 +87,7 @@ def test_naive_alpha_test_keeps_stray_fragments_of_soft_leaves():
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.tuples(st.floats(0, 1), st.floats(0, 1), st.floats(0.1, 30)),
                 min_size=0, max_size=6))
+@example([(0.0, 0.001953125, 19.0)])  # Σ α·w below the resolve's floor (found by CI)
 def test_peeling_equals_exact_sort_and_wboit_coverage_is_exact(layers):
     c = np.array([[x[0], 1 - x[0], 0.5] for x in layers]).reshape(-1, 3)
     a = np.array([x[1] for x in layers])
@@ -94,10 +95,16 @@ def test_peeling_equals_exact_sort_and_wboit_coverage_is_exact(layers):
     bg = np.array([0.2, 0.3, 0.4])
     exact = tw.sorted_exact(c, a, z, bg)
     assert np.allclose(tw.peeled(c, a, z, bg), exact, atol=1e-9)
-    # WBOIT: identical colours composite exactly (only the colour mix is approximate; the
-    # 1e-5 floor on Σ α·w dims layers of total coverage below ~1e-3 by at most their coverage)
+    # WBOIT: identical colours composite exactly (only the colour mix is approximate) while
+    # Σ α·w(z, α) clears the 1e-5 floor of the resolve; below it the layers' colour is dimmed,
+    # by at most their coverage times that colour (the background's share stays exact)
     grey = np.full_like(c, 0.7)
-    assert np.allclose(tw.wboit(grey, a, z, bg), tw.sorted_exact(grey, a, z, bg), atol=1e-3)
+    err = np.abs(tw.wboit(grey, a, z, bg) - tw.sorted_exact(grey, a, z, bg)).max()
+    coverage = 1.0 - float(np.prod(1.0 - a))
+    if len(a) and (a * tw.wboit_weight(z, a)).sum() < 1e-5:
+        assert err <= 0.7 * coverage + 1e-9
+    else:
+        assert err < 1e-9
     out = tw.wboit(c, a, z, bg)
     assert np.isfinite(out).all()
 
