@@ -1,4 +1,4 @@
-"""The desktop window under Xvfb: panel drawn with the pinned imgui-bundle, fly keys, mouse look,
+"""The desktop window under Xvfb: panel drawn by app/ui/imgui_renderer.py, fly keys, mouse look,
 pause, screenshots that never overwrite, live shader edits with file:line errors."""
 
 from __future__ import annotations
@@ -25,14 +25,6 @@ def _under_xvfb(args, cwd, timeout=120):
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     return subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", *args], cwd=cwd,
                           env=env, capture_output=True, text=True, timeout=timeout)
-
-
-def test_imgui_bundle_pin_is_the_working_one():
-    import imgui_bundle
-
-    major, minor = (int(x) for x in imgui_bundle.__version__.split(".")[:2])
-    assert (major, minor) < (1, 92), (
-        "moderngl-window 3.1.1's renderer fails with imgui-bundle >= 1.92")
 
 
 def test_window_driven_like_a_user(tmp_path):
