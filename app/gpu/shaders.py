@@ -504,6 +504,40 @@ class ShaderLibrary:
     def programs(self) -> list["Program"]:
         return list(self._programs.values())
 
+    def include_children(self, path: Path) -> list[Path]:
+        """The files ``path`` includes directly, in order, as the preprocessor resolves them
+        (relative to it, then ``common/``); an include that cannot be found is left out."""
+        try:
+            lines = source_lines(read_source(Path(path)))
+        except Exception:  # noqa: BLE001 - an unreadable file has no children to show
+            return []
+        out: list[Path] = []
+        for line in lines:
+            m = _INCLUDE.match(line)
+            if m:
+                found = self._find_include(m.group(1), Path(path).resolve())
+                if found is not None and found not in out:
+                    out.append(found)
+        return out
+
+    def set_root(self, root: Path) -> None:
+        """Move every program to the same files under another root (a copy of this one, made
+        by ``natura shaders copy``) and recompile them from there: the window's editor does
+        this when a first save must not go into Natura's own shaders. A program that fails
+        keeps its last good version, as a live edit does."""
+        new_root = Path(root).resolve()
+        for prog in self._programs.values():
+            moved = {}
+            for ext, path in prog.stage_paths.items():
+                try:
+                    moved[ext] = new_root / Path(path).resolve().relative_to(self.root)
+                except ValueError:  # a stage outside the root stays where it is
+                    moved[ext] = path
+            prog.stage_paths = moved
+        self.root = new_root
+        for prog in self._programs.values():
+            prog.compile()
+
     def poll(self) -> list["Program"]:
         """Recompile programs whose include set changed. Returns the programs that were
         recompiled (successfully or not); errors stay on each program. Never raises: an

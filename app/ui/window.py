@@ -49,6 +49,9 @@ MOVE_SPEED = 5.0  # m/s
 LOOK_DEGREES_PER_PIXEL = 0.15
 #: what keys still do while the pause menu is open (everything else waits for Resume)
 PAUSED_ACTIONS = {"pause_menu", "quit", "screenshot", "toggle_panel"}
+#: keys of the window itself in every scene (before the scene's key map)
+WINDOW_KEYS = {"F2": "toggle_editor"}
+WINDOW_KEYS_HELP = (("F2", "shader editor"),)
 
 
 def _key_names(keys) -> dict:
@@ -61,22 +64,29 @@ def _key_names(keys) -> dict:
     return key_names(keys, pyglet_key)
 
 
-#: Unicode blocks the panel's text uses (thesis sections §, units m², Greek β θ Φ, − · → ≤ …).
-GLYPH_RANGES = [0x0020, 0x00FF, 0x0370, 0x03FF, 0x2000, 0x206F, 0x2070, 0x209F, 0x2190, 0x21FF,
-                0x2200, 0x22FF, 0]
-
-
-def _load_font(imgui) -> None:
-    """ImGui's built-in font is ASCII only: load imgui-bundle's DroidSans with the ranges above
-    (before the renderer builds the font texture). Without the file, the default font stays."""
+def _load_font(imgui):
+    """ImGui's built-in font is ASCII only: load imgui-bundle's DroidSans, whose glyphs Dear ImGui
+    1.92 rasterises on demand (thesis sections §, units m², Greek β θ Φ, − · → ≤ …), and its
+    Inconsolata for the shader editor. Returns the monospace font (None without it); without
+    the files, the default font stays."""
+    mono = None
     try:
         import imgui_bundle
 
-        path = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "DroidSans.ttf"
-        if path.is_file():
-            imgui.get_io().fonts.add_font_from_file_ttf(str(path), 15.0, None, GLYPH_RANGES)
+        fonts = Path(imgui_bundle.__file__).parent / "assets" / "fonts"
+        if (fonts / "DroidSans.ttf").is_file():
+            imgui.get_io().fonts.add_font_from_file_ttf(str(fonts / "DroidSans.ttf"), 15.0)
+        if (fonts / "Inconsolata-Medium.ttf").is_file():
+            mono = imgui.get_io().fonts.add_font_from_file_ttf(
+                str(fonts / "Inconsolata-Medium.ttf"), 15.0)
+            if (fonts / "DroidSans.ttf").is_file():  # its Greek and maths signs where
+                cfg = imgui.ImFontConfig()            # Inconsolata has none (τ, θ, ∫)
+                cfg.merge_mode = True
+                imgui.get_io().fonts.add_font_from_file_ttf(str(fonts / "DroidSans.ttf"), 15.0,
+                                                            cfg)
     except Exception:  # a font problem must not keep the window from opening
         pass
+    return mono
 
 
 def display_problem() -> str | None:
@@ -136,9 +146,9 @@ class NaturaWindow:
                  preset_dir: str | os.PathLike = "presets",
                  keyframes_dir: str | os.PathLike = "."):
         from imgui_bundle import imgui
-        from moderngl_window.integrations.imgui_bundle import ModernglWindowRenderer
 
         from ..runtime import open_session
+        from .imgui_renderer import ImguiRenderer
 
         self.imgui = imgui
         self.wnd = _create_window(size, f"Natura — {scene_name}")
@@ -151,8 +161,8 @@ class NaturaWindow:
         self.home = Camera(**{k: getattr(camera, k) for k in ("position", "yaw", "pitch", "fov")})
         imgui.create_context()
         imgui.get_io().set_ini_filename("")  # no imgui.ini in the user's folder
-        _load_font(imgui)
-        self.ui = ModernglWindowRenderer(self.wnd)
+        self.mono_font = _load_font(imgui)
+        self.ui = ImguiRenderer(self.wnd)
         w = self.wnd
         w.key_event_func = self.on_key
         w.mouse_position_event_func = self.on_mouse_position
@@ -188,6 +198,9 @@ class NaturaWindow:
         self.hud_state = None  # the scene's last HudState (scenes with a hud() method)
         self.hud_rects: dict = {}  # screen rectangles of the HUD's windows and pause buttons
         self.session.gpu.progress = self.show_progress
+        from .editor import ShaderEditorPane
+
+        self.editor = ShaderEditorPane(self._say, self._fail, self.mono_font)
         self.on_resize(*self.wnd.buffer_size)
 
     # -- events ----------------------------------------------------------------------------
@@ -241,10 +254,17 @@ class NaturaWindow:
         if action == k.ACTION_RELEASE:
             self.controller.release(name)  # always: no stuck keys
             return
+        if name in WINDOW_KEYS:  # the teaching panes, in every scene, even while typing
+            self.run_window_key(WINDOW_KEYS[name])
+            return
         if self._ui_wants_keyboard() and name != "F12":
             return
         self.controller.press(name)
         self.run_events()
+
+    def run_window_key(self, action: str) -> None:
+        if action == "toggle_editor":
+            self.editor.shown = not self.editor.shown
 
     def on_char(self, char):
         self.ui.unicode_char_entered(char)
@@ -551,6 +571,8 @@ class NaturaWindow:
         imgui.same_line()
         if imgui.button("Reset all"):
             self.params.reset()
+        if imgui.button("Shader editor (F2)"):
+            self.editor.shown = not self.editor.shown
         titles = {e.name: e.title for e in self.scene.instances}
         titles.update({"time": "Time", "output": "Output"})
         notes = {}
@@ -578,10 +600,20 @@ class NaturaWindow:
             for a in gpu.allocations:
                 imgui.text(f"{a.owner}: {a.kind} {a.name}")
         if imgui.collapsing_header("Controls"):
-            for keys, what in self.controller.keymap.help:
+            for keys, what in (*self.controller.keymap.help, *WINDOW_KEYS_HELP):
                 imgui.text(f"{keys:14s} {what}")
         panel.messages(self.messages)
         imgui.end()
+
+    def build_editor(self) -> None:
+        if not self.editor.shown:
+            return
+        shaders = self.session.gpu.shaders
+        try:
+            errors = shaders.errors()
+        except Exception:  # noqa: BLE001 - the panel lists why
+            errors = []
+        self.editor.draw(shaders, errors, self.wnd.size)
 
     def build_hud(self) -> None:
         """The HUD of a scene that has a ``hud()`` method (app/ui/hud.py), and the pause menu."""
@@ -620,10 +652,11 @@ class NaturaWindow:
             self.screenshot_requested = False
             self.save_screenshot()
         io = imgui.get_io()
-        io.delta_time = max(dt, 1e-5)  # the moderngl-window renderer does not set it
+        io.delta_time = max(dt, 1e-5)
         imgui.new_frame()
         if self.show_panel:
             self.build_panel(dt)
+        self.build_editor()
         self.build_hud()
         imgui.render()
         self.ui.render(imgui.get_draw_data())

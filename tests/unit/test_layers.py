@@ -8,7 +8,7 @@ reaches into the scene.
     render   app.frame, app.render, app.bakes   (base, gpu, sim)
     effects  app.effects        (… render; each effect package only itself and effects.base)
     scenes   app.scenes         (… effects)
-    runtime  app.runtime, app.imageio           (… scenes)
+    runtime  app.runtime, app.imageio, app.teach   (… scenes)
     ui       app.ui             (… runtime)
     bench    app.bench          (… runtime)
     cli      app.cli            (everything)
@@ -52,7 +52,7 @@ def layer_of(module: str) -> str:
         return head
     if head in ("frame", "render", "bakes"):
         return "render"
-    if head in ("runtime", "imageio"):
+    if head in ("runtime", "imageio", "teach"):
         return "runtime"
     raise ValueError(f"module {module} has no layer: add it to tests/unit/test_layers.py and "
                      "docs/architecture.md")

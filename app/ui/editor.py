@@ -1,0 +1,304 @@
+"""The window's shader editor (F2, or the panel's "Shader editor" button).
+
+Left: the running scene's programs, each with the include tree of its stage files (a file with
+errors in red). Right: the open file in imgui-bundle's colour text editor (GLSL highlighting,
+line numbers, undo, find), the lines the compiler blames marked, the whole message shown when the
+pointer is over the line or its number, and the file's errors listed below, wrapped. Ctrl+S (or
+Save) writes the file atomically; the library's poll recompiles what includes it within a
+quarter of a second, and a broken edit keeps the last good program running.
+
+Natura's own shaders are never written: the first save offers a copy (``natura shaders copy``
+semantics: a new folder, made whole or not at all), moves the running programs there and saves
+into it — the window then runs as ``natura --shaders DIR`` would. A file changed on disk while
+open reloads by itself when the editor holds no unsaved change, and otherwise asks.
+
+The logic without ImGui (trees, markers, saving, the copy) is app/teach/editor.py.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Callable
+
+from imgui_bundle import imgui
+from imgui_bundle import imgui_color_text_edit as ed
+
+from ..errors import NaturaError
+from ..teach import editor as logic
+from . import panel
+
+TextEditor = ed.TextEditor
+#: how often the open file is compared with the disk (seconds)
+DISK_CHECK_SECONDS = 0.5
+MARKER_NUMBER_COLOUR = imgui.IM_COL32(255, 90, 80, 255)
+MARKER_TEXT_COLOUR = imgui.IM_COL32(120, 30, 30, 160)
+
+
+class ShaderEditorPane:
+    """One editor window; ``draw(library)`` once per frame while it is shown."""
+
+    def __init__(self, say: Callable[[str], None], fail: Callable[[str], None], font=None):
+        self.say, self.fail, self.font = say, fail, font
+        self.shown = False
+        self.editor = TextEditor()
+        self.editor.set_language(TextEditor.Language.glsl())
+        self.editor.set_show_line_numbers_enabled(True)
+        self.editor.set_tab_size(4)
+        self.editor.set_show_whitespaces_enabled(False)
+        self.file: logic.OpenFile | None = None
+        self.baseline = ""          # the editor's text as loaded or saved
+        self.marked: dict[int, str] = {}
+        self.copy_name = ""
+        self.problem: str | None = None  # the last save's or open's problem, one line
+        self._last_disk_check = 0.0
+        self._ask_copy = False
+        self._ask_conflict = False
+        self.saves = 0
+        self.text_rect = (0.0, 0.0, 0.0, 0.0)  # where the text was drawn (x0, y0, x1, y1)
+        self.modal_open = False
+
+    # -- files ------------------------------------------------------------------------------
+    def open(self, path: Path) -> bool:
+        try:
+            f = logic.OpenFile.open(Path(path))
+        except Exception as exc:  # noqa: BLE001 - unreadable: a line, not a crash
+            self.problem = f"cannot open {path}: {exc}"
+            self.fail(self.problem)
+            return False
+        self.file = f
+        self.editor.set_text(f.text)
+        self.baseline = self.editor.get_text()
+        self.marked = {}
+        self.editor.clear_markers()
+        self.problem = None
+        self.shown = True
+        return True
+
+    @property
+    def modified(self) -> bool:
+        return self.file is not None and self.editor.get_text() != self.baseline
+
+    def _text_to_save(self) -> str:
+        text = self.editor.get_text()
+        return text if text.endswith("\n") else text + "\n"
+
+    def save(self, library, overwrite: bool = False) -> bool:
+        """Save the open file; inside Natura's own shaders, ask for a copy first."""
+        if self.file is None:
+            return False
+        if logic.is_natura_own(library.root):
+            self.copy_name = self.copy_name or logic.free_copy_name(Path.cwd())
+            self._ask_copy = True
+            return False
+        try:
+            logic.save(self.file, self._text_to_save(), overwrite_disk_change=overwrite)
+        except NaturaError as exc:
+            if "changed on disk" in str(exc):
+                self._ask_conflict = True
+            self.problem = str(exc)
+            self.fail(f"not saved: {exc}")
+            return False
+        except OSError as exc:
+            self.problem = f"{self.file.path}: {exc.strerror or exc}"
+            self.fail(f"not saved: {self.problem}")
+            return False
+        self.baseline = self.editor.get_text()
+        self.problem = None
+        self.saves += 1
+        self.say(f"saved {self.file.path}")
+        return True
+
+    def copy_and_save(self, library) -> bool:
+        """The first save's answer: copy the shaders to ``copy_name``, move there, save."""
+        assert self.file is not None
+        old_root = library.root
+        try:
+            dest = logic.move_to_copy(library, self.copy_name)
+        except NaturaError as exc:
+            self.problem = str(exc)
+            self.fail(f"no copy made: {exc}")
+            return False
+        self.say(f"copied the shaders to {dest}: the window now runs from it "
+                 f"(natura --shaders {dest})")
+        text = self.editor.get_text()
+        self.file = logic.OpenFile.open(logic.relocate(self.file.path, old_root, library.root))
+        self.editor.set_text(text)  # keeps the unsaved edit
+        self._ask_copy = False
+        return self.save(library)
+
+    def reload_from_disk(self) -> None:
+        if self.file is not None:
+            self.open(self.file.path)
+
+    def _check_disk(self) -> None:
+        now = time.perf_counter()
+        if self.file is None or now - self._last_disk_check < DISK_CHECK_SECONDS:
+            return
+        self._last_disk_check = now
+        if self.file.changed_on_disk() and not self.modified:
+            try:
+                self.reload_from_disk()
+            except Exception:  # noqa: BLE001 - a vanished file stays open as it was
+                pass
+
+    def update_markers(self, library, errors) -> None:
+        if self.file is None:
+            return
+        marks = logic.markers(errors, library, self.file.path)
+        if marks == self.marked:
+            return
+        self.editor.clear_markers()
+        for line, message in sorted(marks.items()):
+            self.editor.add_marker(line, MARKER_NUMBER_COLOUR, MARKER_TEXT_COLOUR, message,
+                                   message)
+        self.marked = marks
+
+    # -- drawing ----------------------------------------------------------------------------
+    def draw(self, library, errors, size: tuple[float, float]) -> None:
+        if not self.shown:
+            return
+        self._check_disk()
+        self.update_markers(library, errors)
+        w, h = size
+        ew, eh = min(880.0, max(w - 400.0, 300.0)), min(640.0, h - 20.0)
+        imgui.set_next_window_pos((max(w - ew - 10.0, 10.0), 10.0), imgui.Cond_.first_use_ever)
+        imgui.set_next_window_size((ew, eh), imgui.Cond_.first_use_ever)
+        expanded, self.shown = imgui.begin("Shader editor###natura-editor", self.shown)
+        if expanded:
+            self._draw_tree(library, errors)
+            imgui.same_line()
+            imgui.begin_group()
+            self._draw_file(library, errors)
+            imgui.end_group()
+        imgui.end()
+        self._draw_modals(library)
+
+    def _draw_tree(self, library, errors) -> None:
+        bad = {e.file for e in errors}
+        imgui.begin_child("programs", (240.0, 0.0), imgui.ChildFlags_.resize_x
+                          | imgui.ChildFlags_.borders)
+        own = logic.is_natura_own(library.root)
+        imgui.text_disabled("Natura's own shaders (a save makes a copy)" if own
+                            else f"{library.root}")
+        for tree in logic.program_trees(library):
+            label = tree.name + (f"  ({len(tree.errors)} error(s))" if tree.errors else "")
+            if tree.errors:
+                imgui.push_style_color(imgui.Col_.text, panel.ERROR_COLOUR)
+            opened = imgui.tree_node(f"{label}##prog-{tree.name}")
+            if tree.errors:
+                imgui.pop_style_color()
+            if opened:
+                for node in tree.stages:
+                    self._draw_node(node, bad, tree.name)
+                imgui.tree_pop()
+        imgui.end_child()
+
+    def _draw_node(self, node: logic.Node, bad: set[str], prefix: str) -> None:
+        name = Path(node.label).name
+        flags = imgui.TreeNodeFlags_.span_avail_width | imgui.TreeNodeFlags_.open_on_arrow
+        if not node.children:
+            flags |= imgui.TreeNodeFlags_.leaf
+        if self.file is not None and node.path == self.file.path.resolve():
+            flags |= imgui.TreeNodeFlags_.selected
+        if node.label in bad:
+            imgui.push_style_color(imgui.Col_.text, panel.ERROR_COLOUR)
+        opened = imgui.tree_node_ex(f"{name}##{prefix}/{node.label}", flags)
+        if node.label in bad:
+            imgui.pop_style_color()
+        if imgui.is_item_clicked() and not imgui.is_item_toggled_open():
+            self.open(node.path)
+        if imgui.is_item_hovered():
+            imgui.set_tooltip(node.label)
+        if opened:
+            for child in node.children:
+                self._draw_node(child, bad, prefix)
+            imgui.tree_pop()
+
+    def _draw_file(self, library, errors) -> None:
+        if self.file is None:
+            imgui.text_wrapped("Pick a file on the left: a program's stage files and what they "
+                               "#include. Saving recompiles every program that reads the file.")
+            return
+        label = library.display(self.file.path)
+        imgui.text(label + ("  *" if self.modified else ""))
+        imgui.same_line()
+        if imgui.small_button("Save"):
+            self.save(library)
+        imgui.same_line()
+        if imgui.small_button("Revert"):
+            self.reload_from_disk()
+        imgui.same_line()
+        imgui.text_disabled("Ctrl+S saves · Ctrl+Z undoes · Ctrl+F finds")
+        mine = [e for e in errors if e.file == label]
+        others = len(errors) - len(mine)
+        lines = [str(e) for e in mine]
+        if self.problem:
+            lines.append(self.problem)
+        rows = min(len(lines), 6)
+        below = rows * imgui.get_text_line_height_with_spacing() * 2.2 + (24 if others else 0)
+        if self.font is not None:
+            imgui.push_font(self.font, 0.0)
+        self.editor.render("##glsl", (0.0, -max(below, 1.0)))
+        self.text_rect = (*imgui.get_item_rect_min(), *imgui.get_item_rect_max())
+        if self.font is not None:
+            imgui.pop_font()
+        focused = imgui.is_item_focused() or imgui.is_window_focused(
+            imgui.FocusedFlags_.root_and_child_windows)
+        io = imgui.get_io()
+        if focused and io.key_ctrl and imgui.is_key_pressed(imgui.Key.s, False):
+            self.save(library)
+        if lines:
+            imgui.begin_child("errors", (0.0, 0.0))
+            panel.error_list(lines)
+            imgui.end_child()
+        if others:
+            imgui.text_disabled(f"{others} error(s) in other files: see the tree or the panel")
+
+    def _draw_modals(self, library) -> None:
+        if self._ask_copy:
+            imgui.open_popup("Save into a copy###natura-copy")
+            self._ask_copy = False
+        if imgui.begin_popup_modal("Save into a copy###natura-copy", None,
+                                   imgui.WindowFlags_.always_auto_resize)[0]:
+            imgui.push_text_wrap_pos(460.0)
+            imgui.text_wrapped("These are Natura's own shaders; they are never written. Your "
+                               "edit goes into a copy of the whole folder (as `natura shaders "
+                               "copy DIR` makes it) and the window runs from the copy from now "
+                               "on, as `natura --shaders DIR` would.")
+            imgui.pop_text_wrap_pos()
+            self.modal_open = True
+            if imgui.is_window_appearing():
+                imgui.set_keyboard_focus_here()
+            entered, self.copy_name = imgui.input_text(
+                "folder##copy", self.copy_name, imgui.InputTextFlags_.enter_returns_true)
+            if imgui.button("Copy and save") or entered:
+                if self.copy_and_save(library):
+                    imgui.close_current_popup()
+                    self.modal_open = False
+            imgui.same_line()
+            if imgui.button("Cancel"):
+                imgui.close_current_popup()
+                self.modal_open = False
+            if self.problem:
+                panel.error_list([self.problem])
+            imgui.end_popup()
+        else:
+            self.modal_open = False
+        if self._ask_conflict:
+            imgui.open_popup("Changed on disk###natura-conflict")
+            self._ask_conflict = False
+        if imgui.begin_popup_modal("Changed on disk###natura-conflict", None,
+                                   imgui.WindowFlags_.always_auto_resize)[0]:
+            imgui.text("The file changed on disk since it was opened.")
+            if imgui.button("Reload (lose my edit)"):
+                self.reload_from_disk()
+                imgui.close_current_popup()
+            imgui.same_line()
+            if imgui.button("Overwrite"):
+                self.save(library, overwrite=True)
+                imgui.close_current_popup()
+            imgui.same_line()
+            if imgui.button("Cancel"):
+                imgui.close_current_popup()
+            imgui.end_popup()

@@ -1,0 +1,166 @@
+"""Drives the window's shader editor with real X events (xdotool under Xvfb) and prints its
+findings as one ``RESULT {json}`` line (read by tests/window/test_window_editor.py).
+
+``copy``: the window runs on a user's copy of the shaders. F2 opens the editor; a click puts
+the caret in sky.frag's text; Ctrl+End, then a broken line typed; Ctrl+S saves; the library
+recompiles, the editor marks the line the compiler blames (its message as the marker's
+tooltip) and the terminal prints it whole; Backspace removes the typo, Ctrl+S, the marker goes.
+
+``own``: the window runs on Natura's own shaders. An edit, then Ctrl+S asks for a copy (the
+modal's folder field has the focus); Ctrl+A selects its text, typing replaces it, Enter copies
+the folder, moves the programs there and saves into the copy; Natura's file is untouched.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+
+from tests.helpers.window_driver import XKeys  # noqa: E402
+
+TYPO = "float natura_typo = ;"
+
+
+def _type(keys: XKeys, text: str) -> None:
+    n = len(keys.received)
+    subprocess.run(["xdotool", "type", "--delay", "20", text], check=True, timeout=60)
+    for _ in range(400):
+        if sum(1 for e in keys.received[n:] if e[0] == "char") >= len(text):
+            break
+        keys.frames(1)
+    keys.frames(2)
+
+
+def _click(keys: XKeys, x: float, y: float) -> None:
+    subprocess.run(["xdotool", "mousemove", "--window", keys.id, str(int(x)), str(int(y)),
+                    "click", "1"], check=True, timeout=30)
+    keys.frames(4)
+
+
+def _chord(keys: XKeys, *names: str) -> None:
+    """Keys held together (Ctrl+S): each down in order, then up in reverse."""
+    for name in names:
+        keys.down(name)
+    keys.frames(2)
+    for name in reversed(names):
+        keys.up(name)
+    keys.frames(2)
+
+
+def _until(keys: XKeys, check, frames: int = 240) -> bool:
+    for _ in range(frames):
+        if check():
+            return True
+        keys.frames(1)
+    return bool(check())
+
+
+def _sha(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def copy_run(work: str) -> int:
+    from app import DEFAULT_SHADER_ROOT
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    work_dir = Path(work)
+    os.chdir(work_dir)
+    shaders = work_dir / "my-glsl"
+    shutil.copytree(DEFAULT_SHADER_ROOT, shaders)
+    frag = shaders / "sky" / "sky.frag"
+    original = frag.read_text()
+    params = scene_params("sky", shader_root=shaders, sets=["time.hour=10"])
+    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (900, 560), shaders)
+    keys = XKeys(win, "^Natura .* sky$")
+    out: dict = {}
+    keys.tap("F2")
+    out["f2_shows_editor"] = win.editor.shown
+    win.editor.open(frag)
+    keys.frames(3)
+    x0, y0, x1, y1 = win.editor.text_rect
+    out["text_rect"] = [x0, y0, x1, y1]
+    _click(keys, (x0 + x1) / 2, (y0 + y1) / 2)
+    out["editor_has_keyboard"] = bool(win.imgui.get_io().want_capture_keyboard)
+    _chord(keys, "ctrl", "End")
+    _type(keys, "\n" + TYPO)
+    out["modified_before_save"] = win.editor.modified
+    lines = win.editor.editor.get_text().split("\n")
+    out["typo_line"] = next((i for i, line in enumerate(lines) if TYPO in line), -1)
+    cam_before = list(win.scene.camera.position)
+    _chord(keys, "ctrl", "s")
+    out["saved_on_disk"] = TYPO in frag.read_text()
+    out["camera_kept"] = list(win.scene.camera.position) == cam_before  # S did not fly back
+    _until(keys, lambda: bool(win.editor.marked))
+    out["markers"] = {str(k): v for k, v in win.editor.marked.items()}
+    out["errors"] = [str(e) for e in win.session.gpu.shaders.errors()]
+    for _ in range(len(TYPO) + 1):
+        keys.tap("BackSpace", hold_frames=1)
+    _chord(keys, "ctrl", "s")
+    _until(keys, lambda: not win.session.gpu.shaders.errors() and not win.editor.marked)
+    out["errors_after_fix"] = [str(e) for e in win.session.gpu.shaders.errors()]
+    out["markers_after_fix"] = list(win.editor.marked)
+    out["file_restored"] = frag.read_text().rstrip("\n") == original.rstrip("\n")
+    out["saves"] = win.editor.saves
+    keys.tap("F2")
+    out["f2_hides_editor"] = not win.editor.shown
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
+def own_run(work: str) -> int:
+    from app import DEFAULT_SHADER_ROOT
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    work_dir = Path(work)
+    os.chdir(work_dir)
+    own = DEFAULT_SHADER_ROOT / "sky" / "sky.frag"
+    own_sha = _sha(own)
+    params = scene_params("sky", sets=["time.hour=10"])
+    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (900, 560))
+    keys = XKeys(win, "^Natura .* sky$")
+    out: dict = {}
+    keys.tap("F2")
+    win.editor.open(own)
+    keys.frames(3)
+    x0, y0, x1, y1 = win.editor.text_rect
+    _click(keys, (x0 + x1) / 2, (y0 + y1) / 2)
+    _chord(keys, "ctrl", "End")
+    _type(keys, "\n// my note")
+    _chord(keys, "ctrl", "s")
+    out["asks_for_copy"] = _until(keys, lambda: win.editor.modal_open, 60)
+    out["offered_name"] = win.editor.copy_name
+    _chord(keys, "ctrl", "a")
+    _type(keys, "lesson1")
+    _until(keys, lambda: win.editor.copy_name == "lesson1", 60)  # ImGui takes a char a frame
+    out["typed_name"] = win.editor.copy_name
+    keys.tap("Return")
+    _until(keys, lambda: not win.editor.modal_open, 60)
+    copy = work_dir / "lesson1"
+    out["copy_made"] = (copy / "common").is_dir()
+    out["saved_in_copy"] = (copy / "sky" / "sky.frag").is_file() and (
+        "// my note" in (copy / "sky" / "sky.frag").read_text())
+    out["own_untouched"] = _sha(own) == own_sha
+    out["library_root"] = str(win.session.gpu.shaders.root)
+    out["editor_file"] = str(win.editor.file.path) if win.editor.file else None
+    out["errors"] = [str(e) for e in win.session.gpu.shaders.errors()]
+    out["no_temp_left"] = sorted(p.name for p in work_dir.iterdir())
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
+if __name__ == "__main__":
+    runs = {"copy": copy_run, "own": own_run}
+    sys.exit(runs[sys.argv[2]](sys.argv[1]))
