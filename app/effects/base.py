@@ -172,6 +172,14 @@ class Effect:
         for p in self.passes(frame, target):
             p.run()
 
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        """What the effect's current method teaches, in one or two sentences naming its thesis
+        section (the window's panel shows it at the top of the effect's header); None when the
+        effect has no methods to choose between. A class method of the parameters alone, so a
+        handout or a test can ask without a GL context."""
+        return None
+
     def panel_notes(self) -> list[str]:
         """Lines the window's panel shows above this effect's widgets (live figures)."""
         return []

@@ -1,33 +1,102 @@
-"""ImGui widgets built from parameters, grouped per effect (one collapsing header per group).
+"""ImGui widgets built from parameters: the scene's panel a student can navigate.
+
+:func:`scene_panel` is the window's parameter panel, one a student can navigate: a search box on
+top; one collapsing header per parameter group (an effect, its extra groups, Time, Output);
+under an effect's header first the lesson of its current method (``Effect.lesson``) and its
+live notes, then its parameters grouped by the thesis section they come from, in the digest's
+order, each group with a "§" button that opens the section's text in a side window (hovering
+it shows the title and the first sentences). The grouping and the search are the pure
+functions of :mod:`app.teach.sections`, tested without a window.
 
 Every widget writes through :meth:`ParamSet.set`, so the panel can never store a value the
-CLI would reject. Hovering a widget shows its doc, unit, range and thesis section.
+CLI would reject. Hovering a widget shows its doc, unit, range and thesis section; its context
+menu (right click) resets it or opens its section.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
 
 import numpy as np
 from imgui_bundle import imgui
 
 from ..colour import linear_to_srgb, srgb_to_linear
+from ..errors import one_line
 from ..params import Param, ParamSet
+from ..teach import sections as ts
 
 ERROR_COLOUR = (1.0, 0.35, 0.3, 1.0)
+LESSON_COLOUR = (0.55, 0.8, 1.0, 1.0)
+#: the width of tooltips, in font heights (they wrap there)
+TOOLTIP_EMS = 32.0
+SEARCH_HINT = "search: name, doc or thesis section"
 
 
-def _tooltip(p: Param) -> None:
-    if imgui.is_item_hovered():
+@dataclass
+class PanelState:
+    """What the panel keeps between frames (the window holds one): the search text, the thesis
+    section shown in the side window (a ref, ``"spec/003 §2.9"``) and the ones before it."""
+
+    search: str = ""
+    section: str | None = None
+    history: list[str] = field(default_factory=list)
+    #: set to focus the search box on the next frame (a key binding may set it)
+    focus_search: bool = False
+    #: (key, headers): the grouping, rebuilt only when the parameters change
+    _headers: tuple = field(default=(), repr=False, compare=False)
+
+    def open(self, ref: str) -> None:
+        """Show section ``ref`` in the side window (the one shown before goes to history)."""
+        if self.section and self.section != ref:
+            self.history.append(self.section)
+            del self.history[:-20]
+        self.section = ref
+
+    def back(self) -> None:
+        self.section = self.history.pop() if self.history else None
+
+    def close(self) -> None:
+        self.section = None
+        self.history.clear()
+
+
+def _wrapped_tooltip(lines: Sequence[str]) -> None:
+    """A tooltip whose lines wrap at :data:`TOOLTIP_EMS` font heights."""
+    if imgui.begin_tooltip():
+        imgui.push_text_wrap_pos(imgui.get_font_size() * TOOLTIP_EMS)
+        for line in lines:
+            imgui.text_unformatted(line)
+        imgui.pop_text_wrap_pos()
+        imgui.end_tooltip()
+
+
+def section_tooltip(section: ts.Section) -> None:
+    """The section's ref and title, and its first sentences."""
+    head = f"{section.ref} — {section.title}"
+    thesis = ts.spec_title(section.spec)
+    lines = [head] + ([f"({thesis})"] if thesis else []) + ["", section.summary(),
+                                                             "", "click: the whole section"]
+    _wrapped_tooltip(lines)
+
+
+def _tooltip(p: Param, section: ts.Section | None = None) -> None:
+    if imgui.is_item_hovered(imgui.HoveredFlags_.for_tooltip):
         unit = f" {p.unit}" if p.unit else ""
         lines = [p.name, p.doc, f"allowed: {p.allowed()}{unit}", f"default: {p.default}"]
         if p.section:
             lines.append(f"thesis: {p.section}")
+        if section is not None:
+            lines += ["", f"{section.label}: {section.summary(180)}"]
         if p.source != "python":
             lines.append(f"declared in {p.source}")
-        imgui.set_tooltip("\n".join(lines))
+        _wrapped_tooltip(lines)
 
 
-def param_widget(params: ParamSet, p: Param) -> bool:
-    """Draw one widget; returns True when the value changed."""
+def param_widget(params: ParamSet, p: Param, section: ts.Section | None = None,
+                 state: PanelState | None = None) -> bool:
+    """Draw one widget; returns True when the value changed. With ``section`` its tooltip
+    quotes the thesis section, and with ``state`` its context menu opens it."""
     value = params[p.name]
     label = f"{p.short}##{p.name}"
     changed = False
@@ -45,7 +114,7 @@ def param_widget(params: ParamSet, p: Param) -> bool:
         else:
             changed, new = imgui.drag_int(label, int(value), 1.0, lo, hi)
     elif p.kind == "float":
-        fmt = "%.4g" + (f" {p.unit}" if p.unit else "")
+        fmt = "%.4g" + (f" {p.unit}" if p.unit else "").replace("%", "%%")
         changed, new = imgui.slider_float(label, float(value), float(p.lo), float(p.hi), fmt)
     elif p.kind == "color":
         # pickers show display (sRGB) values; linear parameters are converted both ways
@@ -56,10 +125,13 @@ def param_widget(params: ParamSet, p: Param) -> bool:
     elif p.kind in ("vec3", "vec4"):
         drag = imgui.drag_float3 if p.kind == "vec3" else imgui.drag_float4
         changed, new = drag(label, list(value), float(p.step), float(p.lo), float(p.hi))
-    _tooltip(p)
+    _tooltip(p, section)
     if imgui.begin_popup_context_item(f"ctx##{p.name}"):
         if imgui.menu_item_simple("reset to default"):
             new, changed = p.default, True
+        if section is not None and state is not None and imgui.menu_item_simple(
+                f"thesis: {section.ref} {section.title}"):
+            state.open(section.ref)
         imgui.end_popup()
     if changed:
         try:
@@ -72,9 +144,8 @@ def param_widget(params: ParamSet, p: Param) -> bool:
 def params_panel(params: ParamSet, titles: dict[str, str], skip: set[str] = frozenset(),
                  open_groups: set[str] = frozenset(),
                  notes: dict[str, list[str]] | None = None) -> None:
-    """One collapsing header per group, the groups in ``open_groups`` open at first; groups
-    with a title (the scene's effects, Time, Output) come first. ``notes`` are lines an effect
-    shows above its widgets (live figures, what the current method teaches)."""
+    """One collapsing header per group, flat (the panel before :func:`scene_panel`; kept for
+    panels that list a parameter set of their own)."""
     groups = params.groups()
     order = [g for g in titles if g in groups] + [g for g in groups if g not in titles]
     for group in order:
@@ -88,6 +159,218 @@ def params_panel(params: ParamSet, titles: dict[str, str], skip: set[str] = froz
                 imgui.text_wrapped(line)
             for p in shown:
                 param_widget(params, p)
+
+
+# ---- the scene's panel ------------------------------------------------------------------------
+
+def _headers_key(params: ParamSet, scene) -> tuple:
+    return (getattr(scene, "name", ""), id(params),
+            tuple((p.name, p.section, p.doc) for p in params))
+
+
+def scene_panel(params: ParamSet, scene, state: PanelState,
+                skip: set[str] | frozenset[str] = frozenset({"time.hour"})) -> None:
+    """The window's parameter panel for ``scene`` (its effect instances give the lessons and
+    the notes; an effect a selector has switched off says so); ``state`` is kept by the
+    window between frames. Draws inside the current ImGui window, plus the thesis section's
+    side window when one is open."""
+    key = _headers_key(params, scene)
+    if not state._headers or state._headers[0] != key:
+        state._headers = (key, ts.build_headers(params, scene.instances, skip))
+    headers = state._headers[1]
+    lessons: dict[str, str] = {}
+    notes: dict[str, list[str]] = {}
+    idle: dict[str, str] = {}
+    for e in scene.instances:
+        if not scene.active(e):
+            idle[e.name] = _idle_reason(scene, e, params)
+            continue
+        try:
+            lesson = e.lesson(params)
+        except Exception as exc:  # a lesson that cannot be read must not close the panel
+            lesson = f"({one_line(exc)})"
+        if lesson:
+            lessons[e.name] = lesson
+        try:
+            notes[e.name] = ts.notes_without(lesson, e.panel_notes())
+        except Exception as exc:  # a figure that cannot be computed must not close the panel
+            notes[e.name] = [f"({one_line(exc)})"]
+    draw_panel(params, headers, state, lessons, notes, idle)
+
+
+def _idle_reason(scene, effect, params: ParamSet) -> str:
+    for name, (_, choices, _) in getattr(scene, "selectors", {}).items():
+        if effect.name in choices.values() and name in params:
+            return f"not drawn now ({name} = {params[name]})"
+    return "not drawn now"
+
+
+def draw_panel(params: ParamSet, headers: Sequence[ts.Header], state: PanelState,
+               lessons: Mapping[str, str] | None = None,
+               notes: Mapping[str, Sequence[str]] | None = None,
+               idle: Mapping[str, str] | None = None) -> None:
+    """The search box, then the headers that match it (:func:`scene_panel` gathers the
+    lessons, notes and idle effects by parameter group; tests call this directly)."""
+    lessons, notes, idle = lessons or {}, notes or {}, idle or {}
+    search_box(state)
+    shown = ts.filter_headers(headers, state.search)
+    searching = bool(state.search.split())
+    if searching:
+        n, total = ts.count(shown), ts.count(headers)
+        imgui.text_disabled(f"{n} of {total} parameters match" if n else
+                            "nothing matches: try a shorter word")
+    for h in shown:
+        if searching:
+            imgui.set_next_item_open(True, imgui.Cond_.appearing)
+            label = f"{h.title}##{h.group}/search"
+            flags = 0
+        else:
+            label = f"{h.title}##{h.group}"
+            own = h.group == h.effect or h.group in ("time", "output")
+            flags = imgui.TreeNodeFlags_.default_open if own else 0
+        if imgui.collapsing_header(label, flags):
+            imgui.push_id(h.group)
+            header_body(params, h, state, lessons.get(h.group), notes.get(h.group, ()),
+                        idle.get(h.group), searching)
+            imgui.pop_id()
+    section_window(state, headers)
+
+
+def search_box(state: PanelState) -> None:
+    """The search box over the whole width, with a button that clears it."""
+    if state.focus_search:
+        imgui.set_keyboard_focus_here()
+        state.focus_search = False
+    clear = imgui.calc_text_size("clear").x + imgui.get_style().frame_padding.x * 4
+    imgui.set_next_item_width(-clear if state.search else -1.0)
+    _, state.search = imgui.input_text_with_hint("##natura-search", SEARCH_HINT, state.search)
+    if state.search:
+        imgui.same_line()
+        if imgui.small_button("clear##natura-search"):
+            state.search = ""
+
+
+def section_button(section: ts.Section, state: PanelState, id_: str) -> None:
+    """A small "§" button that opens ``section``; hovering it quotes the section."""
+    if imgui.small_button(f"§##{id_}"):
+        state.open(section.ref)
+    if imgui.is_item_hovered(imgui.HoveredFlags_.for_tooltip):
+        section_tooltip(section)
+
+
+def header_body(params: ParamSet, h: ts.Header, state: PanelState, lesson: str | None,
+                notes: Sequence[str], idle: str | None, searching: bool = False) -> None:
+    """Under an effect's header: whether it is drawn, its lesson (with the § of the section
+    it names), its notes, then its parameters by thesis section."""
+    if idle:
+        imgui.text_disabled(idle)
+    if lesson:  # the § first: a button after wrapped text lands at the window's edge
+        named = ts.lesson_refs(lesson, h.spec)
+        if named:
+            section_button(named[0], state, f"lesson-{h.group}")
+            imgui.same_line()
+        imgui.push_text_wrap_pos(0.0)
+        imgui.text_colored(LESSON_COLOUR, lesson)
+        imgui.pop_text_wrap_pos()
+    for line in notes:
+        imgui.text_wrapped(line)
+    if len(h.groups) == 1:  # one section: its line, then the widgets (no click to open)
+        g = h.groups[0]
+        if g.key:
+            _group_line(g, state, h.group)
+        for p in g.params:
+            param_widget(params, p, g.section, state)
+        return
+    pad = imgui.calc_text_size("§").x + imgui.get_style().frame_padding.x * 2.0
+    for g in h.groups:
+        if searching:
+            imgui.set_next_item_open(True, imgui.Cond_.appearing)
+        if g.section is not None:  # the § before the title, which may run past the edge
+            section_button(g.section, state, f"{h.group}/{g.key}")
+            imgui.same_line()
+        else:  # the titles stay in one column
+            imgui.dummy((pad, 1.0))
+            imgui.same_line()
+        node = f"{g.title} ({len(g.params)})##{g.key or 'other'}" + ("/search" if searching
+                                                                       else "")
+        opened = imgui.tree_node_ex(node, 0)
+        _group_hover(g)
+        if opened:
+            for p in g.params:
+                param_widget(params, p, g.section, state)
+            imgui.tree_pop()
+
+
+def _group_hover(g: ts.Group) -> None:
+    if not imgui.is_item_hovered(imgui.HoveredFlags_.for_tooltip):
+        return
+    if g.section is not None:
+        section_tooltip(g.section)
+    elif g.key:
+        _wrapped_tooltip([g.key, "a source beyond the thesis digests"])
+    else:
+        _wrapped_tooltip(["parameters of this implementation that no thesis section names"])
+
+
+def _group_line(g: ts.Group, state: PanelState, group: str) -> None:
+    if g.section is not None:
+        section_button(g.section, state, f"{group}/{g.key}")
+        imgui.same_line()
+    imgui.text_disabled(g.title)
+    _group_hover(g)
+
+
+def section_window(state: PanelState, headers: Sequence[ts.Header] = ()) -> None:
+    """The open thesis section in a window of its own beside the panel: the thesis, the
+    section's title and where the digest took it from, its text (wrapped), the lettered items
+    and subsections it has, and the scene's parameters that cite it."""
+    if not state.section:
+        return
+    s = ts.lookup(state.section)
+    pos, size = imgui.get_window_pos(), imgui.get_window_size()
+    imgui.set_next_window_pos((pos.x + size.x + 8.0, pos.y), imgui.Cond_.appearing)
+    imgui.set_next_window_size((440.0, 520.0), imgui.Cond_.first_use_ever)
+    title = f"Thesis: {s.ref if s else state.section}###natura-thesis-section"
+    expanded, keep = imgui.begin(title, True, imgui.WindowFlags_.no_focus_on_appearing)
+    if expanded:
+        if state.history:
+            if imgui.small_button("< back"):
+                state.back()
+            imgui.same_line()
+        if s is None:
+            imgui.text_wrapped(f"{state.section}: not in resources/sections.json")
+        else:
+            section_text(s, state, headers)
+    imgui.end()
+    if not keep:
+        state.close()
+
+
+def section_text(s: ts.Section, state: PanelState, headers: Sequence[ts.Header] = ()) -> None:
+    thesis = ts.spec_title(s.spec)
+    imgui.text_disabled(f"{s.spec}: {thesis}" if thesis else s.spec)
+    imgui.push_text_wrap_pos(0.0)
+    imgui.text_colored(LESSON_COLOUR, f"{s.number} {s.title}")
+    if s.source:
+        imgui.text_disabled(f"({s.source})")
+    imgui.pop_text_wrap_pos()
+    related = ts.related(s)
+    if related:
+        for i, r in enumerate(related):
+            if i:
+                imgui.same_line()
+            if imgui.small_button(f"{r.number}##rel-{r.ref}"):
+                state.open(r.ref)
+            if imgui.is_item_hovered(imgui.HoveredFlags_.for_tooltip):
+                section_tooltip(r)
+    cited = [p.name for h in headers for g in h.groups if g.section is not None
+             and g.section.ref == s.ref for p in g.params]
+    if cited:
+        imgui.push_text_wrap_pos(0.0)
+        imgui.text_disabled("parameters here: " + ", ".join(cited))
+        imgui.pop_text_wrap_pos()
+    imgui.separator()
+    imgui.text_wrapped(s.text)
 
 
 def keyframes_panel(keyframes) -> bool:
@@ -152,7 +435,7 @@ def inspector_panel(params: ParamSet, inspector, register=None) -> None:
         if register is not None:
             register(tex)
         imgui.begin_group()
-        imgui.image(tex.glo, (64.0, 64.0 if tex.height > 1 else 12.0))
+        imgui.image(imgui.ImTextureRef(tex.glo), (64.0, 64.0 if tex.height > 1 else 12.0))
         imgui.text_disabled(label)
         imgui.end_group()
         imgui.same_line()

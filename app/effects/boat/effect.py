@@ -24,7 +24,7 @@ import numpy as np
 
 from ...frame import DryMask, Stage
 from ...gpu.programs import ProgramSpec
-from ...params import Param
+from ...params import Param, ParamSet
 from ...render.environment import flat_environment
 from ...render.noise import GradientNoiseTextures
 from ...sim import cloth, rigging
@@ -103,6 +103,23 @@ class Boat(Effect):
             *cloth.cloth_params("boat.sail_", cloth.SAIL_DEFAULTS),
             *cloth.cloth_params("boat.flag_", cloth.FLAG_DEFAULTS),
         ]
+
+    #: what each buoyancy method teaches (boat.buoyancy)
+    LESSONS = {
+        "probes": "Floating points (spec/000 §1.3, the thesis's FloatingObject): the boat is "
+                  "placed at the mean water height and normal of a few probes, kinematically: "
+                  "it follows the surface without mass or inertia.",
+        "probe_forces": "Force probes (beyond the thesis; Crest's BoatProbes): each probe "
+                        "pushes up by its depth under the water, so the hull has mass and "
+                        "inertia; the thesis's probes only place it (spec/000 §1.3).",
+        "hydrostatic": "Hydrostatic pressure (beyond the thesis; Kerner): buoyancy integrated "
+                       "over every submerged hull triangle, so heel and pitch come from the "
+                       "hull's shape; the thesis averages a few probe heights (spec/000 §1.3).",
+    }
+
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        return cls.LESSONS.get(params["boat.buoyancy"]) if "boat.buoyancy" in params else None
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

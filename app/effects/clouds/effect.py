@@ -61,7 +61,7 @@ from ...bakes.textures import BakedTextures
 from ...errors import ParamError
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
-from ...params import Param
+from ...params import Param, ParamSet
 from ...render.layers import LAYER_COMPOSITE, composite_layer
 from ...sim.clouds import density_length
 from ..base import Effect, Pass
@@ -127,6 +127,14 @@ class Clouds(Effect):
             Param("clouds.wind_dir_y", 0.0, -1.0, 1.0,
                   "Dirección eje Y: wind direction along world z", step=0.01, section=f"{s} §2"),
         ] + bakes.bake_params()
+
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        return ("Model A, the cloud thesis (spec/001 §1.4, §1.5): a density field of "
+                "Perlin–Worley shape noise eroded by Worley detail under a weather map, "
+                "ray-marched through the container with a light march toward the sun at each "
+                "sample (spec/001 §1.6, §1.7); the thesis reached only 1–2 FPS at 1920×1080 "
+                "(spec/001 §4).")
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

@@ -46,7 +46,7 @@ from ... import bakes
 from ...bakes.textures import BakedTextures
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
-from ...params import Param
+from ...params import Param, ParamSet
 from ...render.layers import LAYER_COMPOSITE, composite_layer
 from ...sim import clouds_b as twin
 from ..base import Effect, Pass
@@ -86,6 +86,13 @@ class CloudsB(Effect):
             Param("clouds_b.sun_color", (1.0, 1.0, 1.0), 0.0, 100.0, "_SunColor when no effect "
                   "before sets a light", kind="vec3", step=0.01, section=s),
         ]
+
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        return ("Model B, the maritime thesis's clouds (spec/000 §1.6, after Schneider 2015): "
+                "a box marched at a fixed step, the volume noise above a density threshold "
+                "eroded by detail noise under a coverage map, lit by a short light march (Beer's "
+                "law) with a two-lobe Henyey–Greenstein phase and the powder term.")
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

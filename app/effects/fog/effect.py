@@ -46,7 +46,7 @@ import numpy as np
 
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec
-from ...params import Inspector, Param
+from ...params import Inspector, Param, ParamSet
 from ...sim import fog as fs
 from ..base import Effect, Pass
 from . import plane as pl
@@ -119,6 +119,23 @@ class Fog(Effect):
                   "median height (the plateau): low, so it cuts the houses little (Fig. 119)",
                   step=0.01, unit="m", section=a),
         ]
+
+    #: what each global fog mode teaches (fog.mode)
+    LESSONS = {
+        "off": "Global fog off (spec/003 §2.11(b)); the scrolling ground-fog plane of spec/003 "
+               "§2.11(a) is a separate switch (fog.plane).",
+        "linear": "Linear fog (spec/003 §2.11(b)): f = (end − d)/(end − start) from "
+                  "the clip-space distance, per vertex, lerped after lighting; full fog at a "
+                  "hard distance.",
+        "exp": "Exponential fog (spec/003 §2.11(b)): f = e^(−t·d), thinning smoothly "
+               "with distance and never quite opaque.",
+        "exp2": "Exponential squared fog (spec/003 §2.11(b), the thesis's choice): "
+                "f = e^(−(t·d)²) keeps the near scene clear and closes in faster beyond.",
+    }
+
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        return cls.LESSONS.get(params["fog.mode"]) if "fog.mode" in params else None
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

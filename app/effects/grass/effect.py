@@ -47,7 +47,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
-from ...params import Inspector, Param
+from ...params import Inspector, Param, ParamSet
 from ...render.shadow_maps import bind_published
 from ...sim import grass as gs
 from ...sim.fog import fog_uniforms
@@ -154,6 +154,25 @@ class Grass(Effect):
                   "(frustum and distance) and use the LOD strip (off: every blade, full strip)",
                   kind="bool", section=s),
         ]
+
+    #: what each method teaches (the panel shows the current one above the parameters)
+    LESSONS = {
+        "geometry": "Geometry-shader grass (spec/003 §2.9(a)): every input triangle grows a "
+                    "pyramid blade of grass.gs_sections sections bent by the wind; the "
+                    "thesis rejected it: the blades follow the mesh (regular, "
+                    "mesh-dependent) and every section adds triangles.",
+        "billboard": "Crossed billboards (spec/003 §2.9(b), the thesis's final grass): each "
+                     "unit is 1–3 textured planes turned toward the camera about the Billboard "
+                     "Y axis and cut out by alpha to coverage: a few triangles per tuft, not "
+                     "per blade, at the price of flat tufts seen from above.",
+        "instanced": "Instanced Bézier blades (beyond the thesis, which ends at spec/003 "
+                     "§2.9(b)): one curved blade mesh drawn per instance and culled per tile, "
+                     "so every blade is real geometry, its cost set by the count, not a mesh.",
+    }
+
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        return cls.LESSONS.get(params["grass.method"]) if "grass.method" in params else None
 
     def __init__(self, gpu, params, owner: str | None = None):
         super().__init__(gpu, params)

@@ -21,7 +21,7 @@ import numpy as np
 
 from ...colour import srgb_to_linear
 from ...gpu.programs import ProgramSpec
-from ...params import Param
+from ...params import Param, ParamSet
 from ...render.meshes import (
     FIXED_TESSELLATION,
     Mesh,
@@ -155,6 +155,24 @@ class Materials(Effect):
             Param("granite.light_color", (0.9, 0.88, 0.86), 0.0, 1.0, "light grains", kind="color",
                   srgb=True),
         ]
+
+    #: what each noise teaches (materials.noise)
+    LESSONS = {
+        "value": "Value noise (spec/004 §1.5), the thesis's: random values at the lattice's "
+                 "corners blended with the cubic fade 3t² − 2t³ and summed over octaves — C¹, "
+                 "and not Perlin's gradient noise although the thesis calls it so (spec/004 "
+                 "§1.2).",
+        "gradient": "Gradient noise (Perlin 2002, beyond the thesis; compare spec/004 §1.5): "
+                    "random gradients at the corners, dotted with the offsets and blended with "
+                    "the quintic fade; zero at every lattice point, so the lattice shows less "
+                    "than with the thesis's value noise.",
+    }
+
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        if "materials.noise" not in params:
+            return None
+        return cls.LESSONS.get(params["materials.noise"])
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

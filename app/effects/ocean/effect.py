@@ -33,7 +33,7 @@ import numpy as np
 from ...frame import Stage
 from ...gpu.copy import ColourCopy
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
-from ...params import Param
+from ...params import Param, ParamSet
 from ...render.environment import flat_environment
 from ...sim import ocean as oc
 from ..base import Effect, Pass
@@ -100,6 +100,15 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     @classmethod
     def python_params(cls) -> list[Param]:
         return ocean_params()
+
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        """The current wave model's line of :data:`LESSONS` (which :meth:`panel_notes` also
+        begins with; the panel shows it once), with the digest's section where it names none."""
+        text = cls.LESSONS.get(params["ocean.model"]) if "ocean.model" in params else None
+        if text and "spec/" not in text:  # the FFT line names Tessendorf only
+            text += " See spec/000 §1.1(d), §1.1(e)."
+        return text
 
     # -- life ------------------------------------------------------------------------------
 

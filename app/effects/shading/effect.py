@@ -123,6 +123,31 @@ class Shading(Effect):
             *outline_params(),
         ]
 
+    #: what each CelShader Toon mode teaches (shading.toon: 0 None … 3 Ramp)
+    LESSONS = {
+        1: "Flat toon (spec/003 §2.12): one cut at the terminator (n·l = 0) and a hard-edged "
+           "specular made the same way; Smoothness softens both edges.",
+        2: "Stepped toon (spec/003 §2.12): n·l remapped to [0, 1] and quantised into four "
+           "bands (0.2, 0.5, 0.7, 1.0 above 0.45, 0.55, 0.65); the darkest band stays above 0 "
+           "as a built-in ambient, so the texture always shows.",
+        3: "Ramp toon (spec/003 §2.12): ½(n·l) + ½ looks up a 1-D ramp texture, so "
+           "the bands are the artist's; the thesis found it needs art direction but gives "
+           "very good results.",
+    }
+
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        if "shading.toon" not in params:
+            return None
+        toon = int(params["shading.toon"])
+        if toon in cls.LESSONS:
+            return cls.LESSONS[toon]
+        model = int(params["shading.lighting_model"]) if "shading.lighting_model" in params else 2
+        name = ("Lambert", "Phong", "Blinn–Phong")[min(max(model, 0), 2)]
+        return (f"No toon: {name} lighting (spec/003 §2.1), "
+                "n·l continuous; the Toon modes Flat, Stepped and Ramp quantise it "
+                "(spec/003 §2.12).")
+
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
         self._meshes: dict = {}

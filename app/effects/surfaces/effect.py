@@ -35,7 +35,7 @@ import numpy as np
 
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec
-from ...params import Param
+from ...params import Param, ParamSet
 from ...render import shadows as shadow_module
 from ...render.shadow_maps import CASTER, ShadowSet
 from ...sim import distortion, surfaces_scene
@@ -188,6 +188,34 @@ class Surfaces(Effect):
         ]
         return (own + shadow_module.shadow_params("surfaces") + Transparency.python_params()
                 + ReflectionProbe.python_params())
+
+    #: what each of the thesis's failures teaches (surfaces.failure)
+    LESSONS = {
+        "none": "No failure shown (spec/003 §4): surfaces.failure reproduces the thesis's "
+                "failures — queue order, intersecting panes, ZWrite off, shadow acne, Peter "
+                "Panning — each with the switch that shows it.",
+        "queue_order": "Queue order (spec/003 §2.4, Fig. 44c): the blue α = 0.5 pane queued "
+                       "as Geometry draws before the cut-out fence behind it and writes depth, "
+                       "so the fence vanishes behind it; blended objects go after AlphaTest.",
+        "intersecting": "Intersecting blended panes (spec/003 §2.4, Fig. 45): sorting by "
+                        "object centre cannot order two panes that cross, so one hides part of "
+                        "the other; the sort is per object, not per pixel.",
+        "zwrite_off": "ZWrite off (spec/003 §2.4, Fig. 46): the blended panes no longer hide "
+                      "each other, but their order is still wrong where they cross; the thesis "
+                      "accepts it only for distant objects.",
+        "acne": "Shadow acne (spec/003 §2.8, Fig. 86): without a bias a surface shadows itself "
+                "in stripes wherever its depth and the shadow map's differ by less than the "
+                "map's precision.",
+        "peter_panning": "Peter Panning (spec/003 §2.8, Fig. 87): a linear bias of 0.6 pushes "
+                         "the shadow off its caster, so objects seem to float; the thesis "
+                         "balances a linear 0.3 with a normal 0.01.",
+    }
+
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        if "surfaces.failure" not in params:
+            return None
+        return cls.LESSONS.get(params["surfaces.failure"])
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

@@ -70,7 +70,7 @@ import numpy as np
 
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
-from ...params import Inspector, Param
+from ...params import Inspector, Param, ParamSet
 from ...render.environment import flat_environment
 from ...sim import toon_water as tw
 from ...sim.daynight import Light
@@ -124,6 +124,22 @@ class ToonWater(Effect):
                   "texture baked from 0.018 + 0.982·(1 − u)^5 (the thesis's, to avoid the 5th "
                   "power) or the power itself", kind="choice", choices=FRESNEL, section=s),
         ]
+
+    #: what each Water Type teaches (toon_water.type)
+    LESSONS = {
+        "simple": "Simple water (spec/003 §2.10): refraction only — a grab of what lies under "
+                  "the water, distorted by scrolling wave normals — over a flat colour, with "
+                  "v·n discretised into 3 bands; no reflection, so it is cheap.",
+        "complex": "Complex water (spec/003 §2.10): lerp(refraction, reflection, F), the "
+                   "probe's reflection discretised by Toon Value and F read "
+                   "from a ramp texture baked from Schlick's 0.018 + 0.982·(1 − u)^5.",
+    }
+
+    @classmethod
+    def lesson(cls, params: ParamSet) -> str | None:
+        if "toon_water.type" not in params:
+            return None
+        return cls.LESSONS.get(params["toon_water.type"])
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
