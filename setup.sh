@@ -4,7 +4,8 @@
 #     ./setup.sh && .venv/bin/natura
 #
 # 1. the system packages: Python's venv module, Mesa's EGL and its software (llvmpipe) driver,
-#    and Xvfb + xdotool for the window tests. As root they are installed with apt-get; as
+#    Xvfb + xdotool for the window tests, and Chromium for the handout's test (natura report's
+#    page is opened in headless Chromium). As root they are installed with apt-get; as
 #    another user the script stops with one line naming what is missing and the command to run.
 # 2. a virtual environment in .venv with Natura and its test tools (pip install -e '.[test]').
 #
@@ -15,9 +16,10 @@ set -eu
 cd "$(dirname "$0")"
 
 PYTHON=${PYTHON:-python3}
-# Needed to run Natura; wanted for its window tests (skipped with that reason without them).
+# Needed to run Natura; wanted for its window tests (xvfb, xdotool) and the handout's test
+# (chromium: natura report's page opened headless); those tests skip with that reason without.
 NEEDED="python3-venv libegl1 libgl1-mesa-dri"
-WANTED="xvfb xdotool"
+WANTED="xvfb xdotool chromium"
 
 say() { echo "setup: $*" >&2; }
 
@@ -35,6 +37,7 @@ have_package() {
                              >/dev/null 2>&1 ;;
         xvfb) command -v Xvfb >/dev/null 2>&1 ;;
         xdotool) command -v xdotool >/dev/null 2>&1 ;;
+        chromium) command -v chromium >/dev/null 2>&1 ;;
         *) return 1 ;;
     esac
 }
@@ -58,7 +61,7 @@ missing=$(missing_of "$NEEDED")
 optional=$(missing_of "$WANTED")
 if [ "${1:-}" = "--check" ]; then
     [ -z "$missing" ] && [ -z "$optional" ] && { say "nothing missing"; exit 0; }
-    say "missing: ${missing:-none}; for the window tests: ${optional:-none}"
+    say "missing: ${missing:-none}; for the window and handout tests: ${optional:-none}"
     [ -z "$missing" ]
     exit
 fi
@@ -78,14 +81,16 @@ if [ -n "$missing$optional" ]; then
                 say "apt-get could not install $missing: install them, then run ./setup.sh again"
                 exit 1
             }
-            [ -z "$optional" ] || say "could not install $optional: the window tests will skip"
+            [ -z "$optional" ] || say "could not install $optional: the tests that need" \
+                "them will skip"
         fi
     elif [ -n "$missing" ]; then
         say "missing Debian packages $missing: run 'sudo apt-get install $missing $optional'" \
             "then ./setup.sh again"
         exit 1
     else
-        say "the window tests will skip without $optional ('sudo apt-get install $optional')"
+        say "the window and handout tests will skip without $optional" \
+            "('sudo apt-get install $optional')"
     fi
 fi
 

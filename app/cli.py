@@ -10,6 +10,11 @@
     natura shaders copy DIR     copy the shader folder for editing (then --shaders DIR)
     natura bench SCENE          time each pass, write JSON
     natura bench boat           the boat's physics and speed polar (numpy, no GL): JSON, charts
+    natura compare SCENE --a NAME=VALUE... --b NAME=VALUE...
+                                two parameter sets side by side: ms, difference, errors; PNG + JSON
+    natura report SCENE         an HTML handout: the scene's methods side by side, charts, sections
+    natura render|window SCENE --quality auto --error-budget E --ms-budget MS
+                                the cheapest measured settings within the budgets
 
 Exit codes: 0 success, 1 shader errors, 2 bad arguments or an output that cannot be written
 (one line naming the culprit and what is allowed), 3 no OpenGL, 70 an internal error (a bug:
@@ -22,7 +27,6 @@ import argparse
 import math
 import os
 import re
-import shutil
 import signal
 import sys
 from pathlib import Path
@@ -153,6 +157,57 @@ def _add_scene_options(p: argparse.ArgumentParser) -> None:
     _add_common(p)
 
 
+def _add_quality_options(p: argparse.ArgumentParser) -> None:
+    """``--quality auto`` and its budgets (render and window; app/teach/quality.py)."""
+    p.add_argument("--quality", choices=("fixed", "auto"), default="fixed",
+                   help="auto: per effect and knob, the cheapest setting whose measured error "
+                   "(the benches' sweeps) meets --error-budget and/or --ms-budget; prints each "
+                   "pick and why (your --set values win)")
+    p.add_argument("--error-budget", default=None, metavar="E|Nx",
+                   help="largest error, in each knob family's own metric (printed with it), or "
+                   "Nx: N times the current setting's error")
+    p.add_argument("--ms-budget", type=_positive_ms("--ms-budget", MAX_BUDGET_MS), default=None,
+                   metavar="MS", help="largest ms per frame, each sweep's time scaled by pixel "
+                   "count to --size")
+    p.add_argument("--sweeps", default=None, metavar="FILE.json",
+                   help="the natura bench report to pick from (default: your newest "
+                   "bench-results/SCENE-NNNN.json with sweeps, else the shipped docs/ run)")
+
+
+def _apply_quality(args, params, scene_name: str | None = None,
+                   size: tuple[int, int] | None = None):
+    """``--quality auto``: pick per knob family from the measured sweeps, print each pick and
+    why (stderr), and set the picks on ``params`` (the user's --set values win). Budgets
+    without ``--quality auto`` are refused. Returns the picks (also ``args.quality_picks``, for
+    the window's chart), or None."""
+    given = [(option, getattr(args, attr, None)) for option, attr in (
+        ("--error-budget", "error_budget"), ("--ms-budget", "ms_budget"), ("--sweeps", "sweeps"))]
+    given = [(option, value) for option, value in given if value is not None]
+    if getattr(args, "quality", "fixed") != "auto":
+        if given:
+            raise UsageError(f"{given[0][0]} needs --quality auto: allowed --quality auto with "
+                             "--error-budget E and/or --ms-budget MS")
+        return None
+    from .teach.quality import parse_error_budget, pick
+
+    _nonempty("--error-budget", args.error_budget, "a number ≥ 0 or Nx")
+    budget = parse_error_budget(args.error_budget) if args.error_budget is not None else None
+    if budget is None and args.ms_budget is None:
+        raise UsageError("--quality auto needs a budget: allowed --error-budget E and/or "
+                         "--ms-budget MS")
+    _nonempty("--sweeps", args.sweeps, "a natura bench report (FILE.json)")
+    scene_name = scene_name or args.scene
+    explicit = [s.partition("=")[0].strip() for s in args.sets]
+    picks = pick(scene_name, budget, args.ms_budget, args.sweeps, params=params, size=size,
+                 interactive=args.command == "window", explicit=explicit)
+    lines = picks.lines(params)
+    picks.apply(params)
+    for line in lines:
+        print(line, file=sys.stderr)
+    args.quality_picks = picks
+    return picks
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="natura",
                      description="Natural effects from five graphics theses, live and measured.")
@@ -162,12 +217,14 @@ def build_parser() -> argparse.ArgumentParser:
     w = sub.add_parser("window", help="open the desktop window")
     w.add_argument("scene", nargs="?", default=None)
     _add_scene_options(w)
+    _add_quality_options(w)
     w.add_argument("--frames", type=_int_in("--frames", 1, MAX_FRAMES), default=None,
                    help="close after N frames (scripts, tests)")
 
     r = sub.add_parser("render", help="render headless to PNG (tone-mapped sRGB) or EXR (linear)")
     r.add_argument("scene")
     _add_scene_options(r)
+    _add_quality_options(r)
     r.add_argument("--out", default=None, metavar="FILE.png|FILE.exr",
                    help="output file (default: the next free SCENE-NNNN.png here)")
     r.add_argument("--frames", type=_int_in("--frames", 1, MAX_FRAMES), default=1,
@@ -222,6 +279,79 @@ def build_parser() -> argparse.ArgumentParser:
                    "from the scene's sweeps that bring the frame under it at the least error")
     b.add_argument("--force", action="store_true",
                    help="overwrite an existing report and its chart")
+
+    c = sub.add_parser("compare", help="two parameter sets of a scene side by side: both "
+                       "images, their ms, the difference and each one's error; PNG + JSON",
+                       description="Render a scene with two parameter sets A and B (each over "
+                       "the same base: defaults, --preset, --set, --time, --camera), time both "
+                       "in interleaved rounds, and write one PNG: A | B | the signed, magnified "
+                       "difference B − A (or a wipe between A and B beside it) with a caption "
+                       "(both ms, their ratio, each one's error against the scene's reference "
+                       "where it has one, the gain, the renderer), and every figure as JSON "
+                       "beside it. The caption is printed too.")
+    c.add_argument("scene")
+    _add_scene_options(c)
+    for action in c._actions:
+        if action.dest == "size":
+            action.help = f"image size of each side (default {COMPARE_SIZE})"
+    c.add_argument("--a", dest="a_sets", action="extend", nargs="+", default=[],
+                   metavar="NAME=VALUE",
+                   help="side A's parameters over the base (repeatable; several after one --a)")
+    c.add_argument("--b", dest="b_sets", action="extend", nargs="+", default=[],
+                   metavar="NAME=VALUE", help="side B's parameters over the base")
+    c.add_argument("--layout", choices=("side", "wipe"), default="side",
+                   help="side: A | B | difference; wipe: A left and B right of a line, beside "
+                   "the difference")
+    c.add_argument("--wipe", type=_float_in("--wipe", 0.0, 1.0), default=None, metavar="0..1",
+                   help="where the wipe's line is, as a share of the width (default 0.5)")
+    c.add_argument("--rounds", type=_int_in("--rounds", 1, MAX_COMPARE_ROUNDS), default=5,
+                   help=f"timed rounds, each frame of A and of B once, 1..{MAX_COMPARE_ROUNDS} "
+                   "(default 5; the median and quartiles are reported)")
+    c.add_argument("--no-reference", action="store_true",
+                   help="skip the reference renders (no error figures; faster)")
+    c.add_argument("--out", default=None, metavar="FILE.png",
+                   help="output image (default: the next free compare-SCENE-NNNN.png here); "
+                   "the JSON is FILE.json beside it")
+    c.add_argument("--force", action="store_true", help="overwrite existing PNG and JSON")
+
+    rp = sub.add_parser("report", help="write an HTML handout: a scene's methods side by side "
+                        "with their times, errors, charts and thesis sections",
+                        description="Render every method of a scene (see --methods) in "
+                        "interleaved timed rounds and write DIR/"
+                        "index.html: the images with their ms, error against the scene's "
+                        "reference and the command that reproduces each, the differences "
+                        "against the first method, the time-against-error charts, and the "
+                        "parameters grouped by thesis section with the digest's paragraph. "
+                        "Images are inline: the page alone is the handout, offline.")
+    rp.add_argument("scene")
+    rp.add_argument("--out", default=None, metavar="DIR",
+                    help="the handout's folder: new or empty (default: the next free "
+                    "SCENE-report-NNNN here); it gets index.html and report.json")
+    from .teach.methods import AXES  # names only: no numpy, no GL
+
+    rp.add_argument("--methods", default=None, metavar="A,B,...",
+                    help="a subset of the scene's methods, the first the base of the "
+                    "differences (default: all; the sky and the probe have one) — "
+                    + "; ".join(f"{a.scene}: {','.join(v for v, _ in a.choices)} "
+                                f"({a.param})" for a in AXES.values()))
+    rp.add_argument("--size", default=None, metavar="WxH", help="each image's size "
+                    "(default 320x180)")
+    rp.add_argument("--rounds", type=_int_in("--rounds", 1, MAX_COMPARE_ROUNDS), default=5,
+                    help=f"timed rounds of each method with the first, 1..{MAX_COMPARE_ROUNDS} "
+                    "(default 5)")
+    rp.add_argument("--time", type=_float_in("--time", 0.0, 24.0), default=None,
+                    metavar="HOURS", help="hour of day, 0 to 24")
+    rp.add_argument("--camera", default=None, metavar="X,Y,Z[,YAW[,PITCH[,FOV]]]",
+                    help="camera position in metres, then yaw, pitch and fov in degrees")
+    rp.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                    help="set a parameter for every method (repeatable)")
+    rp.add_argument("--preset", default=None, metavar="FILE.toml",
+                    help="apply a TOML preset before --set")
+    rp.add_argument("--force", action="store_true",
+                    help="write into a non-empty DIR (its index.html and report.json are "
+                    "replaced, nothing else)")
+    _add_common(rp)
+    rp.set_defaults(yaw=None, pitch=None, fov=None, vr=False, mesh=None)
     return parser
 
 
@@ -282,6 +412,7 @@ def _session_inputs(args, scene_name: str):
         parse_camera(args.camera, camera)
         cls.on_user_camera(params)
     camera.set(yaw=args.yaw, pitch=args.pitch, fov=args.fov)
+    _apply_quality(args, params, scene_name, size)
     return params, camera, size
 
 
@@ -383,7 +514,7 @@ def cmd_window(args) -> int:
     return run_window(scene_name, params, camera, size,
                       shader_root=resolve_shader_root(args.shaders), frames=args.frames,
                       setup=(lambda scene: attach_mesh(scene, mesh)) if mesh is not None
-                      else None)
+                      else None, quality=getattr(args, "quality_picks", None))
 
 
 def cmd_scenes(args) -> int:
@@ -417,44 +548,12 @@ def cmd_params(args) -> int:
 
 
 def copy_shaders(dest_arg: str) -> Path:
-    """Copy the shader folder to a new folder ``dest_arg``: into a temporary sibling first,
-    renamed at the end, so an error (full disk, Ctrl-C) leaves nothing and a retry works."""
-    from .imageio import _LIVE, _can_create_in, _remove, expand, name_max, temp_name_in
+    """``natura shaders copy DIR`` (app.teach.editor.copy_shaders: a temporary sibling renamed
+    at the end, nothing left behind on an error)."""
+    from .teach.editor import copy_shaders as copy
 
-    allowed = "allowed a new folder name in an existing, writable folder"
     _nonempty("shaders copy DIR", dest_arg, "a new folder name")
-    dest = expand(dest_arg, "shaders copy DIR")
-    shown = quote(str(dest))
-    if os.path.lexists(dest):
-        raise UsageError(f"{shown} already exists: "
-                         "allowed a new folder name (nothing is overwritten)")
-    parent = dest.parent if str(dest.parent) else Path(".")
-    if not parent.is_dir():
-        what = "is not a folder" if os.path.lexists(parent) else "does not exist"
-        raise UsageError(f"the folder {quote(str(parent))} of {shown} {what}: {allowed}")
-    if len(os.fsencode(dest.name)) > name_max(parent):
-        raise UsageError(f"folder name {quote(dest.name)} is {len(os.fsencode(dest.name))} "
-                         f"bytes: allowed at most {name_max(parent)}")
-    if not _can_create_in(parent):
-        raise UsageError(f"the folder {quote(str(parent))} is not writable: {allowed}")
-    source = resolve_shader_root(None)
-    tmp = temp_name_in(parent)
-    _LIVE.add(tmp)
-    try:
-        shutil.copytree(source, tmp)
-        if os.path.lexists(dest):  # taken while copying
-            raise UsageError(f"{shown} already exists: "
-                             "allowed a new folder name (nothing is overwritten)")
-        os.rename(tmp, dest)
-        _LIVE.discard(tmp)
-    except (OSError, shutil.Error) as exc:
-        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else type(exc).__name__
-        raise UsageError(f"cannot copy the shaders to {shown} ({why}): {allowed}, with free "
-                         "space; nothing was left behind") from None
-    finally:
-        if tmp in _LIVE:
-            _remove(tmp)
-    return dest
+    return copy(dest_arg)
 
 
 def cmd_shaders(args) -> int:
@@ -667,6 +766,87 @@ def cmd_bench(args) -> int:
     return 0
 
 
+#: ``natura compare``'s default size of each side, and its bound on --rounds
+COMPARE_SIZE = "640x360"
+MAX_COMPARE_ROUNDS = 1000
+
+
+def cmd_compare(args) -> int:
+    """``natura compare SCENE --a ... --b ...``: every input and both output names checked
+    before anything is rendered (app/teach/compare.py does the work)."""
+    from .imageio import check_output_path, next_free_path
+    from .runtime import parse_size
+    from .teach.compare import compare, side_params, write
+
+    _nonempty("--out", args.out, "a file name ending in .png")
+    params, camera, size = _session_inputs(args, args.scene)
+    if args.size is None:
+        size = parse_size(COMPARE_SIZE)
+    mesh = _user_mesh(args, args.scene)
+    if not args.a_sets and not args.b_sets:
+        raise UsageError("compare: nothing differs between A and B: allowed --a NAME=VALUE ... "
+                         "and/or --b NAME=VALUE ... (the names: natura params "
+                         f"{args.scene})")
+    side_params(params, args.a_sets, "--a")  # each set checked here: one line naming it
+    side_params(params, args.b_sets, "--b")
+    if args.wipe is not None and args.layout != "wipe":
+        raise UsageError(f"--wipe {args.wipe:g}: the wipe's position is for --layout wipe: "
+                         "allowed --layout wipe --wipe 0..1")
+    if args.out is not None:
+        png = check_output_path(args.out, force=args.force, suffixes=(".png",))
+    else:
+        png = check_output_path(next_free_path(Path("."), f"compare-{args.scene}", ".png",
+                                               also=(".json",)), suffixes=(".png",))
+    json_path = check_output_path(png.with_suffix(".json"), force=args.force,
+                                  suffixes=(".json",), probe_folder=False)
+    cmp = compare(args.scene, args.a_sets, args.b_sets, size=size, params=params,
+                  camera=camera, rounds=args.rounds, shader_root=args.shaders,
+                  reference=not args.no_reference,
+                  setup=(lambda scene: attach_mesh(scene, mesh)) if mesh is not None else None,
+                  progress=lambda text: print(text, file=sys.stderr, flush=True))
+    png, json_path = write(cmp, png, json_path, layout=args.layout,
+                           wipe=0.5 if args.wipe is None else args.wipe, force=args.force)
+    print("\n".join(cmp.caption))
+    print(png)
+    print(json_path)
+    return 0
+
+def cmd_report(args) -> int:
+    """``natura report SCENE``: every input checked (scene, sets, methods, camera, the folder)
+    before anything renders; app.teach.report does the work."""
+    from .runtime import scene_params
+    from .teach.methods import axis_of, select
+    from .teach.report import DEFAULT_SIZE, check_out_dir, collect, default_out, write_handout
+
+    _nonempty("--out", args.out, "a folder name")
+    _nonempty("--methods", args.methods, "comma-separated methods of the scene")
+    params, _, size = _session_inputs(args, args.scene)
+    if args.size is None:
+        size = DEFAULT_SIZE
+    chosen = select(args.scene, args.methods)
+    axis = axis_of(args.scene)
+    for s in args.sets:
+        if axis is not None and params.resolve(s.split("=", 1)[0].strip()) == axis.param:
+            raise UsageError(f"--set {quote(s, 40)}: the report varies {axis.param} itself: "
+                             f"allowed --methods {','.join(m.label for m in axis.methods)}")
+    for m in chosen:
+        scene_params(args.scene, args.shaders, [*args.sets, *m.sets], args.preset)
+    out_arg = args.out if args.out is not None else str(default_out(args.scene))
+    out = check_out_dir(out_arg, args.force)
+    handout = collect(args.scene, chosen, size=size, rounds=args.rounds, base_sets=args.sets,
+                      preset=args.preset, camera=args.camera, hour=args.time,
+                      shader_root=args.shaders, out_name=out_arg)
+    page = write_handout(handout, out, force=args.force)
+    for shot in handout.shots:
+        error = "no reference" if shot.error is None else f"error {100 * shot.error:.3g} %"
+        print(f"{shot.method.label:12s} {shot.ms:8.3f} ms [{shot.ms_quartiles[0]:.3f}–"
+              f"{shot.ms_quartiles[1]:.3f}]  {error}")
+    print(f"{len(handout.shots)} method(s), {len(handout.charts)} chart(s), "
+          f"{sum(len(g.rows) for g in handout.groups)} parameters, {handout.renderer}")
+    print(page)
+    return 0
+
+
 # ---- main ------------------------------------------------------------------------------------
 
 class Terminated(KeyboardInterrupt):
@@ -713,6 +893,8 @@ def main(argv: list[str] | None = None) -> int:
             handler = {
                 "window": cmd_window, "render": cmd_render, "scenes": cmd_scenes,
                 "params": cmd_params, "shaders": cmd_shaders, "bench": cmd_bench,
+                "report": cmd_report,
+                "compare": cmd_compare,
             }[command]
             return handler(args)
         finally:

@@ -2,20 +2,32 @@
 parameter changes bring the frame under it at the least error.
 
 The options come from the sweeps of the scene's bench module (``report["sweep"]``, written by
-``app/bench/<scene>.py``): each measured variant becomes an :class:`Option` — the parameter
-assignment the sweep set, its ms per frame at the size the sweep timed it, and its error
-against the sweep's reference. Options whose time, scaled by pixel count from the sweep's
-size to the bench size, fits the budget are listed lowest error first, each as a ready
-``--set name=value`` string (only the values that differ from the bench's parameters).
+``app/bench/<scene>.py``, read by app/teach/sweeps.py): each measured variant becomes an
+:class:`Option` — the parameter assignment the sweep set, its ms per frame at the size the
+sweep timed it, and its error against the sweep's reference. Options whose time, scaled by
+pixel count from the sweep's size to the bench size, fits the budget are listed lowest error
+first, each as a ready ``--set name=value`` string (only the values that differ from the
+bench's parameters).
 
 Everything here reads the report dict only: no GL, no session.
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
+
+# the sweeps' extraction lives in app.teach.sweeps (the quality picker reads it too); its names
+# are re-exported here for the bench's callers and tests
+from ..teach.sweeps import (  # noqa: F401
+    EXTRACT,
+    Option,
+    SceneOptions,
+    _finite,
+    _size,
+    format_value,
+    scene_options,
+)
+from ..teach.sweeps import same as _same
 
 #: passes that are references, not parts of the frame
 REFERENCES = ("reference.fullscreen", "reference.clear")
@@ -23,209 +35,7 @@ REFERENCES = ("reference.fullscreen", "reference.clear")
 TOP = 5
 
 
-@dataclass
-class Option:
-    """One measured variant of a scene's sweep."""
-
-    label: str
-    sets: dict[str, Any]
-    ms: float                      # ms per frame as measured by the sweep
-    size: tuple[int, int]          # the size the sweep timed it at
-    error: float
-    notes: list[str] = field(default_factory=list)
-
-    def scaled_ms(self, size: tuple[int, int]) -> float:
-        """ms at ``size``, scaled by pixel count from the size the sweep timed it at."""
-        return self.ms * (size[0] * size[1]) / (self.size[0] * self.size[1])
-
-
-@dataclass
-class SceneOptions:
-    """A scene's options and what their error means."""
-
-    metric: str
-    options: list[Option]
-    notes: list[str] = field(default_factory=list)
-
-
-def _size(value) -> tuple[int, int]:
-    return int(value[0]), int(value[1])
-
-
-def _finite(*values) -> bool:
-    return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
-
-
-# ---- per-scene extraction ---------------------------------------------------------------------
-
-def _clouds(sweep: dict) -> SceneOptions:
-    acc = sweep["accuracy"]
-    try:
-        from .clouds import THESIS
-        base = dict(THESIS)
-    except ImportError:  # the sweep's base settings moved: the rows' own knobs only
-        base = {}
-    known = {"config", "ms", "mean", "p99"}
-    opts = []
-    for row in acc.get("rows", []):
-        if not _finite(row.get("ms"), row.get("mean")):
-            continue
-        knobs = {f"clouds.{k}": v for k, v in row.items() if k not in known}
-        # "default …" rows start from the scene's default march, the others from the thesis's
-        start = {} if row["config"].startswith("default ") else base
-        opts.append(Option(row["config"], {**start, **knobs}, row["ms"], _size(acc["size"]),
-                           row["mean"]))
-    return SceneOptions(f"mean |cloud layer − 512-step reference| ({acc.get('preset', '?')}, "
-                        "no wind)", opts)
-
-
-def _hillaire_scaled(scale: float) -> dict[str, Any]:
-    """The Hillaire LUT sizes the planet sweep's "lut scale" knob set (defaults × scale)."""
-    if scale == 1.0:
-        from ..runtime import scene_params
-        from .planet import HILLAIRE_SIZES
-
-        params = scene_params("planet", None, [], None)
-        return {name: params.spec(name).default for name in HILLAIRE_SIZES}
-    from ..runtime import scene_params
-    from .planet import HILLAIRE_SIZES, _scale_hillaire
-
-    params = scene_params("planet", None, [], None)
-    _scale_hillaire(params, scale)
-    return {name: params[name] for name in HILLAIRE_SIZES}
-
-
-def _planet(sweep: dict, current: dict) -> SceneOptions:
-    acc = sweep["accuracy"]
-    size = _size(acc.get("time_size", acc["size"]))
-    rows = [r for r in acc.get("rows", []) if _finite(r.get("ms"), r.get("in_mean"))]
-    max_steps = max((r["value"] for r in rows if r["knob"] == "n_steps"), default=None)
-    notes = []
-    opts = []
-    for r in rows:
-        method, knob, v = r["method"], r["knob"], r["value"]
-        sets: dict[str, Any] = {"planet.method": method}
-        error = r["in_mean"]
-        label = f"{method} {knob} {v}"
-        if knob == "n_steps":
-            sets.update({"planet.n_steps": v, "planet.inner_steps": v})
-        elif knob.startswith("n_steps, thesis"):
-            sets.update({"planet.pc_rule": "thesis", "planet.n_steps": v})
-            if max_steps is not None:  # the sweep left inner_steps at its last n_steps
-                sets["planet.inner_steps"] = max_steps
-        elif knob == "lut_size":
-            sets.update({"planet.lut_height": v, "planet.lut_angle": v})
-        elif knob.startswith("shadow_map_size"):
-            # its error is against an 8192² map: add the same method's error at the current
-            # step count against the reference (the triangle inequality: an upper bound)
-            n = current.get("planet.n_steps")
-            base = next((b for b in rows if b["method"] == "shadowed"
-                         and b["knob"] == "n_steps" and b["value"] == n), None)
-            if base is None:
-                continue
-            sets["planet.shadow_map_size"] = v
-            error = base["in_mean"] + r["in_mean"]
-        elif knob == "lut scale":
-            try:
-                sets.update(_hillaire_scaled(float(v)))
-            except Exception:  # noqa: BLE001 - the sizes cannot be rebuilt: leave it out
-                continue
-        elif knob == "single scattering only":
-            sets["hillaire.multiple_scattering"] = False
-        else:
-            continue
-        opts.append(Option(label, sets, r["ms"], size, error))
-    if any(o.label.startswith("hillaire") for o in opts):
-        notes.append("hillaire's error counts its multiple scattering (the reference is single "
-                     "scattering)")
-    return SceneOptions(f"mean |in-scatter − float64 reference| (ground view, "
-                        f"{acc['size'][0]}x{acc['size'][1]})", opts, notes)
-
-
-def _ocean_error(row: dict) -> float | None:
-    parts = [row.get("mss_deficit"), row.get("hs_error"), row.get("shape_distance")]
-    if not all(_finite(p) for p in parts):
-        return None
-    return max(abs(p) for p in parts)  # type: ignore[arg-type]
-
-
-def _ocean(sweep: dict) -> SceneOptions:
-    size = _size(sweep.get("view_size", (640, 360)))
-    opts = []
-    for r in sweep.get("fft", {}).get("rows", []):
-        err = _ocean_error(r)
-        if err is None or not _finite(r.get("ms_frame")):
-            continue
-        opts.append(Option(f"fft {r['fft_size']}² × {r['cascades']} cascades",
-                           {"ocean.model": "fft", "ocean.fft_size": str(r["fft_size"]),
-                            "ocean.cascades": int(r["cascades"])}, r["ms_frame"], size, err))
-    for r in sweep.get("gerstner", {}).get("rows", []):
-        err = _ocean_error(r)
-        if r.get("model") != "gerstner" or err is None or not _finite(r.get("ms_frame")):
-            continue
-        opts.append(Option(f"{r['waves']} Gerstner waves",
-                           {"ocean.model": "gerstner", "ocean.gerstner_waves": int(r["waves"])},
-                           r["ms_frame"], size, err))
-    return SceneOptions("the worst of |mean-square-slope deficit|, |Hs error| and the "
-                        "directional-shape distance against the spectrum", opts)
-
-
-def _materials(sweep: dict) -> SceneOptions:
-    rings = sweep.get("ring_edges", {})
-    opts = []
-    for key, value in (("hard", False), ("filtered", True)):
-        r = rings.get(key)
-        if r and _finite(r.get("median_ms"), r.get("mean_error")):
-            opts.append(Option(f"{key} ring edges", {"materials.filter_rings": value},
-                               r["median_ms"], _size(rings["size"]), r["mean_error"]))
-    notes = ["materials' timed sweep is a wood slice seen from above, not the whole frame; "
-             "its octave and bake sweeps have no parameter with an error"]
-    return SceneOptions("mean |display − 8×8 supersampled| of fine wood rings", opts, notes)
-
-
-EXTRACT: dict[str, Callable[[dict, dict], SceneOptions]] = {
-    "clouds": lambda sweep, current: _clouds(sweep),
-    "planet": _planet,
-    "ocean": lambda sweep, current: _ocean(sweep),
-    "materials": lambda sweep, current: _materials(sweep),
-}
-
-
-def scene_options(report: dict) -> SceneOptions | None:
-    """The options in ``report``'s sweeps; None where the report has none (or its scene has
-    no extractor here: adding a scene is adding one to :data:`EXTRACT`)."""
-    sweep = report.get("sweep")
-    extract = EXTRACT.get(report.get("scene", ""))
-    if not sweep or extract is None:
-        return None
-    try:
-        return extract(sweep, report.get("parameters", {}))
-    except (KeyError, TypeError, ValueError, IndexError) as exc:
-        return SceneOptions("?", [], [f"the sweep's layout is not the one expected ({exc!r})"])
-
-
 # ---- the view ---------------------------------------------------------------------------------
-
-def format_value(value: Any) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (list, tuple)):
-        return ",".join(format_value(v) for v in value)
-    if isinstance(value, float):
-        return repr(int(value)) if value.is_integer() and abs(value) < 1e15 else repr(value)
-    return str(value)
-
-
-def _same(a: Any, b: Any) -> bool:
-    if isinstance(a, (list, tuple)) or isinstance(b, (list, tuple)):
-        return isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)) and len(a) == len(
-            b) and all(_same(x, y) for x, y in zip(a, b))
-    if isinstance(a, bool) or isinstance(b, bool):
-        return a is b or a == b
-    if isinstance(a, (int, float)) and isinstance(b, (int, float)):
-        return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-12)
-    return str(a) == str(b)
-
 
 def set_string(sets: dict[str, Any], current: dict[str, Any]) -> str:
     """``--set name=value`` for each value that differs from ``current``."""

@@ -30,13 +30,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..gpu.timing import time_call, time_interleaved
+from ..teach.sweeps import THESIS_MARCH
 from . import write_chart
 
 PRESETS = ("cumulus", "stratocumulus", "stratus")
 DEFAULT_SIZES = ((256, 256), (512, 512), (800, 800), (1920, 1080))
-THESIS = {"clouds.steps": 64, "clouds.light_steps": 6, "clouds.energy_conserving": False,
-          "clouds.adaptive_steps": False, "clouds.distance_steps": False,
-          "clouds.reprojection": "off", "clouds.jitter": True}
+#: the thesis's marcher (defined in app.teach.sweeps, which the quality picker reads)
+THESIS = THESIS_MARCH
 SPEED = {"clouds.adaptive_steps": True, "clouds.energy_conserving": True,
          "clouds.reprojection": "on"}
 REFERENCE = {"clouds.steps": 512, "clouds.jitter": False, "clouds.reprojection": "off",

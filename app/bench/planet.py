@@ -31,6 +31,8 @@ import numpy as np
 
 from ..gpu.timing import time_call, time_interleaved
 from ..sim import atmosphere as atm
+from ..teach.sweeps import HILLAIRE_SIZES  # noqa: F401 - defined there, read by the picker
+from ..teach.sweeps import scale_hillaire as _scale_hillaire
 from . import write_chart
 
 DEFAULT_SIZES = ((800, 600), (1280, 720), (1920, 1080))
@@ -226,21 +228,6 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
             p.set(k, v)
     return {"size": list(size), "time_size": list(time_size), "reference_steps": ref_steps,
             "rows": rows, "method_1_defaults": method_1}
-
-
-#: Hillaire LUT resolutions scaled together by the "lut scale" knob (defaults × scale)
-HILLAIRE_SIZES = ("hillaire.transmittance_width", "hillaire.transmittance_height",
-                  "hillaire.ms_size", "hillaire.skyview_width", "hillaire.skyview_height",
-                  "hillaire.ap_size", "hillaire.ap_slices")
-
-
-def _scale_hillaire(params, scale: float) -> None:
-    for name in HILLAIRE_SIZES:
-        q = params.spec(name)
-        value = int(min(q.hi, max(q.lo, round(q.default * scale))))
-        if name == "hillaire.skyview_height":
-            value += value % 2
-        params.set(name, value)
 
 
 # ---- changes: before/after in one interleaved run ------------------------------------------

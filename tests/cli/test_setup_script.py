@@ -52,7 +52,7 @@ def _run(repo: Path, env: dict, *args: str) -> subprocess.CompletedProcess:
                           text=True, timeout=60)
 
 
-ALL = {"python3-venv", "libegl1", "libgl1-mesa-dri", "xvfb", "xdotool"}
+ALL = {"python3-venv", "libegl1", "libgl1-mesa-dri", "xvfb", "xdotool", "chromium"}
 
 
 def test_as_a_user_it_names_the_missing_packages_in_one_line(tmp_path):

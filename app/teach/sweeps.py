@@ -1,0 +1,244 @@
+"""What the benches' sweeps measured, read back from a bench report (``natura bench SCENE``'s
+JSON, ``report["sweep"]``): each measured variant as an :class:`Option` — the parameter
+assignment the sweep set, its ms per frame at the size the sweep timed it, and its error
+against the sweep's reference.
+
+Both ``natura bench SCENE --budget MS`` (app/bench/budget.py, which lists the options that fit
+a frame budget) and the quality picker (app/teach/quality.py, which groups them per knob) read
+the sweeps through this module, so the settings the benches measure with live here too: the
+thesis's cloud marcher (:data:`THESIS_MARCH`, app/bench/clouds.py's ``THESIS``) and the
+Hillaire LUT sizes the planet sweep scales together (:data:`HILLAIRE_SIZES`,
+:func:`scale_hillaire`). app.bench imports them from here (app.teach may not import app.bench).
+
+Everything here reads the report dict only: no GL, no session.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+#: the thesis's cloud marcher (spec/001 §3): uniform 64 steps, 6 light samples, the naive sum,
+#: no reprojection — the base of the cloud sweep's "uniform N steps" and "light samples" rows
+THESIS_MARCH = {"clouds.steps": 64, "clouds.light_steps": 6, "clouds.energy_conserving": False,
+                "clouds.adaptive_steps": False, "clouds.distance_steps": False,
+                "clouds.reprojection": "off", "clouds.jitter": True}
+
+#: Hillaire LUT resolutions scaled together by the planet sweep's "lut scale" knob
+#: (defaults × scale)
+HILLAIRE_SIZES = ("hillaire.transmittance_width", "hillaire.transmittance_height",
+                  "hillaire.ms_size", "hillaire.skyview_width", "hillaire.skyview_height",
+                  "hillaire.ap_size", "hillaire.ap_slices")
+
+
+def scale_hillaire(params, scale: float) -> None:
+    """Set each of :data:`HILLAIRE_SIZES` to its default × ``scale`` (within its range; the
+    sky-view height kept even)."""
+    for name in HILLAIRE_SIZES:
+        q = params.spec(name)
+        value = int(min(q.hi, max(q.lo, round(q.default * scale))))
+        if name == "hillaire.skyview_height":
+            value += value % 2
+        params.set(name, value)
+
+
+@dataclass
+class Option:
+    """One measured variant of a scene's sweep."""
+
+    label: str
+    sets: dict[str, Any]
+    ms: float                      # ms per frame as measured by the sweep
+    size: tuple[int, int]          # the size the sweep timed it at
+    error: float
+    notes: list[str] = field(default_factory=list)
+
+    def scaled_ms(self, size: tuple[int, int]) -> float:
+        """ms at ``size``, scaled by pixel count from the size the sweep timed it at."""
+        return self.ms * (size[0] * size[1]) / (self.size[0] * self.size[1])
+
+
+@dataclass
+class SceneOptions:
+    """A scene's options and what their error means."""
+
+    metric: str
+    options: list[Option]
+    notes: list[str] = field(default_factory=list)
+
+
+def _size(value) -> tuple[int, int]:
+    return int(value[0]), int(value[1])
+
+
+def _finite(*values) -> bool:
+    return all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+               for v in values)
+
+
+def format_value(value: Any) -> str:
+    """A value as ``--set`` takes it."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (list, tuple)):
+        return ",".join(format_value(v) for v in value)
+    if isinstance(value, float):
+        return repr(int(value)) if value.is_integer() and abs(value) < 1e15 else repr(value)
+    return str(value)
+
+
+def same(a: Any, b: Any) -> bool:
+    """Whether two parameter values are the same setting (numbers within rounding, sequences
+    item by item, anything else by its text: "256" is 256)."""
+    if isinstance(a, (list, tuple)) or isinstance(b, (list, tuple)):
+        return isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)) and len(a) == len(
+            b) and all(same(x, y) for x, y in zip(a, b))
+    if isinstance(a, bool) or isinstance(b, bool):
+        return a is b or a == b
+    if isinstance(a, (int, float)) and isinstance(b, (int, float)):
+        return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-12)
+    return str(a) == str(b)
+
+
+# ---- per-scene extraction ---------------------------------------------------------------------
+
+def _clouds(sweep: dict) -> SceneOptions:
+    acc = sweep["accuracy"]
+    base = dict(THESIS_MARCH)
+    known = {"config", "ms", "mean", "p99"}
+    opts = []
+    for row in acc.get("rows", []):
+        if not _finite(row.get("ms"), row.get("mean")):
+            continue
+        knobs = {f"clouds.{k}": v for k, v in row.items() if k not in known}
+        # "default …" rows start from the scene's default march, the others from the thesis's
+        start = {} if row["config"].startswith("default ") else base
+        opts.append(Option(row["config"], {**start, **knobs}, row["ms"], _size(acc["size"]),
+                           row["mean"]))
+    return SceneOptions(f"mean |cloud layer − 512-step reference| ({acc.get('preset', '?')}, "
+                        "no wind)", opts)
+
+
+def hillaire_scaled(scale: float, params=None) -> dict[str, Any]:
+    """The Hillaire LUT sizes the planet sweep's "lut scale" knob set (defaults × scale);
+    ``params``: a planet ParamSet to work on (its sizes are overwritten)."""
+    if params is None:
+        from ..runtime import scene_params
+
+        params = scene_params("planet", None, [], None)
+    if scale == 1.0:
+        return {name: params.spec(name).default for name in HILLAIRE_SIZES}
+    scale_hillaire(params, scale)
+    return {name: params[name] for name in HILLAIRE_SIZES}
+
+
+def _planet(sweep: dict, current: dict) -> SceneOptions:
+    acc = sweep["accuracy"]
+    size = _size(acc.get("time_size", acc["size"]))
+    rows = [r for r in acc.get("rows", []) if _finite(r.get("ms"), r.get("in_mean"))]
+    max_steps = max((r["value"] for r in rows if r["knob"] == "n_steps"), default=None)
+    notes = []
+    opts = []
+    for r in rows:
+        method, knob, v = r["method"], r["knob"], r["value"]
+        sets: dict[str, Any] = {"planet.method": method}
+        error = r["in_mean"]
+        label = f"{method} {knob} {v}"
+        if knob == "n_steps":
+            sets.update({"planet.n_steps": v, "planet.inner_steps": v})
+        elif knob.startswith("n_steps, thesis"):
+            sets.update({"planet.pc_rule": "thesis", "planet.n_steps": v})
+            if max_steps is not None:  # the sweep left inner_steps at its last n_steps
+                sets["planet.inner_steps"] = max_steps
+        elif knob == "lut_size":
+            sets.update({"planet.lut_height": v, "planet.lut_angle": v})
+        elif knob.startswith("shadow_map_size"):
+            # its error is against an 8192² map: add the same method's error at the current
+            # step count against the reference (the triangle inequality: an upper bound)
+            n = current.get("planet.n_steps")
+            base = next((b for b in rows if b["method"] == "shadowed"
+                         and b["knob"] == "n_steps" and b["value"] == n), None)
+            if base is None:
+                continue
+            sets["planet.shadow_map_size"] = v
+            error = base["in_mean"] + r["in_mean"]
+        elif knob == "lut scale":
+            try:
+                sets.update(hillaire_scaled(float(v)))
+            except Exception:  # noqa: BLE001 - the sizes cannot be rebuilt: leave it out
+                continue
+        elif knob == "single scattering only":
+            sets["hillaire.multiple_scattering"] = False
+        else:
+            continue
+        opts.append(Option(label, sets, r["ms"], size, error))
+    if any(o.label.startswith("hillaire") for o in opts):
+        notes.append("hillaire's error counts its multiple scattering (the reference is single "
+                     "scattering)")
+    return SceneOptions(f"mean |in-scatter − float64 reference| (ground view, "
+                        f"{acc['size'][0]}x{acc['size'][1]})", opts, notes)
+
+
+def ocean_error(row: dict) -> float | None:
+    """The ocean sweep's error of a row: the worst of |mean-square-slope deficit|, |Hs error|
+    and the directional-shape distance (all relative, against the spectrum)."""
+    parts = [row.get("mss_deficit"), row.get("hs_error"), row.get("shape_distance")]
+    if not all(_finite(p) for p in parts):
+        return None
+    return max(abs(p) for p in parts)  # type: ignore[arg-type]
+
+
+def _ocean(sweep: dict) -> SceneOptions:
+    size = _size(sweep.get("view_size", (640, 360)))
+    opts = []
+    for r in sweep.get("fft", {}).get("rows", []):
+        err = ocean_error(r)
+        if err is None or not _finite(r.get("ms_frame")):
+            continue
+        opts.append(Option(f"fft {r['fft_size']}² × {r['cascades']} cascades",
+                           {"ocean.model": "fft", "ocean.fft_size": str(r["fft_size"]),
+                            "ocean.cascades": int(r["cascades"])}, r["ms_frame"], size, err))
+    for r in sweep.get("gerstner", {}).get("rows", []):
+        err = ocean_error(r)
+        if r.get("model") != "gerstner" or err is None or not _finite(r.get("ms_frame")):
+            continue
+        opts.append(Option(f"{r['waves']} Gerstner waves",
+                           {"ocean.model": "gerstner", "ocean.gerstner_waves": int(r["waves"])},
+                           r["ms_frame"], size, err))
+    return SceneOptions("the worst of |mean-square-slope deficit|, |Hs error| and the "
+                        "directional-shape distance against the spectrum", opts)
+
+
+def _materials(sweep: dict) -> SceneOptions:
+    rings = sweep.get("ring_edges", {})
+    opts = []
+    for key, value in (("hard", False), ("filtered", True)):
+        r = rings.get(key)
+        if r and _finite(r.get("median_ms"), r.get("mean_error")):
+            opts.append(Option(f"{key} ring edges", {"materials.filter_rings": value},
+                               r["median_ms"], _size(rings["size"]), r["mean_error"]))
+    notes = ["materials' timed sweep is a wood slice seen from above, not the whole frame; "
+             "its octave and bake sweeps have no parameter with an error"]
+    return SceneOptions("mean |display − 8×8 supersampled| of fine wood rings", opts, notes)
+
+
+EXTRACT: dict[str, Callable[[dict, dict], SceneOptions]] = {
+    "clouds": lambda sweep, current: _clouds(sweep),
+    "planet": _planet,
+    "ocean": lambda sweep, current: _ocean(sweep),
+    "materials": lambda sweep, current: _materials(sweep),
+}
+
+
+def scene_options(report: dict) -> SceneOptions | None:
+    """The options in ``report``'s sweeps; None where the report has none (or its scene has
+    no extractor here: adding a scene is adding one to :data:`EXTRACT`)."""
+    sweep = report.get("sweep")
+    extract = EXTRACT.get(report.get("scene", ""))
+    if not sweep or extract is None:
+        return None
+    try:
+        return extract(sweep, report.get("parameters", {}))
+    except (KeyError, TypeError, ValueError, IndexError) as exc:
+        return SceneOptions("?", [], [f"the sweep's layout is not the one expected ({exc!r})"])

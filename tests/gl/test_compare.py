@@ -1,0 +1,30 @@
+"""The A/B comparison on a live session, as the window calls it (app/teach/compare.py): the
+session's parameters, camera and time are the base, and the session is left as it was."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from app.runtime import render_frames
+from app.teach.compare import compare, compose
+
+
+def test_compare_on_a_live_session_leaves_it_as_it_was(render):
+    size = (64, 36)
+    image, session = render("sky", size, sets=("time.hour=17",))
+    session.scene.camera.set(yaw=250.0, pitch=5.0)
+    (before,) = list(render_frames(session, size))
+    values = dict(session.params.values())
+    cmp = compare(None, {"sky.sun_size": 0.3}, (), session=session, size=size, rounds=1)
+    assert cmp.scene == "sky" and cmp.a.label == "sky.sun_size=0.3"
+    assert cmp.b.label == "base (no changes)"
+    # B is the session's own view: its parameters, camera and time of day
+    np.testing.assert_allclose(cmp.b.image, before[..., :3], rtol=1e-5, atol=1e-6)
+    assert np.abs(cmp.diff).max() > 0  # a bigger sun in A
+    assert "--set time.hour=17" in cmp.command and "--camera" in cmp.command
+    # the session is untouched and still renders the same
+    assert dict(session.params.values()) == values
+    (after,) = list(render_frames(session, size))
+    np.testing.assert_array_equal(after, before)
+    out = compose(cmp, "side")
+    assert out.shape[1] == 3 * size[0] and out.shape[0] > size[1]
