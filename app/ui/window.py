@@ -50,8 +50,8 @@ LOOK_DEGREES_PER_PIXEL = 0.15
 #: what keys still do while the pause menu is open (everything else waits for Resume)
 PAUSED_ACTIONS = {"pause_menu", "quit", "screenshot", "toggle_panel"}
 #: keys of the window itself in every scene (before the scene's key map)
-WINDOW_KEYS = {"F2": "toggle_editor"}
-WINDOW_KEYS_HELP = (("F2", "shader editor"),)
+WINDOW_KEYS = {"F2": "toggle_editor", "F3": "toggle_compare"}
+WINDOW_KEYS_HELP = (("F2", "shader editor"), ("F3", "compare A/B"))
 
 
 def _key_names(keys) -> dict:
@@ -64,26 +64,43 @@ def _key_names(keys) -> dict:
     return key_names(keys, pyglet_key)
 
 
+def _fallback_font() -> Path | None:
+    """matplotlib's DejaVu Sans (a dependency already): the maths signs and arrows of the digests
+    (∈ ‖ ⌊ ⌋ ⟨ ⟩ ℝ ² …) that DroidSans and Inconsolata lack."""
+    try:
+        import matplotlib
+
+        path = Path(matplotlib.get_data_path()) / "fonts" / "ttf" / "DejaVuSans.ttf"
+        return path if path.is_file() else None
+    except Exception:  # noqa: BLE001 - no fallback: missing glyphs show as "?"
+        return None
+
+
 def _load_font(imgui):
     """ImGui's built-in font is ASCII only: load imgui-bundle's DroidSans, whose glyphs Dear ImGui
     1.92 rasterises on demand (thesis sections §, units m², Greek β θ Φ, − · → ≤ …), and its
-    Inconsolata for the shader editor. Returns the monospace font (None without it); without
-    the files, the default font stays."""
+    Inconsolata for the shader editor, each with DejaVu Sans merged in for what it lacks.
+    Returns the monospace font (None without it); without the files, the default font stays."""
     mono = None
     try:
         import imgui_bundle
 
         fonts = Path(imgui_bundle.__file__).parent / "assets" / "fonts"
-        if (fonts / "DroidSans.ttf").is_file():
-            imgui.get_io().fonts.add_font_from_file_ttf(str(fonts / "DroidSans.ttf"), 15.0)
-        if (fonts / "Inconsolata-Medium.ttf").is_file():
-            mono = imgui.get_io().fonts.add_font_from_file_ttf(
-                str(fonts / "Inconsolata-Medium.ttf"), 15.0)
-            if (fonts / "DroidSans.ttf").is_file():  # its Greek and maths signs where
-                cfg = imgui.ImFontConfig()            # Inconsolata has none (τ, θ, ∫)
+        atlas = imgui.get_io().fonts
+        fallback = _fallback_font()
+
+        def merge_fallback() -> None:
+            if fallback is not None:
+                cfg = imgui.ImFontConfig()
                 cfg.merge_mode = True
-                imgui.get_io().fonts.add_font_from_file_ttf(str(fonts / "DroidSans.ttf"), 15.0,
-                                                            cfg)
+                atlas.add_font_from_file_ttf(str(fallback), 15.0, cfg)
+
+        if (fonts / "DroidSans.ttf").is_file():
+            atlas.add_font_from_file_ttf(str(fonts / "DroidSans.ttf"), 15.0)
+            merge_fallback()
+        if (fonts / "Inconsolata-Medium.ttf").is_file():
+            mono = atlas.add_font_from_file_ttf(str(fonts / "Inconsolata-Medium.ttf"), 15.0)
+            merge_fallback()
     except Exception:  # a font problem must not keep the window from opening
         pass
     return mono
@@ -144,7 +161,7 @@ class NaturaWindow:
     def __init__(self, scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720),
                  shader_root=None, screenshot_dir: str | os.PathLike = "screenshots",
                  preset_dir: str | os.PathLike = "presets",
-                 keyframes_dir: str | os.PathLike = "."):
+                 keyframes_dir: str | os.PathLike = ".", quality=None):
         from imgui_bundle import imgui
 
         from ..runtime import open_session
@@ -160,9 +177,16 @@ class NaturaWindow:
         self.params = params
         self.home = Camera(**{k: getattr(camera, k) for k in ("position", "yaw", "pitch", "fov")})
         imgui.create_context()
+        from imgui_bundle import implot
+
+        self.implot = implot
+        implot.create_context()
         imgui.get_io().set_ini_filename("")  # no imgui.ini in the user's folder
         self.mono_font = _load_font(imgui)
         self.ui = ImguiRenderer(self.wnd)
+        from .panel import PanelState
+
+        self.panel_state = PanelState()  # the panel's search text and open thesis section
         w = self.wnd
         w.key_event_func = self.on_key
         w.mouse_position_event_func = self.on_mouse_position
@@ -201,6 +225,13 @@ class NaturaWindow:
         from .editor import ShaderEditorPane
 
         self.editor = ShaderEditorPane(self._say, self._fail, self.mono_font)
+        from .compare_view import ComparePane
+
+        self.compare = ComparePane(self._say, self._fail)
+        self.compare_dir = Path(screenshot_dir)
+        from .quality_view import QualityView
+
+        self.quality = QualityView(quality)
         self.on_resize(*self.wnd.buffer_size)
 
     # -- events ----------------------------------------------------------------------------
@@ -265,6 +296,8 @@ class NaturaWindow:
     def run_window_key(self, action: str) -> None:
         if action == "toggle_editor":
             self.editor.shown = not self.editor.shown
+        elif action == "toggle_compare":
+            self.compare.shown = not self.compare.shown
 
     def on_char(self, char):
         self.ui.unicode_char_entered(char)
@@ -531,8 +564,7 @@ class NaturaWindow:
         ms = np.array(self.frame_ms, dtype=np.float32)
         imgui.text(f"frame {ms[-1]:6.2f} ms   "
                    f"median {np.median(ms[ms > 0]) if (ms > 0).any() else 0:6.2f} ms")
-        imgui.plot_lines("##frametime", ms, scale_min=0.0, graph_size=(-1, 48),
-                         overlay_text=f"max {ms.max():.1f} ms")
+        self.frame_plot(ms)
         try:
             errors = gpu.shaders.errors()
         except Exception as exc:
@@ -573,16 +605,14 @@ class NaturaWindow:
             self.params.reset()
         if imgui.button("Shader editor (F2)"):
             self.editor.shown = not self.editor.shown
-        titles = {e.name: e.title for e in self.scene.instances}
-        titles.update({"time": "Time", "output": "Output"})
-        notes = {}
-        for e in self.scene.active_instances():
-            try:
-                notes[e.name] = e.panel_notes()
-            except Exception as exc:  # a figure that cannot be computed must not close the panel
-                notes[e.name] = [f"({exc})"]
-        panel.params_panel(self.params, titles, skip={"time.hour"}, open_groups=set(titles),
-                           notes=notes)
+        imgui.same_line()
+        if imgui.button("Compare A/B (F3)"):
+            self.compare.shown = not self.compare.shown
+        if imgui.collapsing_header("Quality: time against error (measured)",
+                                   imgui.TreeNodeFlags_.default_open
+                                   if self.quality.picks else 0):
+            self.quality.draw(self.scene.name, self.params, tuple(self.target.size))
+        panel.scene_panel(self.params, self.scene, self.panel_state)
         from ..params import Inspector
         from ..sim.daynight import Keyframes
 
@@ -604,6 +634,20 @@ class NaturaWindow:
                 imgui.text(f"{keys:14s} {what}")
         panel.messages(self.messages)
         imgui.end()
+
+    def frame_plot(self, ms: np.ndarray) -> None:
+        """The last 240 frame times (ImPlot), the y axis fitted to them."""
+        implot = self.implot
+        flags = (implot.Flags_.no_title | implot.Flags_.no_legend | implot.Flags_.no_menus
+                 | implot.Flags_.no_box_select | implot.Flags_.no_mouse_text)
+        if implot.begin_plot("##frametime", (-1, 90), flags):
+            try:
+                implot.setup_axes("", "ms", implot.AxisFlags_.no_tick_labels,
+                                  implot.AxisFlags_.auto_fit)
+                implot.setup_axis_limits(implot.ImAxis_.x1, 0, len(ms), implot.Cond_.always)
+                implot.plot_line("frame", np.ascontiguousarray(ms, dtype=np.float32))
+            finally:
+                implot.end_plot()
 
     def build_editor(self) -> None:
         if not self.editor.shown:
@@ -647,6 +691,10 @@ class NaturaWindow:
             dt = 0.0  # the world stands still behind the pause menu
         elif not self._ui_wants_keyboard():
             self.controller.update(self.scene.camera, dt, self.params)
+        if self.compare.requested:  # before the ImGui frame: it draws progress frames
+            self.compare.requested = False
+            self.compare.run(self.session, self.ui.register_texture,
+                             lambda text: self.show_progress(text, 0.5))
         self.render_scene(dt)
         if self.screenshot_requested:
             self.screenshot_requested = False
@@ -657,6 +705,9 @@ class NaturaWindow:
         if self.show_panel:
             self.build_panel(dt)
         self.build_editor()
+        if self.compare.shown:
+            self.compare.draw(self.session, self.ui.register_texture, self.wnd.size,
+                              self.compare_dir)
         self.build_hud()
         imgui.render()
         self.ui.render(imgui.get_draw_data())
@@ -675,7 +726,9 @@ class NaturaWindow:
         return n
 
     def close(self) -> None:
+        self.compare.release(self.ui.remove_texture)
         self.ui.shutdown()
+        self.implot.destroy_context()
         self.imgui.destroy_context()
         self.session.release()
         self.wnd.close()
@@ -683,10 +736,11 @@ class NaturaWindow:
 
 
 def run_window(scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720),
-               shader_root=None, frames: int | None = None, setup=None) -> int:
+               shader_root=None, frames: int | None = None, setup=None, quality=None) -> int:
     """Open the window on a scene and run it (``frames`` at most); ``setup(scene)`` runs once
-    the scene exists (``natura window shading --mesh FILE`` hands over the mesh there)."""
-    win = NaturaWindow(scene_name, params, camera, size, shader_root)
+    the scene exists (``natura window shading --mesh FILE`` hands over the mesh there);
+    ``quality`` is ``--quality auto``'s picks (their chart in the panel)."""
+    win = NaturaWindow(scene_name, params, camera, size, shader_root, quality=quality)
     if setup is not None:
         setup(win.scene)
     try:
