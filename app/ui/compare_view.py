@@ -33,12 +33,13 @@ def parse_sets(text: str) -> list[str]:
 
 
 class ComparePane:
-    def __init__(self, say: Callable[[str], None], fail: Callable[[str], None]):
+    def __init__(self, say: Callable[[str], None], fail: Callable[[str], None],
+                 software: bool = False):
         self.say, self.fail = say, fail
         self.shown = False
         self.a_text = ""
         self.b_text = ""
-        self.size_index = 1
+        self.size_index = 0 if software else 1  # a software renderer starts at 160x90
         self.rounds = 3
         self.reference = True
         self.layout = 0  # 0: side by side, 1: wipe
@@ -49,6 +50,7 @@ class ComparePane:
         self._scene: str | None = None
         self.saved: list[Path] = []
         self.requested = False  # run before the next ImGui frame (it draws progress frames)
+        self.button_rect = (0.0, 0.0, 0.0, 0.0)  # where "Compare" was drawn (x0, y0, x1, y1)
 
     def preset_for(self, scene_name: str) -> None:
         """Start with the scene's first two methods (planet: brute force against the LUT)."""
@@ -164,6 +166,7 @@ class ComparePane:
         _, self.reference = imgui.checkbox("against the reference", self.reference)
         if imgui.button("Compare"):
             self.requested = True
+        self.button_rect = (*imgui.get_item_rect_min(), *imgui.get_item_rect_max())
         if self.result is not None:
             imgui.same_line()
             if imgui.button("Save PNG"):

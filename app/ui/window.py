@@ -227,7 +227,8 @@ class NaturaWindow:
         self.editor = ShaderEditorPane(self._say, self._fail, self.mono_font)
         from .compare_view import ComparePane
 
-        self.compare = ComparePane(self._say, self._fail)
+        self.compare = ComparePane(self._say, self._fail,
+                                   software=self.session.gpu.caps.software)
         self.compare_dir = Path(screenshot_dir)
         from .quality_view import QualityView
 

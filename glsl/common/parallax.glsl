@@ -38,9 +38,9 @@
 // =============================================================================================
 #include "bump.glsl"
 
-uniform int uParallaxMode;    // @param 1 [0, 4] §3.2 Parallax: 0 off, 1 bare (the thesis's inspector default), 2 steep, 3 occlusion, 4 reference (1024 layers and bisection, beyond the thesis)
-uniform int uParallaxLayers;  // @param 12 [1, 64] §3.2 layers n of steep and occlusion parallax (the thesis shows 12 and 32; keep 10–20)
-uniform float uParallaxScale; // @param 0.05 [0, 0.2] step=0.005 §3.2 depth of the relief in UV units (height 0 lies this far below the surface)
+uniform int uParallaxMode;    // @param 1 [0, 4] §2.3 Parallax: 0 off, 1 bare (the thesis's inspector default), 2 steep, 3 occlusion, 4 reference (1024 layers and bisection, beyond the thesis)
+uniform int uParallaxLayers;  // @param 12 [1, 64] §2.3 layers n of steep and occlusion parallax (the thesis shows 12 and 32; keep 10–20)
+uniform float uParallaxScale; // @param 0.05 [0, 0.2] step=0.005 §2.3 depth of the relief in UV units (height 0 lies this far below the surface)
 
 const float PARALLAX_MIN_VZ = 0.02;
 const int PARALLAX_MAX_LAYERS = 256;

@@ -161,6 +161,48 @@ def own_run(work: str) -> int:
     return 0
 
 
+def compare_run(work: str) -> int:
+    """The issue's last step, in the planet window: F3 opens the A/B pane on the scene's
+    methods 2 and 4 (the optical-depth LUT against Hillaire), a click on Compare renders both
+    (timed in interleaved rounds) with the heat map and the errors against the reference."""
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    os.chdir(work)
+    params = scene_params("planet", sets=["planet.ground_noise_size=256"])
+    win = W.NaturaWindow("planet", params, get_scene("planet").new_camera(), (760, 480),
+                         screenshot_dir="shots")
+    keys = XKeys(win, "^Natura .* planet$")
+    out: dict = {}
+    keys.tap("F3")
+    out["f3_shows"] = win.compare.shown
+    keys.frames(2)
+    out["a"], out["b"] = win.compare.a_text, win.compare.b_text
+    out["size"] = list(win.compare.result.size) if win.compare.result else None
+    x0, y0, x1, y1 = win.compare.button_rect
+    params_before = dict(win.params.values())
+    _click(keys, (x0 + x1) / 2, (y0 + y1) / 2)
+    _until(keys, lambda: win.compare.result is not None or win.compare.problem, 30)
+    r = win.compare.result
+    out["problem"] = win.compare.problem
+    if r is not None:
+        out["size"] = list(r.size)
+        out["ms"] = [r.a.ms, r.b.ms]
+        out["errors"] = [r.a.error, r.b.error]
+        out["heat_max"] = int(r.heat.max())
+        out["caption"] = r.caption
+        out["textures"] = sorted(win.compare.textures)
+    out["live_params_kept"] = dict(win.params.values()) == params_before
+    out["progress_frames"] = win.progress_frames
+    win.compare.layout = 1
+    keys.frames(2)
+    out["still_rendering"] = win.render_error is None
+    win.close()
+    print("RESULT " + json.dumps(out, default=str))
+    return 0
+
+
 if __name__ == "__main__":
-    runs = {"copy": copy_run, "own": own_run}
+    runs = {"copy": copy_run, "own": own_run, "compare": compare_run}
     sys.exit(runs[sys.argv[2]](sys.argv[1]))

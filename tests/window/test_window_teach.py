@@ -1,7 +1,8 @@
-"""The shader editor in a real window under Xvfb, typed with real X events (xdotool): the
-save → recompile → marked line → fix loop on a user's copy, and the first save of Natura's own
-shaders going into a copy (Ctrl+A and typing in the copy's folder field) — on imgui-bundle ≥ 1.92
-drawn by app/ui/imgui_renderer.py."""
+"""The teaching panes in a real window under Xvfb, typed with real X events (xdotool): the
+save → recompile → marked line → fix loop on a user's copy, the first save of Natura's own
+shaders going into a copy (Ctrl+A and typing in the copy's folder field), and the A/B pane
+comparing planet method 2 with Hillaire — on imgui-bundle ≥ 1.92, drawn by
+app/ui/imgui_renderer.py."""
 
 from __future__ import annotations
 
@@ -61,3 +62,17 @@ def test_first_save_of_natura_own_shaders_goes_into_a_copy(tmp_path):
     assert Path(r["editor_file"]) == (tmp_path / "lesson1" / "sky" / "sky.frag").resolve()
     assert r["errors"] == []
     assert r["no_temp_left"] == ["lesson1"]
+
+
+def test_compare_method_2_against_hillaire_in_the_planet_window(tmp_path):
+    r, _ = _drive("compare", tmp_path)
+    assert r["f3_shows"] and r["problem"] is None
+    assert (r["a"], r["b"]) == ("planet.method=lut", "planet.method=hillaire")
+    assert r["size"] == [160, 90]  # a software renderer starts small
+    assert all(ms > 0 for ms in r["ms"]) and r["textures"] == ["a", "b", "heat"]
+    err_lut, err_hillaire = r["errors"]
+    assert 0 < err_lut < 0.1 and err_hillaire > 2 * err_lut  # multiple scattering adds light
+    assert r["heat_max"] > 0
+    caption = " ".join(r["caption"])
+    assert " ms [" in caption and "B/A" in caption and "error vs reference" in caption
+    assert r["live_params_kept"] and r["still_rendering"] and r["progress_frames"] > 0
