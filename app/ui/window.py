@@ -51,7 +51,8 @@ LOOK_DEGREES_PER_PIXEL = 0.15
 PAUSED_ACTIONS = {"pause_menu", "quit", "screenshot", "toggle_panel"}
 #: keys of the window itself in every scene (before the scene's key map)
 WINDOW_KEYS = {"F2": "toggle_editor", "F3": "toggle_compare"}
-WINDOW_KEYS_HELP = (("F2", "shader editor"), ("F3", "compare A/B"))
+WINDOW_KEYS_HELP = (("F2", "shader editor"), ("F3", "compare A/B"),
+                    ("Ctrl+F", "search the panel"))
 
 
 def _key_names(keys) -> dict:
@@ -288,6 +289,10 @@ class NaturaWindow:
             return
         if name in WINDOW_KEYS:  # the teaching panes, in every scene, even while typing
             self.run_window_key(WINDOW_KEYS[name])
+            return
+        if name == "F" and getattr(modifiers, "ctrl", False):  # Ctrl+F: the panel's search
+            self.show_panel = True
+            self.panel_state.focus_search = True
             return
         if self._ui_wants_keyboard() and name != "F12":
             return

@@ -198,6 +198,15 @@ def compare_run(work: str) -> int:
     win.compare.layout = 1
     keys.frames(2)
     out["still_rendering"] = win.render_error is None
+    # Ctrl+F puts the caret in the panel's search box; Ctrl+A then typing replaces the text
+    _chord(keys, "ctrl", "f")
+    _type(keys, "shadow")
+    _until(keys, lambda: win.panel_state.search == "shadow", 60)
+    out["search_typed"] = win.panel_state.search
+    _chord(keys, "ctrl", "a")
+    _type(keys, "lut")
+    _until(keys, lambda: win.panel_state.search == "lut", 60)
+    out["search_replaced"] = win.panel_state.search
     win.close()
     print("RESULT " + json.dumps(out, default=str))
     return 0

@@ -76,3 +76,4 @@ def test_compare_method_2_against_hillaire_in_the_planet_window(tmp_path):
     caption = " ".join(r["caption"])
     assert " ms [" in caption and "B/A" in caption and "error vs reference" in caption
     assert r["live_params_kept"] and r["still_rendering"] and r["progress_frames"] > 0
+    assert r["search_typed"] == "shadow" and r["search_replaced"] == "lut"  # Ctrl+F, Ctrl+A
