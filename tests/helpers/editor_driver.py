@@ -170,11 +170,18 @@ def compare_run(work: str) -> int:
     from app.ui import window as W
 
     os.chdir(work)
+    from app.teach.quality import pick
+
     params = scene_params("planet", sets=["planet.ground_noise_size=256"])
+    picks = pick("planet", 0.02, None, None, params=params, size=(760, 480))  # --quality auto
+    picks.apply(params)
     win = W.NaturaWindow("planet", params, get_scene("planet").new_camera(), (760, 480),
-                         screenshot_dir="shots")
+                         screenshot_dir="shots", quality=picks)
     keys = XKeys(win, "^Natura .* planet$")
     out: dict = {}
+    out["quality_charts"] = win.quality.plots_drawn  # the panel's charts of the picks
+    out["quality_chosen"] = [c.point.label for c in picks if c.point is not None
+                             and c.status == "chosen"]
     keys.tap("F3")
     out["f3_shows"] = win.compare.shown
     keys.frames(2)

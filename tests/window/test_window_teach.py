@@ -67,6 +67,7 @@ def test_first_save_of_natura_own_shaders_goes_into_a_copy(tmp_path):
 def test_compare_method_2_against_hillaire_in_the_planet_window(tmp_path):
     r, _ = _drive("compare", tmp_path)
     assert r["f3_shows"] and r["problem"] is None
+    assert r["quality_charts"] >= 1 and r["quality_chosen"]  # --quality auto's chosen point
     assert (r["a"], r["b"]) == ("planet.method=lut", "planet.method=hillaire")
     assert r["size"] == [160, 90]  # a software renderer starts small
     assert all(ms > 0 for ms in r["ms"]) and r["textures"] == ["a", "b", "heat"]
