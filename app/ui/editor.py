@@ -161,7 +161,7 @@ class ShaderEditorPane:
         self._check_disk()
         self.update_markers(library, errors)
         w, h = size
-        ew, eh = min(880.0, max(w - 400.0, 300.0)), min(640.0, h - 20.0)
+        ew, eh = min(880.0, max(w * 0.62, 300.0)), min(640.0, h - 20.0)
         imgui.set_next_window_pos((max(w - ew - 10.0, 10.0), 10.0), imgui.Cond_.first_use_ever)
         imgui.set_next_window_size((ew, eh), imgui.Cond_.first_use_ever)
         expanded, self.shown = imgui.begin("Shader editor###natura-editor", self.shown)
@@ -176,7 +176,8 @@ class ShaderEditorPane:
 
     def _draw_tree(self, library, errors) -> None:
         bad = {e.file for e in errors}
-        imgui.begin_child("programs", (240.0, 0.0), imgui.ChildFlags_.resize_x
+        width = min(240.0, 0.3 * imgui.get_content_region_avail().x)
+        imgui.begin_child("programs", (width, 0.0), imgui.ChildFlags_.resize_x
                           | imgui.ChildFlags_.borders)
         own = logic.is_natura_own(library.root)
         imgui.text_disabled("Natura's own shaders (a save makes a copy)" if own

@@ -79,7 +79,7 @@ def copy_run(work: str) -> int:
     frag = shaders / "sky" / "sky.frag"
     original = frag.read_text()
     params = scene_params("sky", shader_root=shaders, sets=["time.hour=10"])
-    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (900, 560), shaders)
+    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (720, 450), shaders)
     keys = XKeys(win, "^Natura .* sky$")
     out: dict = {}
     keys.tap("F2")
@@ -102,8 +102,9 @@ def copy_run(work: str) -> int:
     _until(keys, lambda: bool(win.editor.marked))
     out["markers"] = {str(k): v for k, v in win.editor.marked.items()}
     out["errors"] = [str(e) for e in win.session.gpu.shaders.errors()]
-    for _ in range(len(TYPO) + 1):
-        keys.tap("BackSpace", hold_frames=1)
+    _chord(keys, "shift", "Home")  # the typed line selected, then deleted with its newline
+    keys.tap("BackSpace", hold_frames=1)
+    keys.tap("BackSpace", hold_frames=1)
     _chord(keys, "ctrl", "s")
     _until(keys, lambda: not win.session.gpu.shaders.errors() and not win.editor.marked)
     out["errors_after_fix"] = [str(e) for e in win.session.gpu.shaders.errors()]
@@ -128,7 +129,7 @@ def own_run(work: str) -> int:
     own = DEFAULT_SHADER_ROOT / "sky" / "sky.frag"
     own_sha = _sha(own)
     params = scene_params("sky", sets=["time.hour=10"])
-    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (900, 560))
+    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (720, 450))
     keys = XKeys(win, "^Natura .* sky$")
     out: dict = {}
     keys.tap("F2")
