@@ -15,9 +15,6 @@ the set of pixels near red; 128 × 128 float targets, fixed perspective cameras.
 
 from __future__ import annotations
 
-import math
-import time
-
 import moderngl
 import numpy as np
 import pytest
@@ -263,21 +260,3 @@ def test_bloom_spreads_a_bright_spot_and_leaves_a_dark_image_dark(lab):
     lab.outlines.bloom(target, force=True)
     assert np.abs(target.read()[..., :3] - 0.2).max() < 1e-6
     gpu.free(target)
-
-
-def test_zz_figures(lab, capsys):
-    """Not an assertion: the IoU and gap figures per method (printed with -s)."""
-    rows = []
-    for method in METHODS:
-        _, _, iou_s, gaps_s = measure(lab, method, "sphere")
-        _, _, iou_t, gaps_t = measure(lab, method, "table")
-        lab.gpu.ctx.finish()
-        start = time.perf_counter()
-        lab.render(["table"], TABLE_CAMERA, method)
-        lab.gpu.ctx.finish()
-        ms = 1e3 * (time.perf_counter() - start)
-        rows.append(f"{method:14s} sphere IoU {iou_s:.3f} gaps {gaps_s:2d}   table "
-                    f"IoU {iou_t:.3f} gaps {gaps_t:2d}   table frame {ms:.1f} ms")
-    with capsys.disabled():
-        print("\n" + "\n".join(rows))
-    assert math.isfinite(len(rows))

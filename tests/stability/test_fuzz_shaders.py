@@ -15,6 +15,10 @@ compiles with no errors and renders the image it rendered before the first edit.
 The edits do not touch the files' modification times: two edits of the same size within one
 tick of the file system's clock must still be seen (the library's stamp holds a content hash).
 
+Every kind of edit comes once first (a no-op on the clean copy, then the others in a seeded
+order), then kinds at random by weight: 60 edits a scene see each kind at least once, which 120
+random ones did not always do (a kind that finds nothing to edit in a scene's files is named).
+
 ``NATURA_FUZZ_SEED`` picks the seed (printed in every failure message); ``NATURA_FUZZ_EDITS``
 the number of edits per scene.
 """
@@ -38,7 +42,7 @@ from app import DEFAULT_SHADER_ROOT
 from app.runtime import open_session
 
 SEED = int(os.environ.get("NATURA_FUZZ_SEED", "1"))
-EDITS = int(os.environ.get("NATURA_FUZZ_EDITS", "120"))
+EDITS = int(os.environ.get("NATURA_FUZZ_EDITS", "60"))
 SIZE = (64, 36)
 #: scenes whose programs compile in milliseconds on llvmpipe (about 10 ms a frame at 64×36)
 SCENES = ("sky", "materials", "probe")
@@ -72,6 +76,7 @@ class Stats:
     hangs: int = 0  # a poll or render that blocked (a named pipe opened for reading)
     problems: list[str] = field(default_factory=list)
     kinds: dict[str, int] = field(default_factory=dict)
+    not_applicable: set[str] = field(default_factory=set)  # kinds with nothing to edit
     log: list[str] = field(default_factory=list)  # each edit and its first errors
 
     def problem(self, text: str) -> None:
@@ -504,15 +509,30 @@ def fuzz_scene(gl_ctx, tmp_path: Path, scene: str, seed: int, edits: int) -> Sta
         fz = Fuzzer(root, rng, files, stages)
         watchdog.pipes = fz.pipes
         kinds, weights = list(KINDS), list(KINDS.values())
+        # each kind once first: the no-op on the clean copy, the others in a seeded order (one
+        # with nothing to edit is tried again after the rest, three times in all)
+        first = sorted(set(kinds) - {"noop"})
+        rng.shuffle(first)
+        first.insert(0, "noop")
+        tries: dict[str, int] = {}
         was_finite = True  # the image before the edit
         while stats.edits < edits:
-            kind = "noop" if rng.random() < 0.05 else rng.choices(kinds, weights)[0]
+            queued = bool(first)
+            if queued:
+                kind = first.pop(0)
+            else:
+                kind = "noop" if rng.random() < 0.05 else rng.choices(kinds, weights)[0]
             if kind == "noop" and fz.pending():
                 kind = "delete_line"
             clean = not fz.pending()
             before = {id(p): p.generation for p in programs}
             what = fz.edit(kind)
             if what is None:
+                tries[kind] = tries.get(kind, 0) + 1
+                if queued and tries[kind] < 3:
+                    first.append(kind)
+                elif queued:
+                    stats.not_applicable.add(kind)
                 continue
             stats.edits += 1
             stats.kinds[kind] = stats.kinds.get(kind, 0) + 1
@@ -580,7 +600,8 @@ def fuzz_scene(gl_ctx, tmp_path: Path, scene: str, seed: int, edits: int) -> Sta
 def test_live_reload_survives_random_edits(gl_ctx, tmp_path, scene):
     stats = fuzz_scene(gl_ctx, tmp_path, scene, SEED, EDITS)
     summary = stats.line(scene)
-    print(summary, "\n  kinds:", dict(sorted(stats.kinds.items())))
+    print(summary, "\n  kinds:", dict(sorted(stats.kinds.items())),
+          "\n  nothing to edit:", sorted(stats.not_applicable))
     report = os.environ.get("NATURA_FUZZ_REPORT")
     if report:
         with open(report, "a", encoding="utf-8") as f:
@@ -588,7 +609,11 @@ def test_live_reload_survives_random_edits(gl_ctx, tmp_path, scene):
         with open(report + ".log", "a", encoding="utf-8") as f:
             f.write(f"# {summary}\n" + "".join(stats.log))
     detail = summary + "\n" + "\n".join(stats.problems[:20])
-    assert stats.edits >= min(EDITS, 100), detail
+    assert stats.edits >= min(EDITS, 60), detail
+    if EDITS >= 2 * len(KINDS):  # every kind ran, or found nothing to edit in this scene
+        assert set(stats.kinds) | stats.not_applicable == set(KINDS), (
+            f"{detail}\nkinds that never ran: "
+            f"{sorted(set(KINDS) - set(stats.kinds) - stats.not_applicable)}")
     assert stats.raised == 0 and stats.hangs == 0, detail
     assert stats.failing > 0 and stats.kept == stats.failing, detail
     assert stats.proper == stats.errors, detail

@@ -1,5 +1,11 @@
 """Sessions release everything: a script or a test suite that opens and releases many sessions
-must not grow without bound (each kept EGL context cost 8–35 MB)."""
+must not grow without bound (each kept EGL context cost 8–35 MB).
+
+The bound is a rate: 40 open/release cycles may grow RSS by less than 0.2 MB a session (8 MB),
+the rate 100 cycles < 20 MB allowed before, so a leak of a fixed size per session fails at the
+same size whatever the count (a kept context is 40–175× over it). Measured on llvmpipe: sky
+grows ~0.04 MB a cycle, ocean ~0.06 MB, linearly from the first cycle after the warm-up, with
+RSS noise under 1.5 MB — about a third of the bound, at 40 cycles as at 100."""
 
 from __future__ import annotations
 
@@ -12,8 +18,9 @@ import pytest
 
 from app import PROJECT_ROOT
 
-CYCLES = 100
-BOUND_MB = 20.0
+CYCLES = 40
+PER_SESSION_MB = 0.2
+BOUND_MB = PER_SESSION_MB * CYCLES
 #: what makes a cycle cheap without changing what it opens and releases: every program, texture,
 #: target and context is still made each cycle, only smaller (the ocean's FFT grids and the sky's
 #: reflection cubemap are most of a default ocean cycle's time on llvmpipe, ~0.5 s)
@@ -45,7 +52,7 @@ _LOOP = textwrap.dedent("""
 
 
 @pytest.mark.parametrize("scene", ["sky", "ocean"])
-def test_hundred_sessions_grow_rss_by_less_than_20_mb(scene):
+def test_sessions_grow_rss_by_less_than_0_2_mb_each(scene):
     r = subprocess.run([sys.executable, "-c", _LOOP, scene, str(CYCLES), json.dumps(SETS[scene])],
                        cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr[-2000:]
@@ -53,7 +60,7 @@ def test_hundred_sessions_grow_rss_by_less_than_20_mb(scene):
     assert out["context_released"]
     assert out["growth_mb"] < BOUND_MB, (
         f"{CYCLES} open/release cycles of {scene!r} grew RSS by {out['growth_mb']:.1f} MB "
-        f"(allowed < {BOUND_MB:g} MB)")
+        f"(allowed < {BOUND_MB:g} MB: {PER_SESSION_MB:g} MB a session)")
 
 
 def test_release_frees_the_context_it_made_and_not_a_given_one(gl_ctx):
