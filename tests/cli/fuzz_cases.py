@@ -199,6 +199,17 @@ def _fixed_cases(fx: dict[str, str]) -> list[list[str]]:
         ["bench", "materials", *SMALL, "--out", "taken.json"],
         ["bench", "sky", "--repeat", "0", "--warmup", "-5"],
         ["--version", "extra"],
+        ["compare"], ["compare", "atlantis"], ["compare", "sky"],
+        ["compare", "sky", "--a", "nosuch=1"], ["compare", "sky", "--b", "sky.sun_size=5"],
+        ["compare", "sky", "--a", "sky.sun_size=0.1", "--rounds", "0"],
+        ["compare", "sky", "--a", "sky.sun_size=0.1", "--wipe", "2"],
+        ["report"], ["report", "atlantis"], ["report", "planet", "--methods", "nosuch"],
+        ["report", "sky", "--methods", "lut"], ["report", "planet", "--out", "a-file"],
+        ["render", "sky", *SMALL, "--error-budget", "0.1"],
+        ["render", "planet", *SMALL, "--quality", "auto"],
+        ["render", "planet", *SMALL, "--quality", "auto", "--error-budget", "-1"],
+        ["render", "planet", *SMALL, "--quality", "auto", "--ms-budget", "nan"],
+        ["render", "planet", *SMALL, "--quality", "best"],
     ]
 
 
