@@ -355,7 +355,7 @@ def _open_side(scene_name, params, root, ctx, camera, start_time, setup):
 def compare(scene_name: str | None, a_sets=(), b_sets=(), *, size=(320, 180), base_sets=(),
             preset=None, camera=None, hour=None, rounds: int = DEFAULT_ROUNDS,
             shader_root=None, ctx=None, session=None, params: ParamSet | None = None,
-            reference: bool = True, setup=None,
+            reference: bool = True, setup=None, reference_cache: dict | None = None,
             progress: Callable[[str], None] | None = None) -> Comparison:
     """Render the scene with the sets ``a_sets`` and ``b_sets`` (``NAME=VALUE`` strings or a
     ``{name: value}`` mapping) over one base, time both in interleaved rounds, and measure
@@ -457,7 +457,7 @@ def compare(scene_name: str | None, a_sets=(), b_sets=(), *, size=(320, 180), ba
         ref_labels: dict[str, str | None] = {"A": None, "B": None}
         if ref is not None:
             errors, ref_labels = _reference_errors(ref, {"A": side_a, "B": side_b}, images,
-                                                   (w, h), say)
+                                                   (w, h), say, reference_cache)
     finally:
         for s in reversed(sessions):
             s.release()
@@ -498,13 +498,16 @@ def compare(scene_name: str | None, a_sets=(), b_sets=(), *, size=(320, 180), ba
     return cmp
 
 
-def _reference_errors(ref: Reference, sides: dict, images: dict, size, say):
+def _reference_errors(ref: Reference, sides: dict, images: dict, size, say,
+                      cache: dict | None = None):
     """Each side's error against its reference (the side's parameters with the overrides),
-    rendered on the side's own scene once its timing is done; equal references render once."""
+    rendered on the side's own scene once its timing is done; equal references render once —
+    across comparisons too when they share ``cache`` (a report compares its first method with
+    each of the others: the first one's reference is rendered once)."""
     w, h = size
     errors: dict[str, float | None] = {}
     labels: dict[str, str | None] = {}
-    rendered: dict[str, np.ndarray] = {}
+    rendered: dict[str, np.ndarray] = {} if cache is None else cache
     for name, s in sides.items():
         overrides = ref.overrides(s.params)
         if overrides is None:
@@ -513,7 +516,10 @@ def _reference_errors(ref: Reference, sides: dict, images: dict, size, say):
         params = s.params
         for k, v in overrides.items():
             params.set(k, v)
-        key = repr(sorted(params.values().items()))
+        cam = s.scene.camera
+        key = repr((s.scene.name, (w, h), ref.supersample, float(s.scene.time),
+                    tuple(float(v) for v in cam.position), cam.yaw, cam.pitch, cam.fov,
+                    sorted(params.values().items())))
         labels[name] = ref.label
         if key not in rendered:
             factor = _supersample_factor((w, h), ref.supersample, s.gpu.ctx.info.get(

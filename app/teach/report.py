@@ -242,6 +242,7 @@ def collect(scene_name: str, methods: list[Method], *, size: tuple[int, int] = D
         first = methods[0]
         others = methods[1:] or [first]  # one method: compared with itself, for its timing
         comparisons = []
+        references: dict = {}  # the first method's reference, rendered once for them all
         for i, other in enumerate(others, 1):
             what = (f"{first.label} against {other.label}" if other is not first
                     else first.label)
@@ -250,7 +251,8 @@ def collect(scene_name: str, methods: list[Method], *, size: tuple[int, int] = D
             comparisons.append(compare(
                 scene_name, list(first.sets), list(other.sets), size=size,
                 base_sets=base_sets, preset=preset, camera=camera, hour=hour, rounds=rounds,
-                shader_root=shader_root, ctx=ctx, progress=lambda t: progress(f"  {t}")))
+                shader_root=shader_root, ctx=ctx, progress=lambda t: progress(f"  {t}"),
+                reference_cache=references))
     finally:
         ctx.release()
 
