@@ -18,7 +18,6 @@ import os
 import re
 import signal
 import stat
-import tempfile
 import time
 from pathlib import Path
 from typing import Iterator
@@ -125,13 +124,24 @@ def temp_beside(path: Path) -> Iterator[Path]:
     lives; removed when the block fails (any exception, Ctrl-C, SIGTERM) or did not use it."""
     folder = path.parent if str(path.parent) else Path(".")
     _remove_stale_temps(folder)
-    with signals_deferred():  # created and registered as one step
-        try:
-            fd, name = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=folder)
-        except OSError as exc:
-            raise _write_error(path, exc) from None
-        tmp = Path(name)
-        _LIVE.add(tmp)
+    # The name is registered before the file exists: a Ctrl-C already caught by Python's
+    # handler is raised between two bytecodes even while the signals are blocked, and one
+    # raised right after the file was created must still find it registered (the CLI removes
+    # every registered temporary file on its way out).
+    with signals_deferred():
+        for _ in range(100):
+            tmp = temp_name_in(folder)
+            _LIVE.add(tmp)
+            try:
+                fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+                break
+            except FileExistsError:
+                _LIVE.discard(tmp)
+            except OSError as exc:
+                _LIVE.discard(tmp)
+                raise _write_error(path, exc) from None
+        else:
+            raise _write_error(path, FileExistsError(errno.EEXIST, "no free temporary name"))
     try:
         os.fchmod(fd, file_mode())
         os.close(fd)
@@ -241,13 +251,15 @@ def _can_create_in(folder: Path) -> bool:
     if not os.access(folder, os.W_OK):
         return False
     with signals_deferred():  # the probe is created and removed as one step
+        probe = temp_name_in(folder)
+        _LIVE.add(probe)  # registered first, as in temp_beside
         try:
-            fd, name = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=folder)
+            fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
         except OSError:
+            _LIVE.discard(probe)
             return False
         os.close(fd)
-        with contextlib.suppress(OSError):
-            os.unlink(name)
+        _remove(probe)
     return True
 
 

@@ -26,6 +26,39 @@ def temps(folder: Path) -> list[str]:
     return sorted(p.name for p in folder.rglob(".natura-*"))
 
 
+# ---- an interrupt at the worst moment ------------------------------------------------------------
+
+@pytest.mark.parametrize("writer", ["png", "probe"])
+def test_an_interrupt_right_after_a_temporary_file_is_created_leaves_nothing(
+        tmp_path, monkeypatch, writer):
+    """A Ctrl-C that Python's handler caught before the signals were blocked is raised at the
+    next bytecode — possibly the one right after the temporary file (or the writable-folder
+    probe) was created. The file must already be registered, so the CLI's clean-up (the same
+    call as in app.cli.main) removes it (CI once found a .natura-*.tmp left behind)."""
+    import numpy as np
+
+    from app import imageio
+
+    real_open = os.open
+
+    def open_then_interrupt(path, flags, mode=0o777, *args, **kw):
+        fd = real_open(path, flags, mode, *args, **kw)
+        if Path(path).name.startswith(".natura-"):
+            os.close(fd)
+            raise KeyboardInterrupt
+        return fd
+
+    monkeypatch.setattr(imageio.os, "open", open_then_interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        if writer == "png":
+            imageio.write_png(tmp_path / "x.png", np.zeros((4, 4, 3), np.float32))
+        else:
+            imageio._can_create_in(tmp_path)
+    assert temps(tmp_path)  # the interrupt came after the file existed
+    imageio.remove_live_temps()
+    assert temps(tmp_path) == [] and not (tmp_path / "x.png").exists()
+
+
 # ---- permissions -------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])
