@@ -172,13 +172,21 @@ class Effect:
         for p in self.passes(frame, target):
             p.run()
 
+    #: the parameter that chooses the effect's method, and what each of its values teaches
+    #: (:meth:`lesson` looks the current value up)
+    lesson_param: ClassVar[str | None] = None
+    LESSONS: ClassVar[dict] = {}
+
     @classmethod
     def lesson(cls, params: ParamSet) -> str | None:
         """What the effect's current method teaches, in one or two sentences naming its thesis
         section (the window's panel shows it at the top of the effect's header); None when the
         effect has no methods to choose between. A class method of the parameters alone, so a
-        handout or a test can ask without a GL context."""
-        return None
+        handout or a test can ask without a GL context. By default the line of
+        :attr:`LESSONS` for the value of :attr:`lesson_param`."""
+        if cls.lesson_param is None or cls.lesson_param not in params:
+            return None
+        return cls.LESSONS.get(params[cls.lesson_param])
 
     def panel_notes(self) -> list[str]:
         """Lines the window's panel shows above this effect's widgets (live figures)."""

@@ -24,7 +24,7 @@ import numpy as np
 
 from ...frame import DryMask, Stage
 from ...gpu.programs import ProgramSpec
-from ...params import Param, ParamSet
+from ...params import Param
 from ...render.environment import flat_environment
 from ...render.noise import GradientNoiseTextures
 from ...sim import cloth, rigging
@@ -105,6 +105,7 @@ class Boat(Effect):
         ]
 
     #: what each buoyancy method teaches (boat.buoyancy)
+    lesson_param = "boat.buoyancy"
     LESSONS = {
         "probes": "Floating points (spec/000 §1.3, the thesis's FloatingObject): the boat is "
                   "placed at the mean water height and normal of a few probes, kinematically: "
@@ -116,10 +117,6 @@ class Boat(Effect):
                        "over every submerged hull triangle, so heel and pitch come from the "
                        "hull's shape; the thesis averages a few probe heights (spec/000 §1.3).",
     }
-
-    @classmethod
-    def lesson(cls, params: ParamSet) -> str | None:
-        return cls.LESSONS.get(params["boat.buoyancy"]) if "boat.buoyancy" in params else None
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

@@ -46,7 +46,7 @@ import numpy as np
 
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec
-from ...params import Inspector, Param, ParamSet
+from ...params import Inspector, Param
 from ...sim import fog as fs
 from ..base import Effect, Pass
 from . import plane as pl
@@ -121,6 +121,7 @@ class Fog(Effect):
         ]
 
     #: what each global fog mode teaches (fog.mode)
+    lesson_param = "fog.mode"
     LESSONS = {
         "off": "Global fog off (spec/003 §2.11(b)); the scrolling ground-fog plane of spec/003 "
                "§2.11(a) is a separate switch (fog.plane).",
@@ -132,10 +133,6 @@ class Fog(Effect):
         "exp2": "Exponential squared fog (spec/003 §2.11(b), the thesis's choice): "
                 "f = e^(−(t·d)²) keeps the near scene clear and closes in faster beyond.",
     }
-
-    @classmethod
-    def lesson(cls, params: ParamSet) -> str | None:
-        return cls.LESSONS.get(params["fog.mode"]) if "fog.mode" in params else None
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

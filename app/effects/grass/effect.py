@@ -47,7 +47,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
-from ...params import Inspector, Param, ParamSet
+from ...params import Inspector, Param
 from ...render.shadow_maps import bind_published
 from ...sim import grass as gs
 from ...sim.fog import fog_uniforms
@@ -156,6 +156,7 @@ class Grass(Effect):
         ]
 
     #: what each method teaches (the panel shows the current one above the parameters)
+    lesson_param = "grass.method"
     LESSONS = {
         "geometry": "Geometry-shader grass (spec/003 §2.9(a)): every input triangle grows a "
                     "pyramid blade of grass.gs_sections sections bent by the wind; the "
@@ -169,10 +170,6 @@ class Grass(Effect):
                      "§2.9(b)): one curved blade mesh drawn per instance and culled per tile, "
                      "so every blade is real geometry, its cost set by the count, not a mesh.",
     }
-
-    @classmethod
-    def lesson(cls, params: ParamSet) -> str | None:
-        return cls.LESSONS.get(params["grass.method"]) if "grass.method" in params else None
 
     def __init__(self, gpu, params, owner: str | None = None):
         super().__init__(gpu, params)

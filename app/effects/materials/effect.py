@@ -21,7 +21,7 @@ import numpy as np
 
 from ...colour import srgb_to_linear
 from ...gpu.programs import ProgramSpec
-from ...params import Param, ParamSet
+from ...params import Param
 from ...render.meshes import (
     FIXED_TESSELLATION,
     Mesh,
@@ -157,6 +157,7 @@ class Materials(Effect):
         ]
 
     #: what each noise teaches (materials.noise)
+    lesson_param = "materials.noise"
     LESSONS = {
         "value": "Value noise (spec/004 §1.5), the thesis's: random values at the lattice's "
                  "corners blended with the cubic fade 3t² − 2t³ and summed over octaves — C¹, "
@@ -167,12 +168,6 @@ class Materials(Effect):
                     "the quintic fade; zero at every lattice point, so the lattice shows less "
                     "than with the thesis's value noise.",
     }
-
-    @classmethod
-    def lesson(cls, params: ParamSet) -> str | None:
-        if "materials.noise" not in params:
-            return None
-        return cls.LESSONS.get(params["materials.noise"])
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

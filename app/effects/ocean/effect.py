@@ -33,7 +33,7 @@ import numpy as np
 from ...frame import Stage
 from ...gpu.copy import ColourCopy
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
-from ...params import Param, ParamSet
+from ...params import Param
 from ...render.environment import flat_environment
 from ...sim import ocean as oc
 from ..base import Effect, Pass
@@ -100,15 +100,6 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     @classmethod
     def python_params(cls) -> list[Param]:
         return ocean_params()
-
-    @classmethod
-    def lesson(cls, params: ParamSet) -> str | None:
-        """The current wave model's line of :data:`LESSONS` (which :meth:`panel_notes` also
-        begins with; the panel shows it once), with the digest's section where it names none."""
-        text = cls.LESSONS.get(params["ocean.model"]) if "ocean.model" in params else None
-        if text and "spec/" not in text:  # the FFT line names Tessendorf only
-            text += " See spec/000 §1.1(d), §1.1(e)."
-        return text
 
     # -- life ------------------------------------------------------------------------------
 
@@ -195,14 +186,16 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
             self._flat_env = flat_environment(self.gpu, self.name)
         return self._flat_env
 
+    lesson_param = "ocean.model"  # LESSONS: what panel_notes begins with too
     LESSONS = {
         "sine": "Sine (spec/000 §1.1(a)): one wave with analytic normals — cheap, but it repeats "
                 "every wavelength and a lone sine never looks like the sea.",
         "gerstner": "Gerstner (spec/000 §1.1(c)): waves drawn from the spectrum, crests sharpened "
                     "by horizontal motion; each wave's steepness s = k·A must stay ≤ 1 or the "
                     "crests loop.",
-        "fft": "FFT (Tessendorf): every wave of the spectrum on a grid, per cascade; choppy "
-               "displacement, foam where the Jacobian folds; tiles repeat only at their size.",
+        "fft": "FFT (Tessendorf; spec/000 §1.1(d), §1.1(e)): every wave of the spectrum on a "
+               "grid, per cascade; choppy displacement, foam where the Jacobian folds; tiles "
+               "repeat only at their size.",
     }
 
     def panel_notes(self) -> list[str]:

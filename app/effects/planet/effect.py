@@ -41,7 +41,7 @@ import numpy as np
 
 from ...frame import ShadowMap, Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen
-from ...params import Param, ParamSet
+from ...params import Param
 from ...render.shadow_maps import render_depth_pass
 from ...render.shadows import COMPARE_MODES, configure_compare, depth_target, directional_view_proj
 from ...sim import atmosphere as atm
@@ -231,6 +231,7 @@ class Planet(Effect):
         ]
 
     #: what each method teaches (the panel shows the current one above the parameters)
+    lesson_param = "planet.method"
     LESSONS = {
         "brute_force": "Method 1, brute force (spec/002 §2.3): a midpoint sum along the view "
                        "ray with a nested sum toward the sun at every sample, N_STEPS × "
@@ -248,10 +249,6 @@ class Planet(Effect):
                     "a per-frame sky-view LUT add the light scattered more than once, the "
                     "costly marches done once into small tables.",
     }
-
-    @classmethod
-    def lesson(cls, params: ParamSet) -> str | None:
-        return cls.LESSONS.get(params["planet.method"]) if "planet.method" in params else None
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

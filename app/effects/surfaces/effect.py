@@ -35,7 +35,7 @@ import numpy as np
 
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec
-from ...params import Param, ParamSet
+from ...params import Param
 from ...render import shadows as shadow_module
 from ...render.shadow_maps import CASTER, ShadowSet
 from ...sim import distortion, surfaces_scene
@@ -190,6 +190,7 @@ class Surfaces(Effect):
                 + ReflectionProbe.python_params())
 
     #: what each of the thesis's failures teaches (surfaces.failure)
+    lesson_param = "surfaces.failure"
     LESSONS = {
         "none": "No failure shown (spec/003 §4): surfaces.failure reproduces the thesis's "
                 "failures — queue order, intersecting panes, ZWrite off, shadow acne, Peter "
@@ -210,12 +211,6 @@ class Surfaces(Effect):
                          "the shadow off its caster, so objects seem to float; the thesis "
                          "balances a linear 0.3 with a normal 0.01.",
     }
-
-    @classmethod
-    def lesson(cls, params: ParamSet) -> str | None:
-        if "surfaces.failure" not in params:
-            return None
-        return cls.LESSONS.get(params["surfaces.failure"])
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)

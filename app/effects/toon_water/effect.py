@@ -70,7 +70,7 @@ import numpy as np
 
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
-from ...params import Inspector, Param, ParamSet
+from ...params import Inspector, Param
 from ...render.environment import flat_environment
 from ...sim import toon_water as tw
 from ...sim.daynight import Light
@@ -126,6 +126,7 @@ class ToonWater(Effect):
         ]
 
     #: what each Water Type teaches (toon_water.type)
+    lesson_param = "toon_water.type"
     LESSONS = {
         "simple": "Simple water (spec/003 §2.10): refraction only — a grab of what lies under "
                   "the water, distorted by scrolling wave normals — over a flat colour, with "
@@ -134,12 +135,6 @@ class ToonWater(Effect):
                    "probe's reflection discretised by Toon Value and F read "
                    "from a ramp texture baked from Schlick's 0.018 + 0.982·(1 − u)^5.",
     }
-
-    @classmethod
-    def lesson(cls, params: ParamSet) -> str | None:
-        if "toon_water.type" not in params:
-            return None
-        return cls.LESSONS.get(params["toon_water.type"])
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
