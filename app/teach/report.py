@@ -130,13 +130,10 @@ def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "-", text).strip("-") or "default"
 
 
-def render_command(scene: str, sets: Iterable[str], size: tuple[int, int], out: str,
-                   preset: str | None = None, camera: str | None = None,
-                   hour: float | None = None, shaders: str | None = None) -> str:
-    """The ``natura render`` line that makes the same image (each word shell-quoted)."""
-    words = ["natura", "render", scene]
-    if shaders is not None:
-        words += ["--shaders", str(shaders)]
+def _scene_words(preset: str | None, hour: float | None,
+                 camera: str | None, sets: Iterable[str]) -> list[str]:
+    """The scene options both commands share, in ``natura render``'s order."""
+    words: list[str] = []
     if preset is not None:
         words += ["--preset", preset]
     if hour is not None:
@@ -145,7 +142,20 @@ def render_command(scene: str, sets: Iterable[str], size: tuple[int, int], out: 
         words += ["--camera", camera]
     for s in sets:
         words += ["--set", s]
-    words += ["--size", f"{size[0]}x{size[1]}", "--out", out]
+    return words
+
+
+def _shaders_words(shaders: str | None) -> list[str]:
+    return ["--shaders", str(shaders)] if shaders is not None else []
+
+
+def render_command(scene: str, sets: Iterable[str], size: tuple[int, int], out: str,
+                   preset: str | None = None, camera: str | None = None,
+                   hour: float | None = None, shaders: str | None = None) -> str:
+    """The ``natura render`` line that makes the same image (each word shell-quoted)."""
+    words = ["natura", "render", scene, *_shaders_words(shaders),
+             *_scene_words(preset, hour, camera, sets),
+             "--size", f"{size[0]}x{size[1]}", "--out", out]
     return " ".join(shlex.quote(w) for w in words)
 
 
@@ -153,20 +163,11 @@ def report_command(scene: str, out: str, size: tuple[int, int], rounds: int,
                    methods: list[Method] | None, base_sets: Iterable[str],
                    preset: str | None, camera: str | None, hour: float | None,
                    shaders: str | None = None) -> str:
-    words = ["natura", "report", scene]
-    if shaders is not None:
-        words += ["--shaders", str(shaders)]
+    words = ["natura", "report", scene, *_shaders_words(shaders)]
     if methods is not None and axis_of(scene) is not None:
         words += ["--methods", ",".join(m.label for m in methods)]
-    if preset is not None:
-        words += ["--preset", preset]
-    if hour is not None:
-        words += ["--time", f"{hour:g}"]
-    if camera is not None:
-        words += ["--camera", camera]
-    for s in base_sets:
-        words += ["--set", s]
-    words += ["--size", f"{size[0]}x{size[1]}", "--rounds", str(rounds), "--out", out]
+    words += [*_scene_words(preset, hour, camera, base_sets),
+              "--size", f"{size[0]}x{size[1]}", "--rounds", str(rounds), "--out", out]
     return " ".join(shlex.quote(w) for w in words)
 
 

@@ -56,6 +56,8 @@ class ShaderEditorPane:
         self._ask_conflict = False
         self.saves = 0
         self.text_rect = (0.0, 0.0, 0.0, 0.0)  # where the text was drawn (x0, y0, x1, y1)
+        self._tree_key: tuple = ()
+        self._tree_cache: list[logic.ProgramTree] = []
         self.modal_open = False
 
     # -- files ------------------------------------------------------------------------------
@@ -182,7 +184,7 @@ class ShaderEditorPane:
         own = logic.is_natura_own(library.root)
         imgui.text_disabled("Natura's own shaders (a save makes a copy)" if own
                             else f"{library.root}")
-        for tree in logic.program_trees(library):
+        for tree in self._trees(library):
             label = tree.name + (f"  ({len(tree.errors)} error(s))" if tree.errors else "")
             if tree.errors:
                 imgui.push_style_color(imgui.Col_.text, panel.ERROR_COLOUR)
@@ -194,6 +196,15 @@ class ShaderEditorPane:
                     self._draw_node(node, bad, tree.name)
                 imgui.tree_pop()
         imgui.end_child()
+
+    def _trees(self, library) -> list[logic.ProgramTree]:
+        """The include trees, read from the files again only when a program's include set
+        (its watched files), its compile or its root changed — not every frame."""
+        key = (library.root, tuple((p.name, p.generation, p.failed, len(p.errors),
+                                    tuple(p.stamps)) for p in library.programs()))
+        if key != self._tree_key:
+            self._tree_key, self._tree_cache = key, logic.program_trees(library)
+        return self._tree_cache
 
     def _draw_node(self, node: logic.Node, bad: set[str], prefix: str) -> None:
         name = Path(node.label).name
