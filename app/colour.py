@@ -11,6 +11,8 @@ import numpy as np
 from .errors import UsageError
 
 TONEMAPS = ("aces", "reinhard", "clamp", "exponential")
+#: Rec. 709 luminance weights of linear RGB
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
 
 def tonemap_aces(x: np.ndarray) -> np.ndarray:

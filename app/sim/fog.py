@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..colour import LUMINANCE
 from .noise.fractal import perlin_fbm2_periodic
 
 #: fog.glsl's uFogMode
@@ -52,8 +53,6 @@ HEIGHT_SERIES_BELOW = 1e-2
 DAY_AMBIENT_LUMINANCE = 0.40
 #: the fog texture's densest wisp: the plane never hides the ground completely
 TEXTURE_MAX_ALPHA = 0.6
-#: Rec. 709 luminance weights (linear RGB)
-LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
 
 def _finite(name: str, value: float, lo: float, hi: float = math.inf,

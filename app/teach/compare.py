@@ -43,7 +43,7 @@ from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
-from ..colour import linear_to_srgb, to_srgb8
+from ..colour import LUMINANCE, linear_to_srgb, to_srgb8
 from ..errors import ParamError, UsageError, one_line, quote
 from ..params import ParamSet
 
@@ -52,7 +52,6 @@ DEFAULT_ROUNDS = 5
 MAX_ROUNDS = 1000
 LAYOUTS = ("side", "wipe")
 #: Rec. 709 luminance weights (linear RGB)
-LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float64)
 #: the percentile of |B − A| the heat map's gain maps to full colour
 GAIN_PERCENTILE = 99.0
 #: a supersampled reference renders at most this many pixels (its factor is lowered to fit)
@@ -237,7 +236,7 @@ def luminance(rgb: np.ndarray) -> np.ndarray:
     """Luminance of linear radiance ``(h, w, 3|4)``; NaN and infinities count as 0."""
     x = np.nan_to_num(np.asarray(rgb, dtype=np.float64)[..., :3], nan=0.0, posinf=0.0,
                       neginf=0.0)
-    return x @ LUMA
+    return x @ LUMINANCE
 
 
 def choose_gain(diff: np.ndarray) -> tuple[float, float]:
