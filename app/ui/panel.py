@@ -141,26 +141,6 @@ def param_widget(params: ParamSet, p: Param, section: ts.Section | None = None,
     return changed
 
 
-def params_panel(params: ParamSet, titles: dict[str, str], skip: set[str] = frozenset(),
-                 open_groups: set[str] = frozenset(),
-                 notes: dict[str, list[str]] | None = None) -> None:
-    """One collapsing header per group, flat (the panel before :func:`scene_panel`; kept for
-    panels that list a parameter set of their own)."""
-    groups = params.groups()
-    order = [g for g in titles if g in groups] + [g for g in groups if g not in titles]
-    for group in order:
-        shown = [p for p in groups[group] if p.name not in skip]
-        if not shown:
-            continue
-        title = titles.get(group, group)
-        flags = imgui.TreeNodeFlags_.default_open if group in open_groups else 0
-        if imgui.collapsing_header(f"{title}##{group}", flags):
-            for line in (notes or {}).get(group, ()):
-                imgui.text_wrapped(line)
-            for p in shown:
-                param_widget(params, p)
-
-
 # ---- the scene's panel ------------------------------------------------------------------------
 
 def _headers_key(params: ParamSet, scene) -> tuple:
