@@ -6,9 +6,10 @@ from __future__ import annotations
 
 import ctypes
 import gc
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator
 
 import moderngl
 
@@ -42,6 +43,35 @@ class Gpu:
         self.allocations: list[Allocation] = []
         #: progress(label, fraction) for long GPU jobs such as bakes; the window draws a bar
         self.progress = None
+        self._cube_face_copy: Any = None
+
+    @contextmanager
+    def keep_framebuffer(self) -> Iterator[None]:
+        """Work that binds framebuffers of its own while a caller's is bound — a producer that
+        renders on request, in the middle of its consumer's pass (the sky's cubemap by fragment
+        passes, a bake) — gives the caller back its framebuffer and viewport: otherwise the
+        consumer's next draw lands in the producer's target (on a context without compute
+        shaders, where such work runs as fragment passes, the ocean's deferred shading did)."""
+        before = self.ctx.fbo
+        if before is not None and isinstance(before.mglo, moderngl.InvalidObject):
+            before = None  # released since it was bound: nothing to give back
+        viewport = self.ctx.viewport if before is not None else None
+        try:
+            yield
+        finally:
+            if before is not None and not isinstance(before.mglo, moderngl.InvalidObject):
+                before.use()
+                self.ctx.viewport = viewport
+
+    def copy_to_cube_face(self, cube: moderngl.TextureCube, face: int, level: int,
+                          size: int) -> None:
+        """The bound framebuffer's lower-left ``size``² into ``cube``'s ``face`` at mip
+        ``level``, on the GPU (``app.gpu.rawgl.CubeFaceCopy``)."""
+        if self._cube_face_copy is None:
+            from .rawgl import CubeFaceCopy
+
+            self._cube_face_copy = CubeFaceCopy(self.ctx)
+        self._cube_face_copy(cube, face, level, size)
 
     def _record(self, owner: str, kind: str, name: str, obj: Any) -> Any:
         self.allocations.append(Allocation(owner, kind, name, obj))

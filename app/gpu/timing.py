@@ -14,6 +14,8 @@ from typing import Any, Callable
 
 import moderngl
 
+from ..errors import NaturaError
+
 
 @dataclass
 class Timing:
@@ -165,9 +167,10 @@ _GL_QUERY_RESULT = 0x8866
 class PipelineStatistics:
     """Counts of one run of a callable: vertices and primitives submitted, shader invocations
     per stage and samples passed, from GL_ARB_pipeline_statistics_query. moderngl does not
-    expose these queries, so the GL entry points come from ``eglGetProcAddress`` (the headless
-    context is EGL). ``available`` is False, with ``reason`` saying why, where the context
-    lacks the extension or the entry points cannot be found; then :meth:`count` returns None.
+    expose these queries, so the GL entry points come from the context's own loader
+    (``app.gpu.rawgl``: EGL, GLX, WGL or CGL alike). ``available`` is False, with ``reason``
+    saying why, where the context lacks the extension or the entry points cannot be found;
+    then :meth:`count` returns None.
     """
 
     def __init__(self, ctx: moderngl.Context):
@@ -180,19 +183,16 @@ class PipelineStatistics:
             return
         try:
             self._load()
-        except (OSError, AttributeError) as exc:
-            self.reason = f"no GL entry points for the queries through libEGL ({exc})"
+        except NaturaError as exc:
+            self.reason = f"no GL entry points for the queries ({exc})"
             return
         self.available = True
 
     def _load(self) -> None:
         import ctypes
-        import ctypes.util
 
-        name = ctypes.util.find_library("EGL") or "libEGL.so.1"
-        egl = ctypes.CDLL(name)
-        egl.eglGetProcAddress.restype = ctypes.c_void_p
-        egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
+        from .rawgl import gl_function
+
         uint, sizei, p_uint = ctypes.c_uint, ctypes.c_int, ctypes.POINTER(ctypes.c_uint)
         protos: dict[str, tuple[Any, ...]] = {
             "glGenQueries": (sizei, p_uint),
@@ -202,10 +202,7 @@ class PipelineStatistics:
             "glGetQueryObjectui64v": (uint, uint, ctypes.POINTER(ctypes.c_uint64)),
         }
         for fn, args in protos.items():
-            address = egl.eglGetProcAddress(fn.encode())
-            if not address:
-                raise OSError(f"eglGetProcAddress({fn}) is NULL")
-            self._fns[fn] = ctypes.CFUNCTYPE(None, *args)(address)
+            self._fns[fn] = gl_function(self.ctx, fn, *args)
 
     def count(self, fn: Callable[[], None]) -> dict[str, int] | None:
         """Run ``fn`` once with every counter's query active around it; the counts."""

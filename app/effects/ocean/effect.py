@@ -31,6 +31,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
+from ...gpu import fft as gpu_fft
 from ...gpu.copy import ColourCopy
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
@@ -76,13 +77,9 @@ SIMULATION = (
     ProgramSpec("ocean/spectrum_evolve", comp="ocean/spectrum_evolve.comp", requires_compute=True),
     ProgramSpec("ocean/ocean_finalize", comp="ocean/ocean_finalize.comp", requires_compute=True),
     ProgramSpec("ocean/direct_sum", comp="ocean/direct_sum.comp", requires_compute=True),
-    ProgramSpec("ocean/fft_radix2", comp="ocean/fft_radix2.comp", requires_compute=True,
-                defines=(("FFT_N", 256), ("FFT_HALF_N", 128), ("FFT_LOG2N", 8))),
     fullscreen("ocean/spectrum_evolve"), fullscreen("ocean/ocean_finalize"),
     fullscreen("ocean/direct_sum"),
-    ProgramSpec("ocean/fft_stage", vert="common/fullscreen.vert", frag="ocean/fft_stage.frag",
-                defines=(("FFT_COUNT", 2),)),
-)
+) + gpu_fft.VARIANTS
 
 
 class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
@@ -338,11 +335,12 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         ctx = self.gpu.ctx
         vp = self.view_proj_rel(frame)
         viewport = tuple(float(s) for s in target.size)
+        env = self.environment(frame)  # may render the probe now: before the target is bound
         target.use()
         ctx.enable(moderngl.DEPTH_TEST)
         shade = self.program(self.variant(SHADE_ABOVE if self.view_mode() == 0 else SHADE, frame))
         textures = self.wave_uniforms(shade)
-        textures.update(self.shading_uniforms(shade, frame, self.environment(frame)))
+        textures.update(self.shading_uniforms(shade, frame, env))
         self.wake_uniforms(shade, frame)
         textures.update({"uSceneCopy": scene_copy, "uInputRel": self._inputs.rel,
                          "uInputSurf": self._inputs.surf, "uInputGrad": self._inputs.grad})

@@ -17,7 +17,6 @@ compare the shader with are in ``app/sim/sky.py``.
 from __future__ import annotations
 
 import moderngl
-import numpy as np
 
 from ... import RESOURCES
 from ...frame import Stage
@@ -233,18 +232,19 @@ class Sky(Effect):
             prog.program.run(groups, groups, 6)
             ctx.memory_barrier()
         else:
-            face_target = self.gpu.target(self.name, "cubemap face", (size, size), dtype="f4",
-                                          depth=False)
-            try:
-                for face in range(6):
-                    face_target.use()
-                    prog.set("uFace", face)
-                    draw_fullscreen(prog)
-                    raw = np.frombuffer(face_target.fbo.read(components=4, dtype="f4"),
-                                        dtype=np.float32)
-                    cube.write(face, raw.astype(np.float16).tobytes())
-            finally:
-                self.gpu.free(face_target)
+            # one face at a time into a float target, copied into the cube on the GPU; the
+            # caller's framebuffer (this runs on request, inside its pass) is given back
+            with self.gpu.keep_framebuffer():
+                face_target = self.gpu.target(self.name, "cubemap face", (size, size),
+                                              dtype="f4", depth=False)
+                try:
+                    for face in range(6):
+                        face_target.use()
+                        prog.set("uFace", face)
+                        draw_fullscreen(prog)
+                        self.gpu.copy_to_cube_face(cube, face, 0, size)
+                finally:
+                    self.gpu.free(face_target)
         cube.build_mipmaps()
 
     def refresh_environment(self) -> None:

@@ -35,8 +35,6 @@ caller's own textures, passed as ``extra``, do not collide): ``uProbe`` (the cap
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
 import math
 import time
 from typing import Any, Callable
@@ -65,12 +63,6 @@ BRDF_LUT_SIZE = 64
 BRDF_LUT_SAMPLES = 256
 NHX_LUT_SIZE = 64
 
-_GL_TEXTURE_CUBE_MAP = 0x8513
-_GL_TEXTURE_CUBE_MAP_POSITIVE_X = 0x8515
-_GL_RGBA = 0x1908
-_GL_HALF_FLOAT = 0x140B
-_GL_UNPACK_ALIGNMENT = 0x0CF5
-
 
 def reflection_params() -> list[Param]:
     """The Python parameters of the reflection probe (group ``surfaces``)."""
@@ -98,43 +90,6 @@ def reflection_params() -> list[Param]:
     ]
 
 
-class _RawGL:
-    """glTexSubImage2D for one mip level of a cube face (moderngl writes level 0 only). The
-    GL 1.1 entry points are exported by libGL/libOpenGL and dispatch to the current context,
-    an EGL or a GLX one alike."""
-
-    def __init__(self) -> None:
-        last: Exception | None = None
-        for name in ("libOpenGL.so.0", ctypes.util.find_library("OpenGL"), "libGL.so.1",
-                     ctypes.util.find_library("GL")):
-            if not name:
-                continue
-            try:
-                lib = ctypes.CDLL(name)
-                self.bind = lib.glBindTexture
-                self.sub = lib.glTexSubImage2D
-                self.store = lib.glPixelStorei
-                break
-            except (OSError, AttributeError) as exc:
-                last = exc
-        else:
-            raise RuntimeError(f"no libGL/libOpenGL for glTexSubImage2D ({last})")
-        u, i = ctypes.c_uint, ctypes.c_int
-        self.bind.argtypes = [u, u]
-        self.sub.argtypes = [u, i, i, i, i, i, u, u, ctypes.c_void_p]
-        self.store.argtypes = [u, i]
-
-    def write(self, cube: moderngl.TextureCube, face: int, level: int, size: int,
-              data: bytes) -> None:
-        buf = ctypes.create_string_buffer(data, len(data))
-        self.bind(_GL_TEXTURE_CUBE_MAP, cube.glo)
-        self.store(_GL_UNPACK_ALIGNMENT, 1)
-        self.sub(_GL_TEXTURE_CUBE_MAP_POSITIVE_X + face, level, 0, 0, size, size, _GL_RGBA,
-                 _GL_HALF_FLOAT, ctypes.cast(buf, ctypes.c_void_p))
-        self.store(_GL_UNPACK_ALIGNMENT, 4)
-        self.bind(_GL_TEXTURE_CUBE_MAP, 0)
-
-
 class ReflectionProbe:
     """One reflection probe (module docstring); GL resources under ``owner``."""
 
@@ -160,7 +115,6 @@ class ReflectionProbe:
         #: wall ms of the last capture (six faces + mips) and of the last prefilter
         self.capture_ms = 0.0
         self.prefilter_ms = 0.0
-        self._raw: _RawGL | None = None
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -219,16 +173,17 @@ class ReflectionProbe:
         size = self.size
         full = (key, tuple(position), tuple(box_min), tuple(box_max), size)
         captured = False
-        if self.cube is None or full != self._key:
-            self.position, self.box_min, self.box_max = position, box_min, box_max
-            self._capture(draw_scene, size)
-            self._key = full
-            captured = True
-        samples = int(self._param("surfaces.prefilter_samples", 64))
-        if captured or self._prefilter_key != samples or self.prefiltered is None:
-            self._prefilter(samples)
-            self._prefilter_key = samples
-        self._luts()
+        with self.gpu.keep_framebuffer():
+            if self.cube is None or full != self._key:
+                self.position, self.box_min, self.box_max = position, box_min, box_max
+                self._capture(draw_scene, size)
+                self._key = full
+                captured = True
+            samples = int(self._param("surfaces.prefilter_samples", 64))
+            if captured or self._prefilter_key != samples or self.prefiltered is None:
+                self._prefilter(samples)
+                self._prefilter_key = samples
+            self._luts()
         return captured
 
     def _face_target(self, size: int):
@@ -264,7 +219,8 @@ class ReflectionProbe:
             fbo.clear(0.0, 0.0, 0.0, 1.0, depth=1.0)
             ctx.enable(moderngl.DEPTH_TEST)
             draw_scene(rf.cube_view(face, self.position), proj, fbo)
-            self.cube.write(face, fbo.read(components=4, dtype="f2"))
+            fbo.use()  # the caller's drawing may have bound another framebuffer
+            self.gpu.copy_to_cube_face(self.cube, face, 0, size)
         ctx.disable(moderngl.DEPTH_TEST)
         self.cube.build_mipmaps()
         ctx.finish()
@@ -283,8 +239,6 @@ class ReflectionProbe:
                                                      dtype="f2")
             self.prefiltered.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
             self.prefiltered.build_mipmaps(0, PREFILTER_LEVELS - 1)  # allocates the levels
-        if self._raw is None:
-            self._raw = _RawGL()
         prog = self.gpu.program(self.owner, PREFILTER)
         prog.bind_textures({"uSource": self.cube})
         prog.set_many({"uSamples": int(samples), "uSourceSize": float(self.cube.size[0]),
@@ -301,8 +255,7 @@ class ReflectionProbe:
                     ctx.viewport = (0, 0, s, s)
                     prog.set("uFace", face)
                     draw_fullscreen(prog)
-                    data = target.fbo.read(components=4, dtype="f2")
-                    self._raw.write(self.prefiltered, face, level, s, data)
+                    self.gpu.copy_to_cube_face(self.prefiltered, face, level, s)
             finally:
                 self.gpu.free(target)
         ctx.finish()

@@ -1,0 +1,62 @@
+"""The few GL entry points moderngl does not wrap, loaded through the context's own loader.
+
+moderngl makes its contexts with glcontext, whose backend for the platform (EGL, GLX, WGL,
+CGL) knows how that platform hands out GL functions: ``eglGetProcAddress`` for every core
+function on EGL, ``wglGetProcAddress`` with ``opengl32.dll`` for the GL 1.1 ones on Windows,
+the OpenGL framework's symbols on macOS. Going through it (``ctx.mglo._context.load``) instead
+of opening ``libGL``/``libOpenGL``/``libEGL`` by name is what makes a raw call safe on every
+platform and on a window's context as well as a headless one.
+
+Two users: :class:`CubeFaceCopy` — the bound framebuffer copied into one face and mip level of
+a cubemap on the GPU (``glCopyTexSubImage2D``, GL 1.1: moderngl can attach neither a cube face
+nor a mip level to a framebuffer, and writes level 0 only) — and the pipeline-statistics
+queries of ``app.gpu.timing``.
+"""
+
+from __future__ import annotations
+
+import ctypes
+from typing import Any
+
+from ..errors import GpuUnavailableError
+
+_GL_TEXTURE_CUBE_MAP_POSITIVE_X = 0x8515
+
+
+def loader_of(ctx: Any) -> Any:
+    """The glcontext loader behind a moderngl context (None when moderngl hides it)."""
+    return getattr(getattr(ctx, "mglo", None), "_context", None)
+
+
+def gl_function(ctx: Any, name: str, *argtypes: Any, restype: Any = None) -> Any:
+    """The GL function ``name`` of ``ctx``'s platform as a ctypes callable; a one-line
+    GpuUnavailableError when the context's loader does not have it."""
+    loader = loader_of(ctx)
+    if loader is None or not hasattr(loader, "load"):
+        raise GpuUnavailableError(f"{name}: this moderngl context exposes no GL loader "
+                                  "(allowed: moderngl 5.12 or newer, which keeps glcontext's)")
+    address = loader.load(name)
+    if not address:
+        raise GpuUnavailableError(f"{name}: the context's GL loader does not provide it")
+    return ctypes.CFUNCTYPE(restype, *argtypes)(address)
+
+
+class CubeFaceCopy:
+    """Copy the bound framebuffer's colour (its lower-left ``size`` × ``size`` square) into
+    face ``face`` (GL order +X, −X, +Y, −Y, +Z, −Z), mip level ``level`` of a moderngl
+    cubemap, without a round trip through the CPU. Rows go as they are: framebuffer row 0
+    becomes the face's t = 0 row, as ``TextureCube.write`` of ``fbo.read()`` would put it.
+    Float colour to a float cube is converted by GL (RGBA32F → RGBA16F rounds to nearest)."""
+
+    def __init__(self, ctx: Any):
+        self.ctx = ctx
+        i, u = ctypes.c_int, ctypes.c_uint
+        self._copy = gl_function(ctx, "glCopyTexSubImage2D", u, i, i, i, i, i, i, i)
+
+    def __call__(self, cube: Any, face: int, level: int, size: int) -> None:
+        if not 0 <= face < 6:
+            raise ValueError(f"cube face {face}: allowed 0..5")
+        unit = int(self.ctx.default_texture_unit)
+        cube.use(location=unit)  # glActiveTexture + glBindTexture(GL_TEXTURE_CUBE_MAP)
+        self._copy(_GL_TEXTURE_CUBE_MAP_POSITIVE_X + face, int(level), 0, 0, 0, 0,
+                   int(size), int(size))
