@@ -31,6 +31,8 @@ GL_SAMPLE_ALPHA_TO_ONE = 0x809F
 #: bytes of one glMultiDrawArraysIndirect command as moderngl strides them (count,
 #: instanceCount, first, baseInstance and a pad: moderngl uses the 20-byte elements stride)
 INDIRECT_STRIDE = 20
+#: bytes of one blade's per-instance row (root xyz, id): 4 floats
+ROOT_STRIDE = 16
 
 
 def gs_program(sections: int) -> ProgramSpec:
@@ -166,7 +168,10 @@ class InstancedBlades(_Method):
         self._strips = keyed(self._build_strip, self._free)
         self._lod_strips = keyed(self._build_strip, self._free)
         self._indirect: list = []
-        #: indirect draws need GL 4.3 (glMultiDrawArraysIndirect with a base instance)
+        #: one indirect draw per LOD needs GL 4.3 (glMultiDrawArraysIndirect with a base
+        #: instance); before it (macOS stops at 4.1) each run of visible tiles is one instanced
+        #: draw with the per-instance roots bound from the run's first blade: the same blades,
+        #: more draw calls
         self.indirect_ok = gpu.ctx.version_code >= 430
 
     def _build(self, key):
@@ -208,7 +213,7 @@ class InstancedBlades(_Method):
                   1: (self._lod_strips.get(lod_segments), lod_segments)}
         inst = (vbo, "4f/i", "in_root")
         prog.set("uFade", bool(culling))
-        if not culling or not self.indirect_ok:
+        if not culling:
             strip, seg = strips[0]
             prog.vao([(strip, "2f", "in_blade"), inst]).render(
                 moderngl.TRIANGLE_STRIP, vertices=2 * seg + 1, instances=count)
@@ -221,9 +226,17 @@ class InstancedBlades(_Method):
             if not runs:
                 continue
             strip, seg = strips[lod]
-            buf = self._commands(lod, runs, 2 * seg + 1)
-            prog.vao([(strip, "2f", "in_blade"), inst]).render_indirect(
-                buf, moderngl.TRIANGLE_STRIP, count=len(runs))
+            if self.indirect_ok:
+                buf = self._commands(lod, runs, 2 * seg + 1)
+                prog.vao([(strip, "2f", "in_blade"), inst]).render_indirect(
+                    buf, moderngl.TRIANGLE_STRIP, count=len(runs))
+            else:
+                vao = prog.vao([(strip, "2f", "in_blade")])  # the roots bound per run
+                where = prog.program["in_root"].location
+                for first, n in runs:
+                    vao.bind(where, "f", vbo, "4f", offset=first * ROOT_STRIDE,
+                             stride=ROOT_STRIDE, divisor=1)
+                    vao.render(moderngl.TRIANGLE_STRIP, vertices=2 * seg + 1, instances=n)
             drawn = sum(c for _, c in runs)
             self.last["blades"] += drawn
             self.last["triangles"] += drawn * gs.blade_triangles(seg)
