@@ -243,6 +243,9 @@ def build_parser() -> argparse.ArgumentParser:
     s_sub = s.add_subparsers(dest="shaders_command", parser_class=_Parser)
     sc = s_sub.add_parser("check", help="compile every program; print file:line errors")
     _add_common(sc)
+    sc.add_argument("--strict", action="store_true",
+                    help="also judge every preprocessed stage with the Khronos reference "
+                         "compiler (glslangValidator) for its #version")
     cp = s_sub.add_parser("copy", help="copy the shader folder to DIR for editing")
     cp.add_argument("dest", metavar="DIR")
 
@@ -566,23 +569,13 @@ def cmd_shaders(args) -> int:
         raise UsageError("shaders: a subcommand is needed: allowed check, copy")
     from .gpu.context import caps_of, create_headless_context
     from .gpu.shaders import ShaderLibrary
-    from .scenes import SCENES
 
     _check_shader_arg(args.shaders)
     root = resolve_shader_root(args.shaders)
     ctx = create_headless_context()
     caps = caps_of(ctx)
     library = ShaderLibrary(ctx, root)
-    specs = {}
-    for scene in SCENES.values():
-        for effect in scene.effects:
-            for spec in effect.programs:
-                specs[spec] = effect.name
-    from .bench import TRIVIAL
-    from .ui.display import DISPLAY
-
-    specs[TRIVIAL] = "bench"
-    specs[DISPLAY] = "window"
+    specs = program_specs()
     failures = 0
     for spec in specs:
         if spec.requires_compute and not caps.compute:
@@ -591,14 +584,58 @@ def cmd_shaders(args) -> int:
             continue
         try:
             library.program(spec.name, dict(spec.defines), **spec.stages())
-            print(f"ok   {spec.name}")
+            print(f"ok   {spec.name}{_defines_label(spec)}")
         except NaturaError as exc:
             failures += 1
             for line in str(exc).splitlines():
                 print(line)
     print(f"{len(specs) - failures} of {len(specs)} programs compiled "
           f"({caps.describe()}, shaders from {root})")
+    if args.strict:
+        failures += _strict_check(library, specs)
     return 1 if failures else 0
+
+
+def program_specs() -> list:
+    """Every program the app builds, each variant once: the effects' programs (their
+    variants included), the bench's reference pass and the window's display pass."""
+    from .bench import TRIVIAL
+    from .scenes import SCENES
+    from .ui.display import DISPLAY
+
+    specs: dict = {}
+    for scene in SCENES.values():
+        for effect in scene.effects:
+            for spec in effect.programs:
+                specs.setdefault(spec, effect.name)
+    specs.setdefault(TRIVIAL, "bench")
+    specs.setdefault(DISPLAY, "window")
+    return list(specs)
+
+
+def _defines_label(spec) -> str:
+    return (" [" + ", ".join(f"{k}={v}" for k, v in spec.defines) + "]") if spec.defines else ""
+
+
+def _strict_check(library, specs) -> int:
+    """glslangValidator over every preprocessed stage (app.gpu.strict); the failures."""
+    from .gpu import strict
+
+    validator = strict.validator_path()
+    if validator is None:
+        print(f"strict: {strict.VALIDATOR} is not installed, so the strict check did not run "
+              "(Debian: apt-get install glslang-tools; macOS: brew install glslang)")
+        return 0
+    results = strict.check_programs(library, specs, validator)
+    stages = sum(r.stages for r in results)
+    bad = [r for r in results if not r.ok]
+    for r in bad:
+        print(f"strict FAIL {r.spec.name}{_defines_label(r.spec)}")
+        for error in r.errors:
+            print(f"  {error}")
+    print(f"strict: {len(results) - len(bad)} of {len(results)} programs ({stages} stages) pass "
+          f"{strict.VALIDATOR} {strict.validator_version(validator)}")
+    return len(bad)
 
 
 def _bench_outputs(args, charts: tuple[str, ...] = ()) -> tuple[Path, list[Path]]:
@@ -876,6 +913,10 @@ def _say(text: str) -> None:
         pass
 
 
+#: the commands that render headless (the window too, when there is no display)
+HEADLESS_COMMANDS = ("render", "bench", "compare", "report", "window")
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     _install_sigterm()
@@ -890,6 +931,10 @@ def main(argv: list[str] | None = None) -> int:
                 argv = ["window", *argv]
             args = parser.parse_args(argv)
             command = args.command or "window"
+            if command in HEADLESS_COMMANDS:  # say which context they got, in one line
+                from .gpu.context import announce_contexts
+
+                announce_contexts(lambda line: _say(f"context: {line}"))
             handler = {
                 "window": cmd_window, "render": cmd_render, "scenes": cmd_scenes,
                 "params": cmd_params, "shaders": cmd_shaders, "bench": cmd_bench,
@@ -898,6 +943,9 @@ def main(argv: list[str] | None = None) -> int:
             }[command]
             return handler(args)
         finally:
+            context = sys.modules.get(f"{__package__}.gpu.context")
+            if context is not None:
+                context.announce_contexts(None)
             imageio = sys.modules.get(f"{__package__}.imageio")
             if imageio is not None:  # nothing was written unless the writer was imported
                 imageio.remove_live_temps()

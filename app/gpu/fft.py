@@ -33,7 +33,7 @@ import moderngl
 import numpy as np
 
 from ..errors import ParamError
-from .programs import draw_fullscreen, fullscreen
+from .programs import ProgramSpec, draw_fullscreen, fullscreen
 
 MIN_N = 4
 MAX_N = 1024
@@ -41,6 +41,25 @@ MAX_COUNT = 8  # MRT attachments every GL 3.3 implementation offers
 
 FFT_COMPUTE = "ocean/fft_radix2"
 FFT_STAGE = "ocean/fft_stage"
+
+
+def compute_spec(n: int) -> ProgramSpec:
+    """The compute FFT's program for an n × n transform."""
+    return ProgramSpec(FFT_COMPUTE, comp=f"{FFT_COMPUTE}.comp", requires_compute=True,
+                       defines=(("FFT_N", n), ("FFT_HALF_N", n // 2),
+                                ("FFT_LOG2N", int(math.log2(n)))))
+
+
+def fragment_spec(count: int) -> ProgramSpec:
+    """The fragment FFT's butterfly pass over ``count`` textures at once."""
+    return fullscreen(FFT_STAGE, defines=(("FFT_COUNT", count),))
+
+
+#: every program a GpuFFT may build (each size, each count): ``natura shaders check`` and its
+#: ``--strict`` pass compile exactly what the app can ask for
+VARIANTS = (tuple(compute_spec(1 << k) for k in range(MIN_N.bit_length() - 1,
+                                                      MAX_N.bit_length()))
+            + tuple(fragment_spec(c) for c in range(1, MAX_COUNT + 1)))
 
 
 def resolve_compute(gpu, use_compute: bool | None, what: str) -> bool:
@@ -92,14 +111,11 @@ class GpuFFT:
                                               data=twiddle_table(self.n).tobytes(), dtype="f4",
                                               filter=nearest))
         if self.use_compute:
-            self._prog = gpu.program(owner, FFT_COMPUTE,
-                                     {"FFT_N": self.n, "FFT_HALF_N": self.n // 2,
-                                      "FFT_LOG2N": self.log2n},
-                                     comp=f"{FFT_COMPUTE}.comp")
+            self._prog = gpu.program(owner, compute_spec(self.n))
             self._scratch = []
             self._fbos = []
         else:
-            self._prog = gpu.program(owner, fullscreen(FFT_STAGE), {"FFT_COUNT": self.count})
+            self._prog = gpu.program(owner, fragment_spec(self.count))
             self._scratch = [self._own(gpu.texture(owner, f"fft scratch {i}", size, 4, dtype="f4",
                                                    filter=nearest))
                              for i in range(self.count)]

@@ -122,14 +122,21 @@ uniform vec4 uCascadeBand[4];  // (k_lo, k_hi, mss of the cascade, 0)
 // (oceanOffDx, oceanOffDy: d off / dx, d off / dy, set before OceanSurface) in a pass that shades
 // from stored inputs (OCEAN_EXPLICIT_GRADIENTS; glsl/ocean/shade.frag), where neighbouring pixels
 // may belong to different triangles.
+// (A function, not a macro: a macro this long needs a line continuation, which GLSL has only
+// from 4.20 on.)
 #ifdef OCEAN_EXPLICIT_GRADIENTS
 vec2 oceanOffDx = vec2(0.0);
 vec2 oceanOffDy = vec2(0.0);
-#define OCEAN_TEX(s, i, uv) \
-    textureGrad(s, uv, oceanOffDx * uCascadeUV[i].z, oceanOffDy * uCascadeUV[i].z)
-#else
-#define OCEAN_TEX(s, i, uv) texture(s, uv)
 #endif
+
+vec4 OceanTex(sampler2D s, int cascade, vec2 uv) {
+#ifdef OCEAN_EXPLICIT_GRADIENTS
+    float scale = uCascadeUV[cascade].z;
+    return textureGrad(s, uv, oceanOffDx * scale, oceanOffDy * scale);
+#else
+    return texture(s, uv);
+#endif
+}
 
 float WaveKeep(float wavelength, float footprint) {
     return smoothstep(2.0, 6.0, wavelength / max(footprint, 1e-6));
@@ -165,22 +172,22 @@ void OceanSurface(vec2 off, float footprint, out vec3 n, out float foam, out flo
         foam = clamp((uFoamThreshold - jac) / max(uFoamWidth, 1e-3), 0.0, 1.0);
     } else {
         vec2 uv0 = CascadeUV(0, off);
-        vec4 g = OCEAN_TEX(uDeriv0, 0, uv0);
-        foam = uFoamWeight[0] * OCEAN_TEX(uFoam0, 0, uv0).r;
+        vec4 g = OceanTex(uDeriv0, 0, uv0);
+        foam = uFoamWeight[0] * OceanTex(uFoam0, 0, uv0).r;
         if (uCascades > 1) {
             vec2 uv = CascadeUV(1, off);
-            g += OCEAN_TEX(uDeriv1, 1, uv);
-            foam += uFoamWeight[1] * OCEAN_TEX(uFoam1, 1, uv).r;
+            g += OceanTex(uDeriv1, 1, uv);
+            foam += uFoamWeight[1] * OceanTex(uFoam1, 1, uv).r;
         }
         if (uCascades > 2) {
             vec2 uv = CascadeUV(2, off);
-            g += OCEAN_TEX(uDeriv2, 2, uv);
-            foam += uFoamWeight[2] * OCEAN_TEX(uFoam2, 2, uv).r;
+            g += OceanTex(uDeriv2, 2, uv);
+            foam += uFoamWeight[2] * OceanTex(uFoam2, 2, uv).r;
         }
         if (uCascades > 3) {
             vec2 uv = CascadeUV(3, off);
-            g += OCEAN_TEX(uDeriv3, 3, uv);
-            foam += uFoamWeight[3] * OCEAN_TEX(uFoam3, 3, uv).r;
+            g += OceanTex(uDeriv3, 3, uv);
+            foam += uFoamWeight[3] * OceanTex(uFoam3, 3, uv).r;
         }
         vec2 s = g.xy / max(vec2(1.0) + g.zw, vec2(1e-3));
         n = normalize(vec3(-s.x, 1.0, -s.y));
