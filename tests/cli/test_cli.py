@@ -19,7 +19,7 @@ from PIL import Image
 
 from app.imageio import read_exr
 from app.sim.daynight import sun_direction
-from tests.helpers.cli import SIZE, SMALL, run, usage_error
+from tests.helpers.cli import CONTEXT_LINE, SIZE, SMALL, messages, run, usage_error
 
 
 def render(tmp_path: Path, *args: str) -> subprocess.CompletedProcess:
@@ -207,8 +207,9 @@ def test_no_display_renders_the_default_scene_headless(tmp_path):
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     r = run(cwd=tmp_path, env=env)
     assert r.returncode == 0, r.stderr
-    err = r.stderr.strip().splitlines()
+    err = messages(r.stderr)
     assert len(err) == 1 and "no display" in err[0].lower(), r.stderr
+    assert CONTEXT_LINE + "OpenGL" in r.stderr  # and which context rendered it instead
     out = r.stdout.strip().splitlines()
     assert len(out) == 1, r.stdout
     path = tmp_path / out[0]
@@ -228,7 +229,7 @@ def test_a_dead_x_display_is_named_not_called_unset(tmp_path):
     env = {**{k: v for k, v in os.environ.items() if k != "WAYLAND_DISPLAY"}, "DISPLAY": dead}
     r = run("window", "sky", "--size", "32x18", cwd=tmp_path, env=env)
     assert r.returncode == 0, r.stderr
-    (line,) = r.stderr.strip().splitlines()
+    (line,) = messages(r.stderr)
     assert f"the X display '{dead}' does not answer" in line and "unset" not in line, line
     assert (tmp_path / r.stdout.strip()).is_file()
 

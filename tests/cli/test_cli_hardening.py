@@ -19,7 +19,7 @@ from PIL import Image
 from app import PROJECT_ROOT, cli
 from app.imageio import STALE_AFTER
 from tests.cli.fuzz_cases import is_root
-from tests.helpers.cli import NATURA, SMALL, run, usage_error
+from tests.helpers.cli import NATURA, SMALL, messages, run, usage_error
 
 
 def temps(folder: Path) -> list[str]:
@@ -109,7 +109,7 @@ def test_a_signal_during_a_render_leaves_no_temporary_file(tmp_path, sig, code):
     out, err = out_bytes.decode(), err_bytes.decode()
     assert proc.returncode == code, err
     assert "Traceback" not in err
-    lines = [line for line in err.split("\n") if line.strip()]
+    lines = messages(err)
     # the progress line (ended), then one line saying what happened
     assert len(lines) == 2 and lines[0].lstrip("\r").startswith("rendering ["), err
     assert lines[1].startswith("natura: ") and "temporary files removed" in lines[1], err
@@ -129,7 +129,7 @@ def _main(capsys, *argv: str) -> tuple[int, list[str]]:
     rc = cli.main(list(argv))
     err = capsys.readouterr().err
     assert "Traceback" not in err
-    return rc, [line for line in err.splitlines() if line.strip()]
+    return rc, messages(err)
 
 
 def test_a_full_disk_is_one_line_and_leaves_nothing(tmp_path, monkeypatch, capsys):

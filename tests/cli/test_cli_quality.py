@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 from PIL import Image
 
-from tests.helpers.cli import SMALL, run
+from tests.helpers.cli import SMALL, messages, run
 
 
 def test_render_planet_with_an_error_budget_prints_and_applies_its_picks(tmp_path):
@@ -16,7 +16,7 @@ def test_render_planet_with_an_error_budget_prints_and_applies_its_picks(tmp_pat
             "--set", "planet.shadow_map_size=1024", "--out", "auto.png", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip() == "auto.png" and (tmp_path / "auto.png").stat().st_size > 0
-    lines = r.stderr.splitlines()
+    lines = messages(r.stderr)
     assert lines[0] == "quality auto for planet at 64x36: error ≤ 0.02 (each family's own metric)"
     assert lines[1].startswith("  sweeps: docs/bench-planet.json (shipped)")
     steps = next(ln for ln in lines if ln.startswith("planet · N_STEPS (method 3, LUT + shadows)"))

@@ -36,10 +36,23 @@ def run(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedP
                           timeout=120)
 
 
+#: how the commands that render headless (render, bench, compare, report, and the window
+#: without a display) start: one line naming the OpenGL context they got
+CONTEXT_LINE = "natura: context: "
+
+
+def messages(stderr: str) -> list[str]:
+    """The non-blank lines of ``stderr`` without the context line (said at most once)."""
+    lines = [line for line in stderr.split("\n") if line.strip()]
+    rest = [line for line in lines if not line.startswith(CONTEXT_LINE)]
+    assert len(lines) - len(rest) <= 1, stderr
+    return rest
+
+
 def usage_error(r: subprocess.CompletedProcess) -> str:
     """Assert exit 2 with exactly one line on stderr and nothing on stdout; return that line."""
     assert r.returncode == 2, (r.returncode, r.stdout, r.stderr)
-    lines = r.stderr.strip().splitlines()
+    lines = messages(r.stderr)
     assert len(lines) == 1, r.stderr
     assert "Traceback" not in r.stderr
     assert r.stdout == ""
