@@ -243,11 +243,16 @@ def build_parser() -> argparse.ArgumentParser:
     s_sub = s.add_subparsers(dest="shaders_command", parser_class=_Parser)
     sc = s_sub.add_parser("check", help="compile every program; print file:line errors")
     _add_common(sc)
+    sc.add_argument("programs", nargs="*", metavar="PROGRAM",
+                    help="only these programs (e.g. sky/sky; default: every one)")
     sc.add_argument("--strict", action="store_true",
                     help="also judge every preprocessed stage with the Khronos reference "
                          "compiler (glslangValidator) for its #version")
     cp = s_sub.add_parser("copy", help="copy the shader folder to DIR for editing")
     cp.add_argument("dest", metavar="DIR")
+
+    sub.add_parser("doctor", help="the driver report: context, the paths the scenes take on "
+                   "it, the shader compilers' verdict, what the window and the tests lack")
 
     b = sub.add_parser("bench", help="time each pass of a scene, or run the boat bench; "
                        "write JSON",
@@ -576,6 +581,14 @@ def cmd_shaders(args) -> int:
     caps = caps_of(ctx)
     library = ShaderLibrary(ctx, root)
     specs = program_specs()
+    if args.programs:
+        names = dict.fromkeys(s.name for s in specs)
+        unknown = [p for p in args.programs if p not in names]
+        if unknown:
+            raise UsageError(f"shaders check: no program {quote(unknown[0])}: allowed "
+                             f"{', '.join(list(names)[:6])}, … (natura shaders check lists "
+                             "them all)")
+        specs = [s for s in specs if s.name in args.programs]
     failures = 0
     for spec in specs:
         if spec.requires_compute and not caps.compute:
@@ -615,6 +628,26 @@ def program_specs() -> list:
 
 def _defines_label(spec) -> str:
     return (" [" + ", ".join(f"{k}={v}" for k, v in spec.defines) + "]") if spec.defines else ""
+
+
+def strict_verdict(library, specs):
+    """For natura doctor: (programs passing, programs, stages, validator) from glslangValidator
+    over every preprocessed stage, or None when it is not installed."""
+    from .gpu import strict
+
+    validator = strict.validator_path()
+    if validator is None:
+        return None
+    results = strict.check_programs(library, specs, validator)
+    return (sum(r.ok for r in results), len(results), sum(r.stages for r in results),
+            f"{strict.VALIDATOR} {strict.validator_version(validator)}")
+
+
+def cmd_doctor(args) -> int:
+    from .teach import doctor
+    from .ui.window import display_problem
+
+    return doctor.run(program_specs(), display_problem(), strict_check=strict_verdict)
 
 
 def _strict_check(library, specs) -> int:
@@ -939,7 +972,7 @@ def main(argv: list[str] | None = None) -> int:
                 "window": cmd_window, "render": cmd_render, "scenes": cmd_scenes,
                 "params": cmd_params, "shaders": cmd_shaders, "bench": cmd_bench,
                 "report": cmd_report,
-                "compare": cmd_compare,
+                "compare": cmd_compare, "doctor": cmd_doctor,
             }[command]
             return handler(args)
         finally:

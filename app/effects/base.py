@@ -36,6 +36,7 @@ from ..params import Param, ParamSet, parse_glsl_annotations
 
 if TYPE_CHECKING:
     from ..frame import FrameContext
+    from ..gpu.context import Caps
     from ..gpu.device import Gpu
     from ..gpu.targets import RenderTarget
 
@@ -187,6 +188,14 @@ class Effect:
         if cls.lesson_param is None or cls.lesson_param not in params:
             return None
         return cls.LESSONS.get(params[cls.lesson_param])
+
+    @classmethod
+    def context_paths(cls, caps: Caps, params: ParamSet) -> dict[str, str]:
+        """The paths this effect takes on a context with ``caps`` under ``params``, where it
+        has a choice (compute shaders or fragment passes, a path picked for a software
+        renderer): what it is → which path and why, for ``natura doctor``, the window's panel
+        and the GPU report. A class method, so it is asked without building anything."""
+        return {}
 
     def panel_notes(self) -> list[str]:
         """Lines the window's panel shows above this effect's widgets (live figures)."""

@@ -52,10 +52,10 @@ class Gpu:
         passes, a bake) — gives the caller back its framebuffer and viewport: otherwise the
         consumer's next draw lands in the producer's target (on a context without compute
         shaders, where such work runs as fragment passes, the ocean's deferred shading did)."""
-        before = self.ctx.fbo
+        before: moderngl.Framebuffer | None = self.ctx.fbo
         if before is not None and isinstance(before.mglo, moderngl.InvalidObject):
             before = None  # released since it was bound: nothing to give back
-        viewport = self.ctx.viewport if before is not None else None
+        viewport = self.ctx.viewport
         try:
             yield
         finally:

@@ -5,7 +5,9 @@ CGL) knows how that platform hands out GL functions: ``eglGetProcAddress`` for e
 function on EGL, ``wglGetProcAddress`` with ``opengl32.dll`` for the GL 1.1 ones on Windows,
 the OpenGL framework's symbols on macOS. Going through it (``ctx.mglo._context.load``) instead
 of opening ``libGL``/``libOpenGL``/``libEGL`` by name is what makes a raw call safe on every
-platform and on a window's context as well as a headless one.
+platform. A window's context (moderngl-window's, detected by moderngl) carries moderngl's own
+loader instead, which asks the current context the same way (``wglGetProcAddress`` with
+``opengl32.dll``, ``eglGetProcAddress`` or ``glXGetProcAddress``, the OpenGL framework).
 
 Two users: :class:`CubeFaceCopy` — the bound framebuffer copied into one face and mip level of
 a cubemap on the GPU (``glCopyTexSubImage2D``, GL 1.1: moderngl can attach neither a cube face
@@ -24,7 +26,8 @@ _GL_TEXTURE_CUBE_MAP_POSITIVE_X = 0x8515
 
 
 def loader_of(ctx: Any) -> Any:
-    """The glcontext loader behind a moderngl context (None when moderngl hides it)."""
+    """The loader behind a moderngl context: glcontext's backend for a standalone context,
+    moderngl's DefaultLoader for a detected one (None when moderngl hides it)."""
     return getattr(getattr(ctx, "mglo", None), "_context", None)
 
 
@@ -32,10 +35,13 @@ def gl_function(ctx: Any, name: str, *argtypes: Any, restype: Any = None) -> Any
     """The GL function ``name`` of ``ctx``'s platform as a ctypes callable; a one-line
     GpuUnavailableError when the context's loader does not have it."""
     loader = loader_of(ctx)
-    if loader is None or not hasattr(loader, "load"):
+    # glcontext's backends (headless) and moderngl's DefaultLoader (a window's context) both
+    # have load_opengl_function; older glcontext backends only load
+    load = getattr(loader, "load_opengl_function", None) or getattr(loader, "load", None)
+    if load is None:
         raise GpuUnavailableError(f"{name}: this moderngl context exposes no GL loader "
-                                  "(allowed: moderngl 5.12 or newer, which keeps glcontext's)")
-    address = loader.load(name)
+                                  "(allowed: moderngl 5.10 or newer, which keeps its loader)")
+    address = load(name)
     if not address:
         raise GpuUnavailableError(f"{name}: the context's GL loader does not provide it")
     return ctypes.CFUNCTYPE(restype, *argtypes)(address)

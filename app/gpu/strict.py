@@ -8,8 +8,9 @@ of the version — so a program that compiles here proves little. glslang reads 
 and applies that version's rules; its messages (``ERROR: <source id>:<line>: …``, the form
 AMD's driver also uses) go through the library's ``#line`` table back to ``glsl/<file>:<line>``.
 
-Each stage is compiled on its own, then the stages are linked together (``-l``), so an
-interface mismatch between stages is caught as well.
+The stages are compiled and linked together in one run (``-l``), so an interface mismatch
+between stages is caught as well; only when that run fails is each stage compiled on its own,
+to say which file and line are to blame.
 """
 
 from __future__ import annotations
@@ -84,29 +85,35 @@ def check_program(library: ShaderLibrary, spec: ProgramSpec,
     result = StrictResult(spec)
     files = library.stage_files(spec.name, **spec.stages())
     with tempfile.TemporaryDirectory(prefix="natura-strict-") as tmp:
-        paths = []
+        stages = []  # (stage file, its preprocessed copy, the source's files)
         for ext, path in files.items():
             try:
                 src = library.preprocess(path, {**dict(spec.defines), STAGE_DEFINES[ext]: 1})
             except PreprocessError as exc:
                 result.errors.append(exc.error)
                 continue
-            stage_path = Path(tmp) / f"stage.{ext}"
-            stage_path.write_text(src.text, encoding="utf-8")
-            paths.append(stage_path)
-            result.stages += 1
-            out = _run([validator, str(stage_path)])
+            copy = Path(tmp) / f"stage.{ext}"
+            copy.write_text(src.text, encoding="utf-8")
+            stages.append((path, copy, src.files))
+        result.stages = len(stages)
+        if result.errors or not stages:
+            return result
+        # one run compiles and links every stage; only a failure is looked at stage by stage
+        linked = _run([validator, *(["-l"] if len(stages) > 1 else []),
+                       *(str(copy) for _, copy, _ in stages)])
+        if linked is None:
+            return result
+        for path, copy, sources in stages:
+            out = _run([validator, str(copy)]) if len(stages) > 1 else linked
             if out is not None:
-                result.errors.extend(library.map_errors(_messages(out), src.files, path)
-                                     or [ShaderError(library.display(path), 1, out.strip()[:200]
-                                                     or "glslangValidator failed")])
-        if not result.errors and len(paths) > 1:
-            out = _run([validator, "-l", *map(str, paths)])
-            if out is not None:
-                first = next(iter(files.values()))
-                result.errors.append(ShaderError(library.display(first), 1,
-                                                 "link: " + " ".join(_messages(out).split())[:300]
-                                                 or "link failed"))
+                result.errors.extend(library.map_errors(_messages(out), sources, path)
+                                     or [ShaderError(library.display(path), 1,
+                                                     out.strip()[:200] or "rejected")])
+        if not result.errors:  # each stage compiles alone: the link failed
+            first = stages[0][0]
+            result.errors.append(ShaderError(library.display(first), 1,
+                                             "link: " + " ".join(_messages(linked).split())[:300]
+                                             or "link failed"))
     return result
 
 

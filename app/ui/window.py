@@ -144,7 +144,9 @@ def _create_window(size, title):
 
     cls = mglw.get_local_window_cls("pyglet")
     last = None
-    for version in ((4, 3), (3, 3)):
+    # 4.3 for compute shaders; 4.1 is macOS's last (forward-compatible core, as moderngl-window
+    # asks); 3.3 the least Natura runs on
+    for version in ((4, 3), (4, 1), (3, 3)):
         try:
             wnd = cls(title=title, gl_version=version, size=size, resizable=True, vsync=True,
                       samples=0, cursor=True, visible=True, fullscreen=False)
@@ -175,6 +177,9 @@ class NaturaWindow:
         self.session = open_session(scene_name, params, shader_root, ctx=self.ctx, camera=camera)
         self.scene = self.session.scene
         self.scene.interactive = True
+        from ..gpu.context import describe_context
+
+        print(f"natura: context: {describe_context(self.ctx)}", file=sys.stderr, flush=True)
         self.params = params
         self.home = Camera(**{k: getattr(camera, k) for k in ("position", "yaw", "pitch", "fov")})
         imgui.create_context()
@@ -558,6 +563,16 @@ class NaturaWindow:
         return self._save_text("keyframes", self.keyframes_dir, "keyframes",
                                keyframes.to_toml())
 
+    def context_paths(self) -> dict[str, str]:
+        """The scene's paths on this context (``Effect.context_paths``), for the panel."""
+        out: dict[str, str] = {}
+        for effect in self.scene.instances:
+            try:
+                out.update(type(effect).context_paths(self.session.gpu.caps, self.params))
+            except Exception as exc:  # noqa: BLE001 - a figure must not close the panel
+                out[effect.name] = f"unavailable: {_one_line(exc)}"
+        return out
+
     def build_panel(self, dt: float) -> None:
         from . import panel
 
@@ -567,6 +582,11 @@ class NaturaWindow:
         imgui.begin(f"Natura — {self.scene.title}###natura-panel")
         gpu = self.session.gpu
         imgui.text(f"{gpu.caps.describe()}")
+        paths = self.context_paths()
+        if paths and imgui.tree_node("Paths on this context"):
+            for what, how in paths.items():
+                imgui.text_wrapped(f"{what}: {how}")
+            imgui.tree_pop()
         ms = np.array(self.frame_ms, dtype=np.float32)
         imgui.text(f"frame {ms[-1]:6.2f} ms   "
                    f"median {np.median(ms[ms > 0]) if (ms > 0).any() else 0:6.2f} ms")

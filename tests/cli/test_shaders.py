@@ -5,9 +5,13 @@ check with file:line, and `shaders copy` never overwrites.
 from __future__ import annotations
 
 import os
+import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
+
+import pytest
 
 from app import DEFAULT_SHADER_ROOT, PROJECT_ROOT
 from app.gpu.shaders import SHADER_ENV
@@ -65,3 +69,55 @@ def test_shaders_copy_never_overwrites(tmp_path):
     assert r.returncode == 2
     assert len(r.stderr.strip().splitlines()) == 1 and "already exists" in r.stderr
     assert sorted(p.name for p in dest.iterdir()) == ["keep.txt"]
+
+
+# ---- the strict check: the Khronos reference compiler ----------------------------------------
+
+GLSLANG_SKIP = "glslangValidator not installed (Debian: apt-get install glslang-tools)"
+
+
+@pytest.mark.skipif(shutil.which("glslangValidator") is None, reason=GLSLANG_SKIP)
+def test_every_preprocessed_stage_passes_the_reference_compiler(tmp_path):
+    r = natura("shaders", "check", "--strict", cwd=tmp_path)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr
+    last = r.stdout.strip().splitlines()[-1]
+    m = re.fullmatch(r"strict: (\d+) of (\d+) programs \((\d+) stages\) pass glslangValidator .+",
+                     last)
+    assert m and m[1] == m[2] and int(m[3]) > int(m[2]) > 100, last
+    assert "strict FAIL" not in r.stdout
+
+
+@pytest.mark.skipif(shutil.which("glslangValidator") is None, reason=GLSLANG_SKIP)
+def test_what_only_a_lenient_driver_accepts_is_blamed_at_its_line(tmp_path):
+    """Mesa compiles a line continuation in a GLSL 3.30 shader (it came in 4.20) and an int
+    initialised from a float literal is an error everywhere: the driver's check passes the
+    first, the strict one names both by file and line."""
+    copy = tmp_path / "my-shaders"
+    assert natura("shaders", "copy", str(copy), cwd=tmp_path).returncode == 0
+    radiance = copy / "sky" / "sky_radiance.glsl"
+    lines = radiance.read_text().splitlines()
+    at = len(lines) + 1
+    lines += ["#define NATURA_TWO_LINES(x) \\", "    (x + 1.0)"]
+    radiance.write_text("\n".join(lines) + "\n")
+    driver = natura("shaders", "check", "sky/sky", "--shaders", str(copy), cwd=tmp_path)
+    assert driver.returncode == 0, driver.stdout[-2000:]  # the lenient driver lets it through
+    r = natura("shaders", "check", "--strict", "sky/sky", "sky/sky_face", "--shaders", str(copy),
+               cwd=tmp_path)
+    assert r.returncode == 1, r.stdout[-2000:]
+    blamed = [line.strip() for line in r.stdout.splitlines() if "line continuation" in line]
+    assert blamed and all(line.startswith(f"my-shaders/sky/sky_radiance.glsl:{at}:")
+                          for line in blamed), blamed
+    assert "strict FAIL sky/sky" in r.stdout and "strict FAIL sky/sky_face" in r.stdout
+    assert r.stdout.strip().splitlines()[-1].startswith("strict: 0 of 2 programs")
+    radiance.write_text("\n".join(lines[:-2]) + "\n")
+    face = copy / "sky" / "sky.frag"
+    face.write_text(face.read_text().replace("void main() {", "void main() {\n    int n = 2.0;"))
+    r = natura("shaders", "check", "--strict", "sky/sky", "--shaders", str(copy), cwd=tmp_path)
+    assert any(line.strip().startswith("my-shaders/sky/sky.frag:") and "cannot convert" in line
+               for line in r.stdout.splitlines()), r.stdout[-2000:]
+
+
+def test_an_unknown_program_is_named(tmp_path):
+    r = natura("shaders", "check", "sky/skyy", cwd=tmp_path)
+    assert r.returncode == 2 and "'sky/skyy'" in r.stderr and "allowed" in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1

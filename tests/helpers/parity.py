@@ -1,5 +1,6 @@
-"""Render a list of scene jobs (name, scene, --set values, optionally a camera) on this process's context and save each as the 8-bit sRGB
-image ``natura render`` would write (``python -m tests.helpers.parity OUT JOBS.json WxH``).
+"""Render a list of scene jobs (name, scene, --set values, optionally a camera) on this
+process's context and save each as the 8-bit sRGB image ``natura render`` would write
+(``python -m tests.helpers.parity OUT JOBS.json WxH``).
 
 The GL 4.1 parity test runs it twice, once as is and once under Mesa's caps
 (:data:`GL41_ENV`), and compares the images job by job. Besides the images, ``OUT/run.json``

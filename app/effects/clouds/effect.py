@@ -91,6 +91,11 @@ class Clouds(Effect):
     consumes = {"main_light": "optional", "image": "optional"}
 
     @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        how = "compute shaders" if caps.compute else "one fragment pass per slice"
+        return {"noise bakes (3D textures)": how}
+
+    @classmethod
     def python_params(cls) -> list[Param]:
         s = SPEC
         return [

@@ -64,6 +64,11 @@ class CloudsB(Effect):
                 "image": "optional"}
 
     @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        how = "compute shaders" if caps.compute else "one fragment pass per slice"
+        return {"noise bakes (3D textures)": how}
+
+    @classmethod
     def python_params(cls) -> list[Param]:
         s = "spec/000 §1.6"
         return [

@@ -82,6 +82,12 @@ class Grass(Effect):
                 "shadows": "optional", "fog": "optional"}
 
     @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        how = ("one indirect draw per LOD" if caps.version_code >= 430 else
+               "one instanced draw per run of visible tiles (no base instance before GL 4.2)")
+        return {"instanced grass culling": how}
+
+    @classmethod
     def python_params(cls) -> list[Param]:
         s, a, b = "spec/003 §2.9", "spec/003 §2.9 a", "spec/003 §2.9 b"
         return [

@@ -85,6 +85,11 @@ class Materials(Effect):
     extra_groups = ("wood", "marble", "granite")
 
     @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        return {"baked wood noise": "a compute shader" if caps.compute
+                else "one fragment pass per slice"}
+
+    @classmethod
     def python_params(cls) -> list[Param]:
         w = "spec/004 §2"
         return [

@@ -32,6 +32,11 @@ class Noise(Effect):
     stages = (Stage.BACKGROUND,)
 
     @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        how = "compute shaders" if caps.compute else "one fragment pass per slice"
+        return {"noise bakes (3D textures)": how}
+
+    @classmethod
     def python_params(cls) -> list[Param]:
         return [
             Param("noise.view", "shape", doc="what to show: a bake (shape, detail, weather) or a "

@@ -30,6 +30,7 @@ import math
 import moderngl
 import numpy as np
 
+from ...errors import NaturaError
 from ...frame import Stage
 from ...gpu import fft as gpu_fft
 from ...gpu.copy import ColourCopy
@@ -82,6 +83,15 @@ SIMULATION = (
 ) + gpu_fft.VARIANTS
 
 
+def shading_path(caps, setting: str) -> str:
+    """``ocean.shading`` on a context: ``auto`` is deferred on a software renderer (it shades
+    whole 4×4 blocks, so the far rings' thin triangles cost it several times over), forward on
+    a GPU."""
+    if setting == "auto":
+        return "deferred" if caps.software else "forward"
+    return setting
+
+
 class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     name = "ocean"
     title = "Ocean"
@@ -93,6 +103,19 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     produces = frozenset({"wind", "water"})
     consumes = {"environment": "optional", "main_light": "optional", "image": "optional",
                 "wind": "optional", "wakes": "optional", "dry_mask": "optional"}
+
+    @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        from ...gpu.fft import choose_compute
+
+        fft, shading = params["ocean.fft_path"], params["ocean.shading"]
+        try:
+            fft_path = "compute shaders" if choose_compute(caps, fft, "ocean.fft_path") \
+                else "fragment passes"
+        except NaturaError as exc:
+            fft_path = f"refused: {exc}"
+        return {"ocean FFT": f"{fft_path} (ocean.fft_path={fft})",
+                "ocean surface": f"{shading_path(caps, shading)} (ocean.shading={shading})"}
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -250,8 +273,9 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
 
     def render_surface(self, frame, target) -> None:
         """The sea's surface: ``ocean.shading = deferred`` (inputs, then one shading pass over
-        the covered pixels) or ``forward`` (the mesh and the far plane shade as they draw)."""
-        if self.params["ocean.shading"] == "forward":
+        the covered pixels) or ``forward`` (the mesh and the far plane shade as they draw);
+        ``auto`` picks by the context (:func:`shading_path`)."""
+        if shading_path(self.gpu.caps, self.params["ocean.shading"]) == "forward":
             self._render_forward(frame, target)
         else:
             self._render_deferred(frame, target)

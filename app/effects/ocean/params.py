@@ -84,11 +84,13 @@ def ocean_params() -> list[Param]:
               unit="m", section=s1),
         Param("ocean.mesh_extent", 3000.0, 50.0, 50000.0, "radius of the surface mesh; beyond it "
               "the sea is an analytic plane to the horizon", step=10.0, unit="m", section=s1),
-        Param("ocean.shading", "deferred", doc="surface pass: deferred (the mesh and the far "
+        Param("ocean.shading", "auto", doc="surface pass: deferred (the mesh and the far "
               "plane write their shading inputs, one pass shades the covered pixels once; the far "
-              "plane only over its band of rows) or forward (each shades as it draws: pixels of "
-              "tiny far triangles are shaded several times over on software rasterisers)",
-              kind="choice", choices=("deferred", "forward"), section=s1),
+              "plane only over its band of rows), forward (each shades as it draws: pixels of "
+              "tiny far triangles are shaded several times over on software rasterisers) or "
+              "auto (deferred on a software renderer, which shades 4×4 blocks; forward on a GPU, "
+              "which then skips writing and reading three RGBA32F targets)",
+              kind="choice", choices=("auto", "deferred", "forward"), section=s1),
         Param("ocean.mesh_cull", True, doc="draw only the wedges of the surface mesh the camera "
               "can see", kind="bool", section=s1),
         Param("ocean.query_iterations", 3, 0, 10, "corrections of the water-height inversion (the "

@@ -88,13 +88,12 @@ class SeaState:
             return
         ref = oc.FFTOcean(key[0], n=key[1], patch_sizes=key[2], choppiness=1.0, seed=key[3])
         if self.sim is None:
-            from ...gpu.fft import resolve_compute
+            from ...gpu.fft import choose_compute
             from .fft import GpuOceanSim
-            if path == "auto":  # llvmpipe runs the fragment path faster (evolve and finalize
-                # as image stores cost it 2–3×: 79 against 98 ms per update at 256 × 3)
-                use_compute = self.gpu.caps.compute and not self.gpu.caps.software
-            else:
-                use_compute = resolve_compute(self.gpu, path == "compute", "ocean.fft_path=compute")
+
+            # auto: llvmpipe runs the fragment path faster (evolve and finalize as image
+            # stores cost it 2–3×: 79 against 98 ms per update at 256 × 3)
+            use_compute = choose_compute(self.gpu.caps, path, "ocean.fft_path")
             self.sim = GpuOceanSim(self.gpu, self.name, use_compute=use_compute)
             self._sim_path = path
         self.sim.set_spectrum(ref.cascades, key[1])

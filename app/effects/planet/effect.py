@@ -148,6 +148,15 @@ class Planet(Effect):
     produces = frozenset({"exposure", "shadows"})
 
     @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        aniso = params["planet.anisotropy"]
+        chosen = aniso or (1 if caps.software else 8)
+        return {"Hillaire aerial perspective": "a compute shader" if caps.compute
+                else "fragment passes into a 2D atlas",
+                "planet texture anisotropy": f"{chosen}× ({'set' if aniso else 'auto'}"
+                f"{'' if aniso else ': off on a software renderer'})"}
+
+    @classmethod
     def python_params(cls) -> list[Param]:
         s = "spec/002"
         return atm.params_list() + hillaire.params() + [

@@ -49,6 +49,11 @@ class Sky(Effect):
     produces = frozenset({"hour", "sun", "moon", "main_light", "environment"})
 
     @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        return {"sky cubemap": "a compute shader" if caps.compute else
+                "six fragment passes, each copied into its face on the GPU"}
+
+    @classmethod
     def python_params(cls) -> list[Param]:
         s = "spec/000 §1.7"
         return [

@@ -110,6 +110,11 @@ class ToonWater(Effect):
                 "fog": "optional", "terrain": "optional"}
 
     @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        return {"toon water texture anisotropy": "1× (software renderer)" if caps.software
+                else "8×"}
+
+    @classmethod
     def python_params(cls) -> list[Param]:
         s = "spec/003 §2.10"
         return [

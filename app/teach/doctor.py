@@ -1,0 +1,149 @@
+"""``natura doctor``: the driver report a teacher pastes into a course forum, on one screen.
+
+What it says, a few lines each: the context Natura gets (renderer, vendor, version, how it was
+made) and what it offers (compute shaders, MSAA, GPU timers, pipeline statistics); which
+path every scene will take on it where there is a choice (``Effect.context_paths``: compute
+or fragment FFT, deferred or forward ocean, how the sky's cubemap and the bakes are made); the
+shader compiler's verdict over every program, the driver's and — where it is installed — the
+Khronos reference compiler's; and what is missing for the window and for the tests.
+
+The command line gives it the programs to compile and the window's display problem (both live
+in higher layers); everything else it finds itself.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import platform
+import shutil
+import sys
+import textwrap
+import time
+from typing import Callable, Iterable, TextIO
+
+from .. import __version__ as NATURA_VERSION
+from ..errors import NaturaError
+
+WIDTH = 100
+LABEL = 9  # the labels' column
+#: what the tests need beyond Python packages, and the Debian package of each
+TEST_TOOLS = (("Xvfb", "xvfb", "window tests"), ("xdotool", "xdotool", "window key tests"),
+              ("chromium", "chromium", "handout test"),
+              ("glslangValidator", "glslang-tools", "shaders check --strict"))
+PACKAGES = ("moderngl", "glcontext", "moderngl-window", "pyglet", "imgui-bundle", "numpy")
+
+
+def _version(package: str) -> str:
+    try:
+        return importlib.metadata.version(package)
+    except importlib.metadata.PackageNotFoundError:
+        return "missing"
+
+
+class _Writer:
+    def __init__(self, out: TextIO):
+        self.out = out
+
+    def __call__(self, label: str, text: str) -> None:
+        lines = textwrap.wrap(text, WIDTH - LABEL - 1, break_on_hyphens=False) or [""]
+        for i, line in enumerate(lines):
+            print(f"{label if i == 0 else '':<{LABEL}} {line}", file=self.out)
+
+
+def paths_by_scene(caps) -> dict[str, list[tuple[str, str]]]:
+    """What → [(path, scenes)] over every scene's effects at the scenes' default parameters."""
+    from ..runtime import scene_params
+    from ..scenes import SCENES
+
+    found: dict[str, dict[str, list[str]]] = {}
+    for name, scene in SCENES.items():
+        params = scene_params(name)
+        for effect in scene.effects:
+            for what, how in effect.context_paths(caps, params).items():
+                found.setdefault(what, {}).setdefault(how, []).append(name)
+    return {what: [(how, ", ".join(dict.fromkeys(scenes))) for how, scenes in ways.items()]
+            for what, ways in found.items()}
+
+
+def run(specs: Iterable, display_problem: str | None, out: TextIO | None = None,
+        strict_check: Callable | None = None) -> int:
+    """Print the report; 0 when a context was made and every program compiled, 1 when a
+    program failed, 3 when no context could be made (what could be said without one is said).
+    ``strict_check(library, specs)`` → (programs passing, programs, stages, validator) runs the
+    reference compiler when given and installed."""
+    out = out or sys.stdout
+    say = _Writer(out)
+    print(f"natura doctor — Natura {NATURA_VERSION}, Python {platform.python_version()} on "
+          f"{platform.system()} {platform.machine()}", file=out)
+    say("packages", " · ".join(f"{p} {_version(p)}" for p in PACKAGES))
+    code = _gl_part(say, list(specs), strict_check)
+    if display_problem is None:
+        say("window", "a window can open here (pyglet, OpenGL 3.3 core or newer; macOS 4.1)")
+    else:
+        say("window", f"cannot open: {display_problem}; `natura` renders headless to a PNG "
+                      "instead")
+    tools = []
+    for exe, debian, why in TEST_TOOLS:
+        where = shutil.which(exe)
+        tools.append(f"{exe} yes" if where else f"{exe} missing ({why}; Debian: {debian})")
+    say("tests", " · ".join(tools))
+    return code
+
+
+def _gl_part(say: _Writer, specs: list, strict_check: Callable | None) -> int:
+    from ..gpu.context import caps_of, create_headless_context, describe_context
+    from ..gpu.shaders import ShaderLibrary
+
+    try:
+        ctx = create_headless_context()
+    except NaturaError as exc:
+        say("context", f"none: {exc}")
+        return 3
+    try:
+        caps = caps_of(ctx)
+        say("context", describe_context(ctx))
+        timers = ("GPU timer queries beside wall time" if caps.gpu_timers else
+                  "wall time only (a software renderer's timer queries mean little)")
+        say("offers", " · ".join([
+            "a software renderer" if caps.software else "a hardware GPU",
+            f"compute shaders {'yes' if caps.compute else 'no (GL < 4.3: fragment twins)'}",
+            f"MSAA up to {caps.max_samples}× (the village and the surfaces lab use 4×)",
+            timers,
+            f"pipeline statistics {'yes' if caps.pipeline_statistics else 'no'}"]))
+        for i, (what, ways) in enumerate(sorted(paths_by_scene(caps).items())):
+            say("paths" if i == 0 else "", f"{what}: " + "; ".join(
+                f"{how} [{scenes}]" if len(ways) > 1 else how for how, scenes in ways))
+        library = ShaderLibrary(ctx)
+        t0 = time.perf_counter()
+        failed = []
+        skipped = 0
+        for spec in specs:
+            if spec.requires_compute and not caps.compute:
+                skipped += 1
+                continue
+            try:
+                library.program(spec.name, dict(spec.defines), **spec.stages())
+            except NaturaError as exc:
+                failed.append(f"{spec.name}: {str(exc).splitlines()[0]}")
+        built = len(specs) - skipped
+        say("shaders", f"{built - len(failed)} of {built} programs compile on this driver "
+                       f"({time.perf_counter() - t0:.1f} s" +
+                       (f"; {skipped} compute programs not asked for on GL < 4.3)" if skipped
+                        else ")"))
+        for line in failed[:5]:
+            say("", f"FAIL {line}")
+        if strict_check is not None:
+            verdict = strict_check(library, specs)
+            if verdict is None:
+                say("strict", "glslangValidator is not installed: the reference compiler's "
+                              "check did not run (Debian: glslang-tools)")
+            else:
+                passing, total, stages, validator = verdict
+                say("strict", f"{passing} of {total} programs ({stages} stages) pass "
+                              f"{validator} for their #version")
+                if passing < total:
+                    failed.append("strict")
+        library.release()
+        return 1 if failed else 0
+    finally:
+        ctx.release()
