@@ -150,6 +150,9 @@ def _add_scene_options(p: argparse.ArgumentParser) -> None:
                    help="set a parameter (repeatable); see `natura params SCENE`")
     p.add_argument("--preset", default=None, metavar="FILE.toml",
                    help="apply a TOML preset before --set")
+    p.add_argument("--view", default=None, metavar="NAME",
+                   help="start from one of the scene's views (natura scenes lists them): its "
+                        "camera, hour and parameters, before --preset and --set")
     p.add_argument("--mesh", default=None, metavar="FILE",
                    help="your own mesh on the shading lab's turntable (.obj, .stl, .gltf, .glb)")
     p.add_argument("--vr", action="store_true",
@@ -403,7 +406,13 @@ def _session_inputs(args, scene_name: str):
     _check_shader_arg(args.shaders)
     cls = get_scene(scene_name)
     size = parse_size(args.size) if args.size is not None else (1280, 720)
-    params = scene_params(scene_name, args.shaders, args.sets, args.preset)
+    view = None
+    if getattr(args, "view", None) is not None:
+        from .scenes.views import get_view
+
+        _nonempty("--view", args.view, "a view name (natura scenes lists them)")
+        view = get_view(scene_name, args.view)
+    params = scene_params(scene_name, args.shaders, args.sets, args.preset, view)
     if args.time is not None:
         if "time.hour" not in params:
             raise UsageError(f"--time: scene {scene_name!r} has no time of day: allowed with the "
@@ -416,11 +425,14 @@ def _session_inputs(args, scene_name: str):
                              f"{', '.join(vr_scenes) or 'none'}")
         params.set("vr.enabled", True)
     camera = cls.new_camera()
+    if view is not None and view.place(camera):
+        cls.on_user_camera(params)
     if args.camera is not None:
         parse_camera(args.camera, camera)
         cls.on_user_camera(params)
     camera.set(yaw=args.yaw, pitch=args.pitch, fov=args.fov)
     _apply_quality(args, params, scene_name, size)
+    args.resolved_view = view
     return params, camera, size
 
 
@@ -475,7 +487,9 @@ def cmd_render(args) -> int:
     session = open_session(args.scene, params, args.shaders, camera=camera)
     attach_mesh(session.scene, mesh)
     written = []
-    frames = render_frames(session, size, args.frames, args.fps, progress=args.frames > 1)
+    view = getattr(args, "resolved_view", None)
+    frames = render_frames(session, size, args.frames, args.fps, progress=args.frames > 1,
+                           warmup=view.frames - 1 if view is not None else 0)
     try:
         for i, image in enumerate(frames, 1):
             out = frame_path(base, i, args.frames)
@@ -527,12 +541,15 @@ def cmd_window(args) -> int:
 
 def cmd_scenes(args) -> int:
     from .scenes import DEFAULT_SCENE, SCENES
+    from .scenes.views import views_of
 
     for name, cls in SCENES.items():
         mark = " (default)" if name == DEFAULT_SCENE else ""
         effects = ", ".join(e.name for e in cls.effects)
         print(f"{name:10s} {cls.title}{mark}\n{'':10s} effects: {effects}\n"
               f"{'':10s} {cls.description}")
+        for view in views_of(name):
+            print(f"{'':10s} --view {view.name}: {view.title} — {view.lesson}")
     return 0
 
 

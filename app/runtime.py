@@ -47,12 +47,15 @@ class Session:
 
 
 def scene_params(scene_name: str, shader_root=None, sets: Iterable[str] = (),
-                 preset: str | None = None) -> ParamSet:
+                 preset: str | None = None, view=None) -> ParamSet:
     """Validate a scene's parameters without touching the GPU (annotations are read from the
-    GLSL files directly)."""
+    GLSL files directly): the scene's defaults, then ``view``'s (an ``app.scenes.views.View``),
+    then ``preset``, then ``sets``."""
     cls = get_scene(scene_name)
     library = ShaderLibrary(None, resolve_shader_root(shader_root))
     params = cls.declare_params(library)
+    if view is not None:
+        view.apply(params)
     if preset:
         params.load_preset(Path(preset))
     for assignment in sets:
@@ -71,8 +74,10 @@ def open_session(scene_name: str, params: ParamSet | None = None, shader_root=No
 
 
 def render_frames(session: Session, size: tuple[int, int], frames: int = 1, fps: float = 30.0,
-                  progress: bool = False) -> Generator[np.ndarray, None, None]:
-    """Yield ``frames`` linear-radiance images ``(h, w, 4)``; time advances 1/fps per frame."""
+                  progress: bool = False, warmup: int = 0) -> Generator[np.ndarray, None, None]:
+    """Yield ``frames`` linear-radiance images ``(h, w, 4)``; time advances 1/fps per frame.
+    ``warmup`` frames are rendered first and not yielded (a view that needs the boat to
+    settle or a temporal filter to converge)."""
     if not (isinstance(frames, int) and frames >= 1):
         raise UsageError(f"frames {frames!r} is out of range: allowed 1 or more")
     if not (0.0 < fps < float("inf")):
@@ -80,8 +85,10 @@ def render_frames(session: Session, size: tuple[int, int], frames: int = 1, fps:
     dt = 1.0 / fps
     target = session.gpu.target("output", "scene radiance", size)
     try:
+        for i in range(warmup):
+            session.scene.render(session.scene.frame(size, dt=0.0 if i == 0 else dt), target)
         for i in range(frames):
-            frame = session.scene.frame(size, dt=0.0 if i == 0 else dt)
+            frame = session.scene.frame(size, dt=0.0 if i == 0 and not warmup else dt)
             session.scene.render(frame, target)
             image = target.read()
             if progress:  # before the yield: a consumer may never resume after the last frame

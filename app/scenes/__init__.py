@@ -17,7 +17,7 @@ from .base import Scene
 DEFAULT_SCENE = "sky"
 
 #: modules of this package that are not scenes
-_NOT_SCENES = {"base", "keymaps"}
+_NOT_SCENES = {"base", "keymaps", "views"}
 
 
 def _discover() -> dict[str, type[Scene]]:

@@ -177,6 +177,11 @@ class NaturaWindow:
         self.session = open_session(scene_name, params, shader_root, ctx=self.ctx, camera=camera)
         self.scene = self.session.scene
         self.scene.interactive = True
+        #: the scene's starting values (what a view is applied over) and the view shown
+        from ..runtime import scene_params
+
+        self.start_values = dict(scene_params(scene_name, shader_root).values())
+        self.current_view: str | None = None
         from ..gpu.context import describe_context
 
         print(f"natura: context: {describe_context(self.ctx)}", file=sys.stderr, flush=True)
@@ -563,6 +568,44 @@ class NaturaWindow:
         return self._save_text("keyframes", self.keyframes_dir, "keyframes",
                                keyframes.to_toml())
 
+    def views_panel(self) -> None:
+        """The scene's views (resources/presets/views/SCENE/): a list to pick one from, with
+        what it shows and teaches."""
+        from ..scenes.views import views_of
+
+        imgui = self.imgui
+        try:
+            views = views_of(self.scene.name)
+        except Exception as exc:  # noqa: BLE001 - a broken view file must not close the panel
+            imgui.text_wrapped(f"views unavailable: {_one_line(exc)}")
+            return
+        if not views or not imgui.collapsing_header(f"Views ({len(views)})"):
+            return
+        for view in views:
+            if imgui.selectable(f"{view.title}##view-{view.name}",
+                                self.current_view == view.name)[0]:
+                self.apply_view(view)
+            if imgui.is_item_hovered():
+                imgui.set_tooltip(view.lesson)
+        current = next((v for v in views if v.name == self.current_view), None)
+        if current is not None:
+            imgui.text_wrapped(current.lesson)
+
+    def apply_view(self, view) -> None:
+        """Start over from the scene's own values, then the view's parameters and camera."""
+        for name, value in self.start_values.items():
+            if self.params[name] != value:
+                self.params.set(name, value)
+        try:
+            view.apply(self.params)
+        except Exception as exc:  # noqa: BLE001 - shown, the window goes on
+            self._fail(_one_line(exc))
+            return
+        if view.place(self.scene.camera):
+            type(self.scene).on_user_camera(self.params)
+        self.current_view = view.name
+        self._say(f"view {view.name}: {view.title}")
+
     def context_paths(self) -> dict[str, str]:
         """The scene's paths on this context (``Effect.context_paths``), for the panel."""
         out: dict[str, str] = {}
@@ -629,6 +672,7 @@ class NaturaWindow:
         imgui.same_line()
         if imgui.button("Reset all"):
             self.params.reset()
+        self.views_panel()
         if imgui.button("Shader editor (F2)"):
             self.editor.shown = not self.editor.shown
         imgui.same_line()
