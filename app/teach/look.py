@@ -74,7 +74,7 @@ def figures(srgb8: np.ndarray, camera=None) -> dict[str, float | int | None]:
 
 def render_view(view, size: tuple[int, int], ctx=None) -> tuple[np.ndarray, dict]:
     """A view rendered as ``natura render SCENE --view NAME`` renders it: the 8-bit sRGB image
-    and its :func:`figures`."""
+    and its :func:`figures`, plus ``nonfinite``: NaN or Inf values in the linear radiance."""
     from ..colour import to_srgb8
     from ..runtime import open_session, render_frames, scene_params
     from ..scenes import get_scene
@@ -92,6 +92,8 @@ def render_view(view, size: tuple[int, int], ctx=None) -> tuple[np.ndarray, dict
         finally:
             frames.close()
         srgb = to_srgb8(image[..., :3], session.scene.exposure(), params["output.tonemap"])
-        return srgb, figures(srgb, session.scene.camera)
+        out = figures(srgb, session.scene.camera)
+        out["nonfinite"] = int((~np.isfinite(image[..., :3])).sum())  # before the tone map
+        return srgb, out
     finally:
         session.release()

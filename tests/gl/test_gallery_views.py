@@ -1,0 +1,55 @@
+"""Every view of every scene (the gallery's pictures, tools/gallery.py) renders as a picture: finite
+radiance, not one flat colour, using the tonal range. Rendered small (128×72, exactly as
+``natura render SCENE --view NAME --size 128x72``), the figures of ``app.teach.look``.
+
+Thresholds, and why:
+* ``nonfinite == 0`` — a NaN or Inf in the radiance is a bug at any size.
+* ``luma_levels >= 48`` — a lit 3D scene spans many luma levels even at 128×72 (the views
+  measured 83 to 229 when this was written: a moonlit sky with its stars is the fewest); a
+  frame of one clear colour has 1–3, a flat two-tone frame a handful, a toon frame with bands
+  but no gradient ~20.
+* ``mode_fraction <= 0.6`` — at most 60 % of the pixels within 2/255 of the commonest luma:
+  the most uniform views (a low sunset over a dark plain, the sky seen from under the sea)
+  measured 0.42; a frame that fog, a clear colour or an empty sky dominates passes 0.7.
+* ``luma_spread >= 16`` — p95 − p5 of luma: even the night views (24–26) use more than a
+  sixteenth of the range; a washed-out frame does not.
+* ``clipped <= 0.35`` — pure black or a channel at 255: space behind the Earth from orbit is
+  28 % black, legitimately; a view blown out to white over a third of the frame is not.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from app.scenes import SCENES
+from app.scenes.views import views_of
+from app.teach.look import render_view
+
+SIZE = (128, 72)
+ALL_VIEWS = [(scene, view.name) for scene in SCENES for view in views_of(scene)]
+
+
+@pytest.fixture(scope="module")
+def renders(gl_ctx):
+    out = {}
+    for scene in SCENES:
+        for view in views_of(scene):
+            out[(scene, view.name)] = render_view(view, SIZE, ctx=gl_ctx)
+    return out
+
+
+def test_there_are_views_to_check():
+    assert len(ALL_VIEWS) >= 3 * len(SCENES)
+
+
+@pytest.mark.parametrize("scene,view", ALL_VIEWS)
+def test_the_view_is_a_picture(renders, scene, view):
+    image, f = renders[(scene, view)]
+    assert image.shape == (SIZE[1], SIZE[0], 3)
+    assert f["nonfinite"] == 0
+    assert np.asarray(image, float).std() > 2.0  # not constant
+    assert f["luma_levels"] >= 48, f
+    assert f["mode_fraction"] <= 0.6, f
+    assert f["luma_spread"] >= 16, f
+    assert f["clipped"] <= 0.35, f
