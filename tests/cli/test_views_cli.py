@@ -24,8 +24,8 @@ def test_render_with_a_view_is_the_view_spelled_out(tmp_path):
     view = get_view("sky", "night")
     x, y, z, yaw, pitch, fov = view.camera
     a = run("render", "sky", "--view", "night", "--size", "64x36", "--out", "a.png", cwd=tmp_path)
-    b = run("render", "sky", "--time", str(view.time), "--camera", f"{x},{y},{z},{yaw},{pitch},{fov}",
-            "--size", "64x36", "--out", "b.png", cwd=tmp_path)
+    b = run("render", "sky", "--time", str(view.time), "--camera",
+            f"{x},{y},{z},{yaw},{pitch},{fov}", "--size", "64x36", "--out", "b.png", cwd=tmp_path)
     c = run("render", "sky", "--view", "night", "--set", "time.hour=12", "--size", "64x36",
             "--out", "c.png", cwd=tmp_path)
     assert a.returncode == b.returncode == c.returncode == 0, a.stderr + b.stderr + c.stderr
