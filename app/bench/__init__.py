@@ -160,6 +160,15 @@ def write_chart(fig, path, force: bool = False, title: str | None = None) -> Non
 ROUNDS_BUDGET_S = 6.0
 
 
+def _gpu_quartiles(values: list[float]) -> tuple[float, float, float]:
+    import statistics
+
+    if len(values) < 2:
+        return values[0], values[0], values[0]
+    q = statistics.quantiles(values, n=4, method="inclusive")
+    return q[0], q[1], q[2]
+
+
 def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat: int = 15,
                 seed: int = 0, budget_s: float | None = None) -> dict:
     gpu = session.gpu
@@ -209,6 +218,9 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
                        "ratio_to_fullscreen_p25": ratio["p25"],
                        "ratio_to_fullscreen_p75": ratio["p75"]}
         entry["median_ms"] = med
+        if t.gpu_ms:  # GPU timer queries (hardware only): their quartiles too
+            entry["gpu_p25_ms"], entry["gpu_median_ms"], entry["gpu_p75_ms"] = \
+                _gpu_quartiles(t.gpu_ms)
         if name in counts:
             c = counts[name]
             entry.update(c)

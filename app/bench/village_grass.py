@@ -135,6 +135,16 @@ def _coverage(gpu, effect: Grass) -> dict:
     return out
 
 
+def speed_table(gpu, counts, size, rounds: int = 5, budget_s: float = 60.0) -> list[dict]:
+    """The methods' speed at each blade count on the island's meadow (the speed section
+    alone, for the GPU report)."""
+    effect = Grass(gpu, ParamSet(Grass.declare(gpu.shaders)), owner=OWNER)
+    try:
+        return _speed(gpu, effect, Island(), counts, size, rounds=rounds, budget_s=budget_s)
+    finally:
+        effect.release()
+
+
 def run(gpu, quick: bool = False) -> dict:
     """Both sections (the module docstring)."""
     import time
