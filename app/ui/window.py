@@ -569,8 +569,8 @@ class NaturaWindow:
                                keyframes.to_toml())
 
     def views_panel(self) -> None:
-        """The scene's views (resources/presets/views/SCENE/): a list to pick one from, with
-        what it shows and teaches."""
+        """The scene's views (one folder per scene under resources/presets/views/): a list to
+        pick one from, with what it shows and teaches."""
         from ..scenes.views import views_of
 
         imgui = self.imgui

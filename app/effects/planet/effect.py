@@ -405,8 +405,8 @@ class Planet(Effect):
 
     def _bake_ground_noise(self, size: int):
         """Render f(n) (glsl/planet/ground_noise_bake.frag) into the cap directly and into each
-        cubemap face through a 2D R32F target copied into the face (a framebuffer cannot hold a
-        cube face here)."""
+        cubemap face through a 2D R32F target copied into the face on the GPU (moderngl cannot
+        attach a cube face to a framebuffer: ``Gpu.copy_to_cube_face``)."""
         ctx = self.gpu.ctx
         linear = (moderngl.LINEAR, moderngl.LINEAR)
         cap = self.gpu.texture(self.name, "ground noise cap", (size, size), 1, dtype="f4",
@@ -426,7 +426,7 @@ class Planet(Effect):
             for face in range(6):
                 prog.set("uFace", face)
                 draw_fullscreen(prog)
-                cube.write(face, fbos[0].read(components=1, dtype="f4"))
+                self.gpu.copy_to_cube_face(cube, face, 0, n)  # on the GPU, no readback
             fbos[1].use()
             prog.set("uFace", 6)
             draw_fullscreen(prog)
