@@ -6,6 +6,7 @@ user's own OBJ, STL or glTF on the turntable."""
 from __future__ import annotations
 
 from ..effects.shading import Shading
+from ..effects.shading.effect import BACKGROUND
 from .base import Scene
 from .keymaps import FLY, KeyMap
 
@@ -31,7 +32,8 @@ class ShadingScene(Scene):
                    "CelShader and ComplexCelShader (flat, stepped, ramp, masks, emission); bump "
                    "and parallax mapping on the thesis's test objects (spec/003 §2.1–2.3, §2.12)")
     effects = (Shading,)
-    #: the row of five objects fills the width at 16:9
-    default_camera = {"position": (0.2, 1.9, 6.4), "yaw": 0.0, "pitch": -10.0, "fov": 45.0}
-    background = (0.05, 0.06, 0.08)
+    #: the arc of five objects fills the width at 16:9, the ground and their shadows below
+    default_camera = {"position": (0.0, 1.25, 4.4), "yaw": 0.0, "pitch": -6.0, "fov": 50.0}
+    #: the ground fades into it far from the objects
+    background = BACKGROUND
     keymap = SHADING

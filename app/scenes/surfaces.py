@@ -36,6 +36,7 @@ class SurfacesScene(Scene):
                    "spot shadow maps with biases, soft, PCSS, VSM and dithered shadows "
                    "(spec/003 §2.4–2.8)")
     effects = (Surfaces,)
-    default_camera = {"position": (0.0, 1.9, 3.9), "yaw": 0.0, "pitch": -18.0, "fov": 70.0}
+    #: above the near panes: every sphere, the fence, the leaves and the panes in view
+    default_camera = {"position": (0.0, 2.4, 4.3), "yaw": 0.0, "pitch": -25.0, "fov": 62.0}
     background = (0.05, 0.06, 0.08)
     keymap = SURFACES

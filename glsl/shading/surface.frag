@@ -22,8 +22,10 @@
 //                  uRim, uRimPower, uRimColor, uToon, uSteppedRepository, uSpecularity,
 //                  uSmoothness, uEmissionColor, uFlicker (lighting.glsl), uGouraud (surface.vert)
 //   output         fragColor: linear radiance, alpha 1
-// The light sum is ForwardBase (ambient, sun, rim, emission) + ForwardAdd (each point light and
-// the spot), as lighting.glsl's header describes.
+//   shadows        the sun's shadow uniforms of shadow.glsl (spec/003 §2.8; uShadowSunEnabled
+//                  false: fully lit) and uCameraForward (vec3, the view depth of the cascades)
+// The light sum is ForwardBase (ambient, sun with its shadow visibility, rim, emission) +
+// ForwardAdd (each point light and the spot, unshadowed), as lighting.glsl's header describes.
 //
 // Failure cases guarded: the interpolated normal and tangent are re-normalised per fragment
 // (interpolation shortens them), with safe fallbacks for zero vectors; a fragment at the camera
@@ -32,6 +34,7 @@
 // thesis's failure on purpose: a coarse mesh loses or smears its highlight.
 #include "lighting.glsl"
 #include "parallax.glsl"  // and bump.glsl: spec/003 §2.2 and §2.3 on the surfaces with maps
+#include "shadow.glsl"    // the sun's shadow of the objects (spec/003 §2.8)
 
 in vec3 vWorldPos;
 in vec3 vWorldNormal;
@@ -40,6 +43,7 @@ in vec2 vUV;
 in vec3 vGouraud;
 
 uniform vec3 uCameraPos;
+uniform vec3 uCameraForward;
 uniform bool uGouraud;
 uniform bool uUseMaps;          // this object has a normal and a height map (the brick wall)
 uniform sampler2D uNormalMap;   // tangent-space normals, 0.5·n + 0.5 (or DXT5nm)
@@ -66,5 +70,8 @@ void main() {
     }
     if (uUseAlbedoMap) albedo = texture(uAlbedoMap, uv).rgb;
     vec4 masks = uUseMasks ? texture(uMasks, uv) : vec4(0.0, 1.0, 0.0, 0.0);
-    fragColor = vec4(ShadeSurface(vWorldPos, n, v, albedo, masks.g, masks.r), 1.0);
+    // the geometric normal offsets the shadow lookup (the bumped one would tear the relief)
+    float sun = ShadowSun(vWorldPos, SafeNormalize(vWorldNormal, v),
+                          dot(vWorldPos - uCameraPos, uCameraForward));
+    fragColor = vec4(ShadeSurfaceShadowed(vWorldPos, n, v, albedo, masks.g, masks.r, sun), 1.0);
 }

@@ -36,7 +36,7 @@ def _render(session, **values):
 
 
 def test_the_test_objects_render_finite_on_the_background(shading):
-    s = shading("shading.turntable=0")
+    s = shading("shading.turntable=0", "shading.ground=none")  # the objects alone
     img = _render(s)
     assert np.isfinite(img).all()
     background = np.asarray(s.scene.background)
@@ -72,7 +72,7 @@ def test_the_lamps_add_light(shading):
 
 def test_stepped_toon_leaves_few_levels_on_the_sphere(shading):
     s = shading("shading.turntable=0", "shading.object=sphere", "shading.lamps=0",
-                "shading.specularity=0", "shading.ambient=0")
+                "shading.specularity=0", "shading.ambient=0", "shading.ground=none")
     smooth = _render(s, toon=0)
     stepped = _render(s, toon=2)
     background = np.asarray(s.scene.background)
@@ -82,7 +82,7 @@ def test_stepped_toon_leaves_few_levels_on_the_sphere(shading):
 
 
 def test_a_user_mesh_replaces_the_row(shading):
-    s = shading("shading.turntable=0")
+    s = shading("shading.turntable=0", "shading.ground=none")
     cube = lab_meshes.from_arrays(
         "cube", np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float),
         np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],

@@ -41,6 +41,7 @@ from ...render.shadow_maps import CASTER, ShadowSet
 from ...sim import distortion, surfaces_scene
 from ..base import Effect, Pass
 from .reflections import ReflectionProbe
+from .transparency import BLENDED as BLENDED_MODES
 from .transparency import Transparency
 
 SURFACE = ProgramSpec("surfaces/surface")
@@ -186,7 +187,7 @@ class Surfaces(Effect):
                   "shadow alone, the reflection direction", kind="choice",
                   choices=("none", "cascades", "shadow", "reflection"), section="spec/003 §2.8"),
         ]
-        return (own + shadow_module.shadow_params("surfaces") + Transparency.python_params()
+        return (own + _lab_shadow_params() + Transparency.python_params()
                 + ReflectionProbe.python_params())
 
     #: what each of the thesis's failures teaches (surfaces.failure)
@@ -322,12 +323,24 @@ class Surfaces(Effect):
                 self.params.set(name, value)
         self._failure_applied = chosen
 
+    def caster_mode(self, quad) -> int:
+        """The caster's alpha mode of ``quad`` (shadow_caster.frag: 0 opaque, 1 cut out, 2
+        dithered), from how the quad is drawn: an opaque quad casts an ordinary shadow, a
+        cut-out one (cutout, alpha test, alpha-to-coverage) a cut-out shadow, and only a
+        semi-transparent one — blended, with an alpha below 1 — asks for the dithered shadow
+        (``surfaces.shadow_dithered``; off, it casts a solid one, the thesis's failure)."""
+        mode = str(self.params.get(f"surfaces.{quad.name.split('_')[0]}_mode", "blend"))
+        if mode == "opaque":
+            return 0
+        if mode not in BLENDED_MODES or quad.alpha in ("fence", "leaves", "gradient"):
+            return 1
+        return 2 if self.params["surfaces.shadow_dithered"] else 0
+
     def casters(self, prog) -> None:
         """Draw every shadow caster with the shadow module's caster program ``prog``: the
-        solids opaque, the fence and the leaves cut out, the smoke and the blended panes
-        dithered (``surfaces.shadow_dithered``) or solid. The room casts nothing (its roof lets
-        the sun in)."""
-        dithered = bool(self.params["surfaces.shadow_dithered"])
+        solids opaque, each quad as :meth:`caster_mode` says — the fence and the leaves cut
+        out, the smoke and the blended panes dithered (``surfaces.shadow_dithered``) or solid.
+        The room casts nothing (its roof lets the sun in)."""
         cutoff = float(self.params["surfaces.cutoff"])
         white = self.alpha_texture("solid")
         for obj in self.solids():
@@ -337,8 +350,7 @@ class Surfaces(Effect):
             prog.vao([(vbo, *CASTER_FORMAT)], ibo).render(moderngl.TRIANGLES)
         for quad in self.layout.quads:
             vbo, ibo, _ = self._mesh(quad)
-            cut = quad.alpha in ("fence", "leaves", "gradient")
-            mode = 1 if cut else (2 if dithered else 0)
+            mode = self.caster_mode(quad)
             prog.set_many({"uAlphaMode": mode, "uOpacity": float(quad.opacity),
                            "uCutoff": cutoff})
             prog.bind_textures({"uAlphaTex": self.alpha_texture(quad.alpha)})
@@ -361,7 +373,8 @@ class Surfaces(Effect):
     def _caster_revision(self) -> int:
         """What the casters draw beyond the shadow settings: the cutoff of the cut-out quads and
         the user's mesh."""
-        return hash((float(self.params["surfaces.cutoff"]), self._user_revision))
+        modes = tuple(self.caster_mode(q) for q in self.layout.quads)
+        return hash((float(self.params["surfaces.cutoff"]), self._user_revision, modes))
 
     def material(self, obj) -> dict:
         """The surface uniforms of one object: albedo, metallic, smoothness, refraction."""
@@ -549,6 +562,21 @@ class Surfaces(Effect):
         self._meshes = {}
         self._textures = {}
         super().release()
+
+
+#: the lab's own defaults of the shared shadow parameters: the 5 × 5 Gaussian PCF, whose
+#: footprint (6 × 6 texels with its bilinear taps) covers the 4 × 4 dither period, so a
+#: semi-transparent caster's dithered shadow reads as a smooth partial shadow instead of a grid
+#: of dots; the thesis's four-tap (its taps on the diagonal neighbours, which the half-tone
+#: pattern shares) shows the pattern and stays one switch away (spec/003 §2.8)
+SHADOW_DEFAULTS = {"surfaces.shadow_filter": "pcf"}
+
+
+def _lab_shadow_params() -> list[Param]:
+    from dataclasses import replace
+
+    return [replace(p, default=SHADOW_DEFAULTS[p.name]) if p.name in SHADOW_DEFAULTS else p
+            for p in shadow_module.shadow_params("surfaces")]
 
 
 def metallic_map(size: int = 128) -> np.ndarray:
