@@ -76,9 +76,10 @@ class VillageScene(Scene):
         params.add(Param("village.camera", "third", doc="third: behind the hero (W A S D walk "
                          "the hero); first: the hero's eyes (the hero hidden); free: the fly "
                          "camera", kind="choice", choices=("third", "first", "free"), section=s))
+        # high enough above the hero that the plaza, the houses and the sea read over the grass
         params.add(Param("village.follow_distance", 6.0, 1.0, 60.0, "third person: the "
                          "camera's distance behind the hero", step=0.1, unit="m", section=s))
-        params.add(Param("village.follow_height", 2.6, 0.3, 40.0, "third person: the camera's "
+        params.add(Param("village.follow_height", 3.4, 0.3, 40.0, "third person: the camera's "
                          "height above the hero's feet", step=0.1, unit="m", section=s))
         params.add(Param("village.msaa", "4", doc="samples of the opaque stages (the grass's "
                          "AlphaToMask needs them); 0 draws straight into the frame",

@@ -205,6 +205,8 @@ class Fog(Effect):
         "Lighting › Fog": ["fog.density", "fog.start", "fog.end", "fog.scale"],
         "Colour": ["fog.color", "fog.color_from_sky", "fog.sky_tint"],
         "Ground plane": ["fog.plane", "fog.plane_height", "fog.plane_tile"],
+        "Ground plane's wisps": ["fog.plane_opacity", "fog.plane_breakup", "fog.plane_hug",
+                                 "fog.plane_grazing"],
         "Beyond the thesis": ["fog.per_pixel", "fog.height", "fog.height_density",
                               "fog.height_falloff", "fog.height_base"],
     }
@@ -227,8 +229,8 @@ class Fog(Effect):
         verts, idx = pl.plane_grid(layout.rect)
         vbo = self.gpu.buffer(self.name, "fog plane vertices", verts.tobytes())
         ibo = self.gpu.buffer(self.name, "fog plane indices", idx.tobytes())
-        mask = pl.upload_texture(self.gpu, self.name, "fog plane ground mask", layout.mask,
-                                 repeat=False)
+        mask = pl.upload_texture(self.gpu, self.name, "fog plane ground mask",
+                                 layout.mask_texture(), repeat=False)
         return layout, vbo, ibo, mask
 
     def _free_layout(self, value) -> None:

@@ -9,6 +9,11 @@ air: a ground mask, baked from the terrain's heights, fades it out where the gro
 than 0.5–1.5 m below the plane. Where the ground rises above it (the hill), the depth test hides
 it, as in the thesis.
 
+The mask's second channel is the layer's depth there — how far the ground lies below the plane,
+over ``DEPTH_RANGE`` metres — which ``fog.plane_hug`` reads (beyond the thesis): the wisps thin
+where the ground comes up to the plane, so the fog lies in the hollows and fades out before it
+meets a slope instead of cutting it along a hard line.
+
 The mesh is a grid of about 4 m cells (the global fog's factor of the plane is per vertex, as
 every surface's). The texture (:func:`app.sim.fog.fog_texture`) and mask are made on the CPU
 and rebuilt only when their inputs change.
@@ -33,17 +38,28 @@ MASK_NEAR = 0.5
 MASK_FAR = 1.5
 #: the plane spans the land's bounding box plus this margin [m]
 MARGIN = 4.0
+#: the mask's second channel: the ground's depth below the plane over this range [m]
+DEPTH_RANGE = 2.0
 
 
 @dataclass(frozen=True)
 class PlaneLayout:
     """Where the plane lies: its height and its rectangle (x0, z0, x1, z1) [m], the mask over
-    that rectangle (MASK_SIZE² floats in [0, 1], row 0 at z0) and the land's median height."""
+    that rectangle (MASK_SIZE² floats in [0, 1], row 0 at z0), the land's median height and
+    the ground's depth below the plane over the mask's samples [m] (negative: the ground rises
+    above it; None: a flat ground ``y`` below, no terrain)."""
 
     y: float
     rect: tuple[float, float, float, float]
     mask: np.ndarray
     ground: float
+    depth: np.ndarray | None = None
+
+    def mask_texture(self) -> np.ndarray:
+        """(MASK_SIZE, MASK_SIZE, 2) in [0, 1]: R the mask, G the depth / DEPTH_RANGE."""
+        depth = self.depth if self.depth is not None else np.full(self.mask.shape, self.y
+                                                                  - self.ground)
+        return np.stack([self.mask, np.clip(depth / DEPTH_RANGE, 0.0, 1.0)], -1)
 
 
 def plane_layout(terrain, offset: float) -> PlaneLayout:
@@ -73,7 +89,7 @@ def plane_layout(terrain, offset: float) -> PlaneLayout:
     mgx, mgz = np.meshgrid(mx, mz, indexing="xy")
     below = y - np.asarray(terrain.height(mgx, mgz), np.float64)
     t = np.clip((MASK_FAR - below) / (MASK_FAR - MASK_NEAR), 0.0, 1.0)
-    return PlaneLayout(y, rect, t * t * (3.0 - 2.0 * t), ground)
+    return PlaneLayout(y, rect, t * t * (3.0 - 2.0 * t), ground, below)
 
 
 def plane_grid(rect: tuple[float, float, float, float], cell: float = CELL) -> tuple[np.ndarray,

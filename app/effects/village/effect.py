@@ -30,7 +30,8 @@ import moderngl
 import numpy as np
 
 from ...frame import Npc, Stage
-from ...gpu.programs import ProgramSpec
+from ...gpu.copy import ColourCopy
+from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Inspector, Param
 from ...render.shadow_maps import CASTER, ShadowSet
 from ...render.shadows import ShadowSettings, shadow_params
@@ -40,6 +41,8 @@ from ...sim.village import Island, Person, default_island
 from ..base import Effect, Pass
 
 SURFACE = ProgramSpec("village/surface")
+#: the toon contours (spec/003 §2.13–2.14): a depth-Laplacian outline over the village's surfaces
+CONTOURS = fullscreen("village/contours")
 MATERIALS = {"terrain": 0, "walls": 1, "solids": 2, "lanterns": 3, "flame": 3}
 #: the debug view's groups (surface.frag's uDebugId), the people last
 GROUPS = ("terrain", "walls", "solids", "lanterns", "flame", "people")
@@ -63,11 +66,17 @@ def lamps_lit(sun_elevation_deg: float | None, auto: bool, below_deg: float) -> 
     return sun_elevation_deg is None or sun_elevation_deg < below_deg
 
 
+def contour_tap(width_px: float, height: int) -> int:
+    """The contour detector's tap distance [px] for a line ``width_px`` wide in a 720-line
+    image, in an image ``height`` lines high: at least 1."""
+    return max(1, int(round(width_px * height / 720.0)))
+
+
 class Village(Effect):
     name = "village"
     title = "The Fracsland village"
     spec = "spec/003"
-    programs = (SURFACE, CASTER)
+    programs = (SURFACE, CASTER, CONTOURS)
     stages = (Stage.SHADOW, Stage.OPAQUE)
     produces = frozenset({"terrain", "npcs", "shadows"})
     consumes = {"main_light": "optional", "sun": "optional", "fog": "optional"}
@@ -112,6 +121,13 @@ class Village(Effect):
                   "relief", step=0.05, unit="m", section=s2),
             Param("village.resolution", 193, 33, 769, "the island's height-field samples per "
                   "side (cells of 220 m / (n − 1))", kind="int", section=s1),
+            Param("village.contours", True, doc="toon contours: a dark line along the "
+                  "silhouettes and convex edges of the houses, props and people, from the "
+                  "depth's Laplacian, drawn before the grass (the post-process outline the "
+                  "thesis leaves as future work)", kind="bool", section="spec/003 §2.13"),
+            Param("village.contour_width", 1.0, 0.5, 4.0, "contours: the line's width in "
+                  "pixels of a 720-line image (scaled with the image's height)", step=0.5,
+                  unit="px", section="spec/003 §2.13"),
             Param("village.debug", "none", doc="debug view: the image, each draw's group as a "
                   "flat colour (terrain, walls, solids, lanterns, flame, people), or the sun's "
                   "shadow visibility", kind="choice", choices=DEBUG_VIEWS, section=s1),
@@ -129,6 +145,7 @@ class Village(Effect):
         self.lights_on = False
         self.point_lights: list[tuple[tuple[float, float, float], tuple[float, float, float],
                                       float]] = []
+        self._depth_copy: ColourCopy | None = None
 
     # -- the island and its meshes ---------------------------------------------------------
     @property
@@ -365,9 +382,39 @@ class Village(Effect):
             prog.vao([(vbo, *fmt)], ibo).render(moderngl.TRIANGLES)
         ctx.disable(moderngl.DEPTH_TEST)
 
+    def draw_contours(self, frame, target) -> None:
+        """The toon contours (glsl/village/contours.frag) over what the village drew into
+        ``target``, from a copy of its depth (a multisampled target is resolved by the copy)."""
+        if getattr(target, "depth", None) is None:
+            return
+        if self._depth_copy is None:
+            self._depth_copy = ColourCopy(self.gpu, self.name, "contour depth", depth=True)
+        self._depth_copy.of(target)
+        depth = self._depth_copy.depth
+        if depth is None:
+            return
+        cam = frame.camera
+        prog = self.program(CONTOURS)
+        self.apply_params(prog)
+        view_proj = cam.projection_matrix(frame.aspect) @ cam.view_matrix()
+        tap = contour_tap(float(self.params["village.contour_width"]), int(target.size[1]))
+        prog.set_many({"uNearFar": (float(cam.near), float(cam.far)), "uTap": tap,
+                       "uInvViewProj": np.linalg.inv(np.asarray(view_proj, np.float64)),
+                       **fog_uniforms(frame.fog, cam.position, cam.near, cam.far)})
+        prog.bind_textures({"uDepth": depth})
+        target.use()
+        ctx = self.gpu.ctx
+        ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+        draw_fullscreen(prog, blend=(moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA,
+                                     moderngl.ZERO, moderngl.ONE))
+
     def passes(self, frame, target) -> list[Pass]:
-        return [Pass("village.shadows", lambda: self.render_shadows(frame), Stage.SHADOW),
-                Pass("village", lambda: self.draw(frame, target), Stage.OPAQUE)]
+        out = [Pass("village.shadows", lambda: self.render_shadows(frame), Stage.SHADOW),
+               Pass("village", lambda: self.draw(frame, target), Stage.OPAQUE)]
+        if self.params["village.contours"] and self.params["village.debug"] == "none":
+            out.append(Pass("village.contours", lambda: self.draw_contours(frame, target),
+                            Stage.OPAQUE))
+        return out
 
     # -- the panel -------------------------------------------------------------------------
     INSPECTOR = {
@@ -382,6 +429,8 @@ class Village(Effect):
                     "village.parallax_scale", "village.bumpiness", "village.resolution"],
         "Lamps": ["village.lamps_auto", "village.lamps_below", "village.lamp_intensity",
                   "village.lamp_range", "village.bonfire_intensity", "village.bonfire_range"],
+        "Contours": ["village.contours", "village.contour_width", "village.contour_threshold",
+                     "village.contour_strength", "village.contour_color"],
         "Shadows": ["village.shadow_map_size", "village.shadow_cascades",
                     "village.shadow_distance", "village.shadow_filter",
                     "village.shadow_normal_bias", "village.shadow_linear_bias",
@@ -406,6 +455,9 @@ class Village(Effect):
                 f"{self.params['village.hero_z']:.1f})"]
 
     def release(self) -> None:
+        if self._depth_copy is not None:
+            self._depth_copy.release()
+            self._depth_copy = None
         self.shadows.release()
         self._batches = {}
         self._people = {}
