@@ -57,8 +57,11 @@ def uv_sphere(radius: float = 0.5, rings: int = 48, segments: int = 96) -> MeshD
     n = np.stack([np.sin(theta) * np.cos(phi), np.cos(theta) * np.ones_like(phi),
                   np.sin(theta) * np.sin(phi)], -1)
     n = n.reshape(-1, 3)
+    # the grid's triangles wind as d(row) × d(col), which for θ down and φ toward +z points
+    # inward: reversed, so the outside is counter-clockwise (front) and survives back-face culling
+    indices = _grid_indices(rings, segments).reshape(-1, 3)[:, ::-1].reshape(-1)
     return MeshData("sphere", (n * radius).astype("f4"), n.astype("f4"),
-                    _grid_indices(rings, segments))
+                    np.ascontiguousarray(indices))
 
 
 def torus(major: float = 0.36, minor: float = 0.16, rings: int = 48,

@@ -11,6 +11,6 @@ class NoiseScene(Scene):
     order = 50
     title = "Noise lab"
     description = ("every noise function of glsl/common and the cloud bakes (shape, detail, "
-                   "weather map), tiled to show they are seamless (spec/001 §1.1, spec/000 §1.6, "
-                   "spec/004)")
+                   "weather map), four side by side or one at a time (noise.layout), tiled to "
+                   "show they are seamless (spec/001 §1.1, spec/000 §1.6, spec/004)")
     effects = (Noise,)

@@ -52,7 +52,10 @@ WOOD_BAKE_FRAGMENT = ProgramSpec("materials/wood_noise_bake", vert="common/fulls
 #: object name → (mesh factory, translation, rotation axis-angle in degrees)
 LAYOUT = {
     "cube": (cube, (-1.45, 0.0, 0.0), ((1.0, 1.0, 0.0), 35.0)),
-    "sphere": (uv_sphere, (0.0, 0.0, 0.0), ((0.0, 1.0, 0.0), 0.0)),
+    # tilted 40° toward the camera: the rings show as a bullseye on the ball and as long grain
+    # above it, instead of the equator (r = 0.5, a ring edge at the default period 0.1) facing
+    # the camera as a band of blotches
+    "sphere": (uv_sphere, (0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), 40.0)),
     "torus": (torus, (1.45, 0.0, 0.0), ((1.0, 0.0, 0.0), 55.0)),
     # the slice's mesh is built at materials.slice_y
     "slice": (slice_quad, (0.0, 0.0, 0.0), ((1.0, 0.0, 0.0), 0.0)),

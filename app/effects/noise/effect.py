@@ -19,6 +19,10 @@ from ..base import Effect
 VIEWS = ("shape", "detail", "weather", "perlin", "worley_f1", "worley_f2_f1", "fbm", "turbulence",
          "perlin_worley", "value")
 CHANNELS = ("r", "g", "b", "a", "rgb")
+#: noise.layout: one view, or four panels side by side (glsl/noise/noise_view.frag)
+LAYOUTS = ("single", "kinds", "octaves", "channels")
+LIVE_FRACTALS = ("perlin", "worley_f1", "worley_f2_f1", "fbm", "turbulence", "perlin_worley",
+                 "value")
 NOISE_VIEW = fullscreen("noise/noise_view")
 
 
@@ -41,6 +45,11 @@ class Noise(Effect):
         return [
             Param("noise.view", "shape", doc="what to show: a bake (shape, detail, weather) or a "
                   "live function", kind="choice", choices=VIEWS, section="spec/001 §1.1"),
+            Param("noise.layout", "kinds", doc="single = one view, tiled; kinds = Perlin fBm, "
+                  "Worley F1, the shape bake's Perlin–Worley and the thesis's value noise side by "
+                  "side; octaves = the view (a live function) at 1, 2, 4 and 8 octaves; channels "
+                  "= the shape (or detail) bake's R, G, B, A", kind="choice", choices=LAYOUTS,
+                  section="spec/001 §1.1"),
             Param("noise.channel", "r", doc="channel of a bake (rgb: all three)", kind="choice",
                   choices=CHANNELS),
             Param("noise.slice", 0.0, 0.0, 1.0,
@@ -71,23 +80,36 @@ class Noise(Effect):
         if self.params["noise.animate"] and dt > 0:
             self.params.set("noise.slice", (self.params["noise.slice"] + 0.05 * dt) % 1.0)
 
+    def shown(self) -> tuple[str, ...]:
+        """The views the current layout draws (what its textures are bound for)."""
+        view, layout = self.params["noise.view"], self.params["noise.layout"]
+        if layout == "kinds":
+            return ("fbm", "worley_f1", "shape", "value")
+        if layout == "octaves":
+            return (view if view in LIVE_FRACTALS else "fbm",)
+        if layout == "channels":
+            return ("detail" if view == "detail" else "shape",)
+        return (view,)
+
     def draw(self, frame, target) -> None:
         p = self.params
         view = p["noise.view"]
+        shown = self.shown()
         prog = self.program(NOISE_VIEW)
         textures: dict = {}
-        if view in ("shape", "detail"):
-            textures["uVolume"] = self.texture_for(view)
-        elif view == "weather":
-            textures["uMap"] = self.texture_for(view)
-        if view == "value":
+        for bake in ("shape", "detail"):
+            if bake in shown:
+                textures["uVolume"] = self.texture_for(bake)
+        if "weather" in shown:
+            textures["uMap"] = self.texture_for("weather")
+        if "value" in shown:
             from ...render.noise import value_noise_texture
 
             if "value" not in self._extra:
                 self._extra["value"] = value_noise_texture(self.gpu, self.name, 1)
             textures["uValueNoiseTex"] = self._extra["value"]
             prog.set("uValueNoiseWrap", (256.0, 256.0, 256.0))
-        if view in ("perlin", "fbm", "turbulence", "perlin_worley"):
+        if {"perlin", "fbm", "turbulence", "perlin_worley"} & set(shown):
             from ...render.noise import GradientNoiseTextures
 
             if "gradient" not in self._extra:
@@ -97,7 +119,8 @@ class Noise(Effect):
         # the draw
         prog.bind_textures(textures)
         prog.set_many({
-            "uView": VIEWS.index(view), "uChannel": CHANNELS.index(p["noise.channel"]),
+            "uView": VIEWS.index(view), "uLayout": LAYOUTS.index(p["noise.layout"]),
+            "uChannel": CHANNELS.index(p["noise.channel"]),
             "uSlice": p["noise.slice"],
             "uTiles": p["noise.tiles"], "uAspect": frame.aspect, "uScale": p["noise.scale"],
             "uOctaves": p["noise.octaves"],
