@@ -43,6 +43,7 @@ from . import sailing as sl
 from .buoyancy import HydrostaticBuoyancy, ProbeFloat, ProbeForces, boat_body, probe_layout
 from .hull import HullMesh, HullParams, draft_for_mass, make_hull
 from .rigid_body import RigidBody, quat_from_axis_angle
+from .vec import cross
 from .wake import WakeParams, WakeTrail
 
 METHODS = ("probes", "probe_forces", "hydrostatic")
@@ -176,7 +177,7 @@ class BoatSim:
         mass (app.sim.sailing gives torques about the waterline reference point)."""
         force, torque = self.sailing.forces(self.state(body), wind)
         ref = body.to_world(np.array([0.0, self.draft, 0.0]))
-        torque = torque + np.cross(ref - body.com_world, force)
+        torque = torque + cross(ref - body.com_world, force)
         fs, ts = self._skeg(body)
         return force + fs, torque + ts
 
@@ -195,7 +196,7 @@ class BoatSim:
         slope = 2.0 * math.pi * SKEG_ASPECT / (SKEG_ASPECT + 2.0)
         cl = max(-1.0, min(1.0, slope * math.atan2(w, abs(u))))
         f = -0.5 * sl.RHO_WATER * speed2 * SKEG_AREA * cl * stbd
-        return f, np.cross(p - body.com_world, f)
+        return f, cross(p - body.com_world, f)
 
     def step(self, dt: float, water: Any, wind_xz, t: float) -> None:
         """Advance ``dt`` seconds at scene time ``t`` (the end of the step)."""

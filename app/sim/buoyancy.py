@@ -53,6 +53,7 @@ from .rigid_body import (
     quat_multiply,
     quat_slerp,
 )
+from .vec import cross
 
 NU_SEA = 1.19e-6  # kinematic viscosity of sea water at 15 °C [m²/s] (ITTC)
 
@@ -432,7 +433,7 @@ class ProbeForces:
         f = f + _limit_drag(drag, v, self.weights, body)
         r = p - body.com_world
         self.last = {"submersion": s, "wet": int(wet.sum())}
-        return f.sum(0), np.cross(r, f).sum(0)
+        return f.sum(0), cross(r, f).sum(0)
 
 
 def _heights(water: Any, x, z) -> np.ndarray:
@@ -519,7 +520,7 @@ class HydrostaticBuoyancy:
         if len(pieces) == 0:
             self.last = {"area": 0.0, "fraction": 0.0, "volume": 0.0, "pieces": 0}
             return np.zeros(3), np.zeros(3)
-        av = 0.5 * np.cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0])
+        av = 0.5 * cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0])
         area = np.linalg.norm(av, axis=1)
         rg = self.rho * self.g
         force = -rg * (hp.mean(axis=1) @ av)
@@ -527,7 +528,7 @@ class HydrostaticBuoyancy:
         mids = 0.5 * (pieces + np.roll(pieces, -1, axis=1)) - com
         hm = 0.5 * (hp + np.roll(hp, -1, axis=1))
         lever = np.einsum("mk,mkd->md", hm, mids) / 3.0
-        torque = -rg * np.cross(lever, av).sum(0)
+        torque = -rg * cross(lever, av).sum(0)
         sub_area = float(area.sum())
         frac = sub_area / self._total_area
         self.last = {"area": sub_area, "fraction": frac, "volume": float(force[1] / rg),
@@ -537,7 +538,7 @@ class HydrostaticBuoyancy:
         if self.viscous or self.pressure_drag:
             c = pieces.mean(axis=1)
             r = c - com
-            v = body.velocity + np.cross(body.angular_velocity, r)
+            v = body.velocity + cross(body.angular_velocity, r)
             n = av / np.maximum(area, 1e-300)[:, None]
             f = np.zeros_like(v)
             if self.viscous:
@@ -556,7 +557,7 @@ class HydrostaticBuoyancy:
                 mag = np.where(cos > 0, -push, pull) * area
                 f += mag[:, None] * n
             fd = f.sum(0)
-            td = np.cross(r, f).sum(0)
+            td = cross(r, f).sum(0)
         if self.linear_damping or self.angular_damping:
             fd = fd - self.linear_damping * frac * body.mass * body.velocity
             td = td - self.angular_damping * frac * body.momentum

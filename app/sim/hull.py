@@ -28,6 +28,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..errors import ParamError
+from .vec import cross
 
 RHO_SEA = 1025.0  # sea water [kg/m³]
 
@@ -99,7 +100,7 @@ class HullMesh:
     def area_vectors(self) -> np.ndarray:
         """(T, 3) area × outward unit normal per triangle."""
         p = self.corners()
-        return 0.5 * np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+        return 0.5 * cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
 
     def area(self) -> float:
         return float(np.linalg.norm(self.area_vectors(), axis=1).sum())
@@ -275,7 +276,7 @@ def tetra_moments(corners: np.ndarray, origin: np.ndarray) -> tuple[float, np.nd
     if len(corners) == 0:
         return 0.0, np.zeros(3)
     r = corners - origin
-    det = np.einsum("ti,ti->t", r[:, 0], np.cross(r[:, 1], r[:, 2])) / 6.0
+    det = np.einsum("ti,ti->t", r[:, 0], cross(r[:, 1], r[:, 2])) / 6.0
     vol = float(det.sum())
     moment = det @ (r.sum(axis=1) / 4.0) + vol * origin
     return vol, moment
@@ -286,7 +287,7 @@ def solid_inertia(mesh: HullMesh, mass: float, about: np.ndarray | None = None,
     """Inertia tensor [kg·m²] (boat axes) of the hull as a uniform solid of ``mass``, about
     ``about`` (default its centroid): ∫ x xᵀ dV = Σ |J|/120·(Σ vvᵀ + (Σv)(Σv)ᵀ) per tetrahedron."""
     p = mesh.corners() if corners is None else corners
-    det = np.einsum("ti,ti->t", p[:, 0], np.cross(p[:, 1], p[:, 2]))
+    det = np.einsum("ti,ti->t", p[:, 0], cross(p[:, 1], p[:, 2]))
     vol = det.sum() / 6.0
     s = p.sum(axis=1)
     cov = (np.einsum("t,tci,tcj->ij", det, p, p) + np.einsum("t,ti,tj->ij", det, s, s)) / 120.0
@@ -356,7 +357,7 @@ def submerged_below_plane(mesh: HullMesh, point, normal, corners: np.ndarray | N
     depth = (o - p) @ n
     pieces, _, _ = clip_below(p, depth)
     vol, moment = tetra_moments(pieces, o)
-    av = 0.5 * np.cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0])
+    av = 0.5 * cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0])
     centre = moment / vol if vol > 0 else o.copy()
     return Submerged(vol, centre, float(-(av.sum(axis=0) @ n)),
                      float(np.linalg.norm(av, axis=1).sum()))
