@@ -15,7 +15,7 @@ from app.runtime import open_session, render_frames, scene_params
 from app.sim.camera import Camera
 
 #: fixtures a domain's GL tests and its stability sweeps share (tests/helpers/fixtures.py)
-pytest_plugins = ["tests.helpers.fixtures"]
+pytest_plugins = ["tests.helpers.fixtures", "tests.helpers.tiers"]
 
 TESTS = Path(__file__).resolve().parent
 #: the folders under tests/ and the marker each gives its tests (registered in pyproject.toml)
@@ -25,10 +25,12 @@ LAYERS = ("unit", "gl", "stability", "bench", "cli", "window")
 @pytest.hookimpl(tryfirst=True)  # before xdist's, which turns the groups into node ids
 def pytest_collection_modifyitems(config, items):
     """Every test gets the marker of its folder: ``pytest -m unit`` selects tests/unit. Under
-    pytest-xdist (``-n``, with ``--dist loadgroup``) the window tests run on one worker, one
-    after another: two ``xvfb-run -a`` started at once can pick the same display number; and
-    the tests of a module that share a module-scoped fixture (a bench run, a scene with its
-    programs) run on one worker, so the fixture is made once, not once per worker."""
+    pytest-xdist (``-n``, with ``--dist loadgroup``) the tests of a module that share a
+    module-scoped fixture (a bench run, a scene with its programs) run on one worker, so the
+    fixture is made once, not once per worker. (The window tests spread over the workers: each
+    worker's Xvfb displays are numbered apart, tests/helpers/window_driver.py.)"""
+    from tests.helpers.tiers import uses_module_fixture  # the plugin, loaded by now
+
     xdist = config.pluginmanager.hasplugin("xdist")
     for item in items:
         try:
@@ -39,17 +41,8 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(getattr(pytest.mark, folder))
         if not xdist:
             continue
-        if folder == "window":
-            item.add_marker(pytest.mark.xdist_group("window"))
-        elif _uses_module_fixture(item):
+        if uses_module_fixture(item):
             item.add_marker(pytest.mark.xdist_group(f"module {item.path.name}"))
-
-
-def _uses_module_fixture(item) -> bool:
-    info = getattr(item, "_fixtureinfo", None)
-    if info is None:
-        return False
-    return any(defs and defs[-1].scope == "module" for defs in info.name2fixturedefs.values())
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -1,0 +1,238 @@
+"""Test tiers from measured durations (issue 26).
+
+``tests/durations.json`` holds what each test cost in the last recorded full run (setup, call
+and teardown seconds, and whether it shares a module-scoped fixture), written by
+``pytest --record-durations`` (see tests/conftest.py). From it, at collection:
+
+* ``slow``: a test whose measured setup + call + teardown exceeds ``SLOW_S``. An unmarked test
+  (neither ``slow`` by measurement nor by decorator) that takes more than ``GUARD_S`` fails the
+  run (``slow_guard``): a test grew, or a new test is slow — mark it, make it cheaper, or record
+  the durations again.
+* ``fast``: the ``pytest -m fast`` tier — in every test module the cheapest test (what it costs
+  when it runs alone: a test that shares a module fixture pays that fixture's setup), then every
+  test whose added cost is at most ``FAST_EACH_S``. A test not yet measured is ``fast`` (a new
+  test runs in the inner loop until its cost is known). The tier's predicted total is reported
+  by ``predicted_fast_seconds``; ``tests/unit/test_tiers.py`` keeps it within the budget.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from collections import defaultdict
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+#: ``$NATURA_TEST_DURATIONS`` points elsewhere (the tiers' own tests)
+DURATIONS = Path(os.environ.get("NATURA_TEST_DURATIONS")
+                 or Path(__file__).resolve().parents[1] / "durations.json")
+#: measured seconds above which a test is marked ``slow``
+SLOW_S = 1.5
+#: an unmarked test taking longer than this fails the run (measured on a loaded CI runner: the
+#: margin over SLOW_S absorbs two workers sharing two cores)
+GUARD_S = 5.0
+#: ``$NATURA_SLOW_GUARD_S`` sets another guard (the tiers' own tests)
+
+
+def guard_seconds() -> float:
+    return float(os.environ.get("NATURA_SLOW_GUARD_S") or GUARD_S)
+
+
+#: after a module's cheapest test, further tests join the fast tier when they add at most this
+FAST_EACH_S = 0.06
+#: the fast tier's budget, CPU seconds summed over tests (two workers: ≈ 60 s wall with start-up)
+FAST_BUDGET_S = 100.0
+
+
+@dataclass(frozen=True)
+class Cost:
+    setup: float
+    call: float
+    teardown: float
+    shares_module_fixture: bool = False
+
+    @property
+    def total(self) -> float:
+        return self.setup + self.call + self.teardown
+
+
+def load(path: Path = DURATIONS) -> dict[str, Cost]:
+    if not path.is_file():
+        return {}
+    raw = json.loads(path.read_text(encoding="utf-8"))
+    return {node: Cost(*row) for node, row in raw.get("tests", {}).items()}
+
+
+def save(costs: dict[str, Cost], note: str, path: Path = DURATIONS) -> None:
+    """Write atomically (a temporary file beside it, then a rename; removed on any error)."""
+    rows = [f"  {json.dumps(node)}: "
+            + json.dumps([round(c.setup, 3), round(c.call, 3), round(c.teardown, 3),
+                          c.shares_module_fixture])
+            for node, c in sorted(costs.items())]
+    text = ("{\n  \"note\": " + json.dumps(note) + ",\n  \"tests\": {\n"
+            + ",\n".join("  " + row for row in rows) + "\n  }\n}\n")
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".durations-", suffix=".json")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def module_of(node: str) -> str:
+    return node.split("::", 1)[0]
+
+
+def fixture_cost(costs: dict[str, Cost], nodes: list[str]) -> float:
+    """What a module's shared (module-scoped) fixtures cost: the setup of the test that paid it
+    in the recorded run — the largest setup among the module's tests that share one."""
+    return max((costs[n].setup for n in nodes if n in costs and costs[n].shares_module_fixture),
+               default=0.0)
+
+
+def fast_tier(costs: dict[str, Cost], nodes: list[str]) -> tuple[set[str], float]:
+    """(the fast tier among ``nodes``, its predicted seconds)."""
+    by_module: dict[str, list[str]] = defaultdict(list)
+    for node in nodes:
+        by_module[module_of(node)].append(node)
+    chosen: set[str] = set()
+    total = 0.0
+    for module_nodes in by_module.values():
+        shared = fixture_cost(costs, module_nodes)
+
+        def alone(node: str) -> float:
+            c = costs[node]
+            return c.call + c.teardown + (max(c.setup, shared) if c.shares_module_fixture
+                                          else c.setup)
+
+        known = [n for n in module_nodes if n in costs]
+        unknown = [n for n in module_nodes if n not in costs]
+        chosen.update(unknown)
+        if not known:
+            continue
+        first = min(known, key=alone)
+        chosen.add(first)
+        total += alone(first)
+        paid = costs[first].shares_module_fixture
+        for node in known:
+            if node == first:
+                continue
+            c = costs[node]
+            if c.shares_module_fixture:
+                extra = c.call + c.teardown + (0.0 if paid else max(c.setup, shared))
+            else:
+                extra = c.total
+            if extra <= FAST_EACH_S:
+                chosen.add(node)
+                total += extra
+                paid = paid or c.shares_module_fixture
+    return chosen, total
+
+
+def slow_tests(costs: dict[str, Cost], nodes: list[str]) -> set[str]:
+    """The tests among ``nodes`` measured slower than ``SLOW_S``: alone, or because they share
+    a module fixture that costs more than that (whichever of them runs first pays it)."""
+    by_module: dict[str, list[str]] = defaultdict(list)
+    for node in nodes:
+        by_module[module_of(node)].append(node)
+    slow = set()
+    for module_nodes in by_module.values():
+        shared = fixture_cost(costs, module_nodes)
+        for node in module_nodes:
+            c = costs.get(node)
+            if c is not None and (c.total > SLOW_S
+                                  or (c.shares_module_fixture and shared > SLOW_S)):
+                slow.add(node)
+    return slow
+
+
+def uses_module_fixture(item) -> bool:
+    info = getattr(item, "_fixtureinfo", None)
+    if info is None:
+        return False
+    return any(defs and defs[-1].scope == "module" for defs in info.name2fixturedefs.values())
+
+
+def pytest_collection_modifyitems(config, items):
+    mark(items)
+
+
+def mark(items) -> None:
+    """At collection: ``fast`` and ``slow`` markers from the measured durations, and which tests
+    share a module fixture (recorded with their durations)."""
+    costs = load()
+    nodes = [item.nodeid for item in items]
+    fast, _ = fast_tier(costs, nodes)
+    slow = slow_tests(costs, nodes)
+    for item in items:
+        if item.nodeid in fast:
+            item.add_marker(pytest.mark.fast)
+        if item.nodeid in slow and item.get_closest_marker("slow") is None:
+            item.add_marker(pytest.mark.slow)
+        if uses_module_fixture(item):
+            item.user_properties.append(("shares_module_fixture", True))
+
+
+# -- the plugin (tests/conftest.py loads it): recording and the slow guard ---------------------
+
+def pytest_addoption(parser):
+    parser.addoption("--record-durations", action="store_true",
+                     help="write what each test cost (setup, call, teardown) into "
+                          "tests/durations.json, which the fast and slow tiers come from")
+    parser.addoption("--no-slow-guard", action="store_true",
+                     help=f"do not fail the run when a test not marked slow takes more than "
+                          f"{guard_seconds():g} s (under a debugger, with -s)")
+
+
+#: what each test of this run cost, on the controller: nodeid -> [setup, call, teardown seconds,
+#: shares a module fixture, marked slow]; and the unmarked tests over the guard
+_COSTS: dict[str, list] = {}
+_LATE: list[tuple[float, str]] = []
+
+
+def pytest_runtest_logreport(report):
+    """On the controller (under xdist the workers' reports arrive here): what each test cost,
+    and whether it is marked slow."""
+    row = _COSTS.setdefault(report.nodeid, [0.0, 0.0, 0.0, False, False])
+    row[("setup", "call", "teardown").index(report.when)] = report.duration
+    row[3] = row[3] or dict(report.user_properties).get("shares_module_fixture", False)
+    row[4] = row[4] or "slow" in report.keywords
+
+
+def pytest_sessionfinish(session, exitstatus):
+    config = session.config
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        return
+    costs = _COSTS
+    if config.getoption("--record-durations") and costs:
+        merged = load()
+        merged.update({node: Cost(s, c, t, bool(shared))
+                       for node, (s, c, t, shared, _) in costs.items()})
+        root = Path(str(config.rootpath))
+        merged = {n: c for n, c in merged.items() if (root / module_of(n)).is_file()}
+        save(merged, "pytest --record-durations: seconds of setup, call, teardown; "
+                           "shares a module fixture")
+    late = sorted((sum(row[:3]), node) for node, row in costs.items()
+                  if sum(row[:3]) > guard_seconds() and not row[4])
+    if late and not config.getoption("--no-slow-guard"):
+        _LATE[:] = late
+        if session.exitstatus == 0:
+            session.exitstatus = 1
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    if _LATE:
+        terminalreporter.section("slow guard", red=True)
+        for seconds, node in _LATE:
+            terminalreporter.line(f"{node} took {seconds:.1f} s and is not marked slow "
+                                  f"(over {guard_seconds():g} s): make it cheaper, mark it "
+                                  f"@pytest.mark.slow, or record the durations again "
+                                  f"(pytest --record-durations)")

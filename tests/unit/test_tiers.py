@@ -1,0 +1,124 @@
+"""The test tiers (tests/helpers/tiers.py): ``pytest -m fast`` covers every module within its
+budget, ``slow`` comes from measured durations, and a test that is not marked slow but takes
+longer than the guard fails the run — tried on a small test folder of its own, run by pytest in
+a process of its own, as a developer's run would be (with and without pytest-xdist)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from app import PROJECT_ROOT
+from tests.helpers import tiers
+
+TESTS = PROJECT_ROOT / "tests"
+
+SAMPLE = """
+import time
+import pytest
+
+@pytest.fixture(scope="module")
+def shared():
+    time.sleep(0.2)
+    return 1
+
+def test_quick():
+    assert True
+
+def test_sleepy():
+    time.sleep(0.6)
+
+def test_uses_shared_a(shared):
+    assert shared == 1
+
+def test_uses_shared_b(shared):
+    assert shared == 1
+"""
+
+
+def _pytest(folder: Path, *args: str, guard: float = 0.4) -> subprocess.CompletedProcess:
+    env = dict(os.environ, NATURA_TEST_DURATIONS=str(folder / "durations.json"),
+               NATURA_SLOW_GUARD_S=str(guard), PYTHONPATH=str(PROJECT_ROOT))
+    env.pop("PYTEST_XDIST_WORKER", None)
+    env.pop("PYTEST_ADDOPTS", None)
+    return subprocess.run([sys.executable, "-m", "pytest", "-p", "tests.helpers.tiers",
+                           "-p", "no:cacheprovider", "-q", "--rootdir", str(folder),
+                           "-c", str(folder / "pytest.ini"), *args],
+                          cwd=folder, env=env, capture_output=True, text=True, timeout=120)
+
+
+@pytest.fixture
+def sample(tmp_path):
+    (tmp_path / "pytest.ini").write_text("[pytest]\nmarkers =\n    slow: slow\n    fast: fast\n")
+    (tmp_path / "test_sample.py").write_text(SAMPLE)
+    return tmp_path
+
+
+@pytest.mark.parametrize("workers", [[], pytest.param(["-n", "2"], marks=pytest.mark.slow)],
+                         ids=["one process", "xdist"])
+def test_an_unmarked_test_over_the_guard_fails_the_run_naming_it(sample, workers):
+    r = _pytest(sample, *workers)
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert "4 passed" in r.stdout
+    late = [line for line in r.stdout.splitlines() if "is not marked slow" in line]
+    assert len(late) == 1 and "test_sample.py::test_sleepy took 0.6 s" in late[0], r.stdout
+    assert "--record-durations" in late[0]
+
+
+def test_the_guard_passes_what_is_marked_slow_and_can_be_turned_off(sample):
+    text = SAMPLE.replace("def test_sleepy", "@pytest.mark.slow\ndef test_sleepy")
+    (sample / "test_sample.py").write_text(text)
+    assert _pytest(sample).returncode == 0
+    (sample / "test_sample.py").write_text(SAMPLE)
+    assert _pytest(sample, "--no-slow-guard").returncode == 0
+
+
+def test_recorded_durations_mark_slow_and_fast(sample):
+    r = _pytest(sample, "--record-durations", "--no-slow-guard")
+    assert r.returncode == 0, r.stdout
+    recorded = json.loads((sample / "durations.json").read_text())["tests"]
+    assert len(recorded) == 4
+    setup, call, teardown, shared = recorded["test_sample.py::test_sleepy"]
+    assert call >= 0.6 and shared is False
+    assert recorded["test_sample.py::test_uses_shared_a"][0] >= 0.2  # it paid the fixture
+    assert recorded["test_sample.py::test_uses_shared_b"][3] is True
+    costs = tiers.load(sample / "durations.json")
+    nodes = list(recorded)
+    fast, predicted = tiers.fast_tier(costs, nodes)
+    assert fast == {"test_sample.py::test_quick"} and predicted < 0.05
+    r = _pytest(sample, "-m", "fast", "--collect-only")
+    assert "test_quick" in r.stdout and "test_sleepy" not in r.stdout, r.stdout
+
+
+def test_slow_marks_what_shares_a_costly_module_fixture():
+    costs = {"m.py::a": tiers.Cost(2.0, 0.01, 0.0, True),
+             "m.py::b": tiers.Cost(0.0, 0.01, 0.0, True),
+             "m.py::c": tiers.Cost(0.0, 0.02, 0.0, False),
+             "n.py::d": tiers.Cost(0.1, 1.6, 0.0)}
+    assert tiers.slow_tests(costs, list(costs)) == {"m.py::a", "m.py::b", "n.py::d"}
+    fast, predicted = tiers.fast_tier(costs, list(costs) + ["n.py::new"])
+    # c alone is cheaper than b with the fixture it would pay; d is n's only measured test
+    assert fast == {"m.py::c", "n.py::d", "n.py::new"}
+    assert predicted == pytest.approx(0.02 + 1.6 + 0.1)
+
+
+def test_the_recorded_durations_cover_every_test_module():
+    costs = tiers.load()
+    recorded = {tiers.module_of(node) for node in costs}
+    modules = {p.relative_to(PROJECT_ROOT).as_posix() for p in TESTS.rglob("test_*.py")}
+    assert modules - recorded == set(), "record the durations again: pytest --record-durations"
+
+
+def test_the_fast_tier_fits_its_budget():
+    costs = tiers.load()
+    fast, predicted = tiers.fast_tier(costs, list(costs))
+    modules = {tiers.module_of(node) for node in costs}
+    assert {tiers.module_of(node) for node in fast} == modules
+    assert predicted <= tiers.FAST_BUDGET_S, (
+        f"the fast tier would take {predicted:.0f} s of test time: lower tiers.FAST_EACH_S or "
+        f"make the costliest module's cheapest test cheaper")
