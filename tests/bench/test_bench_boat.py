@@ -7,8 +7,7 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import textwrap
+import shutil
 from pathlib import Path
 
 import pytest
@@ -17,37 +16,23 @@ from app.bench import NUMPY_BENCHES
 from app.cli import NUMPY_BENCH_NAMES
 from app.scenes import SCENES
 from tests.helpers.cli import run, usage_error
+from tests.helpers.readme import bench_lane
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
-def _no_gl_env(folder: Path) -> dict:
-    """The environment with a ``sitecustomize`` that makes creating a GL context raise."""
-    hook = folder / "no-gl"
-    hook.mkdir()
-    (hook / "sitecustomize.py").write_text(textwrap.dedent("""
-        import moderngl
-
-        def _refuse(*args, **kwargs):
-            raise RuntimeError("natura bench boat created a GL context")
-
-        moderngl.create_context = _refuse
-        moderngl.create_standalone_context = _refuse
-    """))
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(hook), env.get("PYTHONPATH")]))
-    return env
+#: the README's example (tests/helpers/readme.py runs it once per test run, as the walk-through
+#: does, with GL context creation made to raise: the numpy bench must not need one)
+EXAMPLE = "natura bench boat --quick"
 
 
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory):
-    """One ``natura bench boat --quick --out boat.json``: (folder, the finished process)."""
-    folder = tmp_path_factory.mktemp("bench-boat")
-    proc = run("bench", "boat", "--quick", "--out", "boat.json", cwd=folder,
-               env=_no_gl_env(folder))
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    assert "Traceback" not in proc.stderr
-    return folder, proc
+    """The README's ``natura bench boat --quick``: (folder, its report's name, its stdout)."""
+    folder, ran = bench_lane(tmp_path_factory, EXAMPLE)
+    (report,) = [name for name in ran.written if name.endswith(".json")]
+    assert "Traceback" not in ran.stdout
+    return folder, Path(report), ran.stdout
 
 
 def _numbers(value, where="report"):
@@ -65,8 +50,8 @@ def _numbers(value, where="report"):
 
 
 def test_the_report_has_both_sections_with_finite_figures(quick):
-    folder, _ = quick
-    report = json.loads((folder / "boat.json").read_text())
+    folder, name, _ = quick
+    report = json.loads((folder / name).read_text())
     assert report["bench"] == "boat" and report["quick"] is True
     assert set(report["seconds"]) == {"physics", "polar"}
     bad = [(where, v) for where, v in _numbers(report) if not math.isfinite(v)]
@@ -84,23 +69,28 @@ def test_the_report_has_both_sections_with_finite_figures(quick):
     assert len(polar["no_go"]) == len(polar["wind_speeds"]) == 3
     for vt, no_go in zip(polar["wind_speeds"], polar["no_go"]):
         assert 30.0 < no_go < 55.0, (vt, no_go)
-    assert report["charts"] == {"physics": "boat.png", "polar": "boat-polar.png"}
+    assert report["charts"] == {"physics": f"{name.stem}.png", "polar": f"{name.stem}-polar.png"}
 
 
 def test_both_charts_are_written_and_both_summaries_printed(quick):
-    folder, proc = quick
-    for name in ("boat.png", "boat-polar.png"):
-        data = (folder / name).read_bytes()
-        assert data.startswith(PNG_MAGIC) and len(data) > 10_000, name
-    assert "draft exact" in proc.stdout and "heave period" in proc.stdout
-    assert "no-go" in proc.stdout and "VMG up" in proc.stdout
-    assert "chart → boat.png" in proc.stdout and "chart → boat-polar.png" in proc.stdout
-    assert proc.stdout.rstrip().endswith("→ boat.json")
+    folder, name, stdout = quick
+    charts = [name.with_name(f"{name.stem}{suffix}") for suffix in (".png", "-polar.png")]
+    for chart in charts:
+        data = (folder / chart).read_bytes()
+        assert data.startswith(PNG_MAGIC) and len(data) > 10_000, chart
+    assert "draft exact" in stdout and "heave period" in stdout
+    assert "no-go" in stdout and "VMG up" in stdout
+    for chart in charts:
+        assert f"chart → {chart.as_posix()}" in stdout, stdout[-400:]
+    assert stdout.rstrip().endswith(f"→ {name.as_posix()}")
 
 
-def test_a_second_run_without_force_refuses_and_touches_nothing(quick):
-    folder, _ = quick
+def test_a_second_run_without_force_refuses_and_touches_nothing(quick, tmp_path):
+    source, name, _ = quick
+    folder = tmp_path  # a copy: the example's own folder stays as it wrote it
     names = ("boat.json", "boat.png", "boat-polar.png")
+    for suffix, new in zip((".json", ".png", "-polar.png"), names):
+        shutil.copy2(source / name.with_name(name.stem + suffix), folder / new)
     before = {n: ((folder / n).read_bytes(), (folder / n).stat().st_mtime_ns) for n in names}
     line = usage_error(run("bench", "boat", "--quick", "--out", "boat.json", cwd=folder))
     assert "boat.json" in line and "--force" in line

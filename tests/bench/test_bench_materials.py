@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 from app.bench import materials as mbench
 from app.runtime import open_session, scene_params
+from tests.helpers.readme import bench_lane
 
 
 def test_materials_sweep_orders_methods_sensibly(gl_ctx, tmp_path):
@@ -39,12 +38,15 @@ def test_materials_sweep_orders_methods_sensibly(gl_ctx, tmp_path):
     assert "tessellation auto" in mbench.summary(report)
 
 
-def test_cli_bench_writes_json_and_chart(tmp_path):
-    out = tmp_path / "m.json"
-    proc = subprocess.run([sys.executable, "-m", "app.cli", "bench", "materials", "--size", "64x36",
-                           "--repeat", "2", "--warmup", "1", "--out", str(out)],
-                          capture_output=True, text=True, cwd=tmp_path, timeout=300)
-    assert proc.returncode == 0, proc.stderr[-2000:]
+#: the README's example (tests/helpers/readme.py runs it once per test run, for the walk-through
+#: and for this test)
+EXAMPLE = "natura bench materials --size 160x90 --repeat 3"
+
+
+def test_cli_bench_writes_json_and_chart(tmp_path_factory):
+    folder, ran = bench_lane(tmp_path_factory, EXAMPLE)
+    (name,) = [n for n in ran.written if n.endswith(".json")]
+    out = folder / name
     report = json.loads(out.read_text())
     assert {"materials", "frame", "reference.fullscreen",
             "reference.clear"} <= set(report["passes"])

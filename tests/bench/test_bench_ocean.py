@@ -11,6 +11,7 @@ import pytest
 from app.bench import ocean as obench
 from app.errors import UsageError
 from app.runtime import open_session, scene_params
+from tests.helpers.readme import bench_lane
 
 SIZE = (64, 36)
 
@@ -106,20 +107,22 @@ def test_chart_and_summary(tiny_report, tmp_path):
         assert title in text
 
 
-@pytest.mark.slow  # the sweep at 64×36, its FFT sizes narrowed to 64 by --sizes
-def test_cli_bench_ocean(tmp_path, capsys):
-    from app.cli import main
+#: the README's example (tests/helpers/readme.py runs it once per test run, for the walk-through
+#: and for this test): the sweep at 96×54, its FFT sizes narrowed to 64 by --sizes
+EXAMPLE = "natura bench ocean --sizes 64x64 --size 96x54 --repeat 2"
 
-    out = tmp_path / "o.json"
-    assert main(["bench", "ocean", "--size", "64x36", "--repeat", "1", "--warmup", "0",
-                 "--sizes", "64x64", "--out", str(out)]) == 0
+
+def test_cli_bench_ocean(tmp_path_factory):
+    folder, ran = bench_lane(tmp_path_factory, EXAMPLE)
+    (name,) = [n for n in ran.written if n.endswith(".json")]
+    out = folder / name
     report = json.loads(out.read_text())
     assert {"ocean.surface", "frame"} <= set(report["passes"])
     s = report["sweep"]
     assert s["fft"]["fft_sizes"] == [64]
     assert len(s["fft"]["rows"]) == len(obench.CASCADES)
     assert {"forward", "deferred", "ratio", "mean_abs_diff"} <= set(s["shading"])
-    assert obench.TITLES["shading"] in capsys.readouterr().out
+    assert obench.TITLES["shading"] in ran.stdout
     assert [r["waves"] for r in s["gerstner"]["rows"][:-1]] == list(obench.GERSTNER_COUNTS)
     assert [r["fft_size"] for r in s["direct_sum"]["rows"]][:3] == list(obench.DIRECT_SIZES)
     assert out.with_suffix(".png").stat().st_size > 10000

@@ -8,18 +8,22 @@ import json
 import math
 
 from app.bench import shading as sbench
-from tests.helpers.cli import run
+from tests.helpers.readme import bench_lane
 
 
 def _finite(*values) -> bool:
     return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
 
 
-def test_cli_bench_shading_writes_json_chart_and_summary(tmp_path):
-    out = tmp_path / "s.json"
-    r = run("bench", "shading", "--size", "160x90", "--repeat", "1", "--warmup", "0",
-            "--out", str(out), cwd=tmp_path)
-    assert r.returncode == 0, r.stderr[-2000:]
+#: the README's example (tests/helpers/readme.py runs it once per test run, for the walk-through
+#: and for this test)
+EXAMPLE = "natura bench shading --size 160x90 --repeat 3"
+
+
+def test_cli_bench_shading_writes_json_chart_and_summary(tmp_path_factory):
+    folder, r = bench_lane(tmp_path_factory, EXAMPLE)
+    (name,) = [n for n in r.written if n.endswith(".json")]
+    out = folder / name
     report = json.loads(out.read_text())
     assert {"shading", "frame", "reference.fullscreen"} <= set(report["passes"])
     assert out.with_suffix(".png").stat().st_size > 20000

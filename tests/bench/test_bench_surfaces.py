@@ -11,16 +11,18 @@ import math
 
 import pytest
 
-from tests.helpers.cli import run
+from tests.helpers.readme import bench_lane
+
+#: the README's example (tests/helpers/readme.py runs it once per test run, for the walk-through
+#: and for these tests)
+EXAMPLE = "natura bench surfaces --size 160x90 --repeat 3"
 
 
 @pytest.fixture(scope="module")
 def bench(tmp_path_factory):
-    tmp = tmp_path_factory.mktemp("bench-surfaces")
-    out = tmp / "s.json"
-    r = run("bench", "surfaces", "--size", "160x90", "--repeat", "3", "--warmup", "0",
-            "--out", str(out), cwd=tmp)
-    assert r.returncode == 0, r.stderr[-2000:]
+    folder, r = bench_lane(tmp_path_factory, EXAMPLE)
+    (name,) = [n for n in r.written if n.endswith(".json")]
+    out = folder / name
     return r, out, json.loads(out.read_text())
 
 
@@ -30,7 +32,7 @@ def test_json_four_charts_and_summary(bench):
     for suffix in (".png", "-transparency.png", "-reflections.png", "-fresnel.png"):
         chart = out.with_name(out.stem + suffix)
         assert chart.stat().st_size > 20000, chart
-        assert f"chart → {chart}" in r.stdout
+        assert f"chart → {chart.relative_to(out.parents[1]).as_posix()}" in r.stdout
     for section in ("-- shadows", "-- transparency", "-- reflections", "-- fresnel"):
         assert section in r.stdout
     assert report["sweep"]["quick"] is True

@@ -7,111 +7,49 @@ from __future__ import annotations
 
 import os
 import re
-import shlex
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 
 from app import PROJECT_ROOT
 from app.params import parse_glsl_annotations
-from tests.helpers.cli import NATURA
+from tests.helpers import readme as R
 
 README = (PROJECT_ROOT / "README.md").read_text(encoding="utf-8")
 
 
-def _blocks(language: str, section: str | None = None) -> list[str]:
-    text = README
-    if section is not None:
-        start = text.index(f"\n## {section}\n")
-        end = text.find("\n## ", start + 1)
-        text = text[start:end if end > 0 else None]
-    return re.findall(rf"^```{language}\n(.*?)^```$", text, flags=re.S | re.M)
-
-
-def _env() -> dict:
-    env = {k: v for k, v in os.environ.items()
-           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "NATURA_SHADERS")}
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(PROJECT_ROOT),
-                                                      os.environ.get("PYTHONPATH")]))
-    return env
-
-
-def _command_lines() -> list[str]:
-    lines = []
-    for block in _blocks("sh", "Command line"):
-        for line in block.splitlines():
-            command = line.split("#", 1)[0].strip()
-            if command:
-                lines.append(command)
-    return lines
-
-
 def test_the_command_line_section_has_examples():
-    lines = _command_lines()
+    lines = R.command_lines()
     assert len(lines) >= 15 and all(line.split()[0] == "natura" for line in lines), lines
 
 
-def _lanes(commands: list[str]) -> list[list[str]]:
-    """The examples split into lanes that may run at the same time, each in a folder of its own:
-    every ``natura bench`` example alone (a bench reads no file an example writes, and its
-    sweeps are the long part), everything else in one lane, in the README's order."""
-    main = [c for c in commands if shlex.split(c)[1:2] != ["bench"]]
-    return [main] + [[c] for c in commands if c not in main]
-
-
-def _files(folder: Path) -> set[str]:
-    return {p.relative_to(folder).as_posix() for p in folder.rglob("*") if not p.is_dir()}
-
-
-def _run_lane(commands: list[str], folder: Path
-              ) -> list[tuple[str, str | None, set[str], float]]:
-    """Run ``commands`` in order in ``folder``: (command, failure or None, files it wrote,
-    seconds it took)."""
-    folder.mkdir()
-    out = []
-    for command in commands:
-        before = _files(folder)
-        start = time.perf_counter()
-        r = subprocess.run([*NATURA, *shlex.split(command)[1:]], cwd=folder, env=_env(),
-                           capture_output=True, text=True, timeout=900)
-        failure = None
-        if r.returncode != 0:
-            failure = f"`{command}` exited {r.returncode}: {r.stderr.strip()[-600:]}"
-        elif "Traceback" in r.stderr:
-            failure = f"`{command}` printed a traceback: {r.stderr.strip()[-600:]}"
-        out.append((command, failure, _files(folder) - before, time.perf_counter() - start))
-        if failure:
-            break
-    return out
-
-
-def test_every_command_line_example_runs_in_order_as_written(tmp_path, record_property):
+def test_every_command_line_example_runs_in_order_as_written(tmp_path_factory, record_property):
     """No display here: ``natura`` and ``natura window`` render headless, as the README says.
     The examples that share a folder run in order, so one that overwrote another's file would
     fail there (nothing is overwritten without --force); across folders, no two examples may
-    write the same file."""
+    write the same file. Each lane runs once per test run (tests/helpers/readme.py): a
+    dedicated test that checks a bench example's output reads this same run."""
     from concurrent.futures import ThreadPoolExecutor
 
-    commands = _command_lines()
-    lanes = _lanes(commands)
+    commands = R.command_lines()
+    lanes = R.lanes(commands)
     assert sorted(c for lane in lanes for c in lane) == sorted(commands)
     with ThreadPoolExecutor(max_workers=min(len(lanes), os.cpu_count() or 2)) as pool:
-        results = list(pool.map(_run_lane, lanes,
-                                [tmp_path / f"lane-{i}" for i in range(len(lanes))]))
+        results = list(pool.map(lambda i: R.lane_result(tmp_path_factory, i)[1],
+                                range(len(lanes))))
     written: dict[str, str] = {}
     for lane in results:
-        for command, failure, new, seconds in lane:
-            record_property(f"seconds: {command}", round(seconds, 2))  # in --junitxml
-            assert failure is None, failure
-            for name in new:
+        for ran in lane:
+            record_property(f"seconds: {ran.command}", round(ran.seconds, 2))  # in --junitxml
+            assert ran.failure is None, ran.failure
+            for name in ran.written:
                 assert name not in written, (
-                    f"`{command}` and `{written[name]}` both write {name}")
-                written[name] = command
-    ran = [command for lane in results for command, *_ in lane]
-    assert sorted(ran) == sorted(commands)
+                    f"`{ran.command}` and `{written[name]}` both write {name}")
+                written[name] = ran.command
+    ran_commands = [ran.command for lane in results for ran in lane]
+    assert sorted(ran_commands) == sorted(commands)
     # the examples' own outputs, each from the example that names it
     names = {Path(name).parts[0] for name in written}
     for name in ("sunset.png", "night.exr", "clouds.png", "my-glsl"):
@@ -119,7 +57,7 @@ def test_every_command_line_example_runs_in_order_as_written(tmp_path, record_pr
 
 
 def _python_snippets() -> list[str]:
-    snippets = _blocks("python")
+    snippets = R.blocks("python")
     assert snippets, "the README has no Python snippet"
     return snippets
 
@@ -131,7 +69,7 @@ def test_python_snippets_run_and_print_their_answer(tmp_path, how):
             argv, stdin = [sys.executable, "-c", code], None
         else:  # the interactive interpreter reads it as a user pasting it would type it
             argv, stdin = [sys.executable, "-i", "-q"], code
-        r = subprocess.run(argv, input=stdin, cwd=tmp_path, env=_env(), capture_output=True,
+        r = subprocess.run(argv, input=stdin, cwd=tmp_path, env=R.env(), capture_output=True,
                            text=True, timeout=300)
         assert r.returncode == 0 and "Traceback" not in r.stderr and "Error" not in r.stderr, (
             f"{how}: {r.stderr.strip()[-800:]}")
@@ -141,7 +79,7 @@ def test_python_snippets_run_and_print_their_answer(tmp_path, how):
 
 
 def test_the_annotation_example_makes_the_parameter_the_readme_names():
-    (glsl,) = [b for b in _blocks("glsl") if "@param" in b]
+    (glsl,) = [b for b in R.blocks("glsl") if "@param" in b]
     params = parse_glsl_annotations(glsl, "sky", "glsl/sky/sky.frag")
     assert [p.name for p in params] == ["sky.night_tint"]
     p = params[0]
@@ -151,7 +89,7 @@ def test_the_annotation_example_makes_the_parameter_the_readme_names():
 
 def test_the_setup_commands_are_the_ones_ci_runs():
     ci = (PROJECT_ROOT / ".ci" / "run").read_text(encoding="utf-8")
-    setup = _blocks("sh", "Set up and run")
+    setup = R.blocks("sh", "Set up and run")
     first, second = setup[0].strip(), setup[1].strip()
     assert first == "./setup.sh && .venv/bin/natura" and first in ci
     assert second == ".venv/bin/python -m pytest" and second in ci

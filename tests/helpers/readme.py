@@ -1,0 +1,170 @@
+"""The README's command-line examples, each run once per test run (issue 26): the walk-through
+(tests/cli/test_readme.py) and the dedicated tests that check an example's output (a bench's
+JSON, charts and summary) share the same run instead of running the command twice.
+
+The examples are split into lanes (``lanes``): every ``natura bench`` example alone in a folder
+of its own, everything else in one folder in the README's order. ``lane_result(i)`` runs lane
+``i`` in the run's shared folder, or — when another test (or another pytest-xdist worker) has
+started it already — waits for its result: the lane's folder holds a ``.claimed`` marker while it
+runs and ``.result.json`` once done, whatever happened (a failure is a result too).
+
+A numpy-only bench (``natura bench boat``) runs with a ``sitecustomize`` that makes creating a
+GL context raise: the bench promises not to need one, and the example proves it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shlex
+import subprocess
+import textwrap
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from app import PROJECT_ROOT
+from app.cli import NUMPY_BENCH_NAMES
+from tests.helpers.cli import NATURA
+
+README_PATH = PROJECT_ROOT / "README.md"
+#: how long one lane may take (the slowest bench on a loaded two-core runner, with margin)
+LANE_TIMEOUT_S = 900
+
+
+def blocks(language: str, section: str | None = None) -> list[str]:
+    text = README_PATH.read_text(encoding="utf-8")
+    if section is not None:
+        start = text.index(f"\n## {section}\n")
+        end = text.find("\n## ", start + 1)
+        text = text[start:end if end > 0 else None]
+    return re.findall(rf"^```{language}\n(.*?)^```$", text, flags=re.S | re.M)
+
+
+def command_lines() -> list[str]:
+    lines = []
+    for block in blocks("sh", "Command line"):
+        for line in block.splitlines():
+            command = line.split("#", 1)[0].strip()
+            if command:
+                lines.append(command)
+    return lines
+
+
+def lanes(commands: list[str] | None = None) -> list[list[str]]:
+    """The examples split into lanes that may run at the same time, each in a folder of its own:
+    every ``natura bench`` example alone (a bench reads no file an example writes, and its
+    sweeps are the long part), everything else in one lane, in the README's order."""
+    commands = command_lines() if commands is None else commands
+    main = [c for c in commands if shlex.split(c)[1:2] != ["bench"]]
+    return [main] + [[c] for c in commands if c not in main]
+
+
+def env(extra_path: Path | None = None) -> dict:
+    e = {k: v for k, v in os.environ.items()
+         if k not in ("DISPLAY", "WAYLAND_DISPLAY", "NATURA_SHADERS")}
+    e["PYTHONPATH"] = os.pathsep.join(str(p) for p in (extra_path, PROJECT_ROOT,
+                                                       os.environ.get("PYTHONPATH")) if p)
+    return e
+
+
+def no_gl_hook(folder: Path) -> Path:
+    """A folder with a ``sitecustomize`` that makes creating a GL context raise."""
+    hook = folder / "no-gl"
+    hook.mkdir(parents=True, exist_ok=True)
+    (hook / "sitecustomize.py").write_text(textwrap.dedent("""
+        import moderngl
+
+        def _refuse(*args, **kwargs):
+            raise RuntimeError("a numpy bench created a GL context")
+
+        moderngl.create_context = _refuse
+        moderngl.create_standalone_context = _refuse
+    """))
+    return hook
+
+
+@dataclass(frozen=True)
+class Ran:
+    command: str
+    failure: str | None
+    written: tuple[str, ...]
+    seconds: float
+    stdout: str
+
+
+def _files(folder: Path) -> set[str]:
+    return {p.relative_to(folder).as_posix() for p in folder.rglob("*")
+            if not p.is_dir() and not p.name.startswith(".")}
+
+
+def run_lane(commands: list[str], folder: Path, hooks: Path) -> list[Ran]:
+    """Run ``commands`` in order in ``folder``."""
+    out = []
+    for command in commands:
+        words = shlex.split(command)
+        numpy_bench = words[1:2] == ["bench"] and words[2:3] and words[2] in NUMPY_BENCH_NAMES
+        before = _files(folder)
+        start = time.perf_counter()
+        r = subprocess.run([*NATURA, *words[1:]], cwd=folder,
+                           env=env(no_gl_hook(hooks) if numpy_bench else None),
+                           capture_output=True, text=True, timeout=LANE_TIMEOUT_S)
+        failure = None
+        if r.returncode != 0:
+            failure = f"`{command}` exited {r.returncode}: {r.stderr.strip()[-600:]}"
+        elif "Traceback" in r.stderr:
+            failure = f"`{command}` printed a traceback: {r.stderr.strip()[-600:]}"
+        out.append(Ran(command, failure, tuple(sorted(_files(folder) - before)),
+                       time.perf_counter() - start, r.stdout))
+        if failure:
+            break
+    return out
+
+
+def run_folder(tmp_path_factory) -> Path:
+    """The run's folder (shared by pytest-xdist's workers, as ``session_cache`` is)."""
+    base = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        base = base.parent
+    folder = base / "readme-examples"
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+def lane_result(tmp_path_factory, index: int) -> tuple[Path, list[Ran]]:
+    """(lane ``index``'s folder, what each of its commands did): run here, or waited for."""
+    commands = lanes()[index]
+    root = run_folder(tmp_path_factory)
+    folder = root / f"lane-{index}"
+    result = root / f"lane-{index}.result.json"
+    try:
+        (root / f"lane-{index}.claimed").mkdir()  # atomic: one claimant per run
+    except FileExistsError:
+        deadline = time.monotonic() + LANE_TIMEOUT_S * max(1, len(commands))
+        while not result.exists():
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"README lane {index} ({commands[0]}) never finished") from None
+            time.sleep(0.5)
+        rows = json.loads(result.read_text())
+        return folder, [Ran(**{**row, "written": tuple(row["written"])}) for row in rows]
+    folder.mkdir()
+    try:
+        ran = run_lane(commands, folder, root / f"lane-{index}.hooks")
+    except BaseException as exc:
+        ran = [Ran(commands[0], f"the lane could not run: {exc!r}", (), 0.0, "")]
+        raise
+    finally:
+        tmp = result.with_suffix(".tmp")
+        rows = [{**r.__dict__, "written": list(r.written)} for r in ran]
+        tmp.write_text(json.dumps(rows))
+        os.replace(tmp, result)
+    return folder, ran
+
+
+def bench_lane(tmp_path_factory, command: str) -> tuple[Path, Ran]:
+    """The README's bench example ``command`` (exactly as the README has it), run once."""
+    (index,) = [i for i, lane in enumerate(lanes()) if lane == [command]]
+    folder, (ran,) = lane_result(tmp_path_factory, index)
+    assert ran.failure is None, ran.failure
+    return folder, ran
