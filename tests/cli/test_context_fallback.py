@@ -18,7 +18,7 @@ from PIL import Image
 
 from app import PROJECT_ROOT
 from tests.helpers.cli import CONTEXT_LINE, NATURA, messages, run
-from tests.helpers.window_driver import XVFB_SKIP
+from tests.helpers.window_driver import XVFB_SKIP, xvfb_server_num
 
 
 @pytest.fixture(scope="module")
@@ -62,7 +62,8 @@ def test_render_bench_compare_report_fall_back_to_glx(tmp_path, no_egl):
     env = {k: v for k, v in no_egl.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(PROJECT_ROOT),
                                                       env.get("PYTHONPATH")]))
-    proc = subprocess.run(["xvfb-run", "-a", "bash", str(script)], cwd=tmp_path, env=env,
+    proc = subprocess.run(["xvfb-run", "-a", "-n", str(xvfb_server_num()), "bash", str(script)],
+                          cwd=tmp_path, env=env,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:] + "".join(
         p.read_text()[-800:] for p in tmp_path.glob("*.err"))

@@ -25,7 +25,7 @@ from app import PROJECT_ROOT
 from app.cli import program_specs
 from tests.helpers.parity import GL41_ENV
 
-SIZE = "128x72"
+SIZE = "96x54"  # small: a path that differs between the contexts shows at any size
 MEAN_LIMIT = 1.5
 P99_LIMIT = 24.0
 

@@ -25,11 +25,21 @@ XDOTOOL_SKIP = "xdotool not installed: no real key events (apt-get install xdoto
 
 
 def under_xvfb(args, cwd, timeout=180) -> subprocess.CompletedProcess:
-    """Run ``args`` on a fresh Xvfb (``xvfb-run -a`` picks a free display), without the
-    caller's DISPLAY / WAYLAND_DISPLAY."""
+    """Run ``args`` on a fresh Xvfb, without the caller's DISPLAY / WAYLAND_DISPLAY.
+    ``xvfb-run -a`` picks the first free display from ``-n``; each pytest-xdist worker starts
+    its search at a number of its own (``xvfb_server_num``), so two workers starting a server
+    at the same moment do not pick the same one."""
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
-    return subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", *args], cwd=cwd,
+    return subprocess.run(["xvfb-run", "-a", "-n", str(xvfb_server_num()),
+                           "-s", "-screen 0 1280x720x24", *args], cwd=cwd,
                           env=env, capture_output=True, text=True, timeout=timeout)
+
+
+def xvfb_server_num() -> int:
+    """Where this process's search for a free X display starts: 99 (xvfb-run's own default)
+    outside pytest-xdist, 200 + 20 × the worker's index under it (gw0, gw1, …)."""
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "")
+    return 200 + 20 * int(worker[2:]) if worker.startswith("gw") and worker[2:].isdigit() else 99
 
 
 def drive(mode: str, work) -> tuple[dict, subprocess.CompletedProcess]:

@@ -12,6 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.helpers.window_driver import xvfb_server_num
+
 DRIVER = Path(__file__).parent.parent / "helpers" / "window_driver.py"
 
 pytestmark = [
@@ -23,7 +25,8 @@ pytestmark = [
 
 def _under_xvfb(args, cwd, timeout=120):
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
-    return subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", *args], cwd=cwd,
+    return subprocess.run(["xvfb-run", "-a", "-n", str(xvfb_server_num()),
+                           "-s", "-screen 0 1280x720x24", *args], cwd=cwd,
                           env=env, capture_output=True, text=True, timeout=timeout)
 
 

@@ -1,0 +1,62 @@
+"""No stalls in the window's frame (issue 26): over 100 frames of every scene in a real window
+under Xvfb, the frame loop (the scene's frame, the display pass, the panel, the HUD, ImGui)
+calls no ``ctx.finish()``, reads back no framebuffer, texture or buffer and waits on no query
+result — except where documented: the ocean's FFT readback for the boat's buoyancy and the
+probes (app/effects/ocean/fft.py, ``request_readback``) copies the displacement into a pixel
+buffer on the GPU and maps the *previous* frame's buffer, which is ready by then, so it does
+not wait. The counting is done by tests/helpers/stall_driver.py, which wraps moderngl's syncing
+calls and names the file and line that called each.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import sys
+from pathlib import Path
+
+import pytest
+
+from app.scenes import SCENES
+from tests.helpers.window_driver import XVFB_SKIP, under_xvfb
+
+DRIVER = Path(__file__).parent.parent / "helpers" / "stall_driver.py"
+
+pytestmark = [pytest.mark.skipif(shutil.which("xvfb-run") is None, reason=XVFB_SKIP)]
+
+#: the documented asynchronous readback: (call, the file it is in) — a pixel-buffer copy of the
+#: FFT displacement and the read of the buffer copied a frame earlier
+ALLOWED = {("Texture.read_into", "app/effects/ocean/fft.py"),
+           ("Buffer.read", "app/effects/ocean/fft.py")}
+#: the scenes, in two windows' worth of work each (the ocean scenes are the costly ones)
+GROUPS = [["sky", "probe", "planet", "clouds", "noise", "materials"],
+          ["ocean", "shading", "surfaces"], ["maritime", "village"]]
+#: the sea's size, smaller than the default: the frame runs the same calls on a 64² FFT and a
+#: coarser grid, in a fifth of the time (llvmpipe spends the ocean's frame on them)
+SMALLER = {"ocean": ":ocean.fft_size=64,ocean.mesh_segments=64",
+           "maritime": ":ocean.fft_size=64,ocean.mesh_segments=64"}
+
+
+def test_the_groups_cover_every_scene():
+    assert sorted(s for g in GROUPS for s in g) == sorted(SCENES)
+
+
+@pytest.mark.parametrize("scenes", GROUPS, ids=["+".join(g) for g in GROUPS])
+def test_no_frame_waits_for_the_gpu_except_the_fft_readback(tmp_path, scenes):
+    args = [scene + SMALLER.get(scene, "") for scene in scenes]
+    proc = under_xvfb([sys.executable, str(DRIVER), *args], cwd=tmp_path, timeout=600)
+    lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
+    assert proc.returncode == 0 and lines, proc.stdout[-3000:] + proc.stderr[-3000:]
+    result = json.loads(lines[-1][len("RESULT "):])
+    assert sorted(result) == sorted(scenes)
+    for scene, counted in result.items():
+        assert counted["frames"] == 100 and counted["render_error"] is None, (scene, counted)
+        stalls = [(what, where, n) for what, where, n in counted["calls"]
+                  if (what, where.rsplit(":", 1)[0]) not in ALLOWED]
+        assert stalls == [], f"{scene}: the frame waits for the GPU at {stalls}"
+        for what, where, n in counted["calls"]:  # the FFT's: at most once per texture a frame
+            assert n <= 3 * counted["frames"], (scene, what, where, n)
+    # the counting counts: the scenes that float things on the FFT sea read it every frame
+    for scene in {"ocean", "maritime"} & set(scenes):
+        reads = sum(n for what, _, n in result[scene]["calls"] if what == "Buffer.read")
+        assert reads >= result[scene]["frames"], (scene, result[scene]["calls"])
