@@ -7,9 +7,12 @@ It builds only what it uses: the wind, the day–night sky (with its reflection 
 lights the boat), the maritime clouds (model B), the ocean and the boat — no cloud-thesis bakes,
 no Preetham sky.
 
-Cameras (``maritime.camera``): ``chase`` follows behind the boat (smoothed, so it does not
-shake with the swell; looking around orbits it about the boat); ``free`` is the fly camera,
-which can dive under the water and rise above the clouds. C switches between them.
+Cameras (``maritime.camera``): ``chase`` follows the boat (smoothed, so it does not shake with
+the swell; looking around orbits it about the boat), by default from its port quarter
+(``maritime.chase_angle``: dead astern shows only the transom) and aimed a little above the
+deck (``maritime.chase_aim``), so the sky and the low sun of the default hour are in the frame;
+``free`` is the fly camera, which can dive under the water and rise above the clouds. C switches
+between them.
 
 Weather (``maritime.weather``, the thesis's forced weather states, §2): calm, fair, overcast and
 storm each set the wind, the sea and the cloud cover at once (:data:`WEATHER`); fair is what the
@@ -35,8 +38,10 @@ from .base import Scene
 from .keymaps import FLY, KeyMap
 
 #: forced weather states: the parameters each sets (spec/000 §2, the weather panel)
+# (the weather map's coverage thins fair-weather layers into banks and gaps — the preset's
+# clouds_b.weather_coverage — and less so the thick layers of the overcast and the storm)
 _LIGHT = {"clouds_b.light_absortion_sun": 0.03, "clouds_b.base_brightness": 0.8,
-          "clouds_b.darkness_threshold": 0.2}
+          "clouds_b.darkness_threshold": 0.2, "clouds_b.weather_coverage": 1.0}
 WEATHER: dict[str, dict[str, object]] = {
     "calm": {"wind.speed": 3.0, "clouds_b.density_threshold": -7.0,
              "clouds_b.density_multiplier": 0.6, "ocean.choppiness": 0.8, **_LIGHT},
@@ -46,11 +51,11 @@ WEATHER: dict[str, dict[str, object]] = {
     "overcast": {"wind.speed": 12.0, "clouds_b.density_threshold": -3.5,
                  "clouds_b.density_multiplier": 1.2, "ocean.choppiness": 1.0,
                  "clouds_b.light_absortion_sun": 0.08, "clouds_b.base_brightness": 0.45,
-                 "clouds_b.darkness_threshold": 0.12},
+                 "clouds_b.darkness_threshold": 0.12, "clouds_b.weather_coverage": 0.5},
     "storm": {"wind.speed": 22.0, "clouds_b.density_threshold": -2.5,
               "clouds_b.density_multiplier": 2.0, "ocean.choppiness": 1.4,
               "clouds_b.light_absortion_sun": 0.15, "clouds_b.base_brightness": 0.25,
-              "clouds_b.darkness_threshold": 0.06},
+              "clouds_b.darkness_threshold": 0.06, "clouds_b.weather_coverage": 0.15},
 }
 
 
@@ -125,10 +130,16 @@ class MaritimeScene(Scene):
                          "sea and cloud cover at once (custom: as the parameters are)",
                          kind="choice",
                          choices=(*WEATHER, "custom"), section="spec/000 §2"))
-        params.add(Param("maritime.chase_distance", 16.0, 4.0, 200.0, "chase camera: distance "
+        params.add(Param("maritime.chase_distance", 14.0, 4.0, 200.0, "chase camera: distance "
                          "behind the boat", step=0.5, unit="m"))
         params.add(Param("maritime.chase_height", 5.0, 0.5, 100.0, "chase camera: height above "
                          "the water", step=0.5, unit="m"))
+        params.add(Param("maritime.chase_angle", 22.0, -180.0, 180.0, "chase camera: angle "
+                         "about the boat from dead astern (+ toward the port quarter: the view "
+                         "turns to starboard of the bow)", step=1.0, unit="°"))
+        params.add(Param("maritime.chase_aim", 3.0, -5.0, 30.0, "chase camera: height above "
+                         "the water of the point it looks at, over the boat", step=0.1,
+                         unit="m"))
         return params
 
     def __init__(self, gpu, params, camera=None):
@@ -196,13 +207,13 @@ class MaritimeScene(Scene):
             self._orbit[1] = min(60.0, max(-20.0, self._orbit[1]
                                            + self.camera.pitch - self._placed[1]))
         x, _, z, psi = self._chase
-        psi = psi + math.radians(self._orbit[0])
+        psi = psi + math.radians(self._orbit[0] + self.params["maritime.chase_angle"])
         back = self.params["maritime.chase_distance"]
         height = self.params["maritime.chase_height"] + back * math.sin(
             math.radians(self._orbit[1]))
         bow = np.array([math.sin(psi), 0.0, -math.cos(psi)])
         eye = np.array([x, max(height, 0.5), z]) - back * bow
-        look = np.array([x, 2.5, z]) - eye
+        look = np.array([x, self.params["maritime.chase_aim"], z]) - eye
         yaw = math.degrees(math.atan2(look[0], -look[2])) % 360.0  # compass, as the camera
         pitch = math.degrees(math.atan2(look[1], math.hypot(look[0], look[2])))
         self.camera.set(position=tuple(eye), yaw=yaw, pitch=pitch)

@@ -66,6 +66,7 @@ class ModelB:
     darkness_threshold: float = 0.2
     cloud_offset: tuple = (0.0, 0.0, 0.0)
     coverage_shift: tuple = (0.0, 0.0)  # metres (x, z); ``coverage`` receives p − shift
+    weather_coverage: float = 0.0  # beyond the thesis: the map's coverage also thins the shape
     volume: Callable = field(default=lambda q: np.full(np.shape(q)[:-1] + (4,), 0.5))
     detail: Callable = field(default=lambda q: np.full(np.shape(q)[:-1] + (3,), 0.5))
     coverage: Callable = field(default=lambda p: np.full(np.shape(p)[:-1], 0.5))
@@ -99,7 +100,16 @@ class ModelB:
         lo, hi = np.asarray(self.bounds_min), np.asarray(self.bounds_max)
         h = (p[..., 1] - lo[1]) / (hi[1] - lo[1])
         shifted = p - np.array([self.coverage_shift[0], 0.0, self.coverage_shift[1]])
-        return self.height_gradient(h, self.coverage(shifted)) * self.edge_weight(p)
+        gradient = self.coverage(shifted)
+        return (self.height_gradient(h, gradient) * self.edge_weight(p)
+                * self.weather_cover(gradient, self.weather_coverage))
+
+    @staticmethod
+    def weather_cover(gradient, amount: float) -> np.ndarray:
+        """Beyond the thesis (CloudsBWeatherCover): mix(1, smoothstep(0.3, 0.7, gradient),
+        amount) — the weather map's coverage on the base shape (1 at amount 0, the thesis)."""
+        t = np.clip((np.asarray(gradient, dtype=np.float64) - 0.3) / 0.4, 0.0, 1.0)
+        return 1.0 + (t * t * (3.0 - 2.0 * t) - 1.0) * amount
 
     def sample_position(self, p) -> np.ndarray:
         lo, hi = np.asarray(self.bounds_min), np.asarray(self.bounds_max)

@@ -13,6 +13,13 @@
 // distance along the ray = eye depth / dot(rayDir, cameraForward). A depth of 1 (cleared) is the
 // far plane. Failure cases: rays that miss the box (dstInside = 0) and pixels whose geometry is
 // nearer than the box return (0, 1) exactly; the loop stops at uMaxSteps.
+//
+// Aerial perspective (beyond the thesis; uHazeDistance = 0 turns it off, the thesis): light
+// scattered at distance s along the ray reaches the eye by the fraction f = exp(−s/H), the rest
+// of the cloud's opacity is replaced by the air's horizon colour (the sky probe sampled just
+// above the horizon in the ray's azimuth, as the ocean's haze): rgb = Σ E_i f_i·SunColor +
+// Σ (T_{i−1} − T_i)(1 − f_i)·horizon. Without a probe the faded part turns transparent instead
+// (a += Σ (T_{i−1} − T_i)(1 − f_i)), so far clouds melt into the sky behind them.
 // =============================================================================================
 #include "camera.glsl"
 #include "clouds_b_model.glsl"
@@ -23,6 +30,10 @@ uniform float uCameraNear;
 uniform float uCameraFar;
 uniform vec3 uLightDir;         // unit vector toward the sun (the main light)
 uniform vec3 uLightColor;       // _SunColor: the main light's radiance
+uniform float uHazeDistance;    // @param 0 [0, 200000] step=100 unit=m §1.6 beyond the thesis: aerial perspective, distance over which the clouds fade into the horizon's haze (0 = off, the thesis)
+uniform samplerCube uHazeEnvironment;  // the sky probe (no sun disk): the horizon's colour
+uniform bool uHasHazeEnvironment;      // false: the faded part turns transparent
+uniform float uHazeLods;               // mip levels of the probe − 1
 
 in vec2 vUV;
 out vec4 fragColor;
@@ -54,18 +65,32 @@ void main() {
     float dstTravelled = 0.0;
     float transmittance = 1.0;
     float lightEnergy = 0.0;
+    float haze = 0.0;  // opacity handed to the air (aerial perspective)
+    float invHaze = uHazeDistance > 0.0 ? 1.0 / uHazeDistance : 0.0;
     for (int i = 0; i < uMaxSteps; i++) {
         if (dstTravelled >= dstLimit) break;
         vec3 rayPos = entryPoint + rayDir * dstTravelled;
         float density = CloudsBSampleDensity(rayPos);
         if (density > 0.0) {
+            float fade = exp(-(dstToBox + dstTravelled) * invHaze);
             float lightTransmittance = CloudsBLightAtPos(rayPos, uLightDir);
             lightEnergy += density * stepSize * transmittance * lightTransmittance * phaseValue
-                         * CloudsBPowder(density);
+                         * CloudsBPowder(density) * fade;
+            float before = transmittance;
             transmittance *= CloudsBBeer(density * stepSize * uLightAbsortionCloud);
+            haze += (before - transmittance) * (1.0 - fade);
             if (transmittance < 0.01) break;  // early exit (spec/000 §A.7)
         }
         dstTravelled += stepSize;
     }
-    fragColor = vec4(lightEnergy * uLightColor, transmittance);
+    vec3 rgb = lightEnergy * uLightColor;
+    if (haze > 0.0) {
+        if (uHasHazeEnvironment) {
+            vec3 h = normalize(vec3(rayDir.x, 0.0, rayDir.z) + vec3(0.0, 0.02, 0.0));
+            rgb += haze * max(textureLod(uHazeEnvironment, h, min(2.0, uHazeLods)).rgb, vec3(0.0));
+        } else {
+            transmittance += haze;
+        }
+    }
+    fragColor = vec4(rgb, transmittance);
 }

@@ -39,7 +39,11 @@
 //  * the coverage map drifts with the wind too (uCoverageShift, metres): the thesis moves only
 //    the noise (_CloudOffset), so the cloud field — which the map shapes — would stay put;
 //    GradientSimulator's own Offset "moves the noise" to move a storm front, which this does;
-//  * the main loop has a step cap (uMaxSteps) so a huge box cannot hang the GPU.
+//  * the main loop has a step cap (uMaxSteps) so a huge box cannot hang the GPU;
+//  * uWeatherCoverage (0 = the thesis): the coverage map also scales the base shape,
+//    volumeFBM ·= mix(1, smoothstep(0.3, 0.7, gradient), uWeatherCoverage), so clear gaps and
+//    cloud banks kilometres wide break the volume noise's repeating tile (Schneider's weather
+//    map coverage; the map spans the whole box once, the noise tiles every 1/CloudScale km).
 // Failure cases left as the thesis has them: fixed-step banding (no jitter); powder takes the
 // density, not the optical depth; a step larger than the cloud features skips them.
 // Numpy twins: app/sim/clouds_b.py.
@@ -68,6 +72,7 @@ uniform float uBackScattering;         // @param 0.3 [-0.99, 0.99] step=0.01 §1
 uniform float uBaseBrightness;         // @param 0.8 [0, 10] step=0.01 §1.6 Bare Brightness: additive base of the phase (_PhaseParams.z)
 uniform float uPhaseFactor;            // @param 0.15 [0, 10] step=0.01 §1.6 Phase Factor: weight of the blended HG lobes (_PhaseParams.w)
 uniform bool uThesisLightInversion;    // @param false beyond the thesis: reproduce the thesis's double inversion and 0.085 clamp (for comparison only)
+uniform float uWeatherCoverage;        // @param 0 [0, 1] step=0.01 §1.6 beyond the thesis: how far GradientSimulator's map also thins the clouds where it is low (a weather map's coverage; 0 = the thesis, the map shapes the height band only)
 
 uniform vec3 uCloudOffset;    // _CloudOffset: wind offset in noise units (set by the effect from wind × time)
 uniform vec2 uCoverageShift;  // metres the coverage map has drifted along x, z (wind × time; beyond the thesis)
@@ -135,13 +140,20 @@ float CloudsBCoverage(vec3 p) {
     return texture(uGradientNoise, uv).r;
 }
 
+// The weather map's coverage factor on the base shape (1 with uWeatherCoverage = 0, the thesis).
+float CloudsBWeatherCover(float gradient) {
+    return mix(1.0, smoothstep(0.3, 0.7, gradient), uWeatherCoverage);
+}
+
 // spec/000 §A.4, §A.5: sampleDensity.
 float CloudsBSampleDensity(vec3 p) {
     vec3 size = uBoundsMax - uBoundsMin;
     vec3 halfSize = size * 0.5;
     vec3 samplePos = (halfSize + p) * uCloudScale * 0.001;
     float heightPercent = (p.y - uBoundsMin.y) / size.y;
-    float heightGradient = CloudsBHeightGradient(heightPercent, CloudsBCoverage(p)) * CloudsBEdgeWeight(p);
+    float gradient = CloudsBCoverage(p);
+    float heightGradient = CloudsBHeightGradient(heightPercent, gradient) * CloudsBEdgeWeight(p)
+                         * CloudsBWeatherCover(gradient);
 
     vec4 vn = texture(uVolumeNoise, samplePos + uCloudOffset * 0.1);
     vec4 wv = uVolumeNoiseWeight / max(dot(uVolumeNoiseWeight, vec4(1.0)), 1.0e-6);

@@ -292,3 +292,42 @@ def test_wind_moves_mask_along_wind_and_zero_speed_is_static(clouds_b_rig):
     _, c = clouds_b_rig.render(cam, size, time=0.0)
     _, d = clouds_b_rig.render(cam, size, time=37.0)
     assert (c == d).all()
+
+
+# ---- beyond the thesis: the weather map's coverage and aerial perspective --------------------
+
+def test_weather_coverage_thins_where_the_map_is_low_as_the_twin(clouds_b_rig):
+    """clouds_b.weather_coverage = 1: the coverage map scales the base shape by
+    smoothstep(0.3, 0.7, map) — nothing where the map is low, the thesis where it is high; the
+    shader's density equals the twin's (constant noise)."""
+    clouds_b_rig.reset(weather_coverage=1.0, density_threshold=-2.0)
+    rng = np.random.default_rng(3)
+    n = 24
+    pts = np.stack([rng.uniform(-1200, 1200, n), rng.uniform(1100, 1300, n),
+                    rng.uniform(-1200, 1200, n)], -1)
+    dens = {}
+    for cov in (40, 128, 230):
+        out, model = probe(clouds_b_rig, pts, 0, volume=(250, 250, 250, 250), coverage=cov,
+                           detail=(255, 255, 255, 255))
+        assert np.allclose(out[:, 0], model.sample_density(pts), atol=2e-5), cov
+        dens[cov] = out[:, 0]
+    assert (dens[40] == 0.0).all()
+    assert (dens[128] < dens[230]).all() and (dens[230] > 0.0).all()
+    assert float(twin.ModelB.weather_cover(0.1, 0.0)) == 1.0  # off: the thesis
+
+
+def test_haze_fades_far_clouds_into_the_background(clouds_b_rig):
+    """clouds_b.haze_distance > 0 (no probe: the faded part turns transparent): the far cloud
+    field lets more background through and scatters less light than without the haze; 0 is the
+    thesis exactly."""
+    cam = Camera(position=(0.0, 2.0, 1400.0), yaw=0.0, pitch=8.0, fov=60.0)
+    clouds_b_rig.reset(density_threshold=-4.0)
+    _, clear = clouds_b_rig.render(cam)
+    clouds_b_rig.params.set("clouds_b.haze_distance", 1500.0)
+    _, hazy = clouds_b_rig.render(cam)
+    cloudy = clear[..., 3] < 0.9
+    assert cloudy.sum() > 20
+    assert (hazy[..., 3] >= clear[..., 3] - 1e-6).all()
+    assert hazy[..., 3][cloudy].mean() > clear[..., 3][cloudy].mean() + 0.05
+    assert hazy[..., :3][cloudy].mean() < clear[..., :3][cloudy].mean()
+    assert np.isfinite(hazy).all()

@@ -30,15 +30,15 @@ from ...render.noise import GradientNoiseTextures
 from ...sim import cloth, rigging
 from ...sim.boat import METHODS, BoatSim
 from ..base import Effect, Pass
+from . import details
 
 HULL = ProgramSpec("boat/hull")
 CLOTH = ProgramSpec("boat/cloth")
 DRY = ProgramSpec("boat/dry_depth")
 
-#: linear albedo of the parts
-TOPSIDES = (0.78, 0.80, 0.82)
-DECK = (0.42, 0.30, 0.18)
-SPARS = (0.55, 0.56, 0.58)
+#: stations along the hull where the water's height against each side is sampled (the
+#: waterline the shader wets and foams the hull at)
+WATERLINE_STATIONS = 9
 
 
 def _translate(v) -> np.ndarray:
@@ -97,6 +97,10 @@ class Boat(Effect):
             Param("boat.spin_up", 25.0, 0.0, 120.0, "seconds sailed at once before the first "
                   "frame (a single frame then shows the boat under way and its wake)",
                   step=1.0, unit="s"),
+            Param("boat.fittings", True, doc="draw the deck fittings (cabin, cockpit, rails, "
+                  "hatches, winches: app/effects/boat/details.py) on the hull — visual only, the "
+                  "physics floats the bare hull either way; off shows the bare hull's flush deck",
+                  kind="bool", section=s3),
             Param("boat.wake", True, doc="leave a wake (foam in world space, a Kelvin wedge of "
                   "19.47°) — beyond the thesis, which left it out", kind="bool",
                   section="spec/000 §4"),
@@ -129,6 +133,8 @@ class Boat(Effect):
         self._flat_env = None
         self.sail_state = None
         self.wind = np.zeros(2)
+        self.waterline: np.ndarray | None = None
+        self._deck: details.Deck | None = None
 
     # -- simulation ------------------------------------------------------------------------
     def _ensure_sim(self) -> BoatSim:
@@ -163,8 +169,30 @@ class Boat(Effect):
             sim.step(min(dt, 0.25), water, self.wind, frame.time)
         self._last_time = frame.time
         self.sail_state = sim.sail_state(self.wind)
+        self.waterline = self._waterline(water)
         if p["boat.wake"]:
             frame.wakes = [*frame.wakes, sim.wake]
+
+    def _waterline(self, water) -> np.ndarray:
+        """(2, WATERLINE_STATIONS) boat-frame heights [m above the keel] where the water meets
+        the port (row 0) and starboard (row 1) sides at the stations along the hull — what the
+        hull shader wets and foams the topsides at (visual only; the buoyancy has its own
+        sampling). The water is queried under each side's waterline point."""
+        sim = self.sim
+        assert sim is not None
+        if self._deck is None:
+            self._deck = details.Deck(sim.mesh)
+        zs = np.linspace(self._deck.stern + 0.1, self._deck.stem - 0.1, WATERLINE_STATIONS)
+        half = 0.85 * self._deck.breadth(zs)
+        r, pos = sim.body.rotation, np.asarray(sim.body.position, float)
+        out = np.zeros((2, len(zs)))
+        for row, side in enumerate((-1.0, 1.0)):
+            local = np.stack([side * half, np.full_like(zs, sim.draft), zs], axis=-1)
+            world = local @ r.T + pos
+            h = np.asarray(water.height(world[:, 0], world[:, 2]), float)
+            ry = r[1]
+            out[row] = (h - pos[1] - ry[0] * local[:, 0] - ry[2] * zs) / max(ry[1], 0.2)
+        return np.where(np.isfinite(out), out, sim.draft)
 
     # -- GL resources ----------------------------------------------------------------------
     def _mesh_buffers(self) -> dict:
@@ -174,20 +202,14 @@ class Boat(Effect):
         sim = self.sim
         assert sim is not None
         mesh = sim.mesh
-        # flat-shaded hull: one vertex per triangle corner, each with its face's normal
-        corners = mesh.vertices[mesh.triangles].reshape(-1, 3)
-        av = mesh.area_vectors()
-        n = av / np.maximum(np.linalg.norm(av, axis=1, keepdims=True), 1e-12)
-        normals = np.repeat(n, 3, axis=0)
-        colours = np.repeat(np.where(mesh.deck[:, None], DECK, TOPSIDES), 3, axis=0)
-        parts = [np.hstack([corners, normals, colours])]
-        for solid in (rigging.mast(), rigging.boom()):  # the mast in the boat frame, the boom
-            # in its own (placed by boom_transform)
-            tri = solid.positions[solid.indices.reshape(-1)]
-            nrm = solid.normals[solid.indices.reshape(-1)]
-            parts.append(np.hstack([tri, nrm, np.tile(SPARS, (len(tri), 1))]))
-        hull = np.vstack(parts[:2]).astype("f4")
-        boom = parts[2].astype("f4")
+        # the buoyancy's hull, flat-shaded, with the deck fittings standing on it (visual only:
+        # the hull the physics integrates is unchanged), and the mast, in the boat frame; the
+        # boom in its own frame (placed by boom_transform)
+        fittings = bool(self.params["boat.fittings"])
+        hull = np.vstack([details.hull_rows(mesh)]
+                         + ([details.deck_fittings(mesh)] if fittings else [])
+                         + [details.spar_rows(rigging.mast())])
+        boom = details.spar_rows(rigging.boom())
         out = {"hull": (gpu.buffer(self.name, "hull", hull.tobytes()), len(hull)),
                "boom": (gpu.buffer(self.name, "boom", boom.tobytes()), len(boom)),
                "dry_ibo": gpu.buffer(self.name, "dry indices",
@@ -206,6 +228,7 @@ class Boat(Effect):
             out[f"{name}_pattern"] = gpu.texture(self.name, f"{name} pattern", (w, h), 1,
                                                  data=pattern.tobytes(), dtype="f1")
         out["holes"] = (holes_s, holes_f)
+        out["fittings"] = fittings
         self._meshes = out
         return out
 
@@ -225,7 +248,8 @@ class Boat(Effect):
         if sim is None:
             return
         meshes = self._mesh_buffers()
-        if meshes["holes"] != (self.params["boat.sail_holes"], self.params["boat.flag_holes"]):
+        if meshes["holes"] != (self.params["boat.sail_holes"], self.params["boat.flag_holes"]) \
+                or meshes["fittings"] != bool(self.params["boat.fittings"]):
             self.release_meshes()
             meshes = self._mesh_buffers()
         ctx = self.gpu.ctx
@@ -241,17 +265,24 @@ class Boat(Effect):
         hull = self.program(HULL)
         hull.bind_textures({"uEnvironment": env})
         draft = sim.draft
+        waterline = self.waterline if self.waterline is not None else np.full(
+            (2, WATERLINE_STATIONS), draft)
+        deck = self._deck or details.Deck(sim.mesh)
         common = {"uViewProjRel": vp, "uEnvironmentLods": lods, "uUseProbe": use_probe,
-                  "uBootTop": (draft + 0.05, draft + 0.12), "uBottomColor": (0.35, 0.04, 0.03),
-                  "uStripeColor": (0.02, 0.05, 0.2), "uGloss": 0.6, **light}
+                  "uBootTop": (draft + 0.04, draft + 0.17), "uBottomColor": (0.05, 0.06, 0.12),
+                  "uStripeColor": (0.45, 0.04, 0.03), "uSheerStripe": (0.05, 0.17),
+                  "uSheerColor": (0.02, 0.05, 0.18), "uGloss": 0.6, "uTime": frame.time,
+                  "uStations": (deck.stern + 0.1, deck.stem - 0.1),
+                  "uBowWave": 0.08 + 0.08 * min(max(sim.speed(), 0.0), 4.0), **light}
         hull.set_many({**common, "uModelRel": model_rel})
-        fmt = ("3f 3f 3f", "in_position", "in_normal", "in_color")
+        hull.set_array("uWaterline", [float(v) for v in waterline.reshape(-1)])
+        fmt = (details.VERTEX_FORMAT, *details.VERTEX_ATTRIBUTES)
         buf, count = meshes["hull"]
         hull.vao([(buf, *fmt)]).render(moderngl.TRIANGLES, vertices=count)
         st = self.sail_state
         boom_angle = -st.boom if st is not None else 0.0  # the rig's sign: + toward boat +x
         boom_m = model_rel @ rigging.boom_transform(boom_angle)
-        hull.set_many({"uModelRel": boom_m, "uBootTop": (-1.0, -1.0)})
+        hull.set_many({"uModelRel": boom_m})
         buf, count = meshes["boom"]
         hull.vao([(buf, *fmt)]).render(moderngl.TRIANGLES, vertices=count)
         self._draw_cloth(frame, meshes, model_rel, vp, env, lods, light, boom_angle)

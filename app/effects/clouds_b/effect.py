@@ -31,6 +31,10 @@ How a scene composes it:
   marches into a cloud layer of its own (rgb = in-scattered light, a = transmittance); pass 2
   blends it into the image: target = target·a + rgb (the thesis's background·transmittance +
   lightEnergy·SunColor). The target's alpha and depth are kept.
+* beyond the thesis, both off by default: ``clouds_b.weather_coverage`` lets the coverage map
+  thin the clouds where it is low (cloud banks and clear gaps kilometres wide instead of one
+  repeating tile), and ``clouds_b.haze_distance`` fades distant clouds into the horizon's haze
+  (aerial perspective, the colour from the ``environment`` slot's probe when there is one).
 
 The numpy twins of the shader functions are in :mod:`app.sim.clouds_b`.
 """
@@ -61,7 +65,7 @@ class CloudsB(Effect):
     programs = (CLOUDS_B, LAYER_COMPOSITE)
     stages = (Stage.VOLUMES,)
     consumes = {"main_light": "optional", "sun": "optional", "wind": "optional",
-                "image": "optional"}
+                "image": "optional", "environment": "optional"}
 
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:
@@ -171,8 +175,15 @@ class CloudsB(Effect):
 
     def _march(self, frame, prog, layer, shape, detail, weather, depth) -> None:
         ctx = self.gpu.ctx
-        prog.bind_textures({"uVolumeNoise": shape, "uDetailNoise": detail,
-                            "uGradientNoise": weather, "uSceneDepth": depth})
+        textures = {"uVolumeNoise": shape, "uDetailNoise": detail, "uGradientNoise": weather,
+                    "uSceneDepth": depth}
+        # aerial perspective's horizon colour: the sky probe (without its sun disk), when the
+        # scene has one and the haze is on (clouds_b.haze_distance > 0)
+        env = None
+        if frame.environment is not None and self.params["clouds_b.haze_distance"] > 0.0:
+            env = frame.environment.cubemap(sun=False)
+            textures["uHazeEnvironment"] = env
+        prog.bind_textures(textures)
         light_dir, light_color = self.light(frame)
         cam = frame.camera
         prog.set_many(frame.camera_uniforms())
@@ -183,6 +194,8 @@ class CloudsB(Effect):
             "uLightColor": tuple(float(v) for v in light_color),
             "uCloudOffset": tuple(float(v) for v in self.cloud_offset),
             "uCoverageShift": tuple(float(v) for v in self.coverage_shift),
+            "uHasHazeEnvironment": env is not None,
+            "uHazeLods": float(max(0, int(math.log2(env.size[0])))) if env is not None else 0.0,
         })
         layer.use()
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
