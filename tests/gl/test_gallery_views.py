@@ -19,6 +19,9 @@ Thresholds, and why:
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -53,3 +56,37 @@ def test_the_view_is_a_picture(renders, scene, view):
     assert f["mode_fraction"] <= 0.6, f
     assert f["luma_spread"] >= 16, f
     assert f["clipped"] <= 0.35, f
+
+
+#: how far a view's small render may fall from the look the gallery recorded for it at
+#: 1280×720 (docs/gallery/SCENE/figures.json) before the test calls it washed out or blown:
+#: resolution changes these figures little (the same picture, fewer pixels: the views measured
+#: within ±12 of spread, ±0.04 of saturation and ±0.05 of clipping between the two sizes when
+#: this was written), a washed-out or darkened view loses a third of its spread or more
+SPREAD_KEPT = 0.75
+SATURATION_DROP = 0.08
+CLIPPED_RISE = 0.10
+GALLERY = Path(__file__).resolve().parents[2] / "docs" / "gallery"
+
+
+def _recorded(scene: str, view: str) -> dict | None:
+    path = GALLERY / scene / "figures.json"
+    if not path.is_file():
+        return None
+    return next((e["figures"] for e in json.loads(path.read_text()) if e["view"] == view), None)
+
+
+def test_the_gallery_records_every_view():
+    missing = [f"{scene}/{view}" for scene, view in ALL_VIEWS if _recorded(scene, view) is None]
+    assert missing == [], f"run python tools/gallery.py --scenes ... for {missing}"
+
+
+@pytest.mark.parametrize("scene,view", ALL_VIEWS)
+def test_the_view_keeps_the_look_the_gallery_recorded(renders, scene, view):
+    recorded = _recorded(scene, view)
+    if recorded is None:
+        pytest.fail(f"{scene}/{view} is not in the gallery: run python tools/gallery.py")
+    _, f = renders[(scene, view)]
+    assert f["luma_spread"] >= SPREAD_KEPT * recorded["luma_spread"], (f, recorded)
+    assert f["saturation"] >= recorded["saturation"] - SATURATION_DROP, (f, recorded)
+    assert f["clipped"] <= recorded["clipped"] + CLIPPED_RISE, (f, recorded)
