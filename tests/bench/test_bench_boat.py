@@ -16,7 +16,7 @@ from app.bench import NUMPY_BENCHES
 from app.cli import NUMPY_BENCH_NAMES
 from app.scenes import SCENES
 from tests.helpers.cli import run, usage_error
-from tests.helpers.readme import bench_lane
+from tests.helpers.readme import bench_lane, command_lines
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
@@ -133,3 +133,9 @@ def test_the_numpy_benches_are_named_alike_and_are_no_scene():
         for key, *_ in bench.sections:
             module = bench.module(key)
             assert all(callable(getattr(module, f, None)) for f in ("run", "chart", "summary"))
+
+
+def test_the_example_is_the_readmes_own():
+    """The command these tests read the output of is an example the README shows, as written:
+    a README edit that changes it must change this module too."""
+    assert EXAMPLE in command_lines()

@@ -6,7 +6,7 @@ import json
 
 from app.bench import materials as mbench
 from app.runtime import open_session, scene_params
-from tests.helpers.readme import bench_lane
+from tests.helpers.readme import bench_lane, command_lines
 
 
 def test_materials_sweep_orders_methods_sensibly(gl_ctx, tmp_path):
@@ -53,3 +53,9 @@ def test_cli_bench_writes_json_and_chart(tmp_path_factory):
     assert all(t["median_ms"] > 0 for t in report["passes"].values())
     assert len(report["sweep"]["baked_vs_per_pixel"]["rows"]) == 1 + len(mbench.BAKE_SIZES)
     assert out.with_suffix(".png").stat().st_size > 10000
+
+
+def test_the_example_is_the_readmes_own():
+    """The command these tests read the output of is an example the README shows, as written:
+    a README edit that changes it must change this module too."""
+    assert EXAMPLE in command_lines()

@@ -11,7 +11,7 @@ import pytest
 from app.bench import ocean as obench
 from app.errors import UsageError
 from app.runtime import open_session, scene_params
-from tests.helpers.readme import bench_lane
+from tests.helpers.readme import bench_lane, command_lines
 
 SIZE = (64, 36)
 
@@ -133,3 +133,9 @@ def test_fft_fills_the_directional_spectrum_better_than_few_gerstner_waves(tiny_
     assert 0.0 <= f["shape_distance"] < 0.3 < g["shape_distance"] <= 1.0
     assert "oceanography" in tiny_report["sweep"]
     assert "Cox–Munk" in obench.summary(tiny_report)
+
+
+def test_the_example_is_the_readmes_own():
+    """The command these tests read the output of is an example the README shows, as written:
+    a README edit that changes it must change this module too."""
+    assert EXAMPLE in command_lines()

@@ -8,7 +8,7 @@ import json
 import math
 
 from app.bench import shading as sbench
-from tests.helpers.readme import bench_lane
+from tests.helpers.readme import bench_lane, command_lines
 
 
 def _finite(*values) -> bool:
@@ -81,3 +81,9 @@ def test_cli_bench_shading_writes_json_chart_and_summary(tmp_path_factory):
     assert len(light["rows"]) == 3 * 4 * 2
     assert all(_finite(x["median_ms"], x["ratio_to_default"]) and x["median_ms"] > 0
                for x in light["rows"])
+
+
+def test_the_example_is_the_readmes_own():
+    """The command these tests read the output of is an example the README shows, as written:
+    a README edit that changes it must change this module too."""
+    assert EXAMPLE in command_lines()

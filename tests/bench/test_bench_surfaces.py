@@ -11,7 +11,7 @@ import math
 
 import pytest
 
-from tests.helpers.readme import bench_lane
+from tests.helpers.readme import bench_lane, command_lines
 
 #: the README's example (tests/helpers/readme.py runs it once per test run, for the walk-through
 #: and for these tests)
@@ -84,3 +84,9 @@ def test_fresnel_figures(bench):
     for row, c in zip(fr["outside"], (0.0180, 0.0426, 0.1724)):
         assert abs(row["c"] - c) < 1e-4 and abs(row["exact_normal"] - row["c"]) < 1e-12
         assert 0.0 < row["max_abs_error"] < 0.1 and 80.0 < row["max_error_at_deg"] < 90.0
+
+
+def test_the_example_is_the_readmes_own():
+    """The command these tests read the output of is an example the README shows, as written:
+    a README edit that changes it must change this module too."""
+    assert EXAMPLE in command_lines()

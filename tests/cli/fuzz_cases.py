@@ -199,6 +199,7 @@ def _fixed_cases(fx: dict[str, str]) -> list[list[str]]:
         ["bench", "materials", *SMALL, "--out", "taken.json"],
         ["bench", "sky", "--repeat", "0", "--warmup", "-5"],
         ["--version", "extra"],
+        ["doctor", "extra"], ["doctor", "--bogus"], ["doctor", "sky"],
         ["compare"], ["compare", "atlantis"], ["compare", "sky"],
         ["compare", "sky", "--a", "nosuch=1"], ["compare", "sky", "--b", "sky.sun_size=5"],
         ["compare", "sky", "--a", "sky.sun_size=0.1", "--rounds", "0"],

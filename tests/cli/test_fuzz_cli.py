@@ -141,3 +141,24 @@ def test_bad_invocations_as_the_console_script(fuzz):
     message = _report("console-script", seed, cases, results)
     print(message.splitlines()[0])
     assert not any(r["problems"] for r in results), message
+
+
+def test_the_cases_are_reproducible_and_reach_every_subcommand(tmp_path):
+    """The fuzzing's premise, without running a case: one seed gives the same cases, another
+    seed others, and every subcommand of the parser gets bad invocations."""
+    import argparse
+
+    from app.cli import build_parser
+
+    fx = fc.make_fixtures(tmp_path / "fx")
+    try:
+        seed = fc.seed_from_env()
+        first, again = fc.generate(seed, fx), fc.generate(seed, fx)
+        assert first == again and fc.generate(seed + 1, fx) != first
+        (sub,) = [a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)]
+        reached = {case[0] for case in first if case}
+        assert set(sub.choices) <= reached, set(sub.choices) - reached
+    finally:
+        for p in (tmp_path / "fx" / "unreadable.toml", tmp_path / "fx" / "locked"):
+            if p.exists():
+                p.chmod(0o700)

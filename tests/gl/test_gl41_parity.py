@@ -65,6 +65,25 @@ ON_41 = {"ocean-fft-compute": ["ocean.fft_path=auto"]}
 REFUSED_ON_41 = {"ocean-fft-explicit-compute": ("ocean.fft_path=compute", "compute shaders")}
 
 
+def test_the_jobs_cover_every_scene_and_each_switch_with_every_choice():
+    """The matrix itself (no render): every scene's default, and each switch the README names
+    with every value it can take that differs on the two contexts' paths."""
+    from app.runtime import scene_params
+    from app.scenes import SCENES
+
+    assert {job[0] for job in JOBS.values()} == set(SCENES)
+    assert set(SCENES) <= set(JOBS)
+    for scene, sets, *camera in JOBS.values():
+        params = scene_params(scene, sets=sets)  # every setting exists and is in range
+        assert all(params[s.split("=", 1)[0]] is not None for s in sets)
+        assert not camera or len(camera[0]) == 5
+    models = {sets[0] for scene, sets, *_ in JOBS.values() if scene == "ocean" and sets}
+    assert {"ocean.model=sine", "ocean.model=gerstner", "ocean.shading=forward"} <= models
+    grass = {sets[0] for scene, sets, *_ in JOBS.values() if sets and sets[0].startswith("grass")}
+    assert grass == {f"grass.method={m}" for m in ("geometry", "billboard", "instanced")}
+    assert set(ON_41) <= set(JOBS) and not set(REFUSED_ON_41) & set(JOBS)
+
+
 def _render(out, jobs, env_extra):
     out.mkdir()
     path = out / "jobs.json"

@@ -1,10 +1,11 @@
 """Counts the calls that make the CPU wait for the GPU in the window's frame loop: run under
 Xvfb as ``python stall_driver.py SCENE[:GROUP.NAME=VALUE,...] ...``, it opens the real window
-on each scene (with those settings), draws a few frames to warm up (programs, bakes, probes are made there), then counts over 100
-frames of ``NaturaWindow.frame`` (the scene's frame, the display pass, the panel, the HUD,
-ImGui) every ``ctx.finish()``, every synchronous read of a framebuffer, texture or buffer and
-every query result read (moderngl's, and the pipeline-statistics queries Natura reads through
-raw GL), by the file and line that called it. Prints ``RESULT {json}``.
+on each scene (with those settings), draws a few frames to warm up (programs, bakes, probes
+are made there), then counts over 100 frames of ``NaturaWindow.frame`` (the scene's frame,
+the display pass, the panel, the HUD, ImGui) every ``ctx.finish()``, every synchronous read
+of a framebuffer, texture or buffer and every query result read (moderngl's, and the
+pipeline-statistics queries Natura reads through raw GL), by the file and line that called
+it. Prints ``RESULT {json}``.
 """
 
 from __future__ import annotations

@@ -24,7 +24,7 @@ def test_the_lab_keys_typed_in_the_window(tmp_path):
         "reflection": ["approximation", "perfect", "none", "cube", "box"],
         "specular_model": ["ggx", "thesis"],
         "fresnel": ["schlick", "exact"],
-        "shadow_filter": ["pcf", "pcss", "vsm", "hard", "four_tap"],
+        "shadow_filter": ["pcss", "vsm", "hard", "four_tap", "pcf"],  # from the lab's pcf
         "shadow_cascades": ["0", "2", "4"],
         "failure": ["queue_order", "intersecting"],
         "msaa": ["4", "0"],  # the driver starts it at 0
