@@ -42,9 +42,9 @@ def guard_seconds() -> float:
 
 
 #: after a module's cheapest test, further tests join the fast tier when they add at most this
-FAST_EACH_S = 0.06
+FAST_EACH_S = 0.02
 #: the fast tier's budget, CPU seconds summed over tests (two workers: ≈ 60 s wall with start-up)
-FAST_BUDGET_S = 100.0
+FAST_BUDGET_S = 80.0
 
 
 @dataclass(frozen=True)
@@ -85,6 +85,13 @@ def save(costs: dict[str, Cost], note: str, path: Path = DURATIONS) -> None:
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def plain_nodeid(node: str) -> str:
+    """The test's id without the ``@group`` pytest-xdist's loadgroup appends on its workers
+    (``…::test_x@module test_file.py``): the same test has one id in every run."""
+    head, sep, group = node.rpartition("@")
+    return head if sep and group.startswith("module ") else node
 
 
 def module_of(node: str) -> str:
@@ -169,13 +176,13 @@ def mark(items) -> None:
     """At collection: ``fast`` and ``slow`` markers from the measured durations, and which tests
     share a module fixture (recorded with their durations)."""
     costs = load()
-    nodes = [item.nodeid for item in items]
+    nodes = [plain_nodeid(item.nodeid) for item in items]
     fast, _ = fast_tier(costs, nodes)
     slow = slow_tests(costs, nodes)
-    for item in items:
-        if item.nodeid in fast:
+    for item, node in zip(items, nodes):
+        if node in fast:
             item.add_marker(pytest.mark.fast)
-        if item.nodeid in slow and item.get_closest_marker("slow") is None:
+        if node in slow and item.get_closest_marker("slow") is None:
             item.add_marker(pytest.mark.slow)
         if uses_module_fixture(item):
             item.user_properties.append(("shares_module_fixture", True))
@@ -201,7 +208,7 @@ _LATE: list[tuple[float, str]] = []
 def pytest_runtest_logreport(report):
     """On the controller (under xdist the workers' reports arrive here): what each test cost,
     and whether it is marked slow."""
-    row = _COSTS.setdefault(report.nodeid, [0.0, 0.0, 0.0, False, False])
+    row = _COSTS.setdefault(plain_nodeid(report.nodeid), [0.0, 0.0, 0.0, False, False])
     row[("setup", "call", "teardown").index(report.when)] = report.duration
     row[3] = row[3] or dict(report.user_properties).get("shares_module_fixture", False)
     row[4] = row[4] or "slow" in report.keywords

@@ -946,6 +946,19 @@ def shading_keys(work: str) -> int:
     return 0
 
 
+#: the surfaces lab's keys the window test types: (key, surfaces.NAME it cycles, taps), and the
+#: settings it starts from (small maps: the frame at 160x90 on llvmpipe)
+SURFACES_LAB_KEYS = (("t", "transparency", 3), ("g", "reflection", 5),
+                     ("k", "specular_model", 2), ("f", "fresnel", 2), ("h", "shadow_filter", 5),
+                     ("j", "shadow_cascades", 3), ("x", "failure", 2), ("n", "msaa", 2),
+                     ("v", "debug", 2))
+SURFACES_SMALL = ["surfaces.probe_size=64", "surfaces.shadow_map_size=512", "surfaces.msaa=0"]
+#: the village's keys the window test types once each (the camera through its three modes)
+VILLAGE_LAB_KEYS = (("c", "village.camera", 3), ("g", "grass.method", 1), ("f", "fog.mode", 1),
+                    ("h", "fog.height", 1), ("t", "village.toon", 1),
+                    ("o", "toon_water.type", 1), ("l", "village.lamps_auto", 1))
+
+
 def surfaces_keys(work: str) -> int:
     """The surfaces lab's map (spec/003 §2.4–2.8) typed as X events in its window: T the
     transparency methods, G the reflection lookups, K the specular model, F the Fresnel, H the
@@ -958,8 +971,7 @@ def surfaces_keys(work: str) -> int:
     os.chdir(work)
     # small, MSAA off to start (N turns it on, then off): the lab's opaque pass is ~40 ms a
     # frame at 320x180 on llvmpipe, MSAA adds half again
-    params = scene_params("surfaces", sets=["surfaces.probe_size=64",
-                                            "surfaces.shadow_map_size=512", "surfaces.msaa=0"])
+    params = scene_params("surfaces", sets=SURFACES_SMALL)
     win = W.NaturaWindow("surfaces", params, get_scene("surfaces").new_camera(), (160, 90))
     win.show_panel = False
     keys = XKeys(win, "^Natura .* surfaces$")
@@ -969,11 +981,7 @@ def surfaces_keys(work: str) -> int:
         return float(win.target.read()[..., :3].sum()) if win.target is not None else 0.0
 
     keys.frames(1)
-    for key, name, times in (("t", "transparency", 3), ("g", "reflection", 5),
-                             ("k", "specular_model", 2), ("f", "fresnel", 2),
-                             ("h", "shadow_filter", 5),
-                             ("j", "shadow_cascades", 3), ("x", "failure", 2),
-                             ("n", "msaa", 2), ("v", "debug", 2)):
+    for key, name, times in SURFACES_LAB_KEYS:
         out[name] = []
         for _ in range(times):
             keys.tap(key)
@@ -1021,10 +1029,7 @@ def village_keys(work: str) -> int:
                    "camera": params["village.camera"]}
     # each key once from where the scene starts (its parameter steps, the image changes); the
     # camera through its three modes back to the third person
-    for key, name, times in (("c", "village.camera", 3), ("g", "grass.method", 1),
-                             ("f", "fog.mode", 1), ("h", "fog.height", 1),
-                             ("t", "village.toon", 1), ("o", "toon_water.type", 1),
-                             ("l", "village.lamps_auto", 1)):
+    for key, name, times in VILLAGE_LAB_KEYS:
         out[name] = [(params[name], float(image().sum()))]
         for _ in range(times):
             keys.tap(key)

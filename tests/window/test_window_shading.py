@@ -16,6 +16,34 @@ pytestmark = [
 ]
 
 
+def test_the_typed_keys_step_as_the_labs_keymap_says():
+    """The window test's premise, without a window: the keys it types are bound as it expects,
+    and what it expects each tap to give is what the key map's cycle gives from the lab's start
+    (turntable stopped, as the driver starts it)."""
+    from app.runtime import scene_params
+    from app.scenes.shading import SHADING
+    from app.ui.keymap import cycle_value
+
+    b = SHADING.bindings
+    assert [b[f"NUMBER_{i}"] for i in (1, 2, 3)] == [
+        f"set:shading.lighting_model={m}" for m in (0, 1, 2)]
+    assert (b["G"], b["B"], b["L"]) == ("toggle:shading.gouraud", "toggle:shading.rim",
+                                        "toggle:shading.bloom")
+    params = scene_params("shading", sets=["shading.turntable=0"])
+    for key, name, expected in (("T", "toon", [1, 2, 3, 0]),
+                                ("V", "parallax_mode", [2, 3, 4, 0, 1]),
+                                ("O", "object", ["sphere", "table", "barrel"]),
+                                ("K", "contour", ["hull", "hull_smooth", "rim_threshold"])):
+        assert b[key] == f"cycle:shading.{name}"
+        spec, value, got = params.spec(f"shading.{name}"), params[f"shading.{name}"], []
+        for _ in expected:
+            value = cycle_value(spec, value)
+            got.append(value)
+        assert got == expected, name
+    assert params["shading.gouraud"] is False and params["shading.rim"] is False
+    assert params["shading.bloom"] is False
+
+
 def test_the_lab_keys_typed_in_the_window(tmp_path):
     r, _ = drive("shading-keys", tmp_path)
     assert r["render_error"] == ""

@@ -16,21 +16,43 @@ pytestmark = [
 ]
 
 
+STEPS = {  # what each tap gives, from where the driver starts
+    "transparency": ["wboit", "peeled", "sorted"],
+    "reflection": ["approximation", "perfect", "none", "cube", "box"],
+    "specular_model": ["ggx", "thesis"],
+    "fresnel": ["schlick", "exact"],
+    "shadow_filter": ["pcss", "vsm", "hard", "four_tap", "pcf"],  # from the lab's pcf
+    "shadow_cascades": ["0", "2", "4"],
+    "failure": ["queue_order", "intersecting"],
+    "msaa": ["4", "0"],  # the driver starts it at 0
+    "debug": ["cascades", "shadow"],
+}
+
+
+def test_the_typed_keys_are_the_labs_and_step_as_its_keymap_says():
+    """The window test's premise, without a window: it types every key the lab binds to a
+    parameter, and what it expects each tap to give is what the key map's cycle gives from the
+    settings the driver starts with."""
+    from app.runtime import scene_params
+    from app.scenes.surfaces import SURFACES
+    from app.ui.keymap import cycle_value
+    from tests.helpers.window_driver import SURFACES_LAB_KEYS, SURFACES_SMALL
+
+    params = scene_params("surfaces", sets=SURFACES_SMALL)
+    lab = {k: a for k, a in SURFACES.bindings.items() if a.startswith("cycle:surfaces.")}
+    assert {key.upper(): f"cycle:surfaces.{name}" for key, name, _ in SURFACES_LAB_KEYS} == lab
+    for key, name, times in SURFACES_LAB_KEYS:
+        spec, value, got = params.spec(f"surfaces.{name}"), params[f"surfaces.{name}"], []
+        for _ in range(times):
+            value = cycle_value(spec, value)
+            got.append(str(value))
+        assert got == STEPS[name], name
+
+
 def test_the_lab_keys_typed_in_the_window(tmp_path):
     r, _ = drive("surfaces-keys", tmp_path)
     assert r["render_error"] == ""
-    steps = {
-        "transparency": ["wboit", "peeled", "sorted"],
-        "reflection": ["approximation", "perfect", "none", "cube", "box"],
-        "specular_model": ["ggx", "thesis"],
-        "fresnel": ["schlick", "exact"],
-        "shadow_filter": ["pcss", "vsm", "hard", "four_tap", "pcf"],  # from the lab's pcf
-        "shadow_cascades": ["0", "2", "4"],
-        "failure": ["queue_order", "intersecting"],
-        "msaa": ["4", "0"],  # the driver starts it at 0
-        "debug": ["cascades", "shadow"],
-    }
-    for name, expected in steps.items():
+    for name, expected in STEPS.items():
         assert [v for v, _ in r[name]] == expected, name
         sums = [s for _, s in r[name]]
         assert len(set(sums)) > 1, name  # the image changes as the key steps
