@@ -393,19 +393,24 @@ class Shading(Effect):
                 "spot_cos": (math.cos(0.8 * half), math.cos(half)),
                 "spot_radiance": (p["shading.spot_intensity"],) * 3}
 
+    def _light_set(self, frame, lights) -> dict:
+        """The camera and the lab's lights, as the objects and the ground both take them."""
+        cam = frame.camera
+        return {"uViewProj": cam.projection_matrix(frame.aspect) @ cam.view_matrix(),
+                "uCameraPos": tuple(cam.position), "uSunDir": lights["sun"],
+                "uSunRadiance": lights["radiance"], "uPointCount": lights["lamps"],
+                "uSpotOn": bool(lights["spot"]), "uSpotPos": (0.0, 4.5, 3.0),
+                "uSpotDir": (0.0, -0.83, -0.56), "uSpotCos": lights["spot_cos"],
+                "uSpotRadiance": lights["spot_radiance"], "uSpotRange": 0.0,
+                "uAmbient": (self.params["shading.ambient"],) * 3, "uTime": frame.time}
+
     def draw(self, frame, target) -> None:
         ctx = self.gpu.ctx
         prog = self.program(SURFACE)
         cam = frame.camera
         lights = self.light_uniforms(frame)
         p = self.params
-        prog.set_many({"uViewProj": cam.projection_matrix(frame.aspect) @ cam.view_matrix(),
-                       "uCameraPos": tuple(cam.position), "uSunDir": lights["sun"],
-                       "uSunRadiance": lights["radiance"], "uPointCount": lights["lamps"],
-                       "uSpotOn": bool(lights["spot"]), "uSpotPos": (0.0, 4.5, 3.0),
-                       "uSpotDir": (0.0, -0.83, -0.56), "uSpotCos": lights["spot_cos"],
-                       "uSpotRadiance": lights["spot_radiance"], "uSpotRange": 0.0,
-                       "uAmbient": (p["shading.ambient"],) * 3, "uTime": frame.time})
+        prog.set_many(self._light_set(frame, lights))
         prog.set_array("uPointPos", lights["pos"])
         prog.set_array("uPointRadiance", lights["rad"])
         prog.set_array("uPointRange", lights["rng"])
@@ -486,13 +491,7 @@ class Shading(Effect):
         prog = self.program(GROUND)
         cam = frame.camera
         p = self.params
-        prog.set_many({"uViewProj": cam.projection_matrix(frame.aspect) @ cam.view_matrix(),
-                       "uCameraPos": tuple(cam.position), "uSunDir": lights["sun"],
-                       "uSunRadiance": lights["radiance"], "uPointCount": lights["lamps"],
-                       "uSpotOn": bool(lights["spot"]), "uSpotPos": (0.0, 4.5, 3.0),
-                       "uSpotDir": (0.0, -0.83, -0.56), "uSpotCos": lights["spot_cos"],
-                       "uSpotRadiance": lights["spot_radiance"], "uSpotRange": 0.0,
-                       "uAmbient": (p["shading.ambient"],) * 3, "uTime": frame.time,
+        prog.set_many({**self._light_set(frame, lights),
                        "uAlbedo": (1.0, 1.0, 1.0), "uUseMasks": False,
                        "uGroundMode": GROUNDS.index(mode), "uGroundAlbedo": (0.25, 0.205),
                        "uGroundFade": GROUND_FADE, "uGroundCentre": ROW_CENTRE,
