@@ -132,6 +132,12 @@ def _pipeline(gpu, target, passes, inner) -> tuple[dict, dict]:
     return counts, status
 
 
+def at_most(size: tuple[int, int], limit: tuple[int, int]) -> tuple[int, int]:
+    """A sweep's own size ``limit`` never above the bench's ``--size``: each side the smaller of
+    the two, so a small ``--size`` makes the whole run small (the sweeps record what they used)."""
+    return min(int(size[0]), int(limit[0])), min(int(size[1]), int(limit[1]))
+
+
 def per_draw(timing, draws: int) -> None:
     """Turn a reference's times per run of ``draws`` draws into times per draw."""
     timing.wall_ms[:] = [t / draws for t in timing.wall_ms]

@@ -31,7 +31,7 @@ import numpy as np
 
 from ..gpu.timing import time_call, time_interleaved
 from ..teach.sweeps import THESIS_MARCH
-from . import write_chart
+from . import at_most, write_chart
 
 PRESETS = ("cumulus", "stratocumulus", "stratus")
 DEFAULT_SIZES = ((256, 256), (512, 512), (800, 800), (1920, 1080))
@@ -216,8 +216,10 @@ def default_change(session, sizes=((160, 90), (320, 180)), warmup: int = 1, roun
 def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None) -> dict:
     saved = session.params.values()
     try:
-        out = {"accuracy": accuracy(session, warmup=warmup, repeat=repeat),
-               "default_change": default_change(session, warmup=warmup,
+        change_sizes = tuple(dict.fromkeys(at_most(size, s) for s in ((160, 90), (320, 180))))
+        out = {"accuracy": accuracy(session, size=at_most(size, (160, 90)), warmup=warmup,
+                                    repeat=repeat),
+               "default_change": default_change(session, sizes=change_sizes, warmup=warmup,
                                                 rounds=max(5, 3 * repeat)),
                "table": table(session, sizes or DEFAULT_SIZES, warmup, repeat)}
     finally:

@@ -378,6 +378,10 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None, fft_sizes
     """What ``natura bench ocean`` runs after the per-pass timings."""
     if fft_sizes is None:
         fft_sizes = _fft_sizes_from(sizes) if sizes else FFT_SIZES
+    if sizes:  # --sizes: the direct-sum comparison goes no further than the FFT sizes asked for
+        direct_sizes = tuple(n for n in direct_sizes if n <= max(fft_sizes)) or direct_sizes[:1]
+        if direct_extra is not None and direct_extra > max(fft_sizes):
+            direct_extra = None
     saved = session.params.values()
     eff = _effect(session)
     t0 = time.perf_counter()

@@ -33,7 +33,7 @@ from ..gpu.timing import time_call, time_interleaved
 from ..sim import atmosphere as atm
 from ..teach.sweeps import HILLAIRE_SIZES  # noqa: F401 - defined there, read by the picker
 from ..teach.sweeps import scale_hillaire as _scale_hillaire
-from . import write_chart
+from . import at_most, write_chart
 
 DEFAULT_SIZES = ((800, 600), (1280, 720), (1920, 1080))
 VIEWS = {
@@ -362,9 +362,10 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
 def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None) -> dict:
     """What ``natura bench planet`` runs after the per-pass timings."""
     table_sizes = sizes or DEFAULT_SIZES
-    small = (min(size[0], 320), min(size[1], 180))
+    small = at_most(size, (320, 180))
     return {"table": thesis_table(session, table_sizes, warmup, repeat),
-            "accuracy": accuracy(session, warmup=max(1, warmup - 1), repeat=max(2, repeat // 2)),
+            "accuracy": accuracy(session, size=at_most(size, (64, 36)), time_size=small,
+                                 warmup=max(1, warmup - 1), repeat=max(2, repeat // 2)),
             "changes": changes(session, small, warmup=max(1, warmup - 1),
                                rounds=max(5, repeat))}
 
