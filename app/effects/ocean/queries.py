@@ -52,7 +52,7 @@ class WaterQueries:
             else:
                 out = 0.0
                 for size, grid in zip(self.patch_sizes(), self._readback[1]):
-                    out = out + oc.sample_periodic_bilinear(grid[..., :3], size, x, z)
+                    out = out + oc.sample_periodic_bilinear(grid, size, x, z)[..., :3]
                 out = np.broadcast_to(out, x.shape + (3,)).copy()
         return out * self._fade(x, z)[..., None]
 
