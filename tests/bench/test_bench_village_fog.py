@@ -11,17 +11,14 @@ import math
 import pytest
 
 from app.bench import village_fog as vf
+from tests.helpers.readme import village_section
 
 
 @pytest.fixture(scope="module")
-def report(gl_ctx):
-    from app.gpu.device import Gpu
-
-    gpu = Gpu(gl_ctx)
-    try:
-        yield vf.run(gpu, quick=True)
-    finally:
-        gpu.release()
+def report(tmp_path_factory):
+    """The section as the README's `natura bench village` example wrote it (run once per test
+    run, tests/helpers/readme.py): what a user's JSON holds."""
+    return village_section(tmp_path_factory, "fog")
 
 
 def rows(report, mode):

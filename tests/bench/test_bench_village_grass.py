@@ -5,25 +5,20 @@ summary."""
 
 from __future__ import annotations
 
-import json
 import math
 
 import pytest
 
 from app.bench import village_grass as vg
-from app.gpu.device import Gpu
 from app.sim import grass as gs
+from tests.helpers.readme import village_section
 
 
 @pytest.fixture(scope="module")
-def report(gl_ctx):
-    gpu = Gpu(gl_ctx)
-    try:
-        r = vg.run(gpu, quick=True)
-    finally:
-        gpu.release()
-    json.dumps(r)  # JSON-serialisable
-    return r
+def report(tmp_path_factory):
+    """The section as the README's `natura bench village` example wrote it (run once per test
+    run, tests/helpers/readme.py): what a user's JSON holds."""
+    return village_section(tmp_path_factory, "grass")
 
 
 def test_every_method_at_every_count_with_sane_times(report):
@@ -64,8 +59,8 @@ def test_coverage_rises_to_three_planes_and_levels_off(report):
     r = c["rendered"]
     assert r[0] > 0.02 and r[2] > r[0] and r[1] >= r[0] * 0.99
     assert abs(c["change_3_to_4"]) < 0.10
-    assert c["angles"][3] == [0.0, 60.0, 120.0]
-    assert report["coverage"]["layouts"]["repository"]["angles"][3] == [-60.0, 0.0, 60.0]
+    assert c["angles"]["3"] == [0.0, 60.0, 120.0]
+    assert report["coverage"]["layouts"]["repository"]["angles"]["3"] == [-60.0, 0.0, 60.0]
 
 
 def test_chart_and_summary(report, tmp_path):

@@ -10,17 +10,14 @@ import json
 import pytest
 
 from app.bench import village_look
+from tests.helpers.readme import village_section
 
 
 @pytest.fixture(scope="module")
-def report(gl_ctx):
-    from app.gpu.device import Gpu
-
-    gpu = Gpu(gl_ctx)
-    try:
-        yield village_look.run(gpu, quick=True)
-    finally:
-        gpu.release()
+def report(tmp_path_factory):
+    """The section as the README's `natura bench village` example wrote it (run once per test
+    run, tests/helpers/readme.py): what a user's JSON holds."""
+    return village_section(tmp_path_factory, "look")
 
 
 def test_criterion_37_fewer_levels_and_no_less_saturation(report):

@@ -12,16 +12,14 @@ import math
 import pytest
 
 from app.bench import village_water as vw
-from app.gpu.device import Gpu
+from tests.helpers.readme import village_section
 
 
 @pytest.fixture(scope="module")
-def report(gl_ctx):
-    gpu = Gpu(gl_ctx)
-    try:
-        yield vw.run(gpu, quick=True)
-    finally:
-        gpu.release()
+def report(tmp_path_factory):
+    """The section as the README's `natura bench village` example wrote it (run once per test
+    run, tests/helpers/readme.py): what a user's JSON holds."""
+    return village_section(tmp_path_factory, "water")
 
 
 def test_every_variant_is_timed(report):

@@ -168,3 +168,17 @@ def bench_lane(tmp_path_factory, command: str) -> tuple[Path, Ran]:
     folder, (ran,) = lane_result(tmp_path_factory, index)
     assert ran.failure is None, ran.failure
     return folder, ran
+
+
+#: the README's village bench: its five sections (app/bench/village.py) run quick once, for the
+#: walk-through and for each section's own tests
+VILLAGE_EXAMPLE = "natura bench village --repeat 2 --size 160x90"
+
+
+def village_section(tmp_path_factory, key: str) -> dict:
+    """Section ``key`` (grass, fog, water, vr, look) of the README's village bench report."""
+    folder, ran = bench_lane(tmp_path_factory, VILLAGE_EXAMPLE)
+    (name,) = [n for n in ran.written if n.endswith(".json")]
+    report = json.loads((folder / name).read_text())
+    assert report["sweep"]["quick"] is True
+    return report["sweep"][key]
