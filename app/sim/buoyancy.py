@@ -53,7 +53,7 @@ from .rigid_body import (
     quat_multiply,
     quat_slerp,
 )
-from .vec import cross
+from .vec import cross, length, norm
 
 NU_SEA = 1.19e-6  # kinematic viscosity of sea water at 15 °C [m²/s] (ITTC)
 
@@ -101,11 +101,18 @@ class _Analytic:
         x = np.asarray(x, float)
         z = np.asarray(z, float)
         h, hx, hz = self._eta(x, z)
-        h = np.broadcast_to(h, np.broadcast(x, z).shape)
-        n = np.stack(np.broadcast_arrays(-hx, np.ones_like(h), -hz), -1)
-        n = n / np.linalg.norm(n, axis=-1, keepdims=True)
-        d = np.stack([np.zeros_like(h), h, np.zeros_like(h)], -1)
-        return WaterQuery(h, d, n, x, z, [np.zeros_like(h)])
+        shape = np.broadcast(x, z).shape
+        h = np.broadcast_to(h, shape)
+        # (−∂η/∂x, 1, −∂η/∂z) and (0, η, 0) filled in by component (np.stack of broadcast
+        # arrays costs more than the maths)
+        n = np.empty(shape + (3,))
+        n[..., 0] = -hx
+        n[..., 1] = 1.0
+        n[..., 2] = -hz
+        n = n / norm(n, keepdims=True)
+        d = np.zeros(shape + (3,))
+        d[..., 1] = h
+        return WaterQuery(h, d, n, x, z, [np.zeros(shape)])
 
 
 class FlatWater(_Analytic):
@@ -168,14 +175,35 @@ class SineSea(_Analytic):
         """Hs = 4·sqrt(Σ Aᵢ²/2) [m]."""
         return 4.0 * math.sqrt(float(np.sum(self.amplitude ** 2)) / 2.0)
 
+    # The waves are the first axis, (n, ...): the long axis of the points innermost makes each
+    # product and the sum over the waves one fast pass (the same products and, below 8 waves,
+    # the same additions in the same order as with the waves last).
+
+    def _phase(self, x, z) -> np.ndarray:
+        """The sines' arguments kᵢ·(dᵢ·(x, z)) − ωᵢ·t + φᵢ, (n, ...) for points (...)."""
+        x = np.asarray(x, float)
+        z = np.asarray(z, float)
+        nd = max(x.ndim, z.ndim)
+        return (_per_wave(self.kx, nd) * x + _per_wave(self.kz, nd) * z
+                - _per_wave(self.omega * self.time, nd) + _per_wave(self.phase, nd))
+
     def _eta(self, x, z):
-        x = np.asarray(x, float)[..., None]
-        z = np.asarray(z, float)[..., None]
-        f = self.kx * x + self.kz * z - self.omega * self.time + self.phase
-        s, c = np.sin(f), np.cos(f)
+        f = self._phase(x, z)
+        c = np.cos(f)
+        nd = f.ndim - 1
         a = self.amplitude
-        return (self.level + (a * s).sum(-1), (a * self.kx * c).sum(-1),
-                (a * self.kz * c).sum(-1))
+        return (self.level + (_per_wave(a, nd) * np.sin(f)).sum(0),
+                (_per_wave(a * self.kx, nd) * c).sum(0), (_per_wave(a * self.kz, nd) * c).sum(0))
+
+    def height(self, x, z) -> np.ndarray:
+        # η alone, as _eta has it: without the slopes (their cosines), half the work
+        f = self._phase(x, z)
+        return self.level + (_per_wave(self.amplitude, f.ndim - 1) * np.sin(f)).sum(0)
+
+
+def _per_wave(values: np.ndarray, ndim: int) -> np.ndarray:
+    """Per-wave values (n,) as a column (n, 1, …) against points of ``ndim`` axes."""
+    return values.reshape((-1,) + (1,) * ndim)
 
 
 class SineWater(SineSea):
@@ -423,7 +451,9 @@ class ProbeForces:
         w = water_at(water, t)
         p = body.to_world(self.points)
         eta = _heights(w, p[:, 0], p[:, 2])
-        s = np.clip(eta - p[:, 1] + self.design_submersion, 0.0, self.max_submersion)
+        # np.clip(·, 0, s_max) as the two ufuncs it is (np.clip's argument handling costs more)
+        s = np.minimum(np.maximum(eta - p[:, 1] + self.design_submersion, 0.0),
+                       self.max_submersion)
         wet = s > 0
         f = np.zeros_like(p)
         f[:, 1] = self.weights * self.g * s / self.design_submersion
@@ -448,7 +478,7 @@ def _limit_drag(drag: np.ndarray, v: np.ndarray, w: np.ndarray, body: RigidBody)
     """Scale drag so that, over the longest substep, it cannot reverse a probe's velocity
     (explicit drag is unstable past c·h = 2)."""
     h = body.max_substep
-    rate = np.linalg.norm(drag, axis=-1) * h / np.maximum(w * np.linalg.norm(v, axis=-1), 1e-300)
+    rate = norm(drag) * h / np.maximum(w * norm(v), 1e-300)
     return drag * np.minimum(1.0, 1.0 / np.maximum(rate, 1e-300))[:, None]
 
 
@@ -512,7 +542,8 @@ class HydrostaticBuoyancy:
         vw = body.to_world(self.mesh.vertices)
         depth = _heights(w, vw[:, 0], vw[:, 2]) - vw[:, 1]
         tri = self.mesh.triangles
-        return clip_below(vw[tri], depth[tri])
+        # take: vw[tri], depth[tri] without fancy indexing's general path (4× faster here)
+        return clip_below(vw.take(tri, axis=0), depth.take(tri))
 
     def forces(self, body: RigidBody, water: Any, t: float | None = None):
         pieces, hp, _ = self.pieces(body, water, t)
@@ -520,13 +551,17 @@ class HydrostaticBuoyancy:
         if len(pieces) == 0:
             self.last = {"area": 0.0, "fraction": 0.0, "volume": 0.0, "pieces": 0}
             return np.zeros(3), np.zeros(3)
-        av = 0.5 * cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0])
-        area = np.linalg.norm(av, axis=1)
+        p0, p1, p2 = pieces[:, 0], pieces[:, 1], pieces[:, 2]
+        edges = pieces[:, 1:] - pieces[:, :1]  # p1 − p0 and p2 − p0 in one pass
+        av = 0.5 * cross(edges[:, 0], edges[:, 1])
+        area = norm(av)
         rg = self.rho * self.g
-        force = -rg * (hp.mean(axis=1) @ av)
-        # centre of pressure: ∫h·(x − c) dA by the edge-midpoint rule (exact for quadratics)
-        mids = 0.5 * (pieces + np.roll(pieces, -1, axis=1)) - com
-        hm = 0.5 * (hp + np.roll(hp, -1, axis=1))
+        # means over the three corners written out (the additions of .mean(axis=1), in order)
+        force = -rg * (((hp[:, 0] + hp[:, 1] + hp[:, 2]) / 3.0) @ av)
+        # centre of pressure: ∫h·(x − c) dA by the edge-midpoint rule (exact for quadratics);
+        # the corners' successors by an index (np.roll(·, -1, axis=1) costs more)
+        mids = 0.5 * (pieces + pieces.take(_NEXT, axis=1)) - com
+        hm = 0.5 * (hp + hp.take(_NEXT, axis=1))
         lever = np.einsum("mk,mkd->md", hm, mids) / 3.0
         torque = -rg * cross(lever, av).sum(0)
         sub_area = float(area.sum())
@@ -536,24 +571,28 @@ class HydrostaticBuoyancy:
         fd = np.zeros(3)
         td = np.zeros(3)
         if self.viscous or self.pressure_drag:
-            c = pieces.mean(axis=1)
+            c = (p0 + p1 + p2) / 3.0
             r = c - com
             v = body.velocity + cross(body.angular_velocity, r)
             n = av / np.maximum(area, 1e-300)[:, None]
+            vn = np.einsum("md,md->m", v, n)  # normal velocity, for both drags
             f = np.zeros_like(v)
             if self.viscous:
-                speed = float(np.linalg.norm(body.velocity))
+                speed = length(body.velocity)
                 rn = max(speed * self._length / self.nu, 1e5)
                 cf = 0.075 / (math.log10(rn) - 2.0) ** 2
-                vt = v - np.einsum("md,md->m", v, n)[:, None] * n
-                f -= (0.5 * self.rho * cf * area * np.linalg.norm(vt, axis=1))[:, None] * vt
+                vt = v - vn[:, None] * n
+                f -= (0.5 * self.rho * cf * area * norm(vt))[:, None] * vt
                 self.last["cf"] = cf
             if self.pressure_drag:
-                u = np.linalg.norm(v, axis=1)
-                cos = np.einsum("md,md->m", v, n) / np.maximum(u, 1e-300)
+                u = norm(v)
+                cos = vn / np.maximum(u, 1e-300)
                 uu = u / self.v_ref
-                push = (self.c_pd1 * uu + self.c_pd2 * uu * uu) * np.abs(cos) ** self.f_p
-                pull = (self.c_sd1 * uu + self.c_sd2 * uu * uu) * np.abs(cos) ** self.f_s
+                abs_cos = np.abs(cos)
+                cos_p = abs_cos ** self.f_p
+                cos_s = cos_p if self.f_s == self.f_p else abs_cos ** self.f_s
+                push = (self.c_pd1 * uu + self.c_pd2 * uu * uu) * cos_p
+                pull = (self.c_sd1 * uu + self.c_sd2 * uu * uu) * cos_s
                 mag = np.where(cos > 0, -push, pull) * area
                 f += mag[:, None] * n
             fd = f.sum(0)
@@ -563,6 +602,10 @@ class HydrostaticBuoyancy:
             td = td - self.angular_damping * frac * body.momentum
         fd, td = _limit_body_drag(fd, td, body)
         return force + fd, torque + td
+
+
+#: each corner's successor around a piece (corner k → k + 1 mod 3)
+_NEXT = np.array([1, 2, 0])
 
 
 def _limit_body_drag(fd: np.ndarray, td: np.ndarray, body: RigidBody):
@@ -590,7 +633,8 @@ def hydrostatic_energy(mesh: HullMesh, body: RigidBody, rho: float = RHO_SEA, g:
     """Energies [J] of a body floating in still water at y = ``level``: kinetic, gravitational
     (−m·g·x_com) and the buoyancy potential −ρ·g·V·(y_B − level) (the work done lifting the
     displaced water: its gradient is minus the buoyancy force); ``total``."""
-    corners = body.to_world(mesh.vertices)[mesh.triangles]
+    # take: [mesh.triangles] without fancy indexing's general path
+    corners = body.to_world(mesh.vertices).take(mesh.triangles, axis=0)
     sub = submerged_below_plane(mesh, (0.0, level, 0.0), (0.0, 1.0, 0.0), corners=corners)
     kin = body.kinetic_energy()
     grav = body.potential_energy()

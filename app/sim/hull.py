@@ -28,7 +28,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..errors import ParamError
-from .vec import cross
+from .vec import cross, length, norm
 
 RHO_SEA = 1025.0  # sea water [kg/m³]
 
@@ -95,7 +95,8 @@ class HullMesh:
 
     def corners(self) -> np.ndarray:
         """(T, 3, 3) triangle corner positions."""
-        return self.vertices[self.triangles]
+        # vertices[triangles], by take (fancy indexing goes a slower, general way)
+        return np.asarray(self.vertices).take(self.triangles, axis=0)
 
     def area_vectors(self) -> np.ndarray:
         """(T, 3) area × outward unit normal per triangle."""
@@ -276,9 +277,12 @@ def tetra_moments(corners: np.ndarray, origin: np.ndarray) -> tuple[float, np.nd
     if len(corners) == 0:
         return 0.0, np.zeros(3)
     r = corners - origin
-    det = np.einsum("ti,ti->t", r[:, 0], cross(r[:, 1], r[:, 2])) / 6.0
+    r0, r1, r2 = r[:, 0], r[:, 1], r[:, 2]
+    det = np.einsum("ti,ti->t", r0, cross(r1, r2)) / 6.0
     vol = float(det.sum())
-    moment = det @ (r.sum(axis=1) / 4.0) + vol * origin
+    # Σ of the three corners written out: r.sum(axis=1) (the same additions in the same order)
+    # is slow over the middle axis
+    moment = det @ ((r0 + r1 + r2) / 4.0) + vol * origin
     return vol, moment
 
 
@@ -301,6 +305,14 @@ def solid_inertia(mesh: HullMesh, mass: float, about: np.ndarray | None = None,
     return inertia
 
 
+#: the corners of a triangle in cyclic order starting from corner k (row k)
+_CYCLE = np.array([[0, 1, 2], [1, 2, 0], [2, 0, 1]])
+#: the pieces of a partly submerged triangle as indices into (a, b, c, ab, ac), a the odd
+#: corner: one corner under (a, ab, ac); two under, the quad split in two (b, c, ac), (b, ac, ab)
+_ONE_UNDER, _TWO_UNDER_1, _TWO_UNDER_2 = 0, 1, 2
+_PIECES = np.array([[0, 3, 4], [1, 2, 4], [1, 4, 3]])
+
+
 def clip_below(corners: np.ndarray, depth: np.ndarray):
     """Clip triangles to where ``depth`` > 0 (depth linear along each edge), as Kerner 2015
     classifies them by how many corners are under water: 0 → nothing, 1 → one triangle
@@ -308,40 +320,38 @@ def clip_below(corners: np.ndarray, depth: np.ndarray):
     whole triangle.  Winding is kept.
 
     ``corners`` (T, 3, 3), ``depth`` (T, 3).  Returns (pieces (M, 3, 3), piece depths (M, 3),
-    source triangle (M,))."""
+    source triangle (M,)): the whole triangles first, then the one-corner pieces, then the
+    first and then the second halves of the quads, each in triangle order."""
     under = depth > 0.0
-    count = under.sum(axis=1)
-    t_all = np.arange(len(corners))
-    out_p, out_h, out_s = [], [], []
-    full = count == 3
-    out_p.append(corners[full])
-    out_h.append(depth[full])
-    out_s.append(t_all[full])
-    for n_under in (1, 2):
-        sel = np.nonzero(count == n_under)[0]
-        if len(sel) == 0:
-            continue
-        # the odd corner first (the one under for 1, the one above for 2), cyclic order kept
-        k = np.argmax(under[sel], 1) if n_under == 1 else np.argmin(under[sel], 1)
-        order = (k[:, None] + np.arange(3)[None]) % 3
-        p = np.take_along_axis(corners[sel], order[:, :, None], 1)
-        h = np.take_along_axis(depth[sel], order, 1)
-        a, b, c = p[:, 0], p[:, 1], p[:, 2]
-        ha, hb, hc = h[:, 0:1], h[:, 1:2], h[:, 2:3]
-        ab = a + ha / (ha - hb) * (b - a)  # waterline point on edge a–b
-        ac = a + ha / (ha - hc) * (c - a)  # … on edge a–c
-        zero = np.zeros_like(ha)
-        if n_under == 1:
-            out_p.append(np.stack([a, ab, ac], 1))
-            out_h.append(np.concatenate([ha, zero, zero], 1))
-            out_s.append(sel)
-        else:  # a above: the quad b, c, ac, ab
-            out_p.append(np.stack([b, c, ac], 1))
-            out_h.append(np.concatenate([hb, hc, zero], 1))
-            out_p.append(np.stack([b, ac, ab], 1))
-            out_h.append(np.concatenate([hb, zero, zero], 1))
-            out_s.extend([sel, sel])
-    return np.concatenate(out_p), np.concatenate(out_h), np.concatenate(out_s)
+    # corners under per triangle, added as small integers (a bool sum(axis=1) casts each one)
+    u = under.view(np.int8)
+    count = u[:, 0] + u[:, 1] + u[:, 2]
+    full = np.nonzero(count == 3)[0]
+    part = np.nonzero((count == 1) | (count == 2))[0]
+    two = count[part] == 2
+    # the odd corner first (the one under for 1, the one above for 2), cyclic order kept
+    order = _CYCLE[np.argmax(under[part] != two[:, None], axis=1)]
+    # corners[part[:, None], order] as a take of the flat corners (3 per triangle): the same
+    # gather, without fancy indexing's general path
+    at = 3 * part[:, None] + order
+    p = corners.reshape(-1, 3).take(at, axis=0)
+    h = depth.reshape(-1).take(at)
+    a, b, c = p[:, 0], p[:, 1], p[:, 2]
+    ha, hb, hc = h[:, 0:1], h[:, 1:2], h[:, 2:3]
+    ab = a + ha / (ha - hb) * (b - a)  # waterline point on edge a–b
+    ac = a + ha / (ha - hc) * (c - a)  # … on edge a–c
+    # every piece is three of (a, b, c, ab, ac) (depths ha, hb, hc, 0, 0): one gather builds
+    # them all (in place of a stack and a concatenation per kind)
+    points = np.concatenate([p, ab[:, None], ac[:, None]], axis=1)
+    depths = np.concatenate([h, np.zeros((len(h), 2))], axis=1)
+    ones, twos = np.nonzero(~two)[0], np.nonzero(two)[0]
+    rows = np.concatenate([ones, twos, twos])[:, None]
+    kind = _PIECES[np.repeat([_ONE_UNDER, _TWO_UNDER_1, _TWO_UNDER_2],
+                             [len(ones), len(twos), len(twos)])]
+    at = 5 * rows + kind  # points[rows, kind], flat (5 points per partial triangle)
+    return (np.concatenate([corners.take(full, axis=0), points.reshape(-1, 3).take(at, axis=0)]),
+            np.concatenate([depth.take(full, axis=0), depths.reshape(-1).take(at)]),
+            np.concatenate([full, part[rows[:, 0]]]))
 
 
 def submerged_below_plane(mesh: HullMesh, point, normal, corners: np.ndarray | None = None
@@ -353,14 +363,16 @@ def submerged_below_plane(mesh: HullMesh, point, normal, corners: np.ndarray | N
     p = mesh.corners() if corners is None else corners
     o = np.asarray(point, float)
     n = np.asarray(normal, float)
-    n = n / np.linalg.norm(n)
-    depth = (o - p) @ n
+    n = n / length(n)
+    # (o − p) @ n over the (T·3, 3) corners at once: the same dot products, one matrix–vector
+    # product in place of one per triangle
+    rel = o - p
+    depth = (rel.reshape(-1, 3) @ n).reshape(rel.shape[:-1])
     pieces, _, _ = clip_below(p, depth)
     vol, moment = tetra_moments(pieces, o)
     av = 0.5 * cross(pieces[:, 1] - pieces[:, 0], pieces[:, 2] - pieces[:, 0])
     centre = moment / vol if vol > 0 else o.copy()
-    return Submerged(vol, centre, float(-(av.sum(axis=0) @ n)),
-                     float(np.linalg.norm(av, axis=1).sum()))
+    return Submerged(vol, centre, float(-(av.sum(axis=0) @ n)), float(norm(av).sum()))
 
 
 def draft_for_mass(mesh: HullMesh, mass: float, rho: float = RHO_SEA, heel: float = 0.0,

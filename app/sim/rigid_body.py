@@ -32,6 +32,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import ParamError
+from .vec import cross, length
 
 G = 9.81  # [m/s²]
 #: the longest substep [s] (240 Hz)
@@ -45,10 +46,19 @@ ForceFn = Callable[["RigidBody", float], tuple[np.ndarray, np.ndarray]]
 # ---------------------------------------------------------------------------------------------
 
 
+def _components(q):
+    """A single float64 quaternion or vector as Python floats (numpy scalars cost several times
+    more per operation; the same operations in the same order give the same result), anything
+    else as it is."""
+    if isinstance(q, np.ndarray) and q.ndim == 1 and q.dtype == np.float64:
+        return q.tolist()
+    return q
+
+
 def quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Hamilton product a·b (apply b, then a)."""
-    aw, ax, ay, az = a
-    bw, bx, by, bz = b
+    aw, ax, ay, az = _components(a)
+    bw, bx, by, bz = _components(b)
     return np.array([aw * bw - ax * bx - ay * by - az * bz,
                      aw * bx + ax * bw + ay * bz - az * by,
                      aw * by - ax * bz + ay * bw + az * bx,
@@ -57,25 +67,26 @@ def quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def quat_from_axis_angle(axis, angle: float) -> np.ndarray:
     axis = np.asarray(axis, float)
-    n = float(np.linalg.norm(axis))
+    n = length(axis)
     if n == 0.0 or angle == 0.0:
         return np.array([1.0, 0.0, 0.0, 0.0])
     s = math.sin(0.5 * angle) / n
-    return np.array([math.cos(0.5 * angle), axis[0] * s, axis[1] * s, axis[2] * s])
+    x, y, z = axis[:3].tolist()  # Python floats: the same products, cheaper than numpy scalars
+    return np.array([math.cos(0.5 * angle), x * s, y * s, z * s])
 
 
 def quat_from_rotvec(rv) -> np.ndarray:
     """exp of the rotation vector ``rv`` (axis × angle)."""
     rv = np.asarray(rv, float)
-    angle = float(np.linalg.norm(rv))
+    angle = length(rv)
     if angle < 1e-12:
         q = np.array([1.0, 0.5 * rv[0], 0.5 * rv[1], 0.5 * rv[2]])
-        return q / np.linalg.norm(q)
+        return q / length(q)
     return quat_from_axis_angle(rv / angle, angle)
 
 
 def quat_to_matrix(q: np.ndarray) -> np.ndarray:
-    w, x, y, z = q
+    w, x, y, z = _components(q)
     return np.array([
         [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
@@ -99,7 +110,7 @@ def quat_from_matrix(m) -> np.ndarray:
         q[1 + i] = 0.25 * s
         q[1 + j] = (m[j, i] + m[i, j]) / s
         q[1 + k] = (m[k, i] + m[i, k]) / s
-    q /= np.linalg.norm(q)
+    q /= length(q)
     return q if q[0] >= 0 else -q
 
 
@@ -110,7 +121,7 @@ def quat_slerp(a: np.ndarray, b: np.ndarray, t: float) -> np.ndarray:
         b, d = -b, -d
     if d > 0.9995:
         q = a + t * (b - a)
-        return q / np.linalg.norm(q)
+        return q / length(q)
     th = math.acos(min(d, 1.0))
     s = math.sin(th)
     return (math.sin((1 - t) * th) * a + math.sin(t * th) * b) / s
@@ -118,16 +129,16 @@ def quat_slerp(a: np.ndarray, b: np.ndarray, t: float) -> np.ndarray:
 
 def quat_between(u, v) -> np.ndarray:
     """The shortest rotation taking direction u to direction v."""
-    u = np.asarray(u, float) / np.linalg.norm(u)
-    v = np.asarray(v, float) / np.linalg.norm(v)
+    u = np.asarray(u, float) / length(u)
+    v = np.asarray(v, float) / length(v)
     c = float(np.dot(u, v))
     if c < -1.0 + 1e-12:
-        axis = np.cross(u, [1.0, 0.0, 0.0])
-        if np.linalg.norm(axis) < 1e-6:
-            axis = np.cross(u, [0.0, 0.0, 1.0])
+        axis = cross(u, [1.0, 0.0, 0.0])
+        if length(axis) < 1e-6:
+            axis = cross(u, [0.0, 0.0, 1.0])
         return quat_from_axis_angle(axis, math.pi)
-    q = np.array([1.0 + c, *np.cross(u, v)])
-    return q / np.linalg.norm(q)
+    q = np.array([1.0 + c, *cross(u, v).tolist()])
+    return q / length(q)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -179,7 +190,7 @@ class RigidBody:
         (``"com"``) where it is; the angular velocity is kept."""
         omega = self.angular_velocity
         origin = self.position
-        self.orientation = np.asarray(q, float) / np.linalg.norm(q)
+        self.orientation = np.asarray(q, float) / length(q)
         self.rotation = quat_to_matrix(self.orientation)
         if keep == "origin":
             self.position = origin
@@ -208,7 +219,7 @@ class RigidBody:
     def point_velocity(self, points_world) -> np.ndarray:
         """Velocity of world points (..., 3) moving with the body: v + ω × (p − x_com)."""
         r = np.asarray(points_world, float) - self.com_world
-        return self.velocity + np.cross(self.angular_velocity, r)
+        return self.velocity + cross(self.angular_velocity, r)
 
     def kinetic_energy(self) -> float:
         """½·m·v² + ½·ω·L [J]."""
@@ -262,6 +273,6 @@ class RigidBody:
                                                 self.orientation))
             omega = half @ (self.inertia_body_inv @ (half.T @ self.momentum))
             q = quat_multiply(quat_from_rotvec(omega * h), self.orientation)
-            self.orientation = q / np.linalg.norm(q)
+            self.orientation = q / length(q)
             self.rotation = quat_to_matrix(self.orientation)
             self.time += h

@@ -98,6 +98,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from ..params import Param
+from .vec import cross, norm
 
 G = 9.81
 RHO_AIR = 1.225  # kg/m³, 15 °C at sea level
@@ -188,16 +189,26 @@ def clamp_input(value) -> float:
 
 # ---- directions -----------------------------------------------------------------------------
 
+def _horizontal(x, z) -> np.ndarray:
+    """The world vectors (x, 0, z) (…, 3) of float64 components of one shape: np.stack([x,
+    zeros, z], axis=-1) filled in by component (np.stack's checks cost more than the maths)."""
+    out = np.empty(np.shape(x) + (3,))
+    out[..., 0] = x
+    out[..., 1] = 0.0
+    out[..., 2] = z
+    return out
+
+
 def heading_vector(psi) -> np.ndarray:
     """The bow's world direction (…, 3) for heading ψ [rad]: (sin ψ, 0, −cos ψ)."""
     psi = np.asarray(psi, dtype=np.float64)
-    return np.stack([np.sin(psi), np.zeros_like(psi), -np.cos(psi)], axis=-1)
+    return _horizontal(np.sin(psi), -np.cos(psi))
 
 
 def starboard_vector(psi) -> np.ndarray:
     """The starboard direction (…, 3) for heading ψ: bow × up = (cos ψ, 0, sin ψ)."""
     psi = np.asarray(psi, dtype=np.float64)
-    return np.stack([np.cos(psi), np.zeros_like(psi), np.sin(psi)], axis=-1)
+    return _horizontal(np.cos(psi), np.sin(psi))
 
 
 def heading_of(vector) -> np.ndarray | float:
@@ -213,7 +224,7 @@ def wind_vector(speed, direction) -> np.ndarray:
     with y = 0."""
     a = np.radians(np.asarray(direction, dtype=np.float64))
     s = np.asarray(speed, dtype=np.float64)
-    return np.stack([s * np.sin(a), np.zeros_like(a * s), -s * np.cos(a)], axis=-1)
+    return _horizontal(s * np.sin(a), -s * np.cos(a))
 
 
 def wrap_degrees(angle):
@@ -234,9 +245,28 @@ def wind_angle(wind_velocity, psi):
     """TWA or AWA [rad] ∈ (−π, π] of a wind velocity (…, 3) off the bow of heading ψ: the angle
     of where the wind comes **from**, positive over the starboard side, 0 = head to wind."""
     src = -np.asarray(wind_velocity, dtype=np.float64)
-    out = np.arctan2(np.sum(src * starboard_vector(psi), axis=-1),
-                     np.sum(src * heading_vector(psi), axis=-1))
+    s, c = _sin_cos(psi)
+    out = np.arctan2(_dot_starboard(src, s, c), _dot_bow(src, s, c))
     return float(out) if np.ndim(out) == 0 else out
+
+
+# The dot products of world vectors (…, 3) with starboard_vector(ψ) = (cos ψ, 0, sin ψ) and
+# heading_vector(ψ) = (sin ψ, 0, −cos ψ), written out from sin ψ and cos ψ: the products and the
+# additions of np.sum(v * vector, axis=-1), in its order, without building the vectors.  The
+# y term is zero but kept: it can decide the sign of a sum that is exactly zero, which atan2
+# reads.
+
+def _sin_cos(psi) -> tuple[np.ndarray, np.ndarray]:
+    psi = np.asarray(psi, dtype=np.float64)
+    return np.sin(psi), np.cos(psi)
+
+
+def _dot_starboard(v: np.ndarray, s, c) -> np.ndarray:
+    return v[..., 0] * c + v[..., 1] * 0.0 + v[..., 2] * s
+
+
+def _dot_bow(v: np.ndarray, s, c) -> np.ndarray:
+    return v[..., 0] * s + v[..., 1] * 0.0 + v[..., 2] * -c
 
 
 def apparent_wind(true_wind, boat_velocity) -> np.ndarray:
@@ -249,7 +279,7 @@ def apparent_wind(true_wind, boat_velocity) -> np.ndarray:
 
 def _cw90(v: np.ndarray) -> np.ndarray:
     """A horizontal world vector turned 90° clockwise seen from above (bow → starboard)."""
-    return np.stack([-v[..., 2], np.zeros_like(v[..., 0]), v[..., 0]], axis=-1)
+    return _horizontal(-v[..., 2], v[..., 0])
 
 
 # ---- the wind ----------------------------------------------------------------------------
@@ -539,7 +569,7 @@ class Hull:
             induced = q * cl * cl / (math.pi * self.keel_aspect)
             vh = np.array([state.velocity[0], 0.0, state.velocity[2]])
             force = force + lateral - induced * vh / math.sqrt(speed2)
-            torque = np.cross(-self.clr_depth * state.up, lateral)
+            torque = cross(-self.clr_depth * state.up, lateral)
         else:
             torque = np.zeros(3)
         return force, torque
@@ -563,8 +593,13 @@ class SailState:
     awa: float
 
 
+def _clip(x, lo: float, hi: float):
+    """np.clip(x, lo, hi) as the two ufuncs it is (np.clip's argument handling costs more)."""
+    return np.minimum(np.maximum(x, lo), hi)
+
+
 def _smoothstep(e0, e1, x):
-    t = np.clip((np.asarray(x, dtype=np.float64) - e0) / (e1 - e0), 0.0, 1.0)
+    t = _clip((np.asarray(x, dtype=np.float64) - e0) / (e1 - e0), 0.0, 1.0)
     return t * t * (3.0 - 2.0 * t)
 
 
@@ -644,15 +679,17 @@ class Sail:
         """(C_L, C_D) against the angle of attack [rad] (≥ 0; see the module docstring);
         ``flat`` ∈ [0, 1] scales the attached-flow lift (a flattened, twisted sail: less lift,
         less drag due to lift), not the stalled plate's."""
-        a = np.clip(np.abs(np.asarray(aoa, dtype=np.float64)), 0.0, math.pi)
-        rise = np.clip((a - self.luff_aoa) / (self.stall_aoa - self.luff_aoa), 0.0, 1.0)
+        a = _clip(np.abs(np.asarray(aoa, dtype=np.float64)), 0.0, math.pi)
+        rise = _clip((a - self.luff_aoa) / (self.stall_aoa - self.luff_aoa), 0.0, 1.0)
         att_cl = np.asarray(flat, dtype=np.float64) * self.cl_max * np.sin(0.5 * math.pi * rise)
         att_cd = self.cd0 + self.k_induced * att_cl * att_cl
-        plate_cl = self.c_plate * np.sin(a) * np.cos(a)
+        sin_a = np.sin(a)
+        plate_cl = self.c_plate * sin_a * np.cos(a)
         # past the stall the drag never falls below the attached flow's (C_D grows with α)
-        plate_cd = np.maximum(self.cd0 + self.c_plate * np.sin(a) ** 2, att_cd)
+        plate_cd = np.maximum(self.cd0 + self.c_plate * sin_a ** 2, att_cd)
         w = _smoothstep(self.stall_aoa, self.stall_aoa + self.stall_width, a)
-        return (1.0 - w) * att_cl + w * plate_cl, (1.0 - w) * att_cd + w * plate_cd
+        attached = 1.0 - w
+        return attached * att_cl + w * plate_cl, attached * att_cd + w * plate_cd
 
     def trim(self, awa, sheet=None):
         """(boom angle [rad] ≥ 0 off the centreline, angle of attack [rad] ≥ 0, leeward side
@@ -669,8 +706,14 @@ class Sail:
         false) on an apparent wind (…, 3), for heading ψ [rad]; ``sheet`` the boom limit [rad]
         (default ``sheet()``), ``flat`` as in ``coefficients``; the sail's part is scaled by
         cos²(heel)."""
+        q, e_d, c_sail = self._aero(apparent, psi, sheet, flat)
+        return self._aero_total(q, e_d, c_sail, heel, windage)
+
+    def _aero(self, apparent, psi, sheet, flat):
+        """The parts of ``aero_force`` that do not depend on the heel: (dynamic pressure q (…, 1),
+        the flow's direction ê_D (…, 3), the sail's force coefficient vector C_L·ê_L + C_D·ê_D)."""
         va = np.asarray(apparent, dtype=np.float64)
-        speed = np.linalg.norm(va, axis=-1, keepdims=True)
+        speed = norm(va, keepdims=True)
         e_d = va / np.where(speed > 0.0, speed, 1.0)
         boom, aoa, side = self.trim(wind_angle(va, psi), sheet)
         cl, cd = self.coefficients(aoa, flat)
@@ -678,8 +721,12 @@ class Sail:
         # (seen from above) when the wind comes over starboard (side = −1), else anticlockwise
         e_l = -np.asarray(side, dtype=np.float64)[..., None] * _cw90(e_d)
         q = 0.5 * RHO_AIR * speed * speed
+        return q, e_d, cl[..., None] * e_l + cd[..., None] * e_d
+
+    def _aero_total(self, q, e_d, c_sail, heel, windage: bool):
+        """``aero_force`` from the parts of ``_aero``, the sail's part scaled by cos²(heel)."""
         k = np.cos(np.asarray(heel, dtype=np.float64))[..., None] ** 2
-        total = self.area * (cl[..., None] * e_l + cd[..., None] * e_d) * k
+        total = self.area * c_sail * k
         if windage:
             total = total + self.windage * e_d
         return q * total
@@ -714,7 +761,7 @@ class Sail:
                 np.zeros(3)
         va = apparent_wind(wind.vector(), state.velocity)
         f = self.aero_force(va, state.heading, heel=state.heel)
-        return f, np.cross(self.ce_height * state.up, f)
+        return f, cross(self.ce_height * state.up, f)
 
 
 def sail_state(sail: Sail, wind: Wind, state: BoatState) -> SailState:
@@ -747,7 +794,7 @@ def _heel(side_force, hull: Hull, arm: float):
     a = np.abs(side_force) * arm / (hull.displacement * G * hull.gm)
     s = np.where(a > 1e-12, (np.sqrt(1.0 + 4.0 * a * a) - 1.0) / (2.0 * np.maximum(a, 1e-12)),
                  a)
-    return np.arcsin(np.clip(s, 0.0, 1.0))
+    return np.arcsin(_clip(s, 0.0, 1.0))
 
 
 def _net_drive(boat: Boat, twa, wind_speed: float, speed, sheet, flat, iterations: int = 3):
@@ -765,15 +812,17 @@ def _net_drive(boat: Boat, twa, wind_speed: float, speed, sheet, flat, iteration
     arm = sail.ce_height + hull.clr_depth
     leeway = np.zeros_like(speed)
     for _ in range(iterations):
-        # the bow points to windward of the course by the leeway
-        upright = sail.aero_force(va, leeway, sheet, flat, windage=False)
+        # the bow points to windward of the course by the leeway; the upright sail's force
+        # (aero_force without windage) and the heeled one's share all but the heel
+        q_a, e_d, c_sail = sail._aero(va, leeway, sheet, flat)
+        upright = sail._aero_total(q_a, e_d, c_sail, 0.0, windage=False)
         # the sail's side force across the hull sets the heel
-        side_sail = np.sum(upright * starboard_vector(leeway), axis=-1)
+        side_sail = _dot_starboard(upright, *_sin_cos(leeway))
         heel = _heel(side_sail, hull, arm)
-        f = sail.aero_force(va, leeway, sheet, flat, heel)
+        f = sail._aero_total(q_a, e_d, c_sail, heel, windage=True)
         across = f[..., 0]  # course-perpendicular: starboard of the course is +x
         cl = -across / np.maximum(q_w, 1e-12)
-        leeway = np.clip(cl / hull.keel_slope, -0.5, 0.5)
+        leeway = _clip(cl / hull.keel_slope, -0.5, 0.5)
     drive = -f[..., 2]  # along the course (−z)
     induced = q_w * cl * cl / (math.pi * hull.keel_aspect)
     net = drive - hull.resistance(speed) - induced
