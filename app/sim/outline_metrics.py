@@ -109,15 +109,20 @@ def table_boxes() -> list[tuple[tuple[float, float, float], tuple[float, float, 
     return out
 
 
-def boundary_distance(inside: np.ndarray) -> np.ndarray:
+def boundary_distance(inside: np.ndarray, limit: float | None = None) -> np.ndarray:
     """(h, w) Euclidean distance (pixels) from each pixel centre to the silhouette curve: the
     nearest midpoint of an edge shared by a covered and an uncovered pixel (inf when the image
-    has none)."""
+    has none). With ``limit``, only distances below it are found (the rest are inf): the same
+    values, from the edge midpoints in a window around each pixel instead of all of them."""
     m = np.asarray(inside, bool)
+    vertical = m[:, 1:] != m[:, :-1]  # an edge midpoint at (y, x + 0.5)
+    horizontal = m[1:, :] != m[:-1, :]  # … at (y + 0.5, x)
+    if limit is not None:
+        return _boundary_distance_within(vertical, horizontal, m.shape, float(limit))
     pts = []
-    ys, xs = np.nonzero(m[:, 1:] != m[:, :-1])
+    ys, xs = np.nonzero(vertical)
     pts.append(np.stack([ys.astype(float), xs + 0.5], 1))
-    ys, xs = np.nonzero(m[1:, :] != m[:-1, :])
+    ys, xs = np.nonzero(horizontal)
     pts.append(np.stack([ys + 0.5, xs.astype(float)], 1))
     p = np.concatenate(pts)
     h, w = m.shape
@@ -133,13 +138,37 @@ def boundary_distance(inside: np.ndarray) -> np.ndarray:
     return np.sqrt(best).reshape(h, w)
 
 
+def _boundary_distance_within(vertical, horizontal, shape, limit: float) -> np.ndarray:
+    """:func:`boundary_distance` below ``limit``: for every offset of an edge midpoint from a
+    pixel centre that is nearer than ``limit`` (a window of ±⌈limit⌉ + 1 pixels), the pixels
+    with an edge there take that offset's length if it is their nearest so far."""
+    h, w = shape
+    best = np.full((h, w), np.inf)
+    r = int(np.ceil(limit)) + 1
+    # vertical midpoint (y, x + 0.5) seen from pixel (py, px): offset (y − py, x − px + 0.5);
+    # horizontal midpoint (y + 0.5, x): offset (y − py + 0.5, x − px)
+    for edges, half in ((vertical, (0.0, 0.5)), (horizontal, (0.5, 0.0))):
+        eh, ew = edges.shape
+        padded = np.zeros((eh + 2 * r, ew + 2 * r), bool)
+        padded[r:r + eh, r:r + ew] = edges
+        for oy in range(-r, r + 1):
+            for ox in range(-r, r + 1):
+                d2 = (oy + half[0]) ** 2 + (ox + half[1]) ** 2
+                if d2 >= limit * limit:
+                    continue
+                # pixel (py, px) has an edge at index (py + oy, px + ox)
+                hit = padded[r + oy:r + oy + h, r + ox:r + ox + w]
+                best[hit] = np.minimum(best[hit], d2)
+    return np.sqrt(best)
+
+
 def silhouette_band(inside: np.ndarray, width: float, side: str = "outside") -> np.ndarray:
     """(h, w) bool: the pixels within ``width`` pixels of the silhouette curve on ``side``
     ("outside", "inside" or "both"); the first pixel row each side is at distance 0.5."""
     if side not in ("outside", "inside", "both"):
         raise ValueError(f"side must be outside, inside or both, got {side!r}")
     m = np.asarray(inside, bool)
-    near = boundary_distance(m) < float(width)
+    near = boundary_distance(m, limit=float(width)) < float(width)
     if side == "outside":
         return near & ~m
     if side == "inside":

@@ -9,6 +9,9 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
 
 from app.sim import lab_meshes, staircase
 from app.sim import outline_metrics as om
@@ -103,3 +106,15 @@ def test_the_table_boxes_bound_the_lab_table():
     assert np.allclose(boxes[:, 0].min(axis=0), lo, atol=1e-6)
     assert np.allclose(boxes[:, 1].max(axis=0), hi, atol=1e-6)
     assert len(boxes) == 5
+
+
+@given(arrays(np.bool_, st.tuples(st.integers(1, 24), st.integers(1, 24))),
+       st.sampled_from([0.5, 1.0, 1.5, 2.0, 3.0, 4.5]))
+def test_the_windowed_distance_is_the_brute_force_below_its_limit(inside, limit):
+    """boundary_distance(limit=…) (what silhouette_band uses): the same values as the search
+    over every edge midpoint wherever that is below the limit, inf elsewhere."""
+    every = om.boundary_distance(inside)
+    near = om.boundary_distance(inside, limit=limit)
+    below = every < limit
+    assert np.array_equal(near[below], every[below])
+    assert np.isinf(near[~below]).all()
