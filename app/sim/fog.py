@@ -220,8 +220,9 @@ def fog_height_reference(p: ArrayLike, camera: ArrayLike, a: float, b: float, y0
     p = np.asarray(p, np.float64)
     c = np.asarray(camera, np.float64)
     s = (np.arange(steps) + 0.5) / steps
-    pts = c[..., None, :] + (p - c)[..., None, :] * s[:, None]
-    rho = a * np.exp(-b * (pts[..., 1] - y0))
+    # the density depends on the height alone: the samples' y, c_y + (p_y − c_y)·s
+    ys = c[..., 1, None] + (p - c)[..., 1, None] * s
+    rho = a * np.exp(-b * (ys - y0))
     t = np.linalg.norm(p - c, axis=-1)
     return np.exp(-rho.mean(axis=-1) * t)
 
