@@ -553,6 +553,37 @@ def sample_periodic_bilinear(grid, patch_size: float, x, z):
     return (1 - fv) * ((1 - fu) * a + fu * b) + fv * ((1 - fu) * c + fu * d)
 
 
+def sample_periodic_cascades(grids, patch_sizes, x, z):
+    """Σ over the cascades of :func:`sample_periodic_bilinear` (grid ``grids[c]`` of patch
+    ``patch_sizes[c]``) at world points (x, z): ``grids`` (C, N, N, K), one gather for all
+    cascades (the boat's dozen queries a physics step pay numpy's per-call cost once, not C
+    times); the same values, summed in cascade order."""
+    grids = np.asarray(grids)
+    count, n = grids.shape[0], grids.shape[1]
+    x = np.asarray(x, dtype=float)
+    z = np.asarray(z, dtype=float)
+    scale = np.array([n / float(s) for s in patch_sizes]).reshape((count,) + (1,) * x.ndim)
+    u = x * scale  # (C, ...)
+    v = z * scale
+    i0 = np.floor(u)
+    j0 = np.floor(v)
+    fu = (u - i0)[..., None]
+    fv = (v - j0)[..., None]
+    i0 = i0.astype(np.int64) % n
+    j0 = j0.astype(np.int64) % n
+    i1 = (i0 + 1) % n
+    base = (np.arange(count) * (n * n)).reshape(scale.shape)
+    r0 = base + j0 * n
+    r1 = base + (j0 + 1) % n * n
+    flat = grids.reshape((count * n * n,) + grids.shape[3:])
+    a, b, c, d = flat.take(np.stack([r0 + i0, r0 + i1, r1 + i0, r1 + i1]), axis=0)
+    each = (1 - fv) * ((1 - fu) * a + fu * b) + fv * ((1 - fu) * c + fu * d)
+    out = each[0]
+    for k in range(1, count):
+        out = out + each[k]
+    return out
+
+
 # ---------------------------------------------------------------------------------------------
 # Cascades
 # ---------------------------------------------------------------------------------------------

@@ -432,3 +432,17 @@ def test_mean_square_slope_falls_below_cox_munk(wind):
     f, *_ = _fields(p, size)
     ratio = np.mean(f.slope_x**2 + f.slope_z**2) / (0.003 + 5.12e-3 * wind)
     assert 0.02 < ratio < 1.0
+
+
+def test_sampling_every_cascade_at_once_is_the_sum_of_each():
+    """sample_periodic_cascades (the boat's height queries) is Σ sample_periodic_bilinear over
+    the cascades in their order, bit for bit, at points of any shape and far outside a patch."""
+    rng = np.random.default_rng(2)
+    for count, n in ((1, 16), (3, 32), (4, 64)):
+        grids = rng.normal(size=(count, n, n, 4)).astype(np.float32)
+        sizes = sorted(rng.uniform(5.0, 500.0, count), reverse=True)
+        x, z = rng.uniform(-900.0, 900.0, (2, 7, 13))
+        each = 0.0
+        for size, grid in zip(sizes, grids):
+            each = each + oc.sample_periodic_bilinear(grid, size, x, z)
+        assert np.array_equal(oc.sample_periodic_cascades(grids, sizes, x, z), each)

@@ -479,15 +479,16 @@ class GpuOceanSim:
     def _map(self, t: float, slot: int):
         """Read readback ``slot`` (the request made at simulation time ``t``) as the latest."""
         n = self.n
-        arrays = [np.frombuffer(buf.read(), dtype=np.float32).reshape(n, n, 4).copy()
-                  for buf in self._pbo[slot]]
+        # one (C, N, N, 4) array: the height queries gather from every cascade at once
+        arrays = np.stack([np.frombuffer(buf.read(), dtype=np.float32).reshape(n, n, 4)
+                           for buf in self._pbo[slot]])
         self._rb_latest = (t, arrays)
         self._rb_previous = None
         return self._rb_latest
 
     def poll_readback(self):
-        """``(time, [(N, N, 4) float32 arrays, one per cascade])`` of the most recent request
-        *before* the newest one, or None until there is one.
+        """``(time, (C, N, N, 4) float32 array: an (N, N, 4) grid per cascade)`` of the most
+        recent request *before* the newest one, or None until there is one.
 
         One frame of lag, by design: the newest request's copy may still be queued behind this
         frame's work, so it is left alone; the previous request's buffers were filled a frame

@@ -50,9 +50,8 @@ class WaterQueries:
             if self._readback is None:
                 out = np.zeros(x.shape + (3,))
             else:
-                out = 0.0
-                for size, grid in zip(self.patch_sizes(), self._readback[1]):
-                    out = out + oc.sample_periodic_bilinear(grid, size, x, z)[..., :3]
+                out = oc.sample_periodic_cascades(self._readback[1], self.patch_sizes(), x,
+                                                  z)[..., :3]
                 out = np.broadcast_to(out, x.shape + (3,)).copy()
         return out * self._fade(x, z)[..., None]
 
