@@ -28,14 +28,19 @@ from tests.helpers.window_driver import XKeys  # noqa: E402
 TYPO = "float natura_typo = ;"
 
 
-def _type(keys: XKeys, text: str) -> None:
+def _type(keys: XKeys, text: str, done=None) -> None:
+    """Type ``text`` as X events; wait until the window has received its characters and, with
+    ``done``, until ``done()`` holds (the widget has taken them all in)."""
     n = len(keys.received)
     subprocess.run(["xdotool", "type", "--delay", "20", text], check=True, timeout=60)
+    printable = len(text.replace("\n", ""))  # a newline arrives as the Return key, not a char
     for _ in range(400):
-        if sum(1 for e in keys.received[n:] if e[0] == "char") >= len(text):
+        if sum(1 for e in keys.received[n:] if e[0] == "char") >= printable:
             break
         keys.frames(1)
     keys.frames(2)
+    if done is not None:
+        _until(keys, done, 120)
 
 
 def _click(keys: XKeys, x: float, y: float) -> None:
@@ -91,7 +96,7 @@ def copy_run(work: str) -> int:
     _click(keys, (x0 + x1) / 2, (y0 + y1) / 2)
     out["editor_has_keyboard"] = bool(win.imgui.get_io().want_capture_keyboard)
     _chord(keys, "ctrl", "End")
-    _type(keys, "\n" + TYPO)
+    _type(keys, "\n" + TYPO, lambda: TYPO in win.editor.editor.get_text())
     out["modified_before_save"] = win.editor.modified
     lines = win.editor.editor.get_text().split("\n")
     out["typo_line"] = next((i for i, line in enumerate(lines) if TYPO in line), -1)
@@ -138,7 +143,7 @@ def own_run(work: str) -> int:
     x0, y0, x1, y1 = win.editor.text_rect
     _click(keys, (x0 + x1) / 2, (y0 + y1) / 2)
     _chord(keys, "ctrl", "End")
-    _type(keys, "\n// my note")
+    _type(keys, "\n// my note", lambda: "// my note" in win.editor.editor.get_text())
     _chord(keys, "ctrl", "s")
     out["asks_for_copy"] = _until(keys, lambda: win.editor.modal_open, 60)
     out["offered_name"] = win.editor.copy_name
