@@ -16,7 +16,7 @@ from app.bench import NUMPY_BENCHES
 from app.cli import NUMPY_BENCH_NAMES
 from app.scenes import SCENES
 from tests.helpers.cli import run, usage_error
-from tests.helpers.readme import bench_lane, command_lines
+from tests.helpers.readme import bench_lane, command_lines, lane_fixture
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
@@ -27,6 +27,7 @@ EXAMPLE = "natura bench boat --quick"
 
 
 @pytest.fixture(scope="module")
+@lane_fixture
 def quick(tmp_path_factory):
     """The README's ``natura bench boat --quick``: (folder, its report's name, its stdout)."""
     folder, ran = bench_lane(tmp_path_factory, EXAMPLE)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from app.bench import materials as mbench
 from app.runtime import open_session, scene_params
 from tests.helpers.readme import bench_lane, command_lines
@@ -43,6 +45,7 @@ def test_materials_sweep_orders_methods_sensibly(gl_ctx, tmp_path):
 EXAMPLE = "natura bench materials --size 160x90 --repeat 3"
 
 
+@pytest.mark.slow  # runs (or waits for) the README example: the whole bench
 def test_cli_bench_writes_json_and_chart(tmp_path_factory):
     folder, ran = bench_lane(tmp_path_factory, EXAMPLE)
     (name,) = [n for n in ran.written if n.endswith(".json")]

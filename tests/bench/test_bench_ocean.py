@@ -112,6 +112,7 @@ def test_chart_and_summary(tiny_report, tmp_path):
 EXAMPLE = "natura bench ocean --sizes 64x64 --size 96x54 --repeat 2"
 
 
+@pytest.mark.slow  # runs (or waits for) the README example: the whole bench
 def test_cli_bench_ocean(tmp_path_factory):
     folder, ran = bench_lane(tmp_path_factory, EXAMPLE)
     (name,) = [n for n in ran.written if n.endswith(".json")]

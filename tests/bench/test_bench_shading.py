@@ -7,6 +7,8 @@ from __future__ import annotations
 import json
 import math
 
+import pytest
+
 from app.bench import shading as sbench
 from tests.helpers.readme import bench_lane, command_lines
 
@@ -20,6 +22,7 @@ def _finite(*values) -> bool:
 EXAMPLE = "natura bench shading --size 160x90 --repeat 3"
 
 
+@pytest.mark.slow  # runs (or waits for) the README example: the whole bench
 def test_cli_bench_shading_writes_json_chart_and_summary(tmp_path_factory):
     folder, r = bench_lane(tmp_path_factory, EXAMPLE)
     (name,) = [n for n in r.written if n.endswith(".json")]

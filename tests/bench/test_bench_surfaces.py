@@ -11,7 +11,7 @@ import math
 
 import pytest
 
-from tests.helpers.readme import bench_lane, command_lines
+from tests.helpers.readme import bench_lane, command_lines, lane_fixture
 
 #: the README's example (tests/helpers/readme.py runs it once per test run, for the walk-through
 #: and for these tests)
@@ -19,6 +19,7 @@ EXAMPLE = "natura bench surfaces --size 160x90 --repeat 3"
 
 
 @pytest.fixture(scope="module")
+@lane_fixture
 def bench(tmp_path_factory):
     folder, r = bench_lane(tmp_path_factory, EXAMPLE)
     (name,) = [n for n in r.written if n.endswith(".json")]

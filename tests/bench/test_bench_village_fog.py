@@ -11,10 +11,11 @@ import math
 import pytest
 
 from app.bench import village_fog as vf
-from tests.helpers.readme import village_section
+from tests.helpers.readme import lane_fixture, village_section
 
 
 @pytest.fixture(scope="module")
+@lane_fixture
 def report(tmp_path_factory):
     """The section as the README's `natura bench village` example wrote it (run once per test
     run, tests/helpers/readme.py): what a user's JSON holds."""
@@ -65,3 +66,23 @@ def test_chart_and_summary(report, tmp_path):
     assert path.stat().st_size > 20000
     lines = vf.summary(report)
     assert len(lines) == 5 and lines[0].startswith("linear:") and "height fog" in lines[-1]
+
+
+def test_the_numpy_twin_is_the_integral_on_random_rays():
+    """What the section's twin figure measures, without a GL context: the analytic height
+    transmittance (Quílez 2010) against the midpoint integral of the density on random rays,
+    grazing and steep, at the scene's fog (a, b from the section's defaults)."""
+    import numpy as np
+
+    from app.sim import fog as fs
+
+    rng = np.random.default_rng(5)
+    start = np.stack([rng.uniform(-60, 60, 64), rng.uniform(0.0, 40.0, 64),
+                      rng.uniform(-60, 60, 64)], -1)
+    dirs = rng.normal(size=(64, 3))
+    dirs[:8, 1] = 1e-4  # grazing: the analytic form's 0/0 limit
+    dirs /= np.linalg.norm(dirs, axis=-1, keepdims=True)
+    end = start + dirs * rng.uniform(0.0, 500.0, (64, 1))
+    a, b = 0.15 * 0.324, 0.35
+    twin = fs.fog_height_transmittance(end, start, a, b, 0.0)
+    assert np.abs(twin - fs.fog_height_reference(end, start, a, b, 0.0, steps=8192)).max() < 1e-5

@@ -11,10 +11,11 @@ import pytest
 
 from app.bench import village_grass as vg
 from app.sim import grass as gs
-from tests.helpers.readme import village_section
+from tests.helpers.readme import lane_fixture, village_section
 
 
 @pytest.fixture(scope="module")
+@lane_fixture
 def report(tmp_path_factory):
     """The section as the README's `natura bench village` example wrote it (run once per test
     run, tests/helpers/readme.py): what a user's JSON holds."""
@@ -71,3 +72,17 @@ def test_chart_and_summary(report, tmp_path):
     assert len(lines) == 4
     assert "30,000 blades" in lines[1] and "M blades/s" in lines[1]
     assert "n = 3 → 4" in lines[2]
+
+
+def test_the_readme_example_runs_the_quick_sections():
+    """These tests read the README's own `natura bench village` run: it is in the README as
+    written, and its --repeat asks for the quick sections (QUICK_COUNTS, the quick size)."""
+    import shlex
+
+    from app.bench.village import QUICK_REPEAT
+    from tests.helpers.readme import VILLAGE_EXAMPLE, command_lines
+
+    assert VILLAGE_EXAMPLE in command_lines()
+    words = shlex.split(VILLAGE_EXAMPLE)
+    assert int(words[words.index("--repeat") + 1]) <= QUICK_REPEAT
+    assert set(vg.QUICK_COUNTS) <= set(vg.COUNTS)

@@ -10,10 +10,11 @@ import json
 import pytest
 
 from app.bench import village_look
-from tests.helpers.readme import village_section
+from tests.helpers.readme import lane_fixture, village_section
 
 
 @pytest.fixture(scope="module")
+@lane_fixture
 def report(tmp_path_factory):
     """The section as the README's `natura bench village` example wrote it (run once per test
     run, tests/helpers/readme.py): what a user's JSON holds."""

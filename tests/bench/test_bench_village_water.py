@@ -12,10 +12,11 @@ import math
 import pytest
 
 from app.bench import village_water as vw
-from tests.helpers.readme import village_section
+from tests.helpers.readme import lane_fixture, village_section
 
 
 @pytest.fixture(scope="module")
+@lane_fixture
 def report(tmp_path_factory):
     """The section as the README's `natura bench village` example wrote it (run once per test
     run, tests/helpers/readme.py): what a user's JSON holds."""
@@ -62,3 +63,11 @@ def test_chart_and_summary(report, tmp_path):
     assert len(lines) == 5
     assert lines[1].startswith("  simple: fog off") and "thickness" in lines[2]
     assert "ratio ramp/pow5" in lines[-1]
+
+
+def test_the_ramp_figures_without_a_gl_context():
+    """The ramp section's numpy half on its own: a coarse ramp misses criterion 20 (one 8-bit
+    level), the effect's 256-texel ramp is far within it, finer is closer."""
+    coarse, fine = vw.ramp_errors(widths=(8, 256), samples=4001)
+    assert coarse["max_error"] > 1.0 / 255.0 > fine["max_error_8bit"]
+    assert fine["max_error"] < 0.05 / 255.0 < coarse["max_error"]

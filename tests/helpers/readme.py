@@ -162,6 +162,13 @@ def lane_result(tmp_path_factory, index: int) -> tuple[Path, list[Ran]]:
     return folder, ran
 
 
+def lane_fixture(func):
+    """Flags a fixture that reads a README lane (put it under ``@pytest.fixture``): the tests
+    using it are slow whatever one run measured (tests/helpers/tiers.py)."""
+    func.readme_lane = True
+    return func
+
+
 def bench_lane(tmp_path_factory, command: str) -> tuple[Path, Ran]:
     """The README's bench example ``command`` (exactly as the README has it), run once."""
     (index,) = [i for i, lane in enumerate(lanes()) if lane == [command]]

@@ -172,13 +172,27 @@ def pytest_collection_modifyitems(config, items):
     mark(items)
 
 
+def reads_readme_lane(item) -> bool:
+    """Whether a fixture of ``item`` runs (or waits for) a README example's lane
+    (tests/helpers/readme.py, ``lane_fixture``): whichever test asks first pays the whole
+    example, so what one run recorded says nothing about the next."""
+    info = getattr(item, "_fixtureinfo", None)
+    if info is None:
+        return False
+    return any(getattr(d.func, "readme_lane", False)
+               for defs in info.name2fixturedefs.values() for d in defs)
+
+
 def mark(items) -> None:
     """At collection: ``fast`` and ``slow`` markers from the measured durations, and which tests
-    share a module fixture (recorded with their durations)."""
+    share a module fixture (recorded with their durations). A test marked slow by hand, or
+    reading a README lane, is slow whatever it measured, and never fast."""
     costs = load()
     nodes = [plain_nodeid(item.nodeid) for item in items]
-    fast, _ = fast_tier(costs, nodes)
-    slow = slow_tests(costs, nodes)
+    always_slow = {node for item, node in zip(items, nodes)
+                   if item.get_closest_marker("slow") is not None or reads_readme_lane(item)}
+    fast, _ = fast_tier(costs, [n for n in nodes if n not in always_slow])
+    slow = slow_tests(costs, nodes) | always_slow
     for item, node in zip(items, nodes):
         if node in fast:
             item.add_marker(pytest.mark.fast)

@@ -122,3 +122,26 @@ def test_the_fast_tier_fits_its_budget():
     assert predicted <= tiers.FAST_BUDGET_S, (
         f"the fast tier would take {predicted:.0f} s of test time: lower tiers.FAST_EACH_S or "
         f"make the costliest module's cheapest test cheaper")
+
+
+def test_a_fixture_reading_a_readme_lane_makes_its_tests_slow_whatever_they_measured():
+    """Whichever test asks first pays a README example's whole run: a recorded 0 s must not make
+    the others unmarked (the guard would fail the next run) or fast."""
+    from types import SimpleNamespace
+
+    from tests.helpers.readme import lane_fixture
+
+    @lane_fixture
+    def lane(tmp_path_factory):
+        return None
+
+    def plain():
+        return None
+
+    def item(*funcs):
+        defs = {f.__name__: [SimpleNamespace(func=f)] for f in funcs}
+        return SimpleNamespace(_fixtureinfo=SimpleNamespace(name2fixturedefs=defs))
+
+    assert tiers.reads_readme_lane(item(plain, lane))
+    assert not tiers.reads_readme_lane(item(plain))
+    assert not tiers.reads_readme_lane(SimpleNamespace())
