@@ -528,36 +528,18 @@ def whitecap_thresholds(jacobians: Sequence[np.ndarray], coverage: float,
 
 def sample_periodic_bilinear(grid, patch_size: float, x, z):
     """Bilinear lookup of a periodic grid (N, N) or (N, N, C) indexed [iz, ix], sample j at j·L/N,
-    at world points (x, z) [m] of any shape."""
+    at world points (x, z) [m] of any shape (:func:`sample_periodic_cascades` of one grid)."""
     grid = np.asarray(grid)
-    n = grid.shape[0]
-    scale = n / patch_size
-    u = np.asarray(x, dtype=float) * scale
-    v = np.asarray(z, dtype=float) * scale
-    i0 = np.floor(u)
-    j0 = np.floor(v)
-    fu = u - i0
-    fv = v - j0
-    i0 = i0.astype(np.int64) % n
-    j0 = j0.astype(np.int64) % n
-    i1 = (i0 + 1) % n
-    r0 = j0 * n
-    r1 = (j0 + 1) % n * n
-    if grid.ndim == 3:
-        fu = fu[..., None]
-        fv = fv[..., None]
-    # the four corners in one gather from the grid seen as rows of texels (a view when the grid
-    # is contiguous: the boat queries it a dozen times a physics step)
-    flat = grid.reshape((n * n,) + grid.shape[2:])
-    a, b, c, d = flat.take(np.stack([r0 + i0, r0 + i1, r1 + i0, r1 + i1]), axis=0)
-    return (1 - fv) * ((1 - fu) * a + fu * b) + fv * ((1 - fu) * c + fu * d)
+    if grid.ndim == 2:
+        return sample_periodic_cascades(grid[None, ..., None], (patch_size,), x, z)[..., 0]
+    return sample_periodic_cascades(grid[None], (patch_size,), x, z)
 
 
 def sample_periodic_cascades(grids, patch_sizes, x, z):
-    """Σ over the cascades of :func:`sample_periodic_bilinear` (grid ``grids[c]`` of patch
-    ``patch_sizes[c]``) at world points (x, z): ``grids`` (C, N, N, K), one gather for all
-    cascades (the boat's dozen queries a physics step pay numpy's per-call cost once, not C
-    times); the same values, summed in cascade order."""
+    """Σ over the cascades of the bilinear lookup of periodic grid ``grids[c]`` (patch
+    ``patch_sizes[c]``) at world points (x, z), summed in cascade order: ``grids`` (C, N, N, K),
+    one gather for all cascades (the boat's dozen queries a physics step pay numpy's per-call
+    cost once, not C times)."""
     grids = np.asarray(grids)
     count, n = grids.shape[0], grids.shape[1]
     x = np.asarray(x, dtype=float)
