@@ -155,6 +155,10 @@ def write_chart(fig, path, force: bool = False, title: str | None = None) -> Non
     if title is not None:
         fig.suptitle(title, fontsize=10)
         fig.tight_layout()
+        # tight_layout leaves a placeholder layout engine behind, and savefig draws the whole
+        # figure once more (unrendered) for any engine before the real draw: the layout is
+        # done, so no engine — the same PNG, one draw fewer (a third of a chart's time)
+        fig.set_layout_engine(None)
     try:
         save_figure(fig, path, force=force)
     finally:
