@@ -655,7 +655,7 @@ def strict_verdict(library, specs):
     validator = strict.validator_path()
     if validator is None:
         return None
-    results = strict.check_programs(library, specs, validator)
+    results = strict.check_programs(library, specs, validator, accepted_dir=_accepted_dir())
     return (sum(r.ok for r in results), len(results), sum(r.stages for r in results),
             f"{strict.VALIDATOR} {strict.validator_version(validator)}")
 
@@ -667,6 +667,13 @@ def cmd_doctor(args) -> int:
     return doctor.run(program_specs(), display_problem(), strict_check=strict_verdict)
 
 
+def _accepted_dir():
+    """Where the strict check remembers the programs glslang accepted: beside the bakes."""
+    from .bakes.cache import default_cache_dir
+
+    return default_cache_dir() / "strict"
+
+
 def _strict_check(library, specs) -> int:
     """glslangValidator over every preprocessed stage (app.gpu.strict); the failures."""
     from .gpu import strict
@@ -676,7 +683,7 @@ def _strict_check(library, specs) -> int:
         print(f"strict: {strict.VALIDATOR} is not installed, so the strict check did not run "
               "(Debian: apt-get install glslang-tools; macOS: brew install glslang)")
         return 0
-    results = strict.check_programs(library, specs, validator)
+    results = strict.check_programs(library, specs, validator, accepted_dir=_accepted_dir())
     stages = sum(r.stages for r in results)
     bad = [r for r in results if not r.ok]
     for r in bad:

@@ -11,10 +11,21 @@ AMD's driver also uses) go through the library's ``#line`` table back to ``glsl/
 The stages are compiled and linked together in one run (``-l``), so an interface mismatch
 between stages is caught as well; only when that run fails is each stage compiled on its own,
 to say which file and line are to blame.
+
+Where the caller gives a folder (``accepted_dir``; the command line gives
+``<bake cache>/strict``), a program glslang accepted is remembered there (:class:`Accepted`: an
+empty file named by the SHA-256 of the validator's identity — its path, size and
+modification time — its arguments and every stage's preprocessed bytes), so the same bytes are
+not judged again by the same binary: ``natura doctor`` and ``natura shaders check --strict``
+run the same ~240 stages, at ~45 ms of process start and built-in symbol tables per program.
+Only acceptances are kept (a rejection is always rerun, for its messages and lines); a cache
+that cannot be read or written is no cache.
 """
 
 from __future__ import annotations
 
+import hashlib
+import os
 import re
 import shutil
 import subprocess
@@ -77,8 +88,10 @@ def _messages(output: str) -> str:
 
 
 def check_program(library: ShaderLibrary, spec: ProgramSpec,
-                  validator: str | None = None) -> StrictResult:
-    """glslang's verdict on every stage of ``spec`` and on their link."""
+                  validator: str | None = None, accepted_dir: Path | None = None
+                  ) -> StrictResult:
+    """glslang's verdict on every stage of ``spec`` and on their link (remembered in
+    ``accepted_dir`` when it accepts them, and not asked again there)."""
     validator = validator or validator_path()
     if validator is None:
         raise FileNotFoundError(f"{VALIDATOR} is not installed (Debian: glslang-tools)")
@@ -99,9 +112,14 @@ def check_program(library: ShaderLibrary, spec: ProgramSpec,
         if result.errors or not stages:
             return result
         # one run compiles and links every stage; only a failure is looked at stage by stage
-        linked = _run([validator, *(["-l"] if len(stages) > 1 else []),
-                       *(str(copy) for _, copy, _ in stages)])
+        flags = ["-l"] if len(stages) > 1 else []
+        accepted = Accepted(accepted_dir, validator, flags,
+                            [(copy.name, copy.read_bytes()) for _, copy, _ in stages])
+        if accepted.known():
+            return result
+        linked = _run([validator, *flags, *(str(copy) for _, copy, _ in stages)])
         if linked is None:
+            accepted.remember()
             return result
         for path, copy, sources in stages:
             out = _run([validator, str(copy)]) if len(stages) > 1 else linked
@@ -117,6 +135,40 @@ def check_program(library: ShaderLibrary, spec: ProgramSpec,
     return result
 
 
+class Accepted:
+    """Whether ``validator`` run with ``flags`` on these (file name, bytes) stages is known in
+    ``directory`` to accept them (see the module docstring; None: nothing is known);
+    :meth:`remember` records that it did."""
+
+    def __init__(self, directory: Path | None, validator: str, flags: list[str],
+                 stages: list[tuple[str, bytes]]):
+        self.path: Path | None = None
+        if directory is None:
+            return
+        try:
+            st = os.stat(validator)
+        except OSError:
+            return
+        h = hashlib.sha256(repr((os.path.realpath(validator), st.st_size, st.st_mtime_ns,
+                                 flags)).encode())
+        for name, data in stages:
+            h.update(b"\0%d:%s\0" % (len(data), name.encode()))
+            h.update(data)
+        self.path = directory / h.hexdigest()
+
+    def known(self) -> bool:
+        return self.path is not None and self.path.is_file()
+
+    def remember(self) -> None:
+        if self.path is None:
+            return
+        try:  # an empty file: created whole or not at all
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self.path.touch()
+        except OSError:
+            pass
+
+
 def _run(argv: list[str]) -> str | None:
     """None when glslang accepts the input; its output when it does not."""
     try:
@@ -129,9 +181,11 @@ def _run(argv: list[str]) -> str | None:
 
 
 def check_programs(library: ShaderLibrary, specs: Iterable[ProgramSpec],
-                   validator: str | None = None, workers: int = 4) -> list[StrictResult]:
+                   validator: str | None = None, workers: int = 4,
+                   accepted_dir: Path | None = None) -> list[StrictResult]:
     """:func:`check_program` over ``specs`` (a few at a time: each is a few processes)."""
     validator = validator or validator_path()
     specs = list(specs)
     with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
-        return list(pool.map(lambda s: check_program(library, s, validator), specs))
+        return list(pool.map(lambda s: check_program(library, s, validator, accepted_dir),
+                             specs))
