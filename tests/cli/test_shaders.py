@@ -121,3 +121,31 @@ def test_an_unknown_program_is_named(tmp_path):
     r = natura("shaders", "check", "sky/skyy", cwd=tmp_path)
     assert r.returncode == 2 and "'sky/skyy'" in r.stderr and "allowed" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.skipif(shutil.which("glslangValidator") is None, reason=GLSLANG_SKIP)
+def test_an_accepted_program_is_not_judged_again_and_a_changed_byte_is(tmp_path, monkeypatch):
+    """The strict check remembers acceptances only: the same bytes by the same validator are
+    not run again; an edited stage, another folder or a rejection is."""
+    from app.effects.sky.effect import SKY
+    from app.gpu import strict
+    from app.gpu.shaders import ShaderLibrary
+
+    runs = []
+    real_run = strict._run
+    monkeypatch.setattr(strict, "_run", lambda argv: runs.append(argv) or real_run(argv))
+    copy = tmp_path / "my-shaders"
+    shutil.copytree(DEFAULT_SHADER_ROOT, copy)
+    library = ShaderLibrary(None, copy)
+    seen = tmp_path / "accepted"
+    assert strict.check_program(library, SKY, accepted_dir=seen).ok and len(runs) == 1
+    assert len(list(seen.iterdir())) == 1
+    assert strict.check_program(library, SKY, accepted_dir=seen).ok and len(runs) == 1
+    assert strict.check_program(library, SKY).ok and len(runs) == 2  # no folder: judged
+    face = copy / "sky" / "sky.frag"
+    face.write_text(face.read_text().replace("void main() {", "void main() {\n    int n = 2.0;"))
+    for _ in range(2):  # a rejection is judged every time, for its lines
+        before = len(runs)
+        assert not strict.check_program(library, SKY, accepted_dir=seen).ok
+        assert len(runs) > before
+    assert len(list(seen.iterdir())) == 1
