@@ -8,7 +8,7 @@
 #
 #     tools/gpu_report.sh [--small] [--out DIR] [--wheels DIR]
 #
-#   --small        llvmpipe sizes (160x90 frames, one size per table): CI runs it
+#   --small        llvmpipe sizes (80x45 frames in two rounds, one size per table): CI runs it
 #   --out DIR      where the report goes (default gpu-report/)
 #   --wheels DIR   install from these wheels only (a GPU machine without a network: pip
 #                  download them beside the clone first, setuptools and wheel included);

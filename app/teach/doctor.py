@@ -50,14 +50,16 @@ class _Writer:
             print(f"{label if i == 0 else '':<{LABEL}} {line}", file=self.out)
 
 
-def paths_by_scene(caps) -> dict[str, list[tuple[str, str]]]:
-    """What → [(path, scenes)] over every scene's effects at the scenes' default parameters."""
+def paths_by_scene(caps, params_of: Callable | None = None) -> dict[str, list[tuple[str, str]]]:
+    """What → [(path, scenes)] over every scene's effects at the scenes' default parameters
+    (``params_of(scene)`` gives them where the caller has them declared already: the GPU
+    report opens its sessions with the same ones; else ``app.runtime.scene_params``)."""
     from ..runtime import scene_params
     from ..scenes import SCENES
 
     found: dict[str, dict[str, list[str]]] = {}
     for name, scene in SCENES.items():
-        params = scene_params(name)
+        params = (params_of or scene_params)(name)
         for effect in scene.effects:
             for what, how in effect.context_paths(caps, params).items():
                 found.setdefault(what, {}).setdefault(how, []).append(name)
