@@ -13,7 +13,6 @@ file, modify no file, and finish in time.
 
 from __future__ import annotations
 
-import hashlib
 import os
 import random
 import stat
@@ -299,27 +298,38 @@ def _good(argv: list[str]) -> bool:
 
 # ---- judging -------------------------------------------------------------------------------
 
-def snapshot(folder: Path) -> dict[str, str]:
-    """Relative path → content hash (regular files) or kind, for every entry under
-    ``folder`` (links not followed)."""
-    out: dict[str, str] = {}
-    for dirpath, dirnames, filenames in os.walk(folder):
-        for name in dirnames + filenames:
-            p = Path(dirpath) / name
-            rel = str(p.relative_to(folder))
-            st = p.lstat()
-            if stat.S_ISREG(st.st_mode):
-                try:
-                    out[rel] = hashlib.sha256(p.read_bytes()).hexdigest()
-                except PermissionError:
-                    out[rel] = f"unreadable {st.st_size} {st.st_mtime_ns}"
-            else:
-                out[rel] = f"kind {stat.S_IFMT(st.st_mode)}"
+def snapshot(folder: Path) -> dict[str, bytes | str]:
+    """Relative path → content (regular files: the bytes themselves, compared whole — a
+    fixture folder of ~2.3 MB reads and compares in a fifth of the time SHA-256 takes to hash
+    it, and no two contents can collide) or kind, for every entry under ``folder`` (links not
+    followed)."""
+    out: dict[str, bytes | str] = {}
+
+    def walk(where: str, prefix: str) -> None:
+        with os.scandir(where) as entries:
+            for entry in entries:
+                rel = prefix + entry.name
+                st = entry.stat(follow_symlinks=False)
+                if stat.S_ISREG(st.st_mode):
+                    try:
+                        with open(entry.path, "rb") as f:
+                            out[rel] = f.read()
+                    except PermissionError:
+                        out[rel] = f"unreadable {st.st_size} {st.st_mtime_ns}"
+                else:
+                    out[rel] = f"kind {stat.S_IFMT(st.st_mode)}"
+                    if stat.S_ISDIR(st.st_mode):
+                        try:
+                            walk(entry.path, rel + os.sep)
+                        except PermissionError:  # as os.walk: an unlistable folder's entries
+                            pass                 # are not seen
+
+    walk(os.fspath(folder), "")
     return out
 
 
-def judge(rc: int | None, stdout: str, stderr: str, before: dict[str, str],
-          after: dict[str, str]) -> list[str]:
+def judge(rc: int | None, stdout: str, stderr: str, before: dict[str, bytes | str],
+          after: dict[str, bytes | str]) -> list[str]:
     """The problems of one answer, by category: hang, crash, exit0, exit, stdout, lines, long,
     prefix, allowed, clobbered, temp_left, written."""
     problems = []

@@ -73,17 +73,23 @@ def main() -> int:
     spec = json.loads(Path(sys.argv[1]).read_text())
     resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
     fixtures = Path(spec["fixtures"])
+    # the fixtures after one case are the fixtures before the next (nothing else runs between
+    # them): one snapshot of them per case, and a change that lands between two cases is still
+    # seen, by the next one
+    fx_now = None
     with open(sys.argv[2], "a", encoding="utf-8") as results:
         for i, case in enumerate(spec["cases"]):
             if i < spec.get("start", 0):
                 continue
             cwd = Path(case["cwd"])
-            before = {**{f"fx/{k}": v for k, v in snapshot(fixtures).items()},
-                      **snapshot(cwd)}
+            if fx_now is None:
+                fx_now = {f"fx/{k}": v for k, v in snapshot(fixtures).items()}
+            before = {**fx_now, **snapshot(cwd)}
             results.write(json.dumps({"i": i, "started": True}) + "\n")
             results.flush()
             rc, out, err, seconds = run_case(case["argv"], cwd)
-            after = {**{f"fx/{k}": v for k, v in snapshot(fixtures).items()}, **snapshot(cwd)}
+            fx_now = {f"fx/{k}": v for k, v in snapshot(fixtures).items()}
+            after = {**fx_now, **snapshot(cwd)}
             problems = judge(rc, out, err, before, after)
             results.write(json.dumps({"i": i, "rc": rc, "problems": problems,
                                       "stderr": err[:400], "stdout": out[:200],
