@@ -370,7 +370,8 @@ class ProbeFloat:
     def target(self, body: RigidBody, water: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(averaged normal, averaged displacement, target orientation) at the current pose."""
         p = body.to_world(self.floating_points)
-        normal, disp = floating_points_pose(water.water, p[:, 0], p[:, 2], self.probe_distance)
+        normal, disp = floating_points_pose(water.water, p[:, 0], p[:, 2], self.probe_distance,
+                                            getattr(water, "height", None))
         fwd = body.rotation[:, 2]
         yaw = math.atan2(fwd[0], fwd[2]) if math.hypot(fwd[0], fwd[2]) > 1e-9 else 0.0
         q = quat_multiply(quat_between((0.0, 1.0, 0.0), normal),
