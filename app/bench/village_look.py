@@ -89,12 +89,17 @@ def run(gpu, quick: bool = False) -> dict:
             s.params.set("village.camera", "free")
             return s
 
-        probe = session([])
-        sessions["probe"] = probe
+        # the probe is the toon look's session (the scene's own look): its debug views give
+        # the mask, then, back to the image, it renders the toon look — one village session
+        # (and its first-frame bakes) fewer, the same image as a session of its own
+        probe = session(LOOKS["toon"])
+        sessions["toon"] = probe
+        image_view = probe.params["village.debug"]
         probe.params.set("village.debug", "groups")
         groups = next(render_frames(probe, size))[..., :3]
         probe.params.set("village.debug", "shadow")
         shadow = next(render_frames(probe, size))[..., 0]
+        probe.params.set("village.debug", image_view)
         objects = np.zeros(groups.shape[:2], bool)
         for g in OBJECT_GROUPS:
             objects |= np.all(np.abs(groups - group_colour(g)) < 1e-3, axis=-1)
@@ -104,8 +109,9 @@ def run(gpu, quick: bool = False) -> dict:
         out["tonemap"] = probe.params["output.tonemap"]
         out["by_tonemap"] = {}
         for name, sets in LOOKS.items():
-            s = session(sets)
-            sessions[name] = s
+            if name not in sessions:
+                sessions[name] = session(sets)
+            s = sessions[name]
             image = next(render_frames(s, size))[..., :3]
             for tm in dict.fromkeys((out["tonemap"], *TONEMAPS)):
                 srgb = to_srgb8(image, s.scene.exposure(), tm)
