@@ -44,6 +44,10 @@ MAX_BUDGET_MS = 100_000.0
 FPS_RANGE = (0.001, 1000.0)
 #: ``natura bench SCENE``'s default untimed runs and timed rounds
 BENCH_WARMUP, BENCH_REPEAT = 3, 15
+#: a short run (``--repeat`` at most this) warms up once by default: one untimed run compiles
+#: the programs and fills the bakes and caches a timed run reads, and further warm-ups would
+#: be as many runs as the few timed ones asked for
+SHORT_REPEAT = 3
 #: the benches that are not scenes (app.bench.NUMPY_BENCHES, named here so that --help does not
 #: import the bench package) and what each measures
 NUMPY_BENCH_NAMES = {"boat": "the floating boat's physics and the sailing speed polar"}
@@ -268,7 +272,8 @@ def build_parser() -> argparse.ArgumentParser:
                    + ", ".join(NUMPY_BENCH_NAMES))
     _add_scene_options(b)
     b.add_argument("--warmup", type=_int_in("--warmup", 0, MAX_WARMUP), default=None,
-                   help=f"untimed runs first, 0..{MAX_WARMUP} (default {BENCH_WARMUP})")
+                   help=f"untimed runs first, 0..{MAX_WARMUP} (default {BENCH_WARMUP}; 1 "
+                   f"with --repeat {SHORT_REPEAT} or fewer)")
     b.add_argument("--repeat", type=_int_in("--repeat", 1, MAX_REPEAT), default=None,
                    help=f"timed rounds (every pass once per round, shuffled; the median and "
                    f"quartiles are reported), 1..{MAX_REPEAT} (default {BENCH_REPEAT}, fewer — "
@@ -799,8 +804,11 @@ def cmd_bench(args) -> int:
         raise UsageError(f"bench {args.scene}: --quick is for the numpy benches "
                          f"({', '.join(NUMPY_BENCHES)}): allowed with a scene --repeat N and "
                          "--warmup N for a shorter run, --no-sweep to skip its sweeps")
-    warmup = BENCH_WARMUP if args.warmup is None else args.warmup
     repeat = BENCH_REPEAT if args.repeat is None else args.repeat
+    if args.warmup is not None:
+        warmup = args.warmup
+    else:
+        warmup = 1 if args.repeat is not None and args.repeat <= SHORT_REPEAT else BENCH_WARMUP
     params, camera, size = _session_inputs(args, args.scene)
     mesh = _user_mesh(args, args.scene)
     if args.size is None:

@@ -119,8 +119,8 @@ def gpu_significant_height(gpu):
 # ---- timing ----------------------------------------------------------------------------------
 
 def _frame_ms(session, size, warmup: int, repeat: int) -> float:
-    """Median ms of ``scene.frame(size, dt=1/30)`` + ``scene.render``; one untimed frame first
-    (it builds what a configuration change made stale)."""
+    """Median ms of ``scene.frame(size, dt=1/30)`` + ``scene.render``; ``warmup`` untimed frames
+    first, at least one (it builds what a configuration change made stale)."""
     gpu = session.gpu
     target = gpu.target("bench", "ocean frame", tuple(size))
     try:
@@ -128,7 +128,7 @@ def _frame_ms(session, size, warmup: int, repeat: int) -> float:
             session.scene.render(session.scene.frame(tuple(size), DT), target)
 
         one()
-        return time_call(gpu.ctx, "frame", one, warmup, repeat).median_ms
+        return time_call(gpu.ctx, "frame", one, max(0, warmup - 1), repeat).median_ms
     finally:
         gpu.free(target)
 

@@ -48,17 +48,25 @@ def _set_view(session, view: str) -> None:
     session.scene.camera.set(position=v["position"], yaw=v["yaw"], pitch=v["pitch"], fov=v["fov"])
 
 
-def _frame_ms(session, size, warmup, repeat, scattering_only: bool = False) -> float:
-    """Median ms of a whole frame, or of the scattering pass alone (the part the methods change)."""
+def _frame_ms(session, size, warmup, repeat, scattering_only: bool = False,
+              both: bool = False):
+    """Median ms of a whole frame, or of the scattering pass alone (the part the methods change);
+    with ``both``, (frame ms, scattering ms), each timed as it would be alone, after one build.
+    The first of the ``warmup`` untimed runs is a whole frame, which builds what the knob just
+    changed (at least that one runs: the LUTs, the shadow map and the G-buffer at this size)."""
     gpu = session.gpu
     eff = session.scene.effect("planet")
     target = gpu.target("bench", "planet frame", size)
     try:
         frame = session.scene.frame(size)
         session.scene.render(frame, target)  # builds LUTs, shadow map, G-buffer at this size
-        run = (lambda: eff.render_composite(frame, target)) if scattering_only else \
-            (lambda: session.scene.render(frame, target))
-        return time_call(gpu.ctx, "frame", run, warmup, repeat).median_ms
+        runs = {"frame": lambda: session.scene.render(frame, target),
+                "scattering": lambda: eff.render_composite(frame, target)}
+        parts = ("frame", "scattering") if both else \
+            ("scattering",) if scattering_only else ("frame",)
+        ms = [time_call(gpu.ctx, part, runs[part], _warmup_after_build(warmup),
+                        repeat).median_ms for part in parts]
+        return tuple(ms) if both else ms[0]
     finally:
         gpu.free(target)
 
@@ -73,9 +81,9 @@ def thesis_table(session, sizes=DEFAULT_SIZES, warmup: int = 2, repeat: int = 5,
             cell, scatter = {}, {}
             for method in methods:
                 p.set("planet.method", method)
-                cell[method] = _frame_ms(session, tuple(size), warmup, repeat)
-                scatter[method] = _frame_ms(session, tuple(size), warmup, repeat,
-                                            scattering_only=True)
+                # one build for both (the same method, view and size)
+                cell[method], scatter[method] = _frame_ms(session, tuple(size), warmup, repeat,
+                                                          both=True)
             base, base_s = cell["brute_force"], scatter["brute_force"]
             for method in methods:
                 rows.append({"view": view, "size": list(size), "method": method, "ms": cell[method],
@@ -253,7 +261,8 @@ def _diff(before: np.ndarray, after: np.ndarray) -> dict:
 
 def _variants(session, size, settings: dict, scattering_only: bool = False) -> tuple:
     """({name: run}, cleanup): each run sets its parameters and renders one frame (or the
-    scattering pass alone) of the current view at ``size``."""
+    scattering pass alone) of the current view at ``size``. Each variant renders one whole
+    frame here, untimed: the first of its warm-up runs (:func:`_warmup_after_build`)."""
     gpu = session.gpu
     eff = session.scene.effect("planet")
     p = session.params
@@ -274,6 +283,12 @@ def _variants(session, size, settings: dict, scattering_only: bool = False) -> t
                 session.scene.render(frame, target)
         runs[name] = run
     return runs, (lambda: gpu.free(target))
+
+
+def _warmup_after_build(warmup: int) -> int:
+    """The warm-up runs left to do after the untimed frame that built a variant (it is the
+    first of ``warmup``)."""
+    return max(0, warmup - 1)
 
 
 def _ratio(timed, a: str, b: str) -> dict:
@@ -306,7 +321,7 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
         _set_view(session, "ground")
         runs, done = _variants(session, size, shadow)
         try:
-            timed = time_interleaved(session.gpu.ctx, runs, warmup, rounds)
+            timed = time_interleaved(session.gpu.ctx, runs, _warmup_after_build(warmup), rounds)
         finally:
             done()
         out["shadow_compare"] = {"method": "shadowed", "view": "ground",
@@ -338,7 +353,7 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
         for part, only in (("frame", False), ("scattering", True)):
             runs, done = _variants(session, size, noise, scattering_only=only)
             try:
-                timed = time_interleaved(session.gpu.ctx, runs, warmup, rounds)
+                timed = time_interleaved(session.gpu.ctx, runs, _warmup_after_build(warmup), rounds)
             finally:
                 done()
             result[part] = {

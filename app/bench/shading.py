@@ -217,8 +217,9 @@ def parallax_sweep(session, size, warmup: int, repeat: int, angles=ANGLES,
                 run()
                 images[key] = target.read()
             mask = target.read_depth() < 1.0
-            timed = time_interleaved(gpu.ctx, variants, warmup, repeat, budget_s=SET_BUDGET_S,
-                                     min_rounds=min(3, max(1, repeat)))
+            # the run for its image above is each variant's first untimed run
+            timed = time_interleaved(gpu.ctx, variants, max(0, warmup - 1), repeat,
+                                     budget_s=SET_BUDGET_S, min_rounds=min(3, max(1, repeat)))
             ref_img = images["reference"]
             for key, e in entries.items():
                 p25, med, p75 = timed.quartiles(key)
