@@ -1,8 +1,10 @@
-"""The village's VR bench section (app/bench/village_vr.py), quick, once: a mono frame against
-the stereo pair at render scales 0.5, 0.75 and 1 on the village scene, interleaved — the
-figures are finite and consistent (the ratio is stereo over mono of the same rounds, the eyes'
-pixels are S² of the frame's, a smaller eye texture costs no more than the full one), the
-caller's scene is left intact, the summary names every variant and the chart is a PNG."""
+"""The village's VR bench section (app/bench/village_vr.py), quick: a mono frame against the
+stereo pair at render scales 0.5, 0.75 and 1 on the village scene, interleaved — the figures
+are finite and consistent (the ratio is stereo over mono of the same rounds, the eyes' pixels
+are S² of the frame's, a smaller eye texture costs no more than the full one), the summary
+names every variant and the chart is a PNG: the section as the README's `natura bench village`
+example wrote it (run once per test run, tests/helpers/readme.py). The caller's scene is left
+intact: a run of the section, on a tiny frame, between two renders of a village session."""
 
 from __future__ import annotations
 
@@ -15,20 +17,22 @@ from PIL import Image
 
 from app.bench import village_vr
 from app.runtime import open_session, render_frames, scene_params
+from tests.helpers.readme import lane_fixture, village_section
+
+#: the section's run between the caller's two renders: what it does to the caller's scene does
+#: not depend on the size, the scales or the rounds (two scales: the eye targets are remade)
+TINY = {"size": (32, 18), "scales": (0.5, 1.0), "rounds": 1, "budget_s": 0.0, "min_rounds": 1}
 
 
 @pytest.fixture(scope="module")
-def bench(gl_ctx):
-    session = open_session("village", scene_params("village"), ctx=gl_ctx)
-    before = next(render_frames(session, (32, 18)))
-    report = village_vr.run(session.gpu, quick=True)
-    after = next(render_frames(session, (32, 18)))
-    yield report, before, after
-    session.release()
+@lane_fixture
+def report(tmp_path_factory):
+    """The section as the README's `natura bench village` example wrote it: what a user's JSON
+    holds."""
+    return village_section(tmp_path_factory, "vr")
 
 
-def test_the_figures_are_finite_and_consistent(bench):
-    report, _, _ = bench
+def test_the_figures_are_finite_and_consistent(report):
     json.dumps(report)  # JSON-serialisable
     assert report["scene"] == "village" and report["size"] == [160, 90] and report["quick"]
     assert report["rounds"] >= 3
@@ -53,14 +57,23 @@ def test_the_figures_are_finite_and_consistent(bench):
         assert 0 <= maps["mono"] <= 1 and all(maps[k] <= 2 for k in maps)
 
 
-def test_the_callers_scene_is_left_intact(bench):
-    _, before, after = bench
+@pytest.mark.slow  # a village session and the section's own village scene: a few seconds
+def test_the_callers_scene_is_left_intact(gl_ctx):
+    session = open_session("village", scene_params("village"), ctx=gl_ctx)
+    try:
+        before = next(render_frames(session, (32, 18)))
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(village_vr, "QUICK", TINY)
+            tiny = village_vr.run(session.gpu, quick=True)
+        after = next(render_frames(session, (32, 18)))
+    finally:
+        session.release()
+    assert tiny["size"] == [32, 18] and [r["scale"] for r in tiny["stereo"]] == [0.5, 1.0]
     assert np.isfinite(after).all()
     assert np.abs(after - before).max() < 1e-4
 
 
-def test_summary_and_chart(bench, tmp_path):
-    report, _, _ = bench
+def test_summary_and_chart(report, tmp_path):
     lines = village_vr.summary(report)
     assert len(lines) in (4, 5) and "mono" in lines[0]
     assert all(f"scale {s:g}" in " ".join(lines) for s in (0.5, 0.75, 1.0))
