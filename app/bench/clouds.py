@@ -68,15 +68,19 @@ def _layer(session, size) -> np.ndarray:
 
 
 def _steady_frame_ms(session, size, warmup: int, repeat: int) -> tuple[float, np.ndarray]:
-    """ms per frame once reprojection (if on) has a full history; and the layer after it."""
+    """ms per frame once reprojection (if on) has a full history; and the layer after it.
+    Without reprojection the one frame before the history's place is the first of the
+    ``warmup`` untimed runs (it builds what the configuration changed; the layer it leaves is
+    the one every later frame leaves)."""
     gpu = session.gpu
     target = gpu.target("bench", "clouds frame", size)
+    reprojecting = session.params["clouds.reprojection"] != "off"
     try:
         frame = session.scene.frame(size)
-        for _ in range(17 if session.params["clouds.reprojection"] != "off" else 1):
+        for _ in range(17 if reprojecting else 1):
             session.scene.render(frame, target)  # fill the history (static camera, wind 0)
-        ms = time_call(gpu.ctx, "frame", lambda: session.scene.render(frame, target), warmup,
-                       repeat).median_ms
+        ms = time_call(gpu.ctx, "frame", lambda: session.scene.render(frame, target),
+                       warmup if reprojecting else max(0, warmup - 1), repeat).median_ms
         return ms, _layer(session, size)
     finally:
         gpu.free(target)
@@ -198,10 +202,10 @@ def default_change(session, sizes=((160, 90), (320, 180)), warmup: int = 1, roun
                     session.scene.render(frame, target)
 
                 variants[name] = run
-                run()
+                run()  # its error, and the first of its untimed runs
                 d = np.abs(_layer(session, size) - ref).max(axis=-1)
                 errors[name] = {"mean": float(d.mean()), "p99": float(np.percentile(d, 99))}
-            timed = time_interleaved(gpu.ctx, variants, warmup, rounds)
+            timed = time_interleaved(gpu.ctx, variants, max(0, warmup - 1), rounds)
         finally:
             gpu.free(target)
         out.append({"size": list(size), "rounds": timed.rounds,
