@@ -23,15 +23,24 @@ what it needs from others comes through the frame's slots.
 
 from __future__ import annotations
 
+import copy
+from collections import OrderedDict
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, ClassVar
+from typing import TYPE_CHECKING, Any, Callable, ClassVar
 
 from ..errors import NaturaError
 from ..frame import Stage
 from ..gpu.cache import Keyed
 from ..gpu.programs import ProgramSpec
-from ..gpu.shaders import PreprocessError, ShaderError, ShaderLibrary, SourceError, read_source
+from ..gpu.shaders import (
+    PreprocessError,
+    ShaderError,
+    ShaderLibrary,
+    SourceError,
+    _stamp,  # the stamp the library's live reload compares
+    read_source,
+)
 from ..params import Param, ParamSet, parse_glsl_annotations
 
 if TYPE_CHECKING:
@@ -39,6 +48,12 @@ if TYPE_CHECKING:
     from ..gpu.context import Caps
     from ..gpu.device import Gpu
     from ..gpu.targets import RenderTarget
+
+
+#: :meth:`Effect.glsl_params` memoised: (class, …, shader root) → (stamps, stage files, params);
+#: the most recently used entries (a test making many shader roots does not grow it unbounded)
+_GLSL_PARAMS: OrderedDict[tuple, tuple[dict, list, list]] = OrderedDict()
+_GLSL_PARAMS_KEPT = 256
 
 
 @dataclass
@@ -73,18 +88,46 @@ class Effect:
 
     @classmethod
     def shader_files(cls, library: ShaderLibrary) -> list[Path]:
+        return cls._shader_sources(library)[0]
+
+    @classmethod
+    def _shader_sources(cls, library: ShaderLibrary) -> tuple[list[Path], dict[Path, Any],
+                                                             list[dict[str, Path]]]:
+        """(every file the programs include, the stamp of each file the preprocessor read or
+        looked for, each program's stage files)."""
         files: list[Path] = []
+        stamps: dict[Path, Any] = {}
+        stage_maps: list[dict[str, Path]] = []
         for spec in cls.programs:
             try:
-                stages = library.stage_files(spec.name, **spec.stages()).values()
+                stages = library.stage_files(spec.name, **spec.stages())
             except NaturaError:  # a stage file renamed away while the window runs
+                stage_maps.append({})
                 continue
-            for path in stages:
+            stage_maps.append(stages)
+            for path in stages.values():
                 try:
-                    files.extend(library.preprocess(path, dict(spec.defines)).files)
+                    src = library.preprocess(path, dict(spec.defines))
+                    files.extend(src.files)
+                    stamps.update(src.stamps)
                 except PreprocessError as exc:
                     files.extend(exc.files)
-        return list(dict.fromkeys(files))
+                    stamps.update(exc.stamps)
+        return list(dict.fromkeys(files)), stamps, stage_maps
+
+    @classmethod
+    def _sources_unchanged(cls, library: ShaderLibrary, stamps: dict[Path, Any],
+                           stage_maps: list[dict[str, Path]]) -> bool:
+        """Whether what :meth:`_shader_sources` found still holds: the same stage files, and
+        every file read or looked for with its stamp (content hash included) unchanged."""
+        for spec, stages in zip(cls.programs, stage_maps):
+            try:
+                if library.stage_files(spec.name, **spec.stages()) != stages:
+                    return False
+            except NaturaError:
+                if stages:
+                    return False
+        return all(_stamp(path) == stamp for path, stamp in stamps.items())
 
     @classmethod
     def glsl_params(cls, library: ShaderLibrary,
@@ -92,9 +135,33 @@ class Effect:
         """Parameters from ``// @param`` annotations in every file the programs include. A
         malformed annotation raises :class:`~app.errors.ParamError` naming its file and line;
         with a ``problems`` list it is skipped and listed there instead. Files that cannot be
-        read as text are skipped (the compile reports them)."""
+        read as text are skipped (the compile reports them).
+
+        Without ``problems`` (declaring a scene's parameters) the result is memoised per
+        effect class and shader root while every file the preprocessor read or looked for
+        keeps its stamp (content hash included) and every program its stage files:
+        preprocessing every program of a scene is most of ``scene_params`` (~80 ms a scene),
+        paid again by every session a process opens. Each call gets its own copies of the
+        :class:`Param` objects."""
+        if problems is not None:
+            return cls._parse_glsl_params(library, problems)
+        key = (cls, cls.name, cls.spec, cls.programs, library.root)
+        held = _GLSL_PARAMS.get(key)
+        if held is not None and cls._sources_unchanged(library, held[0], held[1]):
+            _GLSL_PARAMS.move_to_end(key)
+            return [copy.copy(p) for p in held[2]]
+        files, stamps, stage_maps = cls._shader_sources(library)
+        params = cls._parse_glsl_params(library, None, files)
+        _GLSL_PARAMS[key] = (stamps, stage_maps, [copy.copy(p) for p in params])
+        while len(_GLSL_PARAMS) > _GLSL_PARAMS_KEPT:
+            _GLSL_PARAMS.popitem(last=False)
+        return params
+
+    @classmethod
+    def _parse_glsl_params(cls, library: ShaderLibrary, problems: list[ShaderError] | None,
+                           files: list[Path] | None = None) -> list[Param]:
         out: dict[str, Param] = {}
-        for path in cls.shader_files(library):
+        for path in cls.shader_files(library) if files is None else files:
             try:
                 text = read_source(path)
             except SourceError:
