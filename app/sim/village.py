@@ -225,6 +225,10 @@ class Island:
         self.resolution = resolution
         self.layout = layout or default_layout()
         self.bounds = (-HALF, -HALF, HALF, HALF)
+        #: what names this island's content for builds shared across sessions (grass roots,
+        #: the meadow's area; ``app.gpu.cache.MEMO``): set by :func:`default_island`, whose
+        #: islands are never written; None for any other island
+        self.memo_key: tuple | None = None
         self.sea_level = SEA_LEVEL
         self.revision = resolution
         self.cell = 2.0 * HALF / (resolution - 1)
@@ -323,4 +327,6 @@ class Island:
 def default_island(resolution: int = 193) -> Island:
     """The village's island at ``resolution``, made once per process (it is never written: every
     session of the scene shares it)."""
-    return Island(resolution)
+    island = Island(resolution)
+    island.memo_key = ("default island", resolution)
+    return island

@@ -47,6 +47,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
+from ...gpu.cache import build_mipmaps, memoised
 from ...params import Inspector, Param
 from ...render.shadow_maps import bind_published
 from ...sim import grass as gs
@@ -211,6 +212,10 @@ class Grass(Effect):
         """The placed roots (blades, 3), rebuilt when the terrain, the count or the seed
         change."""
         blades, seed = int(self.params["grass.blades"]), int(self.params["grass.seed"])
+        shared = getattr(terrain, "memo_key", None)
+        if shared is not None:  # a terrain every session shares: placed once per process
+            return memoised(("grass roots", shared, blades, seed),
+                            lambda: gs.sample_roots(terrain, blades, seed))
         self._placing = (terrain, blades, seed)
         return self._roots.get((*self._terrain_key(terrain), blades, seed))
 
@@ -218,13 +223,21 @@ class Grass(Effect):
         """The meadow's area [m²]: ∫ grass_density over the meadow's cells."""
         key = self._terrain_key(terrain)
         if self._meadow is None or self._meadow[0] != key:
-            corners, cell = gs.meadow_cells(terrain)
-            area = 0.0
-            if len(corners):
-                c = corners + cell / 2.0
-                area = float(np.sum(terrain.grass_density(c[:, 0], c[:, 1]))) * cell * cell
+            shared = getattr(terrain, "memo_key", None)
+            if shared is not None:
+                area = memoised(("meadow area", shared), lambda: self._meadow_area(terrain))
+            else:
+                area = self._meadow_area(terrain)
             self._meadow = (key, area)
         return self._meadow[1]
+
+    @staticmethod
+    def _meadow_area(terrain) -> float:
+        corners, cell = gs.meadow_cells(terrain)
+        if not len(corners):
+            return 0.0
+        c = corners + cell / 2.0
+        return float(np.sum(terrain.grass_density(c[:, 0], c[:, 1]))) * cell * cell
 
     # -- frame -----------------------------------------------------------------------------
     def update(self, frame, dt: float) -> None:
@@ -246,11 +259,11 @@ class Grass(Effect):
     def atlas(self):
         """The three generated tufts side by side, mipmapped."""
         if self._atlas is None:
-            data = gs.tuft_atlas()
+            data = memoised(("tuft atlas", 128), gs.tuft_atlas)
             h, w = data.shape[:2]
             tex = self.gpu.texture(self.owner, "tufts", (w, h), 4, data=data.tobytes(),
                                    dtype="f4")
-            tex.build_mipmaps()
+            build_mipmaps(tex)
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
             tex.repeat_x = tex.repeat_y = False
             self._atlas = tex

@@ -40,6 +40,7 @@ import moderngl
 import numpy as np
 
 from ...frame import ShadowMap, Stage
+from ...gpu.cache import build_mipmaps, memoised
 from ...gpu.programs import ProgramSpec, draw_fullscreen
 from ...params import Param
 from ...render.shadow_maps import render_depth_pass
@@ -349,7 +350,7 @@ class Planet(Effect):
                              dtype="f1", repeat=True),
         )
         for tex in self._textures:
-            tex.build_mipmaps()
+            build_mipmaps(tex)
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
         from ...bakes.cache import default_cache_dir
         from ...sim.textures import cached_texture
@@ -375,7 +376,10 @@ class Planet(Effect):
 
     def _build_lut(self, key):
         size = key[-2:]
-        data = atm.OpticalDepthLut(self.model(), n_height=size[1], n_angle=size[0]).table
+        # the table depends on the model only through its lut_key (the contract of the key):
+        # one build per process, not per session
+        data = memoised(("optical depth LUT", key), lambda: atm.OpticalDepthLut(
+            self.model(), n_height=size[1], n_angle=size[0]).table)
         lut = self.gpu.texture(self.name, "optical depth LUT", size, 2, data.astype("f4").tobytes(),
                                dtype="f4")
         lut.repeat_x = lut.repeat_y = False

@@ -20,6 +20,7 @@ import moderngl
 
 from ... import RESOURCES
 from ...frame import Stage
+from ...gpu.cache import build_mipmaps
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim.daynight import DEFAULT_SUN_EXTINCTION, DayNight, Keyframes
@@ -204,7 +205,7 @@ class Sky(Effect):
         cube = self._cubes[sun].get(self.params["sky.cubemap_size"])
         key = self.environment_key()
         if force or key != self._cube_rendered[sun]:
-            self._render_cubemap(cube, sun=sun)
+            self._render_cubemap(cube, sun=sun, first=self._cube_rendered[sun] is None)
             self._cube_rendered[sun] = key
             self.environment_renders += 1
         return cube
@@ -220,7 +221,12 @@ class Sky(Effect):
         self._cube_rendered[sun] = None
         return cube
 
-    def _render_cubemap(self, cube, use_compute: bool | None = None, sun: bool = True) -> None:
+    def _render_cubemap(self, cube, use_compute: bool | None = None, sun: bool = True,
+                        first: bool = False) -> None:
+        """Render the sky into ``cube`` and build its mip levels. The ``first`` render of a
+        session's cube takes its levels from :func:`app.gpu.cache.build_mipmaps` (a session
+        that drew the same sky left them there; generating them costs a new context ~130 ms);
+        later renders, whose sky moved on, generate them."""
         size = cube.size[0]
         ctx = self.gpu.ctx
         if use_compute is None:
@@ -250,7 +256,10 @@ class Sky(Effect):
                         self.gpu.copy_to_cube_face(cube, face, 0, size)
                 finally:
                     self.gpu.free(face_target)
-        cube.build_mipmaps()
+        if first:
+            build_mipmaps(cube)
+        else:
+            cube.build_mipmaps()
 
     def refresh_environment(self) -> None:
         """Re-render the cubemaps made so far whose sky changed (the environment stage)."""

@@ -34,6 +34,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
+from ...gpu.cache import build_mipmaps, memoised
 from ...gpu.programs import ProgramSpec
 from ...params import Param
 from ...render import shadows as shadow_module
@@ -267,14 +268,15 @@ class Surfaces(Effect):
             h, w = data.shape[:2]
             tex = self.gpu.texture(self.name, key, (w, h), data.shape[2], data=data.tobytes(),
                                    repeat=repeat)
-            tex.build_mipmaps()
+            build_mipmaps(tex)
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
             self._textures[key] = tex
         return self._textures[key]
 
     def alpha_texture(self, kind: str) -> moderngl.Texture:
-        return self._texture(f"alpha {kind}", lambda: surfaces_scene.alpha_texture(kind),
-                             repeat=False)
+        return self._texture(f"alpha {kind}", lambda: memoised(
+            ("alpha texture", kind, 256), lambda: surfaces_scene.alpha_texture(kind, 256)),
+            repeat=False)
 
     def _make_msaa(self, key):
         size, samples = key

@@ -43,6 +43,7 @@ import moderngl
 import numpy as np
 
 from ...errors import ParamError
+from ...gpu.cache import build_mipmaps
 from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim import reflections as rf
@@ -222,7 +223,10 @@ class ReflectionProbe:
             fbo.use()  # the caller's drawing may have bound another framebuffer
             self.gpu.copy_to_cube_face(self.cube, face, 0, size)
         ctx.disable(moderngl.DEPTH_TEST)
-        self.cube.build_mipmaps()
+        if self.captures == 0:  # the first capture: levels a session that saw the same left
+            build_mipmaps(self.cube)
+        else:
+            self.cube.build_mipmaps()
         ctx.finish()
         self.capture_ms = (time.perf_counter() - t0) * 1e3
         self.captures += 1

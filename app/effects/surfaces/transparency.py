@@ -42,6 +42,7 @@ from typing import Any, Sequence
 import moderngl
 import numpy as np
 
+from ...gpu.cache import build_mipmaps, memoised
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim import surfaces_scene as ss
@@ -267,10 +268,11 @@ class Transparency:
         return out
 
     def alpha_texture(self, kind: str, size: int = 256):
-        data = np.ascontiguousarray(ss.alpha_texture(kind, size), np.float32)
+        data = np.ascontiguousarray(memoised(("alpha texture", kind, size),
+                                             lambda: ss.alpha_texture(kind, size)), np.float32)
         tex = self.gpu.texture(self.owner, f"alpha {kind}", (size, size), 4, data=data.tobytes(),
                                dtype="f4")
-        tex.build_mipmaps()
+        build_mipmaps(tex)
         tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
         return tex
 

@@ -69,6 +69,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
+from ...gpu.cache import build_mipmaps, memoised
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Inspector, Param
 from ...render.environment import flat_environment
@@ -157,12 +158,12 @@ class ToonWater(Effect):
     def wave_normals(self) -> moderngl.Texture:
         """The tileable wave normal map (generated once), mipmapped and repeating."""
         if "normals" not in self._textures:
-            data = tw.wave_normal_map()
+            data = memoised(("toon water normals", tw.NORMAL_MAP_SIZE), tw.wave_normal_map)
             size = data.shape[0]
             tex = self.gpu.texture(self.name, "wave normals", (size, size), 4,
                                    data=np.ascontiguousarray(data).tobytes(), dtype="f4",
                                    repeat=True)
-            tex.build_mipmaps()
+            build_mipmaps(tex)
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
             tex.anisotropy = 1.0 if self.gpu.caps.software else 8.0
             self._textures["normals"] = tex

@@ -30,6 +30,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Npc, Stage
+from ...gpu.cache import build_mipmaps
 from ...gpu.copy import ColourCopy
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Inspector, Param
@@ -209,7 +210,7 @@ class Village(Effect):
             if nearest:
                 tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
             else:
-                tex.build_mipmaps()
+                build_mipmaps(tex)
                 tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
             self._textures[key] = tex
         return self._textures[key]

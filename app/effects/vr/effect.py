@@ -23,6 +23,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
+from ...gpu.cache import build_mipmaps
 from ...gpu.programs import ProgramSpec
 from ...params import Param
 from ...sim import vr as twin
@@ -146,7 +147,7 @@ class Vr(Effect):
                 tex = self.gpu.texture(self.name, f"{role} icon", (ICON_TEXELS, ICON_TEXELS),
                                        4, data=twin.marker_icon(role, ICON_TEXELS).tobytes(),
                                        filter=(moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR))
-                tex.build_mipmaps()
+                build_mipmaps(tex)
                 self._icons.append(tex)
         return self._icons
 
