@@ -552,18 +552,21 @@ class HydrostaticBuoyancy:
         if len(pieces) == 0:
             self.last = {"area": 0.0, "fraction": 0.0, "volume": 0.0, "pieces": 0}
             return np.zeros(3), np.zeros(3)
-        p0, p1, p2 = pieces[:, 0], pieces[:, 1], pieces[:, 2]
-        edges = pieces[:, 1:] - pieces[:, :1]  # p1 − p0 and p2 − p0 in one pass
-        av = 0.5 * cross(edges[:, 0], edges[:, 1])
+        # corner-major (3, M, 3): each corner's points contiguous, so the per-corner arithmetic
+        # below runs over whole arrays instead of every third row (the same operations on the
+        # same numbers; every reduction keeps its operands' order)
+        corners = pieces.transpose(1, 0, 2).copy()
+        p0, p1, p2 = corners[0], corners[1], corners[2]
+        av = 0.5 * cross(p1 - p0, p2 - p0)
         area = norm(av)
         rg = self.rho * self.g
         # means over the three corners written out (the additions of .mean(axis=1), in order)
         force = -rg * (((hp[:, 0] + hp[:, 1] + hp[:, 2]) / 3.0) @ av)
         # centre of pressure: ∫h·(x − c) dA by the edge-midpoint rule (exact for quadratics);
         # the corners' successors by an index (np.roll(·, -1, axis=1) costs more)
-        mids = 0.5 * (pieces + pieces.take(_NEXT, axis=1)) - com
+        mids = 0.5 * (corners + corners.take(_NEXT, axis=0)) - com
         hm = 0.5 * (hp + hp.take(_NEXT, axis=1))
-        lever = np.einsum("mk,mkd->md", hm, mids) / 3.0
+        lever = np.einsum("mk,kmd->md", hm, mids) / 3.0
         torque = -rg * cross(lever, av).sum(0)
         sub_area = float(area.sum())
         frac = sub_area / self._total_area
