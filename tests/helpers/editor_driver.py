@@ -26,19 +26,28 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 from tests.helpers.window_driver import XKeys  # noqa: E402
 
 TYPO = "float natura_typo = ;"
+#: the compare run's window: room for the A/B pane and for the top of the panel's first quality
+#: chart (at y = 455: ImGui draws no chart below the window's bottom edge), not more: the live
+#: planet behind them costs by the pixel (760x480 before)
+SIZE = (600, 480)
 
 
 def _type(keys: XKeys, text: str, done=None) -> None:
     """Type ``text`` as X events; wait until the window has received its characters and, with
-    ``done``, until ``done()`` holds (the widget has taken them all in)."""
+    ``done``, until ``done()`` holds (the widget has taken them all in: ImGui takes a character
+    a frame)."""
     n = len(keys.received)
     subprocess.run(["xdotool", "type", "--delay", "20", text], check=True, timeout=60)
     printable = len(text.replace("\n", ""))  # a newline arrives as the Return key, not a char
+
+    def typed():
+        return sum(1 for e in keys.received[n:] if e[0] == "char") >= printable
+
     for _ in range(400):
-        if sum(1 for e in keys.received[n:] if e[0] == "char") >= printable:
+        if keys.dispatch(typed):
             break
         keys.frames(1)
-    keys.frames(2)
+    keys.frames(1)
     if done is not None:
         _until(keys, done, 120)
 
@@ -50,13 +59,14 @@ def _click(keys: XKeys, x: float, y: float) -> None:
 
 
 def _chord(keys: XKeys, *names: str) -> None:
-    """Keys held together (Ctrl+S): each down in order, then up in reverse."""
+    """Keys held together (Ctrl+S): each down in order, a frame drawn with them all down, then
+    each up in reverse and a frame after."""
     for name in names:
         keys.down(name)
-    keys.frames(2)
+    keys.frames(1)
     for name in reversed(names):
         keys.up(name)
-    keys.frames(2)
+    keys.frames(1)
 
 
 def _until(keys: XKeys, check, frames: int = 240) -> bool:
@@ -179,18 +189,17 @@ def compare_run(work: str) -> int:
     from app.teach.quality import pick
 
     params = scene_params("planet", sets=["planet.ground_noise_size=256"])
-    picks = pick("planet", 0.02, None, None, params=params, size=(760, 480))  # --quality auto
+    picks = pick("planet", 0.02, None, None, params=params, size=SIZE)  # --quality auto
     picks.apply(params)
-    win = W.NaturaWindow("planet", params, get_scene("planet").new_camera(), (760, 480),
+    win = W.NaturaWindow("planet", params, get_scene("planet").new_camera(), SIZE,
                          screenshot_dir="shots", quality=picks)
     keys = XKeys(win, "^Natura .* planet$")
     out: dict = {}
     out["quality_charts"] = win.quality.plots_drawn  # the panel's charts of the picks
     out["quality_chosen"] = [c.point.label for c in picks if c.point is not None
                              and c.status == "chosen"]
-    keys.tap("F3")
+    keys.tap("F3")  # its frames (one with F3 held, one after) draw the pane and its button
     out["f3_shows"] = win.compare.shown
-    keys.frames(2)
     out["a"], out["b"] = win.compare.a_text, win.compare.b_text
     out["size"] = list(win.compare.result.size) if win.compare.result else None
     x0, y0, x1, y1 = win.compare.button_rect
@@ -209,7 +218,7 @@ def compare_run(work: str) -> int:
     out["live_params_kept"] = dict(win.params.values()) == params_before
     out["progress_frames"] = win.progress_frames
     win.compare.layout = 1
-    keys.frames(2)
+    keys.frames(1)
     out["still_rendering"] = win.render_error is None
     # Ctrl+F puts the caret in the panel's search box; Ctrl+A then typing replaces the text
     _chord(keys, "ctrl", "f")
