@@ -136,6 +136,15 @@ class Memo:
         self.put(key, value)
         return value
 
+    def held(self, key: Any) -> Any:
+        """The value kept for ``key`` (now the most recently used), or None."""
+        item = self._items.get(key)
+        if item is None:
+            return None
+        self._items.move_to_end(key)
+        self.hits += 1
+        return item[0]
+
     def put(self, key: Any, value: Any) -> None:
         """Keep ``value`` (frozen) for ``key``, replacing what was there."""
         size = nbytes(freeze(value))
@@ -158,9 +167,10 @@ class Memo:
 MEMO = Memo()
 
 
-def memoised(key: Any, build: Callable[[], T]) -> T:
-    """``MEMO.get(key, build)``: the value of a pure build shared by every session."""
-    return MEMO.get(key, build)
+def memoised(build: Callable[..., T], *args: Any) -> T:
+    """``build(*args)`` shared by every session: ``MEMO.get((build, *args), …)``. The key holds
+    the function itself, so a test that replaces a module's builder gets its own values."""
+    return MEMO.get((build, *args), lambda: build(*args))
 
 
 # ---- mip levels ---------------------------------------------------------------------------------
@@ -255,7 +265,7 @@ def build_mipmaps(tex: Any) -> None:
     images = [_GL_TEXTURE_CUBE_MAP_POSITIVE_X + f for f in range(6)] if cube else [target]
     base, kind = _GL_FORMATS[tex.components], _GL_TYPES[tex.dtype]
     sizes = _levels(tex.size)
-    held = MEMO._items.get(key)
+    held = MEMO.held(key)
     if held is None:
         tex.build_mipmaps()
         tex.use(location=ctx.default_texture_unit)
@@ -270,13 +280,11 @@ def build_mipmaps(tex: Any) -> None:
                 levels.append(bytes(data))
         MEMO.put(key, tuple(levels))
         return
-    MEMO._items.move_to_end(key)
-    MEMO.hits += 1
     tex.use(location=ctx.default_texture_unit)
     fmt = gl.ctypes.c_int()
     gl.level_parameter(images[0], 0, _GL_TEXTURE_INTERNAL_FORMAT, gl.ctypes.byref(fmt))
     gl.pixel_store(_GL_UNPACK_ALIGNMENT, 1)
-    data_of = iter(held[0])
+    data_of = iter(held)
     for level, size in enumerate(sizes[1:], start=1):
         for image in images:
             if three_d:

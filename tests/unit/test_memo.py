@@ -53,3 +53,26 @@ def test_freeze_and_nbytes_walk_dataclasses():
     assert not m.vertices.flags.writeable and not m.indices.flags.writeable
     assert nbytes(m) == 4 * 3 * 4 + 6 * 4
     assert nbytes((b"abc", 2.0)) == 3
+
+
+def test_memoised_keys_on_the_function_and_its_arguments():
+    from app.gpu.cache import MEMO, memoised
+
+    calls = []
+
+    def ramp(n):
+        calls.append(n)
+        return np.arange(float(n))
+
+    def other(n):
+        return np.zeros(n)
+
+    try:
+        a = memoised(ramp, 3)
+        assert memoised(ramp, 3) is a and calls == [3]
+        assert memoised(ramp, 4).shape == (4,) and calls == [3, 4]
+        assert not memoised(other, 3).any()  # a replaced builder is not served ramp's value
+    finally:
+        for key in [(ramp, 3), (ramp, 4), (other, 3)]:
+            MEMO._items.pop(key, None)
+        MEMO.bytes = sum(size for _, size in MEMO._items.values())

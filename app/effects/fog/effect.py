@@ -45,6 +45,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
+from ...gpu.cache import memoised
 from ...gpu.programs import ProgramSpec
 from ...params import Inspector, Param
 from ...sim import fog as fs
@@ -240,7 +241,8 @@ class Fog(Effect):
     def texture(self):
         if self._texture is None:
             self._texture = pl.upload_texture(self.gpu, self.name, "fog texture",
-                                              fs.fog_texture(pl.TEXTURE_SIZE), repeat=True)
+                                              memoised(fs.fog_texture, pl.TEXTURE_SIZE),
+                                              repeat=True)
         return self._texture
 
     def plane_layout(self, frame):

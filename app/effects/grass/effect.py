@@ -47,7 +47,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
-from ...gpu.cache import build_mipmaps, memoised
+from ...gpu.cache import MEMO, build_mipmaps, memoised
 from ...params import Inspector, Param
 from ...render.shadow_maps import bind_published
 from ...sim import grass as gs
@@ -214,7 +214,7 @@ class Grass(Effect):
         blades, seed = int(self.params["grass.blades"]), int(self.params["grass.seed"])
         shared = getattr(terrain, "memo_key", None)
         if shared is not None:  # a terrain every session shares: placed once per process
-            return memoised(("grass roots", shared, blades, seed),
+            return MEMO.get((gs.sample_roots, shared, blades, seed),
                             lambda: gs.sample_roots(terrain, blades, seed))
         self._placing = (terrain, blades, seed)
         return self._roots.get((*self._terrain_key(terrain), blades, seed))
@@ -225,7 +225,8 @@ class Grass(Effect):
         if self._meadow is None or self._meadow[0] != key:
             shared = getattr(terrain, "memo_key", None)
             if shared is not None:
-                area = memoised(("meadow area", shared), lambda: self._meadow_area(terrain))
+                area = MEMO.get((gs.meadow_cells, "area", shared),
+                                lambda: self._meadow_area(terrain))
             else:
                 area = self._meadow_area(terrain)
             self._meadow = (key, area)
@@ -259,7 +260,7 @@ class Grass(Effect):
     def atlas(self):
         """The three generated tufts side by side, mipmapped."""
         if self._atlas is None:
-            data = memoised(("tuft atlas", 128), gs.tuft_atlas)
+            data = memoised(gs.tuft_atlas)
             h, w = data.shape[:2]
             tex = self.gpu.texture(self.owner, "tufts", (w, h), 4, data=data.tobytes(),
                                    dtype="f4")

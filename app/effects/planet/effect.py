@@ -40,7 +40,7 @@ import moderngl
 import numpy as np
 
 from ...frame import ShadowMap, Stage
-from ...gpu.cache import build_mipmaps, memoised
+from ...gpu.cache import MEMO, build_mipmaps, memoised
 from ...gpu.programs import ProgramSpec, draw_fullscreen
 from ...params import Param
 from ...render.shadow_maps import render_depth_pass
@@ -339,14 +339,17 @@ class Planet(Effect):
             return
         r = self.model().bottom_radius
         self._meshes = []
-        for name, (verts, idx) in (("mountains", mountains(r)), ("city", boxes(r))):
+        for name, (verts, idx) in (("mountains", memoised(mountains, r)),
+                                   ("city", memoised(boxes, r))):  # built once per process
             vbo = self.gpu.buffer(self.name, f"{name} vertices", verts.tobytes())
             ibo = self.gpu.buffer(self.name, f"{name} indices", idx.tobytes())
             self._meshes.append((name, vbo, ibo))
         self._textures = (
-            self.gpu.texture(self.name, "albedo", (256, 256), 4, albedo_texture().tobytes(),
+            self.gpu.texture(self.name, "albedo", (256, 256), 4,
+                             memoised(albedo_texture).tobytes(),
                              dtype="f1", repeat=True),
-            self.gpu.texture(self.name, "normal map", (256, 256), 4, normal_texture().tobytes(),
+            self.gpu.texture(self.name, "normal map", (256, 256), 4,
+                             memoised(normal_texture).tobytes(),
                              dtype="f1", repeat=True),
         )
         for tex in self._textures:
@@ -378,7 +381,7 @@ class Planet(Effect):
         size = key[-2:]
         # the table depends on the model only through its lut_key (the contract of the key):
         # one build per process, not per session
-        data = memoised(("optical depth LUT", key), lambda: atm.OpticalDepthLut(
+        data = MEMO.get((atm.OpticalDepthLut, key), lambda: atm.OpticalDepthLut(
             self.model(), n_height=size[1], n_angle=size[0]).table)
         lut = self.gpu.texture(self.name, "optical depth LUT", size, 2, data.astype("f4").tobytes(),
                                dtype="f4")
@@ -418,11 +421,25 @@ class Planet(Effect):
         n = max(16, size // 4)
         cube = self.gpu.texture_cube(self.name, "ground noise", n, 1, dtype="f4")
         cube.filter = linear
+        prog = self.program(GROUND_NOISE_BAKE)
+        # what the bake depends on: the program's every file (stamps with content hashes),
+        # its uniforms (the cap's angle, the faces, Perlin's reference table), the size and the
+        # driver; a session that baked the same left the texels in MEMO (~0.7 s of llvmpipe
+        # at 2048², a readback and an upload of ~20 MB otherwise)
+        info = ctx.info
+        key = ("planet ground noise", info.get("GL_VENDOR"), info.get("GL_RENDERER"),
+               info.get("GL_VERSION"), size, n, GROUND_CAP_TAN, GROUND_NOISE_BAKE,
+               repr(sorted((str(f), s) for f, s in prog.stamps.items())))
+        held = None if prog.errors else MEMO.held(key)
+        if held is not None:
+            cap.write(held[0])
+            for face in range(6):
+                cube.write(face, held[1 + face])
+            return cap, cube
         face_tex = self.gpu.texture(self.name, "ground noise face", (n, n), 1, dtype="f4")
         fbos = [self.gpu.framebuffer(self.name, "ground noise face", [face_tex]),
                 self.gpu.framebuffer(self.name, "ground noise cap", [cap])]
         try:
-            prog = self.program(GROUND_NOISE_BAKE)
             prog.bind_textures(self._gradient_textures())
             prog.set("uCapTan", GROUND_CAP_TAN)
             ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
@@ -438,6 +455,8 @@ class Planet(Effect):
             for fbo in fbos:
                 self.gpu.free(fbo)
             self.gpu.free(face_tex)
+        if not prog.errors:
+            MEMO.put(key, (cap.read(), *(cube.read(face) for face in range(6))))
         return cap, cube
 
     def _make_shadow_map(self, size: int):

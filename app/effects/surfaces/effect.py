@@ -274,9 +274,9 @@ class Surfaces(Effect):
         return self._textures[key]
 
     def alpha_texture(self, kind: str) -> moderngl.Texture:
-        return self._texture(f"alpha {kind}", lambda: memoised(
-            ("alpha texture", kind, 256), lambda: surfaces_scene.alpha_texture(kind, 256)),
-            repeat=False)
+        return self._texture(f"alpha {kind}",
+                             lambda: memoised(surfaces_scene.alpha_texture, kind, 256),
+                             repeat=False)
 
     def _make_msaa(self, key):
         size, samples = key

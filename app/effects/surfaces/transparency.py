@@ -268,8 +268,7 @@ class Transparency:
         return out
 
     def alpha_texture(self, kind: str, size: int = 256):
-        data = np.ascontiguousarray(memoised(("alpha texture", kind, size),
-                                             lambda: ss.alpha_texture(kind, size)), np.float32)
+        data = np.ascontiguousarray(memoised(ss.alpha_texture, kind, size), np.float32)
         tex = self.gpu.texture(self.owner, f"alpha {kind}", (size, size), 4, data=data.tobytes(),
                                dtype="f4")
         build_mipmaps(tex)

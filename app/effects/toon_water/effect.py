@@ -158,7 +158,7 @@ class ToonWater(Effect):
     def wave_normals(self) -> moderngl.Texture:
         """The tileable wave normal map (generated once), mipmapped and repeating."""
         if "normals" not in self._textures:
-            data = memoised(("toon water normals", tw.NORMAL_MAP_SIZE), tw.wave_normal_map)
+            data = memoised(tw.wave_normal_map)
             size = data.shape[0]
             tex = self.gpu.texture(self.name, "wave normals", (size, size), 4,
                                    data=np.ascontiguousarray(data).tobytes(), dtype="f4",
