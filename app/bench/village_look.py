@@ -89,11 +89,11 @@ def run(gpu, quick: bool = False) -> dict:
             s.params.set("village.camera", "free")
             return s
 
-        # the probe is the toon look's session (the scene's own look): its debug views give
-        # the mask, then, back to the image, it renders the toon look — one village session
-        # (and its first-frame bakes) fewer, the same image as a session of its own
+        # one session for the mask and both looks: the look is the uniform village.toon, so
+        # the looks differ in nothing else (three sessions, and their first-frame bakes, before:
+        # the same images, every figure identical); its debug views give the mask first
         probe = session(LOOKS["toon"])
-        sessions["toon"] = probe
+        sessions["village"] = probe
         image_view = probe.params["village.debug"]
         probe.params.set("village.debug", "groups")
         groups = next(render_frames(probe, size))[..., :3]
@@ -108,13 +108,16 @@ def run(gpu, quick: bool = False) -> dict:
         out["object_pixels"] = int(objects.sum())
         out["tonemap"] = probe.params["output.tonemap"]
         out["by_tonemap"] = {}
-        for name, sets in LOOKS.items():
-            if name not in sessions:
-                sessions[name] = session(sets)
-            s = sessions[name]
-            image = next(render_frames(s, size))[..., :3]
+
+        def look_of(name: str) -> None:
+            for assignment in LOOKS[name]:
+                probe.params.set_from_string(assignment)
+
+        for name in LOOKS:
+            look_of(name)
+            image = next(render_frames(probe, size))[..., :3]
             for tm in dict.fromkeys((out["tonemap"], *TONEMAPS)):
-                srgb = to_srgb8(image, s.scene.exposure(), tm)
+                srgb = to_srgb8(image, probe.scene.exposure(), tm)
                 y = luma8(srgb)[lit]
                 look = {"levels": levels(y), "levels_all": int(np.unique(y).size),
                         "saturation": float(saturation(srgb)[lit].mean()) if y.size else 0.0,
@@ -123,14 +126,18 @@ def run(gpu, quick: bool = False) -> dict:
                 if tm == out["tonemap"]:
                     out["looks"][name] = dict(look)
         # the village pass with each look (what the toon look costs), interleaved
-        variants = {}
-        for name in LOOKS:
-            s = sessions[name]
-            target = s.gpu.target("bench", "look", size)
-            frame = s.scene.frame(size)
-            s.scene.render(frame, target)  # slots (shadows) filled, as in a frame
-            draw = s.scene.effect("village").draw
-            variants[name] = (lambda d=draw, f=frame, t=target: d(f, t))
+        target = probe.gpu.target("bench", "look", size)
+        frame = probe.scene.frame(size)
+        probe.scene.render(frame, target)  # slots (shadows) filled, as in a frame
+        draw = probe.scene.effect("village").draw
+
+        def variant(name: str):
+            def run() -> None:
+                look_of(name)
+                draw(frame, target)
+            return run
+
+        variants = {name: variant(name) for name in LOOKS}
         timed = time_interleaved(gpu.ctx, variants, warmup=1, rounds=5 if quick else 15)
         summary = timed.summary("lambert_blinn_phong")
         for name in LOOKS:
