@@ -62,9 +62,11 @@ class Keyed(Generic[T]):
 
 # ---- values shared by every session of a process --------------------------------------------
 
-#: how many bytes of arrays :data:`MEMO` keeps (least recently used out first): the largest
-#: scene's memoised builds (roots, noise textures, meshes, mip levels) are ~60 MB
+#: how many bytes of arrays :data:`MEMO` keeps (least recently used out first): every parity
+#: job's memoised builds together (roots, noise textures and bakes, meshes, mip levels) are
+#: ~40 MB; and how many entries at most (values without arrays count no bytes)
 MEMO_BUDGET = 256 << 20
+MEMO_ENTRIES = 4096
 
 
 def freeze(value: Any) -> Any:
@@ -154,7 +156,7 @@ class Memo:
             return
         self._items[key] = (value, size)
         self.bytes += size
-        while self.bytes > self.budget:
+        while self.bytes > self.budget or len(self._items) > MEMO_ENTRIES:
             _, (_, dropped) = self._items.popitem(last=False)
             self.bytes -= dropped
 
