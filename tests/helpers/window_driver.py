@@ -199,6 +199,42 @@ def bake_progress(work: str) -> int:
     return 0
 
 
+class _Xdo:
+    """xdotool's own library (libxdo, of which the xdotool command is a front end) in this
+    process: ``keydown`` / ``keyup`` send a key as ``xdotool keydown KEY`` does (through the X
+    test extension, to the focused window; keysyms needing Shift or a spare keycode handled the
+    same way) without starting a process for each key, tens of ms each on a loaded machine.
+    None of it when the library cannot be loaded: the command is used then."""
+
+    def __init__(self) -> None:
+        import ctypes
+
+        self.lib = ctypes.CDLL("libxdo.so.3")
+        self.lib.xdo_new.restype = ctypes.c_void_p
+        self.lib.xdo_new.argtypes = [ctypes.c_char_p]
+        for name in ("xdo_send_keysequence_window_down", "xdo_send_keysequence_window_up"):
+            fn = getattr(self.lib, name)
+            fn.restype = ctypes.c_int
+            fn.argtypes = [ctypes.c_void_p, ctypes.c_ulong, ctypes.c_char_p, ctypes.c_uint]
+        self.xdo = self.lib.xdo_new(None)  # $DISPLAY
+        if not self.xdo:
+            raise OSError("xdo_new: no display")
+
+    def key(self, action: str, key: str) -> None:
+        fn = getattr(self.lib, f"xdo_send_keysequence_window_{action}")
+        # window 0: CURRENTWINDOW, the focused one, through XTEST as xdotool does by default;
+        # no delay (xdotool's 12 ms is the gap between the keys of one sequence)
+        if fn(self.xdo, 0, key.encode(), 0) != 0:
+            raise RuntimeError(f"libxdo could not send key{action} {key!r}")
+
+
+def _xdo() -> _Xdo | None:
+    try:
+        return _Xdo()
+    except OSError:
+        return None
+
+
 class XKeys:
     """Real key events for a window under Xvfb: xdotool focuses it and types through the X test
     extension, and the window's event dispatch (pyglet's, which each frame's swap_buffers runs)
@@ -236,6 +272,7 @@ class XKeys:
             on_char(char)
 
         win.wnd.key_event_func, win.wnd.unicode_char_entered_func = spy_key, spy_char
+        self.xdo = _xdo()
         self.frames(2)
         found = subprocess.run(["xdotool", "search", "--sync", "--name", pattern],
                                capture_output=True, text=True, timeout=30).stdout.split()
@@ -275,15 +312,22 @@ class XKeys:
         raise AssertionError(f"no key {kind} reached the window in {limit} frames: "
                              f"{self.received[since:]}")
 
+    def send(self, action: str, key: str) -> None:
+        """``xdotool key{action} KEY`` ("down" / "up"), in this process where libxdo loads."""
+        if self.xdo is not None:
+            self.xdo.key(action, key)
+        else:
+            subprocess.run(["xdotool", f"key{action}", key], check=True, timeout=30)
+
     def down(self, key: str) -> None:
         n = len(self.received)
-        subprocess.run(["xdotool", "keydown", key], check=True, timeout=30)
+        self.send("down", key)
         self.presses += 1
         self._until("press", n)
 
     def up(self, key: str, step=None) -> None:
         n = len(self.received)
-        subprocess.run(["xdotool", "keyup", key], check=True, timeout=30)
+        self.send("up", key)
         self._until("release", n, step=step)
 
     def tap(self, key: str, hold_frames: int = 1) -> None:
@@ -841,15 +885,14 @@ def maritime_keys(work: str) -> int:
                           "exclusive": bool(win.wnd.mouse_exclusivity),
                           "mode_line": [w["text"] for w in wrapped
                                                 if "Space" in w["text"]][-1]}
-    # 1 2 3 4: the weather states, each with its wind (the scene applies it on its next frame)
+    # 1 2 3 4: the weather states, each with its wind (the scene applies it on its next frame:
+    # a tap draws two after the press)
     out["weather0"] = value("maritime.weather")
     out["weathers"] = []
     for key in ("1", "2", "3"):
         keys.tap(key)
-        keys.frames(1)
         out["weathers"].append((value("maritime.weather"), value("wind.speed")))
     keys.tap("4")
-    keys.frames(1)
     out["storm"] = {"weather": value("maritime.weather"), "wind_speed": value("wind.speed"),
                     "hud_weather": win.hud_state.weather if win.hud_state else None,
                     "hud_wind_speed": win.hud_state.wind_speed if win.hud_state else None}
@@ -926,18 +969,16 @@ def shading_keys(work: str) -> int:
     keys = XKeys(win, "^Natura .* shading$")
     out: dict = {"dt": keys.dt}
 
-    def image_sum() -> float:
+    def image_sum() -> float:  # of the last frame: a tap draws two with the new value
         return float(win.target.read()[..., :3].sum()) if win.target is not None else 0.0
 
     out["model"] = []
     for key in ("1", "2", "3"):
         keys.tap(key)
-        keys.frames(1)
         out["model"].append((params["shading.lighting_model"], image_sum()))
     out["toon"] = []
     for _ in range(4):
         keys.tap("t")
-        keys.frames(1)
         out["toon"].append((params["shading.toon"], image_sum()))
     keys.tap("g")
     out["gouraud"] = params["shading.gouraud"]
@@ -954,10 +995,8 @@ def shading_keys(work: str) -> int:
     out["contours"] = []
     for _ in range(3):
         keys.tap("k")
-        keys.frames(1)
         out["contours"].append((params["shading.contour"], image_sum()))
     keys.tap("l")
-    keys.frames(1)
     out["bloom"] = params["shading.bloom"]
     # the panel's material inspector: its header, a popup button each, the maps' thumbnails
     out["inspector"] = _inspector_drawn(win, keys)
@@ -1000,7 +1039,7 @@ def surfaces_keys(work: str) -> int:
     keys = XKeys(win, "^Natura .* surfaces$")
     out: dict = {"dt": keys.dt}
 
-    def image_sum() -> float:
+    def image_sum() -> float:  # of the last frame: a tap draws two with the new value
         return float(win.target.read()[..., :3].sum()) if win.target is not None else 0.0
 
     keys.frames(1)
@@ -1008,7 +1047,6 @@ def surfaces_keys(work: str) -> int:
         out[name] = []
         for _ in range(times):
             keys.tap(key)
-            keys.frames(1)
             out[name].append((params[f"surfaces.{name}"], image_sum()))
     # the panel's inspector: its header, a popup button per thesis section, the maps
     out["inspector"] = _inspector_drawn(win, keys)
@@ -1041,7 +1079,7 @@ def village_keys(work: str) -> int:
     keys = XKeys(win, "^Natura .* village$")
     out: dict = {"dt": keys.dt}
 
-    def image():
+    def image():  # of the last frame: a tap draws two with the new value
         return win.target.read()[..., :3]
 
     keys.frames(1)
@@ -1056,10 +1094,8 @@ def village_keys(work: str) -> int:
         out[name] = [(params[name], float(image().sum()))]
         for _ in range(times):
             keys.tap(key)
-            keys.frames(1)
             out[name].append((params[name], float(image().sum())))
     keys.tap("v")
-    keys.frames(1)
     img = image()
     half = img.shape[1] // 2
     out["vr"] = {"enabled": params["vr.enabled"],
