@@ -482,6 +482,7 @@ def _density_integrals(h, mu, params: AtmosphereParams, nodes: int = 24, ground:
     y_t = np.maximum(top - h_p, 0.0)        # altitude of the top above the perigee
     z_p, z_t = np.sqrt(y_p), np.sqrt(y_t)
     x, w = _gauss_legendre(nodes)
+    w2 = w * 2.0            # (b − a)·w·2 == (b − a)·(2w) exactly: doubling is exact
     H = params.scale_heights
     shape = h.shape
     skip = hits if ground else np.zeros_like(hits)   # ground rays: +inf below, not integrated
@@ -489,14 +490,25 @@ def _density_integrals(h, mu, params: AtmosphereParams, nodes: int = 24, ground:
     total = np.zeros((r_p.size, 2))
 
     def piece(idx, a, b):
-        """Gauss–Legendre on [a, b] in z for the rays ``idx`` (only those, so no inf/NaN)."""
+        """Gauss–Legendre on [a, b] in z for the rays ``idx`` (only those, so no inf/NaN).
+        The same operations in the same order as ``fac·exp(−alt/H)`` written out, in place:
+        −alt/H is alt/(−H) exactly (IEEE division is sign-symmetric), one temporary fewer."""
         rp, hp = r_p[idx, None], h_p[idx, None]
-        z = a[:, None] + (b - a)[:, None] * x
-        zz = z * z
-        fac = (b - a)[:, None] * w * 2.0 * (rp + zz) / np.sqrt(2.0 * rp + zz)
-        alt = hp + zz
+        span = (b - a)[:, None]
+        z = span * x
+        z += a[:, None]
+        zz = np.multiply(z, z, out=z)
+        fac = span * w2
+        fac *= rp + zz
+        root = np.add(2.0 * rp, zz)
+        fac /= np.sqrt(root, out=root)
+        alt = np.add(hp, zz, out=zz)
+        e = root
         for i in range(2):
-            total[idx, i] += (fac * np.exp(-alt / H[i])).sum(-1)
+            np.divide(alt, -H[i], out=e)
+            np.exp(e, out=e)
+            e *= fac
+            total[idx, i] += e.sum(-1)
 
     up = np.flatnonzero(~below)          # from the point (above its perigee) to the top
     piece(up, z_p[up], z_t[up])
@@ -797,11 +809,16 @@ class Scattering(NamedTuple):
 
 SunDepth = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
+#: sample points (rays × samples) of one block of :func:`_integrate`: its per-point work is done
+#: a block at a time (one ``sun_depth`` call for many samples, a few MB of temporaries)
+_BLOCK_POINTS = 1 << 15
+
 
 def _integrate(cam, dirs, sun_dir, params: AtmosphereParams, max_dist, surface_colour, steps: int,
                sun_depth: SunDepth, visibility, pc_rule: str, clip_ground: bool) -> Scattering:
     """Midpoint sum of the in-scattering integral over the clipped view segment, vectorised over
-    rays with a Python loop over the ``steps`` samples (memory O(rays))."""
+    rays and blocks of samples (memory O(:data:`_BLOCK_POINTS`) beside O(rays)); the running
+    sums go sample by sample, so the result is the plain per-sample loop's, bit for bit."""
     if pc_rule not in ("midpoint", "thesis"):
         raise ParamError(f"pc_rule={pc_rule!r} is not a rule: allowed midpoint, thesis")
     if steps < 1:
@@ -820,29 +837,41 @@ def _integrate(cam, dirs, sun_dir, params: AtmosphereParams, max_dist, surface_c
     acc = np.zeros((n, 2))          # P0-scaled density integral camera → current position
     sum_r = np.zeros((n, 3))
     sum_m = np.zeros((n, 3))
-    for k in range(steps):
-        t = seg.t0 + (k + 0.5) * ds
-        P = cam + t[:, None] * dirs
+    # the samples' geometry, densities and τ(AP) are per point, so they are computed for a
+    # block of samples at once (one sun_depth call per block, not per sample: the same
+    # element-wise operations on more elements, so the same numbers); only τ(PC) and the sums
+    # run sample after sample, in the order of the plain loop
+    block = max(1, min(steps, _BLOCK_POINTS // max(n, 1)))
+    for k0 in range(0, steps, block):
+        ks = np.arange(k0, min(steps, k0 + block), dtype=np.float64)
+        m = ks.size
+        t = seg.t0 + (ks[:, None] + 0.5) * ds                          # (m, n)
+        P = cam + t[..., None] * dirs                                  # (m, n, 3)
         r = np.linalg.norm(P, axis=-1)
         h = r - R
-        rho = p0 * np.exp(-np.maximum(h, 0.0)[:, None] / H)        # (n, 2)
+        rho = p0 * np.exp(-np.maximum(h, 0.0)[..., None] / H)          # (m, n, 2)
         step = rho * ds[:, None]
-        if pc_rule == "thesis":
-            acc += step
-            tau_pc = acc
-        else:
-            tau_pc = acc + 0.5 * step
-            acc += step
-        cos_phi = np.einsum("ij,j->i", P, sun) / np.where(r > 0.0, r, 1.0)
-        tau_ap = sun_depth(h, cos_phi)                               # (n, 2), P0 included
-        lit = np.isfinite(tau_ap[:, 0]) & (tau_ap[:, 0] < OPTICAL_DEPTH_GROUND_M)
-        tau = np.where(lit[:, None], tau_ap, 0.0) + tau_pc
-        ext = np.exp(-(b_r_ext * tau[:, 0:1] + b_m_ext * tau[:, 1:2]))
-        ext = np.where(lit[:, None], ext, 0.0)
-        if visibility is not None:
-            ext = ext * np.asarray(visibility(P), dtype=np.float64).reshape(n, 1)
-        sum_r += rho[:, 0:1] * ext * ds[:, None]
-        sum_m += rho[:, 1:2] * ext * ds[:, None]
+        cos_phi = np.einsum("ij,j->i", P.reshape(-1, 3), sun).reshape(m, n) \
+            / np.where(r > 0.0, r, 1.0)
+        tau_ap = sun_depth(h.reshape(-1), cos_phi.reshape(-1)).reshape(m, n, 2)  # P0 included
+        tau_pc = np.empty_like(step)
+        for j in range(m):
+            if pc_rule == "thesis":
+                acc += step[j]
+                tau_pc[j] = acc
+            else:
+                tau_pc[j] = acc + 0.5 * step[j]
+                acc += step[j]
+        lit = np.isfinite(tau_ap[..., 0]) & (tau_ap[..., 0] < OPTICAL_DEPTH_GROUND_M)
+        tau = np.where(lit[..., None], tau_ap, 0.0) + tau_pc
+        ext = np.exp(-(b_r_ext * tau[..., 0:1] + b_m_ext * tau[..., 1:2]))
+        ext = np.where(lit[..., None], ext, 0.0)
+        for j in range(m):
+            e = ext[j]
+            if visibility is not None:
+                e = e * np.asarray(visibility(P[j]), dtype=np.float64).reshape(n, 1)
+            sum_r += rho[j, :, 0:1] * e * ds[:, None]
+            sum_m += rho[j, :, 1:2] * e * ds[:, None]
     cos_theta = dirs @ sun
     in_scatter = params.sun_intensity * (
         sum_r * params.beta_rayleigh_scatter * phase_rayleigh(cos_theta)[:, None]
