@@ -213,6 +213,10 @@ def fog_height_transmittance(p: ArrayLike, camera: ArrayLike, a: float, b: float
     return np.clip(np.exp(-fog_height_optical_depth(p, camera, a, b, y0)), 0.0, 1.0)
 
 
+#: samples (rays × steps) of one chunk of :func:`fog_height_reference`
+_REFERENCE_SAMPLES = 1 << 17
+
+
 def fog_height_reference(p: ArrayLike, camera: ArrayLike, a: float, b: float, y0: float,
                          steps: int = 4096) -> np.ndarray:
     """The height fog's transmittance by midpoint integration of the density along the ray (the
@@ -220,11 +224,26 @@ def fog_height_reference(p: ArrayLike, camera: ArrayLike, a: float, b: float, y0
     p = np.asarray(p, np.float64)
     c = np.asarray(camera, np.float64)
     s = (np.arange(steps) + 0.5) / steps
-    # the density depends on the height alone: the samples' y, c_y + (p_y − c_y)·s
-    ys = c[..., 1, None] + (p - c)[..., 1, None] * s
-    rho = a * np.exp(-b * (ys - y0))
+    p, c = np.broadcast_arrays(p, c)
+    shape = p.shape[:-1]
+    d = (p - c).reshape(-1, 3)
+    cy = c[..., 1].reshape(-1)
+    mean = np.empty(d.shape[0])
+    # the density depends on the height alone: the samples' y, c_y + (p_y − c_y)·s, then
+    # a·exp(−b·(y − y0)) and its mean per ray — in place and a few rays at a time (the same
+    # operations per sample as the whole (rays, steps) array at once, in a few MB)
+    rows = max(1, _REFERENCE_SAMPLES // steps)
+    for i in range(0, d.shape[0], rows):
+        j = slice(i, i + rows)
+        rho = d[j, 1, None] * s
+        rho += cy[j, None]
+        rho -= y0
+        rho *= -b
+        np.exp(rho, out=rho)
+        rho *= a
+        mean[j] = rho.mean(axis=-1)
     t = np.linalg.norm(p - c, axis=-1)
-    return np.exp(-rho.mean(axis=-1) * t)
+    return np.exp(-mean.reshape(shape) * t)
 
 
 def fog_apply(colour: ArrayLike, factor: ArrayLike, fog_colour: ArrayLike) -> np.ndarray:
