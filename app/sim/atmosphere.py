@@ -854,24 +854,22 @@ def _integrate(cam, dirs, sun_dir, params: AtmosphereParams, max_dist, surface_c
         cos_phi = np.einsum("ij,j->i", P.reshape(-1, 3), sun).reshape(m, n) \
             / np.where(r > 0.0, r, 1.0)
         tau_ap = sun_depth(h.reshape(-1), cos_phi.reshape(-1)).reshape(m, n, 2)  # P0 included
-        tau_pc = np.empty_like(step)
-        for j in range(m):
-            if pc_rule == "thesis":
-                acc += step[j]
-                tau_pc[j] = acc
-            else:
-                tau_pc[j] = acc + 0.5 * step[j]
-                acc += step[j]
+        # acc before each sample: acc, acc + s0, (acc + s0) + s1, ... (an accumulate adds in
+        # sequence, as the loop's acc += step)
+        before = np.add.accumulate(np.concatenate([acc[None], step]), axis=0)
+        acc = before[-1]
+        tau_pc = before[1:] if pc_rule == "thesis" else before[:-1] + 0.5 * step
         lit = np.isfinite(tau_ap[..., 0]) & (tau_ap[..., 0] < OPTICAL_DEPTH_GROUND_M)
         tau = np.where(lit[..., None], tau_ap, 0.0) + tau_pc
         ext = np.exp(-(b_r_ext * tau[..., 0:1] + b_m_ext * tau[..., 1:2]))
         ext = np.where(lit[..., None], ext, 0.0)
-        for j in range(m):
-            e = ext[j]
-            if visibility is not None:
-                e = e * np.asarray(visibility(P[j]), dtype=np.float64).reshape(n, 1)
-            sum_r += rho[j, :, 0:1] * e * ds[:, None]
-            sum_m += rho[j, :, 1:2] * e * ds[:, None]
+        if visibility is not None:
+            ext = ext * np.stack([np.asarray(visibility(P[j]), dtype=np.float64).reshape(n, 1)
+                                  for j in range(m)])
+        sum_r = np.add.accumulate(np.concatenate([sum_r[None], rho[..., 0:1] * ext
+                                                  * ds[:, None]]), axis=0)[-1]
+        sum_m = np.add.accumulate(np.concatenate([sum_m[None], rho[..., 1:2] * ext
+                                                  * ds[:, None]]), axis=0)[-1]
     cos_theta = dirs @ sun
     in_scatter = params.sun_intensity * (
         sum_r * params.beta_rayleigh_scatter * phase_rayleigh(cos_theta)[:, None]
