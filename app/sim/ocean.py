@@ -279,14 +279,30 @@ def tma_correction(omega, depth: float, g: float = G):
     return np.where(wh <= 1.0, 0.5 * wh * wh, np.where(wh < 2.0, 1.0 - 0.5 * (2.0 - wh) ** 2, 1.0))
 
 
-_lgamma = np.vectorize(math.lgamma, otypes=[float])
+def _lgamma_difference(s: np.ndarray) -> np.ndarray:
+    """ln Γ(s+1) − ln Γ(s+½) per element of ``s``, ``math.lgamma`` once per distinct value.
+
+    Why: numpy has no lgamma, and one Python call per grid cell was most of the cost of a
+    spectrum; s depends on ω alone (a polar grid of 1200 × 360 cells holds 1200 values, an FFT
+    grid's |k| repeat eightfold), and each value's difference is the same float operations as
+    per cell, so the result is bit-identical. Runs of equal neighbours (a polar grid's rows)
+    are collapsed before the sort that finds the distinct values."""
+    flat = s.reshape(-1)
+    if flat.size == 0:
+        return np.zeros(s.shape)
+    start = np.flatnonzero(np.concatenate(([True], flat[1:] != flat[:-1])))
+    values, where = np.unique(flat[start], return_inverse=True)
+    diff = np.array([math.lgamma(v + 1.0) - math.lgamma(v + 0.5) for v in values.tolist()],
+                    dtype=float)
+    runs = np.diff(np.append(start, flat.size))
+    return np.repeat(diff[where.reshape(-1)], runs).reshape(s.shape)
 
 
 def spreading_cos2s(theta, s):
     """Longuet-Higgins D(θ) = Q(s)·cos^{2s}(θ/2), Q = Γ(s+1)/(2·sqrt(π)·Γ(s+½)); θ from the wind."""
     theta = np.asarray(theta, dtype=float)
     s = np.broadcast_to(np.asarray(s, dtype=float), theta.shape)
-    q = np.exp(_lgamma(s + 1.0) - _lgamma(s + 0.5)) / (2.0 * math.sqrt(math.pi))
+    q = np.exp(_lgamma_difference(s)) / (2.0 * math.sqrt(math.pi))
     c = np.abs(np.cos(0.5 * theta))
     return q * c ** (2.0 * s)
 
@@ -536,11 +552,16 @@ def sample_periodic_bilinear(grid, patch_size: float, x, z):
     return sample_periodic_cascades(grid[None], (patch_size,), x, z)
 
 
-def sample_periodic_cascades(grids, patch_sizes, x, z):
+def sample_periodic_cascades(grids, patch_sizes, x, z, channels: int | None = None):
     """Σ over the cascades of the bilinear lookup of periodic grid ``grids[c]`` (patch
     ``patch_sizes[c]``) at world points (x, z), summed in cascade order: ``grids`` (C, N, N, K),
     one gather for all cascades (the boat's dozen queries a physics step pay numpy's per-call
-    cost once, not C times)."""
+    cost once, not C times); ``channels``: only the first that many of the K (the height
+    queries leave the Jacobian out).
+
+    The corners are gathered, then laid out channel-major (4, K, C, points) for the arithmetic:
+    the same operations on the same numbers as per point, but over long rows instead of rows of
+    K (numpy's per-row cost made the point-major form twice as slow)."""
     grids = np.asarray(grids)
     count, n = grids.shape[0], grids.shape[1]
     x = np.asarray(x, dtype=float)
@@ -550,21 +571,36 @@ def sample_periodic_cascades(grids, patch_sizes, x, z):
     v = z * scale
     i0 = np.floor(u)
     j0 = np.floor(v)
-    fu = (u - i0)[..., None]
-    fv = (v - j0)[..., None]
-    i0 = i0.astype(np.int64) % n
-    j0 = j0.astype(np.int64) % n
-    i1 = (i0 + 1) % n
-    base = (np.arange(count) * (n * n)).reshape(scale.shape)
-    r0 = base + j0 * n
-    r1 = base + (j0 + 1) % n * n
-    flat = grids.reshape((count * n * n,) + grids.shape[3:])
-    a, b, c, d = flat.take(np.stack([r0 + i0, r0 + i1, r1 + i0, r1 + i1]), axis=0)
-    each = (1 - fv) * ((1 - fu) * a + fu * b) + fv * ((1 - fu) * c + fu * d)
-    out = each[0]
-    for k in range(1, count):
-        out = out + each[k]
-    return out
+    fu = u - i0
+    fv = v - j0
+    cols = np.empty((2,) + u.shape, dtype=np.int64)  # i0, i1 (mod N)
+    rows = np.empty((2,) + u.shape, dtype=np.int64)  # j0, j1 (mod N)
+    if n & (n - 1) == 0:  # a power of two: the mask is the modulo (for negatives too)
+        np.bitwise_and(i0.astype(np.int64), n - 1, out=cols[0])
+        np.bitwise_and(j0.astype(np.int64), n - 1, out=rows[0])
+        np.bitwise_and(cols[0] + 1, n - 1, out=cols[1])
+        np.bitwise_and(rows[0] + 1, n - 1, out=rows[1])
+    else:
+        np.remainder(i0.astype(np.int64), n, out=cols[0])
+        np.remainder(j0.astype(np.int64), n, out=rows[0])
+        np.remainder(cols[0] + 1, n, out=cols[1])
+        np.remainder(rows[0] + 1, n, out=rows[1])
+    rows *= n
+    rows += (np.arange(count) * (n * n)).reshape(scale.shape)
+    # (r0 + i0, r0 + i1, r1 + i0, r1 + i1): the corners a, b, c, d
+    index = (rows[:, None] + cols[None]).reshape(-1)
+    flat = grids.reshape(count * n * n, -1)
+    k = flat.shape[1] if channels is None else min(int(channels), flat.shape[1])
+    corners = flat.take(index, axis=0).reshape(4, -1, flat.shape[1])[..., :k]
+    corners = np.ascontiguousarray(corners.transpose(0, 2, 1), dtype=np.float64)
+    a, b, c, d = corners.reshape((4, k) + u.shape)
+    gu = 1 - fu
+    each = (1 - fv) * (gu * a + fu * b) + fv * (gu * c + fu * d)  # (K, C, ...)
+    out = each[:, 0]
+    for i in range(1, count):
+        out = out + each[:, i]
+    out = np.ascontiguousarray(out.transpose(tuple(range(1, out.ndim)) + (0,)))  # (..., K)
+    return out if grids.ndim > 3 else out.reshape(x.shape)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -624,6 +660,21 @@ def invert_horizontal_displacement(displacement_fn: Callable, xq, zq, iterations
     return x0, z0, d, residuals
 
 
+def cascade_arrays(params: SpectrumParams, n: int, patch_sizes: Sequence[float], seed: int = 0,
+                   boundary_factor: float = 6.0) -> tuple:
+    """Each cascade's (L, band, k_x, k_z, ω, h₀) of :class:`FFTOcean` (cascade i seeded with
+    seed + 7919·i); a pure function of its arguments, so one build may serve every ocean of the
+    same sea (``app.gpu.cache.memoised``)."""
+    out = []
+    for i, (size, band) in enumerate(zip(patch_sizes, cascade_bands(n, patch_sizes,
+                                                                   boundary_factor))):
+        kx, kz = wavenumber_grid(n, size)
+        om = dispersion_omega(np.hypot(kx, kz), params.depth, params.g)
+        h0 = initial_amplitudes(n, size, params, seed=seed + 7919 * i, band=band)
+        out.append((float(size), band, kx, kz, om, h0))
+    return tuple(out)
+
+
 @dataclass
 class Cascade:
     patch_size: float
@@ -659,20 +710,19 @@ class FFTOcean:
 
     def __init__(self, params: SpectrumParams | None = None, *, n: int = 256,
                  patch_sizes: Sequence[float] = (250.0, 17.0, 5.0), choppiness: float = 1.0,
-                 seed: int = 0, boundary_factor: float = 6.0):
+                 seed: int = 0, boundary_factor: float = 6.0,
+                 build: Callable[..., tuple] | None = None):
+        """``build(params, n, patch_sizes, seed, boundary_factor)`` makes the cascades' arrays
+        (default :func:`cascade_arrays`; the ocean effect passes a memoised one)."""
         self.params = params or SpectrumParams()
         self.params.validate()
         if not 0.0 <= choppiness <= 4.0:
             raise ParamError(f"ocean.choppiness: {choppiness} is outside the allowed range [0, 4]")
         self.n = n
         self.choppiness = choppiness
-        self.cascades: list[Cascade] = []
-        for i, (size, band) in enumerate(zip(patch_sizes, cascade_bands(n, patch_sizes,
-                                                                       boundary_factor))):
-            kx, kz = wavenumber_grid(n, size)
-            om = dispersion_omega(np.hypot(kx, kz), self.params.depth, self.params.g)
-            h0 = initial_amplitudes(n, size, self.params, seed=seed + 7919 * i, band=band)
-            self.cascades.append(Cascade(float(size), band, kx, kz, om, h0))
+        arrays = (build or cascade_arrays)(self.params, n, tuple(patch_sizes), seed,
+                                           boundary_factor)
+        self.cascades: list[Cascade] = [Cascade(*a) for a in arrays]
         self.time = None
 
     def update(self, t: float) -> None:

@@ -446,3 +446,61 @@ def test_sampling_every_cascade_at_once_is_the_sum_of_each():
         for size, grid in zip(sizes, grids):
             each = each + oc.sample_periodic_bilinear(grid, size, x, z)
         assert np.array_equal(oc.sample_periodic_cascades(grids, sizes, x, z), each)
+
+
+def test_sampling_follows_the_point_by_point_formula_and_keeps_channels():
+    """The gather (channel-major arithmetic) is the bilinear formula of each point, bit for bit,
+    in grid arithmetic of float64 and with any N (power of two or not); ``channels`` keeps the
+    first channels' values exactly."""
+    rng = np.random.default_rng(3)
+    for n in (8, 12):
+        grids = rng.normal(size=(2, n, n, 4)).astype(np.float32)
+        sizes = (40.0, 7.0)
+        x, z = rng.uniform(-100.0, 100.0, (2, 11))
+        want = np.zeros((11, 4))
+        for g, size in zip(grids, sizes):
+            u, v = x * (n / size), z * (n / size)
+            i0, j0 = np.floor(u), np.floor(v)
+            fu, fv = (u - i0)[:, None], (v - j0)[:, None]
+            i, j = i0.astype(int) % n, j0.astype(int) % n
+            a, b = g[j, i].astype(float), g[j, (i + 1) % n].astype(float)
+            c, d = g[(j + 1) % n, i].astype(float), g[(j + 1) % n, (i + 1) % n].astype(float)
+            want = want + ((1 - fv) * ((1 - fu) * a + fu * b) + fv * ((1 - fu) * c + fu * d))
+        got = oc.sample_periodic_cascades(grids, sizes, x, z)
+        assert np.array_equal(got, want)
+        assert np.array_equal(oc.sample_periodic_cascades(grids, sizes, x, z, channels=3),
+                              want[:, :3])
+
+
+def test_spreading_normalisation_is_lgamma_of_every_cell():
+    """Γ(s+1)/Γ(s+½) from math.lgamma once per distinct s equals it per cell, bit for bit
+    (repeated values, runs of equal neighbours, s = 0, a broadcast s)."""
+    rng = np.random.default_rng(4)
+    th = rng.uniform(-math.pi, math.pi, (30, 40))
+    s = np.repeat(rng.uniform(0.0, 100.0, (30, 4)), 10, axis=1)
+    s[0, :7] = 0.0
+    s[5] = s[4]
+    for case in (s, s[:, ::-1].copy(), rng.uniform(0.0, 100.0, 40)):
+        full = np.broadcast_to(case, th.shape)
+        lg = np.array([math.lgamma(v + 1.0) - math.lgamma(v + 0.5) for v in full.ravel()])
+        want = (np.exp(lg.reshape(th.shape)) / (2.0 * math.sqrt(math.pi))
+                * np.abs(np.cos(0.5 * th)) ** (2.0 * full))
+        assert np.array_equal(oc.spreading_cos2s(th, case), want)
+
+
+def test_a_shared_build_makes_the_same_ocean():
+    """FFTOcean(build=…) (the effect's memoised cascades) holds the arrays of the default build."""
+    p = oc.SpectrumParams(kind="jonswap", wind_speed=9.0, depth=30.0, short_wave_fade=0.01)
+    kept = {}
+
+    def build(*args):
+        return kept.setdefault(args, oc.cascade_arrays(*args))
+
+    a = oc.FFTOcean(p, n=32, patch_sizes=(120.0, 15.0), seed=5)
+    b = oc.FFTOcean(p, n=32, patch_sizes=[120.0, 15.0], seed=5, build=build)
+    c = oc.FFTOcean(p, n=32, patch_sizes=(120.0, 15.0), seed=5, build=build)
+    assert len(kept) == 1 and c.cascades[0].h0 is b.cascades[0].h0
+    for ca, cb in zip(a.cascades, b.cascades):
+        assert (ca.patch_size, ca.band) == (cb.patch_size, cb.band)
+        for name in ("kx", "kz", "omega", "h0"):
+            assert np.array_equal(getattr(ca, name), getattr(cb, name))
