@@ -74,6 +74,25 @@ def test_fft_query_lags_one_frame_and_matches_the_reference(ocean_shot):
     assert np.max(np.abs(got.height - want.height)) < 2e-3 * scale + 1e-4
 
 
+def test_a_second_session_of_the_same_sea_shares_its_builds_and_draws_the_same(ocean_shot):
+    """The cascades' arrays, the Gerstner set and the whitecap thresholds are pure builds kept
+    in app.gpu.cache.MEMO: a second session of the same sea gets the first's arrays (read-only)
+    and draws the same pixels."""
+    sets = ("ocean.model=fft", "ocean.wind=11", "ocean.seed=4")
+    a = ocean_shot(sets, size=(32, 18))
+    first, _ = a.frame()
+    b = ocean_shot(sets, size=(32, 18))
+    second, _ = b.frame()
+    h0 = b.ocean.reference.cascades[0].h0
+    assert h0 is a.ocean.reference.cascades[0].h0 and not h0.flags.writeable
+    assert b.ocean.foam_thresholds() == a.ocean.foam_thresholds()
+    assert np.array_equal(first, second)
+    for s in (a, b):
+        s.ocean.params.set("ocean.model", "gerstner")
+    assert b.ocean.gerstner_waves() == a.ocean.gerstner_waves()
+    assert b.ocean.foam_thresholds() == a.ocean.foam_thresholds()
+
+
 # -- the scene -----------------------------------------------------------------------------------
 
 def test_sine_and_gerstner_allocate_nothing_of_the_fft(ocean_shot):

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...gpu.cache import MEMO
 from ...sim import ocean as oc
 
 
@@ -24,11 +25,23 @@ class FoamCalibration:
             t = p["ocean.foam_threshold"]
             return [(t, t)] * (len(self.cascade_bands) if model == "fft" and self.cascade_bands
                                else 1)
+        if model == "gerstner":
+            self.gerstner_waves()  # drawn now if the sea changed: the key names the current set
         return self._foam.get((model, p["ocean.choppiness"], self.wind_speed(),
                                self._sim_key if model == "fft" else self._waves.key))
 
     def _calibrate_foam(self, key) -> list[tuple[float, float]]:
-        """The whitecap calibration for ``key`` = (model, choppiness, wind, sea state)."""
+        """The whitecap calibration for ``key`` = (model, choppiness, wind, sea state), made once
+        per process (:data:`app.gpu.cache.MEMO`): the sea state (the FFT's spectrum, size,
+        cascades and seed, or the Gerstner set's key) names everything it is computed from, and
+        every session of a test module calibrates the same few seas (the FFT's t = 0 synthesis
+        and the quantiles, or a 192² Gerstner grid, each time). Without a sea state yet (no
+        FFT reference, no wave set drawn) it is computed each time, not shared."""
+        if not isinstance(key[3], tuple):
+            return list(self._whitecaps(key))
+        return list(MEMO.get((FoamCalibration._whitecaps, key), lambda: self._whitecaps(key)))
+
+    def _whitecaps(self, key) -> tuple[tuple[float, float], ...]:
         model, lam, wind, _ = key
         coverage = oc.whitecap_coverage(wind)
         if model == "fft" and self._fft_ref is not None:
@@ -47,4 +60,5 @@ class FoamCalibration:
             jacs = [np.ones(4)]  # the sine wave has no horizontal motion: no foam
         # whitecaps break mostly on the long waves: each finer cascade gets half the foam of
         # the one before (57 / 29 / 14 % of the coverage for three)
-        return oc.whitecap_thresholds(jacs, coverage, shares=[0.5**i for i in range(len(jacs))])
+        return tuple(oc.whitecap_thresholds(jacs, coverage,
+                                            shares=[0.5**i for i in range(len(jacs))]))

@@ -7,8 +7,23 @@ from __future__ import annotations
 import math
 
 from ...errors import ParamError
+from ...gpu.cache import memoised
 from ...sim import ocean as oc
 from .params import wind_vector
+
+
+def _wave_set(params: oc.SpectrumParams, count: int, seed: int,
+              steepness: float) -> tuple[oc.GerstnerWave, ...]:
+    """The Gerstner set of a sea state (:func:`app.sim.ocean.gerstner_waves_from_spectrum`),
+    as a tuple of frozen waves: what :func:`memoised` shares between sessions."""
+    return tuple(oc.gerstner_waves_from_spectrum(params, count, seed=seed,
+                                                 steepness_scale=steepness))
+
+
+def _shared_cascades(*args) -> tuple:
+    """:func:`app.sim.ocean.cascade_arrays` shared by every session of the process (read-only
+    arrays): every ocean session of a test module or a bench builds the same few seas."""
+    return memoised(oc.cascade_arrays, *args)
 
 
 class SeaState:
@@ -51,7 +66,9 @@ class SeaState:
                                 p["ocean.gerstner_steepness"], p["ocean.seed"]))
 
     def _draw_waves(self, key) -> list[oc.GerstnerWave]:
-        waves = oc.gerstner_waves_from_spectrum(key[0], key[1], seed=key[3], steepness_scale=key[2])
+        # a pure function of the key, drawn once per process (the polar spectrum it integrates
+        # is ~0.1 s a draw; each session of a test module draws the same few sets)
+        waves = list(memoised(_wave_set, key[0], key[1], key[3], key[2]))
         worst = max(range(len(waves)), key=lambda i: waves[i].steepness)
         if waves[worst].steepness > 1.0:
             limit = key[2] / waves[worst].steepness
@@ -86,7 +103,8 @@ class SeaState:
             self._release_fft()
         if key == self._sim_key:
             return
-        ref = oc.FFTOcean(key[0], n=key[1], patch_sizes=key[2], choppiness=1.0, seed=key[3])
+        ref = oc.FFTOcean(key[0], n=key[1], patch_sizes=key[2], choppiness=1.0, seed=key[3],
+                          build=_shared_cascades)
         if self.sim is None:
             from ...gpu.fft import choose_compute
             from .fft import GpuOceanSim
