@@ -41,6 +41,8 @@ import hashlib
 import os
 import re
 import stat
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Iterable
@@ -338,20 +340,54 @@ class ShaderLibrary:
     # -- preprocessing ---------------------------------------------------------------------
     def preprocess(self, path: Path, defines: dict[str, Any] | None = None) -> Source:
         """Expand includes and inject defines; raise :class:`PreprocessError` on a bad include
-        or a file that cannot be read as text (with the file and line to blame)."""
-        files: list[Path] = []
-        out: list[str] = []
-        stamps: dict[Path, Any] = {}
-        self._expand(Path(path).resolve(), files, out, defines or {}, True, stamps)
-        return Source("\n".join(out) + "\n", files, stamps)
+        or a file that cannot be read as text (with the file and line to blame).
 
-    def _candidates(self, name: str, including: Path) -> list[Path]:
+        A successful expansion is remembered (:data:`_EXPANSIONS`, shared by every library of
+        the process) under the shader root and the file, and given again while everything it
+        depended on is as it was: the stamp (content hash included) of every file it read, the
+        absence (or non-file) of every place an include was looked for before the one that was
+        used, and where each link among those places pointed. The defines are not part of it:
+        they only add lines after ``#version`` (includes are resolved whatever they say), so
+        they are put in on every call. Why: every program compile re-read and re-expanded every
+        include (~19 s of the test suite, most of it resolving the three places of each
+        ``#include``), and a scene's parameters, the compile and the strict check each expand
+        the same stage again; checking the stamps is a read and a hash per file. A failed
+        expansion is never remembered: errors take the full path every time."""
+        top = Path(path).resolve()
+        key = (self.root, top)
+        with _EXPANSIONS_LOCK:
+            held = _EXPANSIONS.get(key)
+        if held is None or not held.still_valid():
+            files: list[Path] = []
+            out: list[str] = []
+            stamps: dict[Path, Any] = {}
+            trace = _Trace()
+            self._expand(top, files, out, {}, True, stamps, trace)
+            # out[0] is the #version line (the defines go after it), then the #line of the rest
+            held = _Expansion(out[0], "\n".join(out[1:]) + "\n", tuple(files), stamps,
+                              {**trace.probes, **stamps}, tuple(trace.links.items()))
+        with _EXPANSIONS_LOCK:
+            _EXPANSIONS[key] = held
+            _EXPANSIONS.move_to_end(key)
+            while len(_EXPANSIONS) > _EXPANSIONS_KEPT:
+                _EXPANSIONS.popitem(last=False)
+        lines = "".join(f"#define {k} {_glsl_literal(v)}\n" for k, v in (defines or {}).items())
+        return Source(f"{held.version}\n{lines}{held.rest}", list(held.files), dict(held.stamps))
+
+    def _candidates(self, name: str, including: Path,
+                    trace: "_Trace | None" = None) -> list[Path]:
         out = []
         for base in (including.parent, self.root / "common", self.root):
+            place = base / name
             try:
-                out.append((base / name).resolve())
+                resolved = place.resolve()
             except (OSError, RuntimeError, ValueError):
+                if trace is not None:
+                    trace.links[place] = None
                 continue
+            if trace is not None and resolved != place:
+                trace.links[place] = resolved
+            out.append(resolved)
         return list(dict.fromkeys(out))
 
     def _find_include(self, name: str, including: Path) -> Path | None:
@@ -361,7 +397,7 @@ class ShaderLibrary:
         return None
 
     def _expand(self, path: Path, files: list[Path], out: list[str], defines, top: bool,
-                stamps: dict[Path, Any]) -> None:
+                stamps: dict[Path, Any], trace: "_Trace | None" = None) -> None:
         sid = len(files)
         files.append(path)
 
@@ -401,8 +437,11 @@ class ShaderLibrary:
                 else:
                     out.append(line)
                 continue
-            candidates = self._candidates(m.group(1), path)
+            candidates = self._candidates(m.group(1), path, trace)
             target = next((c for c in candidates if _is_regular(c)), None)
+            if trace is not None and target is not None:
+                for cand in candidates[:candidates.index(target)]:
+                    trace.probes.setdefault(cand, _stamp(cand))  # a file appearing there wins
             if target is None:
                 for cand in candidates:  # watched: the include appearing recompiles
                     stamps.setdefault(cand, _stamp(cand))
@@ -419,7 +458,7 @@ class ShaderLibrary:
             if target in files:
                 out.append(f"// include {m.group(1)} already included")
                 continue
-            self._expand(target, files, out, defines, False, stamps)
+            self._expand(target, files, out, defines, False, stamps, trace)
             out.append(f"#line {base + i + 2} {sid}")
 
     # -- errors ----------------------------------------------------------------------------
@@ -562,6 +601,47 @@ class ShaderLibrary:
         for prog in self._programs.values():
             prog.release()
         self._programs.clear()
+
+
+@dataclass
+class _Trace:
+    """What an expansion depended on beyond the files it read: ``probes``, the stamp of each
+    place an include was looked for before the one used (``None``: nothing there), and
+    ``links``, each place under a name that resolved elsewhere (a symlink, ``..``) → where it
+    pointed (``None``: it could not be resolved)."""
+
+    probes: dict[Path, Any] = field(default_factory=dict)
+    links: dict[Path, Path | None] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class _Expansion:
+    """A remembered :meth:`ShaderLibrary.preprocess` result (without defines: the
+    ``#version`` line, and the text after it) and what it depended on."""
+
+    version: str
+    rest: str
+    files: tuple[Path, ...]
+    stamps: dict[Path, Any]  # the Source's own (the files read)
+    checks: dict[Path, Any]  # those and the probes
+    links: tuple[tuple[Path, Path | None], ...]
+
+    def still_valid(self) -> bool:
+        for place, resolved in self.links:
+            try:
+                if place.resolve() != resolved:
+                    return False
+            except (OSError, RuntimeError, ValueError):
+                if resolved is not None:
+                    return False
+        return all(_stamp(p) == stamp for p, stamp in self.checks.items())
+
+
+#: remembered expansions (see :meth:`ShaderLibrary.preprocess`), least recently used out first;
+#: every stage file of every effect is ~150 entries of ~16 KB of text
+_EXPANSIONS: "OrderedDict[tuple, _Expansion]" = OrderedDict()
+_EXPANSIONS_KEPT = 512
+_EXPANSIONS_LOCK = threading.Lock()  # the strict check preprocesses from a thread pool
 
 
 def _is_regular(path: Path) -> bool:

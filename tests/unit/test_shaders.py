@@ -198,6 +198,72 @@ def test_the_stamp_sees_a_same_size_edit_in_the_same_tick(lib):
     assert _stamp(path) != old
 
 
+# ---- the remembered expansions (ShaderLibrary.preprocess) ------------------------------------
+
+def _no_expansion(lib, monkeypatch):
+    """Make a fresh expansion fail loudly: what follows must come from the memo."""
+    def refuse(*args, **kw):
+        raise AssertionError("expanded again")
+    monkeypatch.setattr(lib, "_expand", refuse)
+
+
+def test_an_unchanged_expansion_is_given_again_without_expanding(lib, monkeypatch):
+    main = write(lib.root / "fx/a.frag", '#version 330 core\n#include "b.glsl"\nvoid main() {}\n')
+    write(lib.root / "common/b.glsl", "float b;\n")
+    first = lib.preprocess(main, {"FLAG": True})
+    first.files.append(main)  # a caller's change to its copy reaches no other caller
+    _no_expansion(lib, monkeypatch)
+    again = ShaderLibrary(None, lib.root).preprocess(main, {"FLAG": True})  # another session
+    assert again.text == first.text and "#define FLAG 1" in again.text
+    assert again.files == first.files[:-1] and again.stamps == first.stamps
+    monkeypatch.undo()
+    # defines are told apart by their GLSL text: True, 1 and 1.0 are not one key
+    assert "#define FLAG 1.0" in lib.preprocess(main, {"FLAG": 1.0}).text
+
+
+def test_every_change_an_expansion_depended_on_expands_again(lib):
+    main = write(lib.root / "fx/a.frag", '#version 330 core\n#include "b.glsl"\n')
+    inc = write(lib.root / "common/b.glsl", "float b = 1.0;\n")
+    assert "float b = 1.0;" in lib.preprocess(main).text
+    # an edit of the same size in the same tick of the clock (the content hash sees it)
+    before = inc.stat()
+    with open(inc, "w") as f:
+        f.write("float b = 2.0;\n")
+    os.utime(inc, ns=(before.st_atime_ns, before.st_mtime_ns))
+    assert "float b = 2.0;" in lib.preprocess(main).text
+    # a file of that name appearing where the include is looked for first
+    near = write(lib.root / "fx/b.glsl", "float near;\n")
+    src = lib.preprocess(main)
+    assert "float near;" in src.text and near.resolve() in src.files
+    near.unlink()
+    assert "float b = 2.0;" in lib.preprocess(main).text
+    # a link retargeted: the same place now names another file
+    write(lib.root / "common/c1.glsl", "float c1;\n")
+    write(lib.root / "common/c2.glsl", "float c2;\n")
+    link = lib.root / "common/c.glsl"
+    link.symlink_to("c1.glsl")
+    write(main, '#version 330 core\n#include "c.glsl"\n')
+    assert "float c1;" in lib.preprocess(main).text
+    link.unlink()
+    link.symlink_to("c2.glsl")
+    assert "float c2;" in lib.preprocess(main).text
+
+
+def test_a_failed_expansion_is_never_remembered(lib):
+    main = write(lib.root / "fx/a.frag", '#version 330 core\n#include "later.glsl"\n')
+    for _ in range(2):  # the same error, from the full path, each time
+        with pytest.raises(PreprocessError) as info:
+            lib.preprocess(main)
+        assert (info.value.error.line, "cannot find include") == (
+            2, info.value.error.message[:len("cannot find include")])
+    write(lib.root / "common/later.glsl", "float later;\n")
+    assert "float later;" in lib.preprocess(main).text
+    (lib.root / "common/later.glsl").write_bytes(b"float \xff;\n")
+    with pytest.raises(PreprocessError) as info:
+        lib.preprocess(main)
+    assert "not UTF-8" in info.value.error.message and info.value.error.line == 1
+
+
 def test_unlocated_messages_get_a_real_line(lib):
     main = write(lib.root / "fx/a.frag", "#version 330 core\nout vec4 c;\n\nvoid main() {}\n")
     errors = lib.map_errors("error: something without a place\n0:0(1): error: line zero",
