@@ -28,6 +28,7 @@ import numpy as np
 
 from ..errors import GpuUnavailableError
 from ..gpu.bake import bake_volume, read_volume
+from ..gpu.cache import build_mipmaps
 from ..gpu.programs import ProgramSpec
 from ..gpu.shaders import ShaderLibrary, SourceError, read_source
 from ..render.noise import GradientNoiseTextures
@@ -226,7 +227,10 @@ class Baked:
             h, w, _ = self.data.shape
             tex = gpu.texture(owner, name, (w, h), 4, data=data, dtype="f1", repeat=True)
         if mipmaps:
-            tex.build_mipmaps()
+            # the driver's levels, kept for the next session's texture of the same bytes
+            # (app.gpu.cache.build_mipmaps: bit-identical; on llvmpipe generating a 3D
+            # texture's levels costs each session ~40 ms per shape bake)
+            build_mipmaps(tex)
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
         else:
             tex.filter = (moderngl.LINEAR, moderngl.LINEAR)

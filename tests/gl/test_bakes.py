@@ -36,9 +36,11 @@ from app.bakes import (
 )
 from app.bakes.cache import FILE_FORMAT
 from app.errors import GpuUnavailableError
+from app.gpu.cache import MEMO
 from app.gpu.device import Gpu
 from app.gpu.shaders import ShaderLibrary
 from app.sim.bakes import reference
+from tests.gl.test_mip_memo import _state
 
 
 def needs_compute(gpu):
@@ -118,6 +120,7 @@ _GL41_SCRIPT = """
 import json, sys
 import numpy as np
 from app.bakes import ShapeBake, WeatherBake, bake
+from app.gpu.cache import MEMO
 from app.gpu.device import Gpu
 gpu = Gpu()
 out = {"version": gpu.ctx.version_code, "compute": gpu.caps.compute, "bakes": []}
@@ -303,6 +306,27 @@ def test_textures_from_the_cached_bytes(gpu):
         assert {a.name for a in gpu.owned_by("clouds")} == {"shape noise 16", "weather noise 32"}
     finally:
         gpu.release_owner("clouds")
+
+
+def test_a_baked_texture_has_the_drivers_own_mip_levels(gpu):
+    """Baked.texture takes its levels from app.gpu.cache.build_mipmaps: the second texture of
+    the same bytes is given the first one's levels, which are what the driver generates."""
+    shape = bake(gpu, ShapeBake(size=16), cache=False)
+    _ = gpu.ctx.error  # an error an earlier test (or the bake) left is not this one's
+    reference = gpu.ctx.texture3d((16, 16, 16), 4, shape.data.tobytes(), dtype="f1")
+    reference.build_mipmaps()
+    first = shape.texture(gpu, "mips")
+    hits = MEMO.hits
+    second = shape.texture(gpu, "mips", name="again")
+    try:
+        assert MEMO.hits == hits + 1  # defined from the remembered bytes
+        want = _state(gpu.ctx, reference, 0x806F)
+        assert _state(gpu.ctx, first, 0x806F) == want
+        assert _state(gpu.ctx, second, 0x806F) == want
+        assert gpu.ctx.error == "GL_NO_ERROR"
+    finally:
+        reference.release()
+        gpu.release_owner("mips")
 
 
 def test_default_cache_is_used_through_the_environment(gpu, monkeypatch, tmp_path):
