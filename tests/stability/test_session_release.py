@@ -80,3 +80,38 @@ def test_release_frees_the_context_it_made_and_not_a_given_one(gl_ctx):
     given.release()
     assert not given.allocations
     gl_ctx.texture((1, 1), 4).release()  # the caller's context still works
+
+
+def test_what_released_sessions_leave_in_cycles_is_collected_within_a_few_releases():
+    """The full collection runs at every RELEASES_PER_COLLECT-th release (not each: it walks
+    the whole heap), so a released session's cycles wait at most that many releases — with
+    Python's own collector off, so it is the release that collects them."""
+    import gc
+    import weakref
+
+    from app.gpu import device
+    from app.gpu.device import RELEASES_PER_COLLECT, Gpu
+
+    class Effect:  # an effect and its session's Gpu in a cycle, as the scenes' are
+        def __init__(self, gpu):
+            self.gpu, gpu.owner = gpu, self
+
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        gc.collect()
+        while device._releases % RELEASES_PER_COLLECT:  # from where earlier releases left it
+            device._return_freed_memory()
+        left = []
+        for _ in range(RELEASES_PER_COLLECT):
+            gpu = Gpu()
+            left.append(weakref.ref(Effect(gpu)))
+            gpu.release()
+            del gpu
+        assert all(ref() is None for ref in left[:-1]) and left[-1]() is not None
+        for _ in range(RELEASES_PER_COLLECT):
+            Gpu().release()
+        assert left[-1]() is None
+    finally:
+        if was_enabled:
+            gc.enable()
