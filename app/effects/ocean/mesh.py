@@ -10,6 +10,8 @@ import math
 import moderngl
 import numpy as np
 
+from ...gpu.cache import memoised
+
 
 def polar_grid(segments: int, inner: float, extent: float):
     """Rest-point mesh around the camera: a centre vertex, then rings r₀ = inner,
@@ -100,7 +102,9 @@ class OceanMesh:
         return self._buffers.get((segments, inner, extent))
 
     def _make(self, key):
-        verts, idx = polar_grid(*key)
+        # a pure build of the key, shared by every session of the process (3 ms at the
+        # tests' 96 segments, 15 ms and 3.6 MB at the default 256; sessions draw the same grid)
+        verts, idx = memoised(polar_grid, *key)
         self.triangles = len(idx) // 3
         return (self.gpu.buffer(self.owner, "mesh vertices", verts.tobytes()),
                 self.gpu.buffer(self.owner, "mesh indices", idx.tobytes()))
