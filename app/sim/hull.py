@@ -311,6 +311,11 @@ _CYCLE = np.array([[0, 1, 2], [1, 2, 0], [2, 0, 1]])
 #: corner: one corner under (a, ab, ac); two under, the quad split in two (b, c, ac), (b, ac, ab)
 _ONE_UNDER, _TWO_UNDER_1, _TWO_UNDER_2 = 0, 1, 2
 _PIECES = np.array([[0, 3, 4], [1, 2, 4], [1, 4, 3]])
+#: by which corners are under (bit k: corner k, 0…7): cut at all (1 or 2 under), two under,
+#: and the corners in cyclic order from the odd one (the one under or the one above)
+_CUT = np.array([False, True, True, True, True, True, True, False])
+_TWO = np.array([False, False, False, True, False, True, True, False])
+_ORDER = _CYCLE[[0, 0, 1, 2, 2, 1, 0, 0]]
 
 
 def clip_below(corners: np.ndarray, depth: np.ndarray):
@@ -322,36 +327,63 @@ def clip_below(corners: np.ndarray, depth: np.ndarray):
     ``corners`` (T, 3, 3), ``depth`` (T, 3).  Returns (pieces (M, 3, 3), piece depths (M, 3),
     source triangle (M,)): the whole triangles first, then the one-corner pieces, then the
     first and then the second halves of the quads, each in triangle order."""
-    under = depth > 0.0
-    # corners under per triangle, added as small integers (a bool sum(axis=1) casts each one)
-    u = under.view(np.int8)
-    count = u[:, 0] + u[:, 1] + u[:, 2]
-    full = np.nonzero(count == 3)[0]
-    part = np.nonzero((count == 1) | (count == 2))[0]
-    two = count[part] == 2
-    # the odd corner first (the one under for 1, the one above for 2), cyclic order kept
-    order = _CYCLE[np.argmax(under[part] != two[:, None], axis=1)]
+    full, part, two, at = _classify(depth)
     # corners[part[:, None], order] as a take of the flat corners (3 per triangle): the same
     # gather, without fancy indexing's general path
-    at = 3 * part[:, None] + order
-    p = corners.reshape(-1, 3).take(at, axis=0)
-    h = depth.reshape(-1).take(at)
-    a, b, c = p[:, 0], p[:, 1], p[:, 2]
-    ha, hb, hc = h[:, 0:1], h[:, 1:2], h[:, 2:3]
-    ab = a + ha / (ha - hb) * (b - a)  # waterline point on edge a–b
-    ac = a + ha / (ha - hc) * (c - a)  # … on edge a–c
+    points, depths, at, rows = _cut(corners.reshape(-1, 3).take(at, axis=0),
+                                    depth.reshape(-1).take(at), two)
+    return (np.concatenate([corners.take(full, axis=0), points.take(at, axis=0)]),
+            np.concatenate([depth.take(full, axis=0), depths.take(at)]),
+            np.concatenate([full, part[rows]]))
+
+
+def clip_below_indexed(vertices: np.ndarray, depth: np.ndarray, triangles: np.ndarray):
+    """:func:`clip_below` of the mesh triangles ``triangles`` (T, 3) of ``vertices`` (V, 3) under
+    per-vertex ``depth`` (V,), corner-major: (pieces (3, M, 3), piece depths (3, M), source
+    (M,)) — exactly ``clip_below(vertices[triangles], depth[triangles])`` transposed (the same
+    numbers, gathered from the vertices), for the buoyancy's per-corner arithmetic on whole
+    arrays, without gathering every triangle's corners first or transposing after."""
+    tri_depth = depth.take(triangles)
+    full, part, two, at = _classify(tri_depth)
+    ids = triangles.reshape(-1).take(at)  # the cut triangles' vertices, odd corner first
+    points, depths, at, rows = _cut(vertices.take(ids, axis=0), depth.take(ids), two)
+    whole = triangles.take(full, axis=0).T  # (3, F): corner k of each whole triangle
+    at = at.T
+    return (np.concatenate([vertices.take(whole, axis=0), points.take(at, axis=0)], axis=1),
+            np.concatenate([depth.take(whole), depths.take(at)], axis=1),
+            np.concatenate([full, part[rows]]))
+
+
+def _classify(depth: np.ndarray):
+    """(whole triangles (F,), cut triangles (P,), which of those have two corners under (P,),
+    their flat corner indices (P, 3) with the odd corner first) of :func:`clip_below`."""
+    # which corners are under as the bits of one small integer per triangle (bit k: corner k),
+    # and from it by table the rest (argmax over rows of three pays its set-up per row): the
+    # odd corner, the one under for 1, the one above for 2, cyclic order kept
+    code = np.packbits(depth > 0.0, axis=-1, bitorder="little").reshape(-1)
+    full = np.nonzero(code == 7)[0]
+    part = np.nonzero(_CUT.take(code))[0]
+    kind = code.take(part)
+    return full, part, _TWO.take(kind), 3 * part[:, None] + _ORDER.take(kind, axis=0)
+
+
+def _cut(p: np.ndarray, h: np.ndarray, two: np.ndarray):
+    """The cut triangles' points (a, b, c, ab, ac) flat (5P, 3), their depths (5P,), the pieces'
+    indices into them (M, 3) and each piece's cut triangle (M,), from the corners ``p`` (P, 3, 3)
+    and depths ``h`` (P, 3), odd corner first, ``two``: two corners under."""
+    a, ha = p[:, 0:1], h[:, 0:1]
+    # the waterline points on edges a–b and a–c, a + hₐ/(hₐ − h)·(corner − a), both at once
+    ends = a + (ha / (ha - h[:, 1:]))[:, :, None] * (p[:, 1:] - a)
     # every piece is three of (a, b, c, ab, ac) (depths ha, hb, hc, 0, 0): one gather builds
     # them all (in place of a stack and a concatenation per kind)
-    points = np.concatenate([p, ab[:, None], ac[:, None]], axis=1)
+    points = np.concatenate([p, ends], axis=1)
     depths = np.concatenate([h, np.zeros((len(h), 2))], axis=1)
     ones, twos = np.nonzero(~two)[0], np.nonzero(two)[0]
-    rows = np.concatenate([ones, twos, twos])[:, None]
-    kind = _PIECES[np.repeat([_ONE_UNDER, _TWO_UNDER_1, _TWO_UNDER_2],
-                             [len(ones), len(twos), len(twos)])]
-    at = 5 * rows + kind  # points[rows, kind], flat (5 points per partial triangle)
-    return (np.concatenate([corners.take(full, axis=0), points.reshape(-1, 3).take(at, axis=0)]),
-            np.concatenate([depth.take(full, axis=0), depths.reshape(-1).take(at)]),
-            np.concatenate([full, part[rows[:, 0]]]))
+    rows = np.concatenate([ones, twos, twos])
+    at = np.concatenate([5 * ones[:, None] + _PIECES[_ONE_UNDER],
+                         5 * twos[:, None] + _PIECES[_TWO_UNDER_1],
+                         5 * twos[:, None] + _PIECES[_TWO_UNDER_2]])
+    return points.reshape(-1, 3), depths.reshape(-1), at, rows
 
 
 def submerged_below_plane(mesh: HullMesh, point, normal, corners: np.ndarray | None = None

@@ -297,8 +297,12 @@ class Wind:
         object.__setattr__(self, "direction", _check("wind_direction", self.direction))
 
     def vector(self) -> np.ndarray:
-        """World velocity (3,) [m/s]."""
-        return wind_vector(self.speed, self.direction)
+        """World velocity (3,) [m/s] (made once: the sail reads it every substep)."""
+        v = self.__dict__.get("_vector")
+        if v is None:
+            v = wind_vector(self.speed, self.direction)
+            object.__setattr__(self, "_vector", v)
+        return v.copy()
 
     def xz(self) -> tuple[float, float]:
         """(x, z) [m/s], the form of the frame's ``wind`` slot."""
@@ -331,21 +335,33 @@ class BoatState:
 
     @property
     def bow(self) -> np.ndarray:
-        return heading_vector(self.heading)
+        return self._axes()[0].copy()
 
     @property
     def starboard(self) -> np.ndarray:
-        return starboard_vector(self.heading)
+        return self._axes()[1].copy()
+
+    def _axes(self) -> tuple[np.ndarray, np.ndarray]:
+        """(bow, starboard) of the heading, made once per heading (the force models read them
+        eight times a substep; the key keeps the sign of a zero heading, which the bow's x
+        component has)."""
+        psi = self.heading
+        key = (psi, math.copysign(1.0, psi))
+        held = self.__dict__.get("_axes_held")
+        if held is None or held[0] != key:  # a NaN heading is never equal: made every time
+            held = (key, heading_vector(psi), starboard_vector(psi))
+            self.__dict__["_axes_held"] = held
+        return held[1], held[2]
 
     @property
     def surge(self) -> float:
         """Forward speed u = v·bow."""
-        return float(self.velocity @ self.bow)
+        return float(self.velocity @ self._axes()[0])
 
     @property
     def sway(self) -> float:
         """Sideways speed w = v·starboard."""
-        return float(self.velocity @ self.starboard)
+        return float(self.velocity @ self._axes()[1])
 
     @property
     def yaw_rate(self) -> float:
