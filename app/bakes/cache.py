@@ -133,10 +133,11 @@ class BakeCache:
             return bad(f"foreign (file format {fmt}, this version reads {FILE_FORMAT})")
         if header_len > _MAX_HEADER or _PREFIX.size + header_len + _DIGEST > len(blob):
             return bad(f"truncated (header of {header_len} bytes in a {len(blob)}-byte file)")
-        body, digest = blob[:-_DIGEST], blob[-_DIGEST:]
+        view = memoryview(blob)  # slices of it are not copies (a shape bake is 8 MiB)
+        body, digest = view[:-_DIGEST], blob[-_DIGEST:]
         header_bytes = body[_PREFIX.size:_PREFIX.size + header_len]
         try:
-            header = json.loads(header_bytes.decode("utf-8"))
+            header = json.loads(bytes(header_bytes).decode("utf-8"))
             payload_bytes = int(header["payload_bytes"])
         except (UnicodeDecodeError, ValueError, KeyError, TypeError):
             header, payload_bytes = None, -1
