@@ -97,38 +97,41 @@ def check_program(library: ShaderLibrary, spec: ProgramSpec,
         raise FileNotFoundError(f"{VALIDATOR} is not installed (Debian: glslang-tools)")
     result = StrictResult(spec)
     files = library.stage_files(spec.name, **spec.stages())
+    stages = []  # (stage file, its extension, its preprocessed bytes, the source's files)
+    for ext, path in files.items():
+        try:
+            src = library.preprocess(path, {**dict(spec.defines), STAGE_DEFINES[ext]: 1})
+        except PreprocessError as exc:
+            result.errors.append(exc.error)
+            continue
+        stages.append((path, ext, src.text.encode("utf-8"), src.files))
+    result.stages = len(stages)
+    if result.errors or not stages:
+        return result
+    # one run compiles and links every stage; only a failure is looked at stage by stage
+    flags = ["-l"] if len(stages) > 1 else []
+    accepted = Accepted(accepted_dir, validator, flags,
+                        [(f"stage.{ext}", data) for _, ext, data, _ in stages])
+    if accepted.known():  # judged before: no folder, no files, no process
+        return result
     with tempfile.TemporaryDirectory(prefix="natura-strict-") as tmp:
-        stages = []  # (stage file, its preprocessed copy, the source's files)
-        for ext, path in files.items():
-            try:
-                src = library.preprocess(path, {**dict(spec.defines), STAGE_DEFINES[ext]: 1})
-            except PreprocessError as exc:
-                result.errors.append(exc.error)
-                continue
+        copies = []  # (stage file, its preprocessed copy, the source's files)
+        for path, ext, data, sources in stages:
             copy = Path(tmp) / f"stage.{ext}"
-            copy.write_text(src.text, encoding="utf-8")
-            stages.append((path, copy, src.files))
-        result.stages = len(stages)
-        if result.errors or not stages:
-            return result
-        # one run compiles and links every stage; only a failure is looked at stage by stage
-        flags = ["-l"] if len(stages) > 1 else []
-        accepted = Accepted(accepted_dir, validator, flags,
-                            [(copy.name, copy.read_bytes()) for _, copy, _ in stages])
-        if accepted.known():
-            return result
-        linked = _run([validator, *flags, *(str(copy) for _, copy, _ in stages)])
+            copy.write_bytes(data)
+            copies.append((path, copy, sources))
+        linked = _run([validator, *flags, *(str(copy) for _, copy, _ in copies)])
         if linked is None:
             accepted.remember()
             return result
-        for path, copy, sources in stages:
-            out = _run([validator, str(copy)]) if len(stages) > 1 else linked
+        for path, copy, sources in copies:
+            out = _run([validator, str(copy)]) if len(copies) > 1 else linked
             if out is not None:
                 result.errors.extend(library.map_errors(_messages(out), sources, path)
                                      or [ShaderError(library.display(path), 1,
                                                      out.strip()[:200] or "rejected")])
         if not result.errors:  # each stage compiles alone: the link failed
-            first = stages[0][0]
+            first = copies[0][0]
             result.errors.append(ShaderError(library.display(first), 1,
                                              "link: " + " ".join(_messages(linked).split())[:300]
                                              or "link failed"))
