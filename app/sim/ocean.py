@@ -594,8 +594,18 @@ def sample_periodic_cascades(grids, patch_sizes, x, z, channels: int | None = No
     corners = flat.take(index, axis=0).reshape(4, -1, flat.shape[1])[..., :k]
     corners = np.ascontiguousarray(corners.transpose(0, 2, 1), dtype=np.float64)
     a, b, c, d = corners.reshape((4, k) + u.shape)
+    # (1 − f_v)·((1 − f_u)·a + f_u·b) + f_v·((1 − f_u)·c + f_u·d), in place (the same
+    # products and sums, without their temporaries)
     gu = 1 - fu
-    each = (1 - fv) * (gu * a + fu * b) + fv * (gu * c + fu * d)  # (K, C, ...)
+    each = gu * a
+    part = fu * b
+    each += part
+    each *= 1 - fv
+    lower = gu * c
+    np.multiply(fu, d, out=part)
+    lower += part
+    lower *= fv
+    each += lower  # (K, C, ...)
     out = each[:, 0]
     for i in range(1, count):
         out = out + each[:, i]
@@ -642,22 +652,26 @@ class WaterQuery:
     residuals: list = field(default_factory=list)  # |x_q − (x₀ + D_xz(x₀))| per step
 
 
-def invert_horizontal_displacement(displacement_fn: Callable, xq, zq, iterations: int = 3):
+def invert_horizontal_displacement(displacement_fn: Callable, xq, zq, iterations: int = 3,
+                                   residuals: bool = True):
     """spec/000 §1.3: find x₀ with x₀ + D_xz(x₀) = x_q by x₀ ← x_q − D_xz(x₀) (x₀ = x_q first).
 
     ``displacement_fn(x, z)`` → (..., 3) displacement (D_x, η, D_z).  Returns (x₀, z₀, D(x₀),
-    residuals) with ``iterations + 1`` residual arrays (before any correction, after each)."""
+    residuals) with ``iterations + 1`` residual arrays (before any correction, after each);
+    ``residuals=False`` leaves the list empty (a height query that only wants D(x₀) skips
+    their arithmetic; the same x₀ and D)."""
     xq = np.asarray(xq, dtype=float)
     zq = np.asarray(zq, dtype=float)
     x0, z0 = xq, zq
     d = displacement_fn(x0, z0)
-    residuals = [np.hypot(x0 + d[..., 0] - xq, z0 + d[..., 2] - zq)]
+    out = [np.hypot(x0 + d[..., 0] - xq, z0 + d[..., 2] - zq)] if residuals else []
     for _ in range(iterations):
         x0 = xq - d[..., 0]
         z0 = zq - d[..., 2]
         d = displacement_fn(x0, z0)
-        residuals.append(np.hypot(x0 + d[..., 0] - xq, z0 + d[..., 2] - zq))
-    return x0, z0, d, residuals
+        if residuals:
+            out.append(np.hypot(x0 + d[..., 0] - xq, z0 + d[..., 2] - zq))
+    return x0, z0, d, out
 
 
 def cascade_arrays(params: SpectrumParams, n: int, patch_sizes: Sequence[float], seed: int = 0,

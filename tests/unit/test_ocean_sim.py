@@ -359,6 +359,11 @@ def test_iterative_inversion_converges_on_a_choppy_sea():
     back = ocean.displacement(q.rest_x, q.rest_z)
     assert np.allclose(q.height, back[:, 1]) and np.allclose(q.displacement, back)
     assert (q.normal[:, 1] > 0).all()
+    # without the residuals (the height queries): the same rest points and displacement
+    x0, z0, d, res = oc.invert_horizontal_displacement(ocean.displacement, x, z, 3,
+                                                       residuals=False)
+    assert res == [] and np.array_equal(x0, q.rest_x) and np.array_equal(z0, q.rest_z)
+    assert np.array_equal(d, q.displacement)
     with pytest.raises(RuntimeError):
         oc.FFTOcean(n=16, patch_sizes=(100.0,)).displacement(0.0, 0.0)
 

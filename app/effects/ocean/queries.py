@@ -60,7 +60,8 @@ class WaterQueries:
     def height(self, x, z) -> np.ndarray:
         """Water height [m] above world points (x, z): :meth:`water` without the normal."""
         return oc.invert_horizontal_displacement(self.displacement, x, z,
-                                                 self.params["ocean.query_iterations"])[2][..., 1]
+                                                 self.params["ocean.query_iterations"],
+                                                 residuals=False)[2][..., 1]
 
     def normal(self, x, z) -> np.ndarray:
         """Unit normal of the water above world points (x, z): :meth:`water`'s normal."""
