@@ -442,6 +442,11 @@ def sun_ray_hits_ground(h, cos_phi, params: AtmosphereParams):
     return (mu < 0.0) & (r * r * mu * mu >= h * (2.0 * R + h))
 
 
+#: rays per chunk of the Gauss–Legendre pieces of :func:`_density_integrals` (their scratch
+#: arrays, rays × nodes, stay in the CPU's cache)
+_GL_ROWS = 1024
+
+
 @lru_cache(maxsize=16)
 def _gauss_legendre(n: int):
     x, w = np.polynomial.legendre.leggauss(n)
@@ -489,26 +494,34 @@ def _density_integrals(h, mu, params: AtmosphereParams, nodes: int = 24, ground:
     r_p, h_p, z_p, z_t, below, skip = (a.reshape(-1) for a in (r_p, h_p, z_p, z_t, below, skip))
     total = np.zeros((r_p.size, 2))
 
+    rows = max(1, min(r_p.size, _GL_ROWS))
+    z, fac, e = np.empty((rows, nodes)), np.empty((rows, nodes)), np.empty((rows, nodes))
+
     def piece(idx, a, b):
         """Gauss–Legendre on [a, b] in z for the rays ``idx`` (only those, so no inf/NaN).
-        The same operations in the same order as ``fac·exp(−alt/H)`` written out, in place:
-        −alt/H is alt/(−H) exactly (IEEE division is sign-symmetric), one temporary fewer."""
-        rp, hp = r_p[idx, None], h_p[idx, None]
-        span = (b - a)[:, None]
-        z = span * x
-        z += a[:, None]
-        zz = np.multiply(z, z, out=z)
-        fac = span * w2
-        fac *= rp + zz
-        root = np.add(2.0 * rp, zz)
-        fac /= np.sqrt(root, out=root)
-        alt = np.add(hp, zz, out=zz)
-        e = root
-        for i in range(2):
-            np.divide(alt, -H[i], out=e)
-            np.exp(e, out=e)
-            e *= fac
-            total[idx, i] += e.sum(-1)
+        The operations of ``fac·exp(−alt/H)`` in their order, in three scratch arrays of a few
+        rays at a time (no fresh temporaries: cache-sized and no page faults), −alt/H as
+        alt/(−H) (IEEE division is sign-symmetric): the same numbers."""
+        for c in range(0, idx.size, rows):
+            j = idx[c:c + rows]
+            m = j.size
+            zb, fb, eb = z[:m], fac[:m], e[:m]
+            rp, hp = r_p[j, None], h_p[j, None]
+            span = (b[c:c + rows] - a[c:c + rows])[:, None]
+            np.multiply(span, x, out=zb)
+            zb += a[c:c + rows, None]
+            zz = np.multiply(zb, zb, out=zb)
+            np.multiply(span, w2, out=fb)
+            np.add(rp, zz, out=eb)
+            fb *= eb
+            np.add(2.0 * rp, zz, out=eb)
+            fb /= np.sqrt(eb, out=eb)
+            alt = np.add(hp, zz, out=zb)
+            for i in range(2):
+                np.divide(alt, -H[i], out=eb)
+                np.exp(eb, out=eb)
+                eb *= fb
+                total[j, i] += eb.sum(-1)
 
     up = np.flatnonzero(~below)          # from the point (above its perigee) to the top
     piece(up, z_p[up], z_t[up])
