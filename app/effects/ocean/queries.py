@@ -27,8 +27,12 @@ class WaterQueries:
         return 0.5 * extent, 0.9 * extent
 
     def _fade(self, x, z):
+        """The fade factor at (x, z), or None where every point lies inside the fade's start
+        (the factor is exactly 1 there: the multiplication is skipped, the result the same)."""
         start, end = self.fade_range()
         r = np.hypot(np.asarray(x) - self.camera_pos[0], np.asarray(z) - self.camera_pos[2])
+        if r.size and r.max() <= start:  # (NaN compares false: the full formula)
+            return None
         # np.clip(·, 0, 1) as the two ufuncs it is (its argument handling costs more; the
         # buoyancy asks for ~3000 fades a spin-up)
         t = np.minimum(np.maximum((r - start) / (end - start), 0.0), 1.0)
@@ -53,9 +57,12 @@ class WaterQueries:
                 out = np.zeros(x.shape + (3,))
             else:
                 # (λD_x, η, λD_z) alone: the Jacobian channel is not interpolated
-                out = np.broadcast_to(oc.sample_periodic_cascades(
-                    self._readback[1], self.patch_sizes(), x, z, channels=3), x.shape + (3,))
-        return out * self._fade(x, z)[..., None]
+                out = oc.sample_periodic_cascades(self._readback[1], self.patch_sizes(), x, z,
+                                                  channels=3)
+                if out.shape != x.shape + (3,):
+                    out = np.broadcast_to(out, x.shape + (3,)).copy()
+        fade = self._fade(x, z)
+        return out if fade is None else out * fade[..., None]
 
     def height(self, x, z) -> np.ndarray:
         """Water height [m] above world points (x, z): :meth:`water` without the normal."""
