@@ -30,6 +30,25 @@ def test_polar_grid_covers_the_disc_facing_up_without_degenerate_cells():
     assert ratio.min() > 0.5 and ratio.max() < 2.0
 
 
+def test_polar_grid_is_ordered_wedge_by_wedge_and_column_by_column():
+    """Wedge j's indices (its fan triangle, then two per ring outward) follow each other, and the
+    vertices run column by column: the per-wedge construction, integer for integer."""
+    for segments, inner, extent in ((16, 0.5, 40.0), (7, 1.0, 1.5), (5, 2.0, 1.0)):
+        verts, idx = polar_grid(segments, inner, extent)
+        nr = (len(verts) - 1) // segments
+        col = verts[1:].reshape(segments, nr, 3)
+        assert np.all(col[:, :, 1] == (np.arange(segments) * (2 * math.pi / segments))[:, None]
+                      .astype("f4"))
+        assert np.all(col == col[:1, :, :] * [1, 0, 1] + col[:, :, :] * [0, 1, 0])
+        want = []
+        for j in range(segments):
+            a, b = 1 + j * nr, 1 + (j + 1) % segments * nr
+            want += [0, b, a]
+            for i in range(nr - 1):
+                want += [a + i, b + i, b + i + 1, a + i, b + i + 1, a + i + 1]
+        assert idx.dtype == np.uint32 and idx.tolist() == want
+
+
 def test_whitecap_thresholds_are_calibrated_quantiles():
     rng = np.random.default_rng(0)
     jac = [1.0 + 0.2 * rng.standard_normal(200_000), 1.0 + 0.05 * rng.standard_normal(200_000),
