@@ -464,7 +464,7 @@ class ProbeForces:
         f = f + _limit_drag(drag, v, self.weights, body)
         r = p - body.com_world
         self.last = {"submersion": s, "wet": int(wet.sum())}
-        return f.sum(0), cross(r, f).sum(0)
+        return np.add.reduce(f, 0), np.add.reduce(cross(r, f), 0)  # what .sum(0) calls
 
 
 def _heights(water: Any, x, z) -> np.ndarray:
