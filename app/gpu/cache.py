@@ -270,6 +270,12 @@ def build_mipmaps(tex: Any) -> None:
     held = MEMO.held(key)
     if held is None:
         tex.build_mipmaps()
+        # llvmpipe renders the levels (a blit per level) on its rasterizer threads, and
+        # glGetTexImage of a level > 0 right after has read back zeros for some of them, no
+        # error set (now and then, in a busy context: a planet albedo level 2 in a test run);
+        # remembered, those zeros became every later session's level. Waiting for the GPU
+        # here, once per content and process, makes the bytes the ones the texture holds.
+        ctx.finish()
         tex.use(location=ctx.default_texture_unit)
         gl.pixel_store(_GL_PACK_ALIGNMENT, 1)
         levels = []
