@@ -105,6 +105,7 @@ def test_a_cubemap_too(gl_ctx):
         tex.release()
 
 
+@pytest.mark.slow  # a pytest process of its own: ~3 s idle, more beside another worker
 def test_levels_read_back_after_a_busy_context_are_the_textures_own(tmp_path):
     """The sequence that once remembered zeros: this module's tests, then the planet's
     surfaces in the same process (on llvmpipe, glGetTexImage of a level just generated read

@@ -170,6 +170,33 @@ def uses_module_fixture(item) -> bool:
 
 def pytest_collection_modifyitems(config, items):
     mark(items)
+    if hasattr(config, "workerinput"):  # a pytest-xdist worker: the order is the schedule's
+        items[:] = longest_first(items, load())
+
+
+#: what a test missing from tests/durations.json is taken to cost when scheduling
+UNKNOWN_S = 0.5
+
+
+def longest_first(items, costs: dict[str, Cost]) -> list:
+    """``items`` with the work units of ``--dist loadgroup`` (a module sharing a fixture, else
+    a single test) in decreasing recorded cost, each unit's tests in their own order. The
+    scheduler hands the units out in this order as workers free up, so the long ones (the
+    README walk-through, the gallery, the parity run) start first and no worker is left with
+    one at the end while the other idles (longest processing time first)."""
+    units: dict[str, list] = {}
+    for item in items:
+        group = item.get_closest_marker("xdist_group")
+        key = f"group {group.args[0] if group.args else group.kwargs.get('name')}" \
+            if group is not None else item.nodeid
+        units.setdefault(key, []).append(item)
+
+    def cost(unit: list) -> float:
+        return sum(costs[n].total if n in costs else UNKNOWN_S
+                   for n in (plain_nodeid(i.nodeid) for i in unit))
+
+    ordered = sorted(units.values(), key=cost, reverse=True)  # stable: ties keep their order
+    return [item for unit in ordered for item in unit]
 
 
 def reads_readme_lane(item) -> bool:

@@ -145,3 +145,28 @@ def test_a_fixture_reading_a_readme_lane_makes_its_tests_slow_whatever_they_meas
     assert tiers.reads_readme_lane(item(plain, lane))
     assert not tiers.reads_readme_lane(item(plain))
     assert not tiers.reads_readme_lane(SimpleNamespace())
+
+
+def test_workers_get_the_costliest_units_first_each_in_its_own_order():
+    """Under pytest-xdist the work units (a module sharing a fixture, else a test) are ordered
+    by recorded cost, longest first; a unit's tests keep their order, ties and unknown tests
+    (UNKNOWN_S each) keep theirs."""
+
+    class Item:
+        def __init__(self, nodeid, group=None):
+            self.nodeid = nodeid
+            self.group = group
+
+        def get_closest_marker(self, name):
+            if name != "xdist_group" or self.group is None:
+                return None
+            return pytest.mark.xdist_group(self.group).mark
+
+    costs = {"a.py::one": tiers.Cost(0.0, 0.3, 0.0), "b.py::x": tiers.Cost(3.0, 0.1, 0.0, True),
+             "b.py::y": tiers.Cost(0.0, 0.1, 0.0, True), "c.py::big": tiers.Cost(0.0, 2.0, 0.0),
+             "d.py::tie1": tiers.Cost(0.0, 0.3, 0.0)}
+    items = [Item("a.py::one"), Item("b.py::x", "module b.py"), Item("c.py::big"),
+             Item("b.py::y", "module b.py"), Item("d.py::tie1"), Item("e.py::new")]
+    order = [i.nodeid for i in tiers.longest_first(items, costs)]
+    assert order == ["b.py::x", "b.py::y", "c.py::big", "e.py::new", "a.py::one", "d.py::tie1"]
+    assert tiers.UNKNOWN_S == 0.5
