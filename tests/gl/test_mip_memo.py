@@ -5,6 +5,10 @@ GL state moderngl's build_mipmaps leaves."""
 from __future__ import annotations
 
 import ctypes
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import moderngl
 import numpy as np
@@ -112,17 +116,12 @@ def test_levels_read_back_after_a_busy_context_are_the_textures_own(tmp_path):
     zeros for some levels, no error; every later planet session then sampled black albedo —
     the flat normal map test failed 6 runs of 6). build_mipmaps waits for the GPU before it
     reads the levels back: the same sequence passes."""
-    import os
-    import subprocess
-    import sys
-    from pathlib import Path
-
     root = Path(__file__).resolve().parents[2]
     env = {**os.environ, "NATURA_CACHE": str(tmp_path / "cache")}
     env.pop("PYTEST_XDIST_WORKER", None)
     proc = subprocess.run(
         [sys.executable, "-m", "pytest", "-q", "-n", "0", "-p", "no:cacheprovider",
-         "-p", "no:randomly", f"--basetemp={tmp_path / 'run'}",
+         f"--basetemp={tmp_path / 'run'}",
          "tests/gl/test_mip_memo.py::test_remembered_levels_are_the_drivers_own",
          "tests/gl/test_mip_memo.py::test_a_3d_texture_too",
          "tests/gl/test_mip_memo.py::test_a_cubemap_too", "tests/gl/test_planet_surfaces.py"],

@@ -169,9 +169,10 @@ def uses_module_fixture(item) -> bool:
 
 
 def pytest_collection_modifyitems(config, items):
-    mark(items)
+    costs = load()
+    mark(items, costs)
     if hasattr(config, "workerinput"):  # a pytest-xdist worker: the order is the schedule's
-        items[:] = longest_first(items, load())
+        items[:] = longest_first(items, costs)
 
 
 #: what a test missing from tests/durations.json is taken to cost when scheduling
@@ -210,11 +211,11 @@ def reads_readme_lane(item) -> bool:
                for defs in info.name2fixturedefs.values() for d in defs)
 
 
-def mark(items) -> None:
+def mark(items, costs: dict[str, Cost] | None = None) -> None:
     """At collection: ``fast`` and ``slow`` markers from the measured durations, and which tests
     share a module fixture (recorded with their durations). A test marked slow by hand, or
     reading a README lane, is slow whatever it measured, and never fast."""
-    costs = load()
+    costs = load() if costs is None else costs
     nodes = [plain_nodeid(item.nodeid) for item in items]
     always_slow = {node for item, node in zip(items, nodes)
                    if item.get_closest_marker("slow") is not None or reads_readme_lane(item)}
