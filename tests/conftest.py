@@ -15,7 +15,7 @@ from app.runtime import open_session, render_frames, scene_params
 from app.sim.camera import Camera
 
 #: fixtures a domain's GL tests and its stability sweeps share (tests/helpers/fixtures.py)
-pytest_plugins = ["tests.helpers.fixtures", "tests.helpers.tiers"]
+pytest_plugins = ["tests.helpers.fixtures", "tests.helpers.tiers", "tests.helpers.cores"]
 
 TESTS = Path(__file__).resolve().parent
 #: the folders under tests/ and the marker each gives its tests (registered in pyproject.toml)
