@@ -21,6 +21,11 @@ def share(cores: int | None, workers: int) -> int:
     return max(1, (cores or 1) // max(1, workers))
 
 
+def cores() -> int | None:
+    """The cores this process may run on (its affinity where the OS says, else all)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+
+
 def pytest_configure(config):
     # in the controller before it starts the workers (they inherit the environment); in a
     # worker from the count the controller sends, for a worker started some other way
@@ -29,5 +34,4 @@ def pytest_configure(config):
         workers = getattr(config.option, "numprocesses", None)
     if not isinstance(workers, int) or workers < 2:
         return
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    os.environ.setdefault(LLVMPIPE_THREADS, str(share(cores, workers)))
+    os.environ.setdefault(LLVMPIPE_THREADS, str(share(cores(), workers)))

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from app import PROJECT_ROOT
-from tests.helpers.cores import LLVMPIPE_THREADS, share
+from tests.helpers.cores import LLVMPIPE_THREADS, cores, share
 
 SAMPLE = """
 import os
@@ -49,8 +49,7 @@ def test_the_share_is_the_cores_over_the_workers_at_least_one():
 
 @pytest.mark.slow
 def test_xdist_workers_render_with_their_share_of_the_cores(tmp_path):
-    cores = len(os.sched_getaffinity(0))
-    assert _threads(tmp_path, "-n", "2") == [str(share(cores, 2))] * 2
+    assert _threads(tmp_path, "-n", "2") == [str(share(cores(), 2))] * 2
 
 
 @pytest.mark.slow
