@@ -85,7 +85,9 @@ def draw_order(queues: Sequence[int], centres, camera_pos) -> list[int]:
     each object's centre; ties keep their given order (a stable sort)."""
     q = [int(v) for v in queues]
     c = np.asarray(centres, np.float64).reshape(len(q), 3) if q else np.zeros((0, 3))
-    dist = np.linalg.norm(c - np.asarray(camera_pos, np.float64), axis=1)
+    # hypot, not the root of the summed squares: a tiny offset (1e-193 m) squared underflows to
+    # 0 and would tie with a centre at the camera
+    dist = np.hypot.reduce(c - np.asarray(camera_pos, np.float64), axis=1)
     keys = [(q[i], dist[i] if is_opaque_queue(q[i]) else -dist[i], i) for i in range(len(q))]
     return [k[2] for k in sorted(keys)]
 

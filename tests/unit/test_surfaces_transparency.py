@@ -52,6 +52,7 @@ def test_draw_order_opaque_front_to_back_transparent_back_to_front():
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.tuples(st.integers(0, 5000), st.floats(-20, 20), st.floats(-20, 20)),
                 min_size=1, max_size=12))
+@example([(0, 0.0, 3.621652306268528e-193), (0, 0.0, 0.0)])  # its square underflows
 def test_draw_order_properties(objs):
     queues = [o[0] for o in objs]
     centres = [(o[1], 0.0, o[2]) for o in objs]
