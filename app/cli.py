@@ -599,10 +599,15 @@ def cmd_shaders(args) -> int:
 
     _check_shader_arg(args.shaders)
     root = resolve_shader_root(args.shaders)
+    if args.strict:  # before any work: a check that cannot run must not pass (exit 3)
+        from .gpu.strict import require_validator
+
+        require_validator()
     ctx = create_headless_context()
     caps = caps_of(ctx)
     library = ShaderLibrary(ctx, root)
     specs = program_specs()
+    owners = _spec_effects()
     if args.programs:
         names = dict.fromkeys(s.name for s in specs)
         unknown = [p for p in args.programs if p not in names]
@@ -611,21 +616,31 @@ def cmd_shaders(args) -> int:
                              f"{', '.join(list(names)[:6])}, … (natura shaders check lists "
                              "them all)")
         specs = [s for s in specs if s.name in args.programs]
-    failures = 0
+    failures = params_broken = 0
     for spec in specs:
         if spec.requires_compute and not caps.compute:
             print(f"skip {spec.name}: needs compute shaders (GL 4.3), "
                   f"this context has {caps.describe()}")
             continue
         try:
-            library.program(spec.name, dict(spec.defines), **spec.stages())
-            print(f"ok   {spec.name}{_defines_label(spec)}")
+            prog = library.program(spec.name, dict(spec.defines), **spec.stages())
         except NaturaError as exc:
             failures += 1
             for line in str(exc).splitlines():
                 print(line)
+            continue
+        broken = _param_problems(library, prog, owners.get(spec), spec)
+        if broken:  # it compiles, but render refuses it: the same rule, as file:line lines
+            params_broken += 1
+            for error in broken:
+                print(error)
+        else:
+            print(f"ok   {spec.name}{_defines_label(spec)}")
     print(f"{len(specs) - failures} of {len(specs)} programs compiled "
-          f"({caps.describe()}, shaders from {root})")
+          f"({caps.describe()}, shaders from {root})"
+          + (f"; {params_broken} with a broken @param comment (render refuses it)"
+             if params_broken else ""))
+    failures += params_broken
     if args.strict:
         failures += _strict_check(library, specs)
     return 1 if failures else 0
@@ -646,6 +661,38 @@ def program_specs() -> list:
     specs.setdefault(TRIVIAL, "bench")
     specs.setdefault(DISPLAY, "window")
     return list(specs)
+
+
+def _spec_effects() -> dict:
+    """Each effect program's effect class (the group its ``@param`` uniforms belong to)."""
+    from .scenes import SCENES
+
+    owners: dict = {}
+    for scene in SCENES.values():
+        for effect in scene.effects:
+            for spec in effect.programs:
+                owners.setdefault(spec, effect)
+    return owners
+
+
+def _param_problems(library, prog, effect, spec) -> list:
+    """The ``@param`` annotations of a compiled program's files that render refuses (the same
+    parser), as ``file:line: message`` errors; files that are not text are the compile's."""
+    from .gpu.shaders import ShaderError, SourceError, read_source
+    from .params import parse_glsl_annotations
+
+    group = effect.name if effect is not None else spec.name.split("/")[0]
+    out = []
+    for path in prog.files:
+        try:
+            text = read_source(path)
+        except SourceError:
+            continue
+        found: list[tuple[int, str]] = []
+        where = library.display(path)
+        parse_glsl_annotations(text, group, where, getattr(effect, "spec", ""), found)
+        out.extend(ShaderError(where, line, message) for line, message in found)
+    return out
 
 
 def _defines_label(spec) -> str:
@@ -683,11 +730,7 @@ def _strict_check(library, specs) -> int:
     """glslangValidator over every preprocessed stage (app.gpu.strict); the failures."""
     from .gpu import strict
 
-    validator = strict.validator_path()
-    if validator is None:
-        print(f"strict: {strict.VALIDATOR} is not installed, so the strict check did not run "
-              "(Debian: apt-get install glslang-tools; macOS: brew install glslang)")
-        return 0
+    validator = strict.require_validator()  # checked before the compile: removed since?
     results = strict.check_programs(library, specs, validator, accepted_dir=_accepted_dir())
     stages = sum(r.stages for r in results)
     bad = [r for r in results if not r.ok]

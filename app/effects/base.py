@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, ClassVar
 
-from ..errors import NaturaError
+from ..errors import NaturaError, UsageError
 from ..frame import Stage
 from ..gpu.cache import Keyed
 from ..gpu.programs import ProgramSpec
@@ -91,10 +91,12 @@ class Effect:
         return cls._shader_sources(library)[0]
 
     @classmethod
-    def _shader_sources(cls, library: ShaderLibrary) -> tuple[list[Path], dict[Path, Any],
-                                                             list[dict[str, Path]]]:
+    def _shader_sources(cls, library: ShaderLibrary,
+                        failures: list[PreprocessError] | None = None
+                        ) -> tuple[list[Path], dict[Path, Any], list[dict[str, Path]]]:
         """(every file the programs include, the stamp of each file the preprocessor read or
-        looked for, each program's stage files)."""
+        looked for, each program's stage files); a stage that cannot be preprocessed (a missing,
+        empty or refused include, a file that is not text) is added to ``failures``."""
         files: list[Path] = []
         stamps: dict[Path, Any] = {}
         stage_maps: list[dict[str, Path]] = []
@@ -113,6 +115,8 @@ class Effect:
                 except PreprocessError as exc:
                     files.extend(exc.files)
                     stamps.update(exc.stamps)
+                    if failures is not None:
+                        failures.append(exc)
         return list(dict.fromkeys(files)), stamps, stage_maps
 
     @classmethod
@@ -134,8 +138,13 @@ class Effect:
                     problems: list[ShaderError] | None = None) -> list[Param]:
         """Parameters from ``// @param`` annotations in every file the programs include. A
         malformed annotation raises :class:`~app.errors.ParamError` naming its file and line;
-        with a ``problems`` list it is skipped and listed there instead. Files that cannot be
-        read as text are skipped (the compile reports them).
+        with a ``problems`` list it is skipped and listed there instead, as are files that
+        cannot be read as text (the compile reports them).
+
+        Without ``problems``, a stage that cannot be preprocessed (an include missing, empty,
+        not a file or refused; a file that is not text) raises :class:`~app.errors.UsageError`
+        with its ``file:line``: the files after it are unknown, and so are their parameters (a
+        deleted include surfaced as an unknown parameter, and ``natura params`` listed half).
 
         Without ``problems`` (declaring a scene's parameters) the result is memoised per
         effect class and shader root while every file the preprocessor read or looked for
@@ -150,7 +159,10 @@ class Effect:
         if held is not None and cls._sources_unchanged(library, held[0], held[1]):
             _GLSL_PARAMS.move_to_end(key)
             return [copy.copy(p) for p in held[2]]
-        files, stamps, stage_maps = cls._shader_sources(library)
+        failures: list[PreprocessError] = []
+        files, stamps, stage_maps = cls._shader_sources(library, failures)
+        if failures:
+            raise UsageError(str(failures[0].error))
         params = cls._parse_glsl_params(library, None, files)
         _GLSL_PARAMS[key] = (stamps, stage_maps, [copy.copy(p) for p in params])
         while len(_GLSL_PARAMS) > _GLSL_PARAMS_KEPT:

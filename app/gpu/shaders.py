@@ -6,7 +6,17 @@ reload.
   ``glsl/materials/material.frag``; each stage can also be given explicitly (a full-screen pass
   reuses ``common/fullscreen.vert``).
 * ``#include "file"`` resolves relative to the including file, then ``glsl/common``, then the
-  root; each file is included once per stage (later includes of it are dropped).
+  root; each file is included once per stage (later includes of it are dropped). An include
+  must stay inside the shader root (the ``--shaders`` folder, or ``glsl/``) or Natura's own
+  ``glsl/`` (a folder mounted into a root by a link): an absolute path, a ``..`` that leads out,
+  or a link (of the file or of a folder on its way) that points out is refused at the
+  ``#include`` line, naming it, and what it points to is never read — students share folders,
+  and a link to another user's file or to ``/etc`` must not end up in a compiler message. A link
+  whose target stays inside is followed. An included file that is empty (or only blank lines)
+  is an error at its ``#include`` line: the code the file was included for is missing. A
+  program's own stage files are named by the program, not by an include: a link there is
+  followed wherever it points (a test mounts an example's folder into a root that way), but a
+  link that loops is an error at that file's line 1.
 * Defines are injected right after ``#version``.
 * Every file gets an integer source id in ``#line`` directives (Mesa rejects file names there),
   and its lines are numbered from ``id * LINE_STRIDE`` (Mesa reports some errors — e.g. an
@@ -37,6 +47,7 @@ reload.
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import os
 import re
@@ -82,6 +93,10 @@ LINE_STRIDE = 100_000
 MAX_SOURCE_BYTES = 4 << 20
 #: the longest compiler message kept (a 1 MB line may come back quoted)
 MAX_MESSAGE_CHARS = 500
+
+#: why a link that leads back to itself cannot be read (a file's problem at its line 1)
+LOOP_REASON = ("is a symlink loop (a link that leads back to itself): allowed a GLSL text file "
+               "(replace the link with the file)")
 
 _INCLUDE = re.compile(r'^\s*#\s*include\s+[<"]([^">]+)[">]')
 _VERSION = re.compile(r"^\s*#\s*version\b")
@@ -205,7 +220,11 @@ def _read_bytes(path: Path) -> tuple[bytes, Any]:
         st = os.stat(path)
     except FileNotFoundError:
         raise SourceError(1, "file not found (deleted or renamed?)") from None
-    except (OSError, ValueError) as exc:
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise SourceError(1, LOOP_REASON) from None
+        raise SourceError(1, f"cannot read: {exc.strerror or exc}") from None
+    except ValueError as exc:
         raise SourceError(1, f"cannot read: {getattr(exc, 'strerror', None) or exc}") from None
     if not stat.S_ISREG(st.st_mode):
         raise SourceError(1, f"is {_kind(st.st_mode)}, not a file: allowed a GLSL text file",
@@ -297,19 +316,17 @@ class ShaderLibrary:
         self._programs: dict[tuple, Program] = {}
 
     # -- names -----------------------------------------------------------------------------
-    def display(self, path: Path) -> str:
-        """How a file is named in messages: ``glsl/sky/sky.frag`` for the project's shaders."""
+    def display(self, path: Path, follow: bool = True) -> str:
+        """How a file is named in messages: ``glsl/sky/sky.frag`` for the project's shaders.
+        ``follow=False`` names a link itself, not where it leads."""
         path = Path(path)
-        try:
-            resolved = path.resolve()
-        except (OSError, RuntimeError, ValueError):
-            return str(path)
+        resolved = _resolved(path) if follow else Path(os.path.abspath(path))
         try:
             rel = resolved.relative_to(self.root)
         except ValueError:
             return str(path)
         if self.root == DEFAULT_SHADER_ROOT.resolve():
-            return f"glsl/{rel.as_posix()}"
+            return "glsl" if rel == Path(".") else f"glsl/{rel.as_posix()}"
         try:
             return str(resolved.relative_to(Path.cwd()))
         except (ValueError, OSError):
@@ -353,7 +370,7 @@ class ShaderLibrary:
         ``#include``), and a scene's parameters, the compile and the strict check each expand
         the same stage again; checking the stamps is a read and a hash per file. A failed
         expansion is never remembered: errors take the full path every time."""
-        top = Path(path).resolve()
+        top = _resolved(Path(path))  # a loop stays as named: reading it says what it is
         key = (self.root, top)
         with _EXPANSIONS_LOCK:
             held = _EXPANSIONS.get(key)
@@ -374,27 +391,51 @@ class ShaderLibrary:
         lines = "".join(f"#define {k} {_glsl_literal(v)}\n" for k, v in (defines or {}).items())
         return Source(f"{held.version}\n{lines}{held.rest}", list(held.files), dict(held.stamps))
 
-    def _candidates(self, name: str, including: Path,
-                    trace: "_Trace | None" = None) -> list[Path]:
-        out = []
+    def areas(self) -> tuple[Path, ...]:
+        """Where an include may lead: the shader root and Natura's own ``glsl/``."""
+        return tuple(dict.fromkeys((self.root, DEFAULT_SHADER_ROOT.resolve())))
+
+    def _inside(self, path: Path) -> bool:
+        return any(path.is_relative_to(area) for area in self.areas())
+
+    def _places(self, name: str, including: Path,
+                trace: "_Trace | None" = None) -> tuple[list["_Place"], str | None]:
+        """Where ``#include "name"`` in ``including`` is looked for, in order (relative to the
+        including file, then ``common/``, then the root), and why the name itself is refused
+        (``None``: it is not). A place outside the shader root is no place: it is never looked
+        at. A place inside whose file is a link that loops or points out carries its problem."""
+        if os.path.isabs(name):
+            return [], "is an absolute path"
+        out: dict[Path, _Place] = {}
         for base in (including.parent, self.root / "common", self.root):
-            place = base / name
-            try:
-                resolved = place.resolve()
-            except (OSError, RuntimeError, ValueError):
-                if trace is not None:
-                    trace.links[place] = None
+            raw = base / name
+            place = Path(os.path.normpath(raw))  # as named: what is never looked at if out
+            if not self._inside(place) or place in out:
                 continue
-            if trace is not None and resolved != place:
-                trace.links[place] = resolved
-            out.append(resolved)
-        return list(dict.fromkeys(out))
+            try:  # then as the file system has it (a link in the name, then "..")
+                resolved: Path | None = raw.resolve()
+            except (OSError, RuntimeError, ValueError):  # a loop (Python < 3.13 raises)
+                resolved = None
+            if trace is not None and resolved != raw:
+                trace.links[raw] = resolved
+            there = _lexists(raw)
+            if resolved is None or _is_loop(resolved):
+                out[place] = _Place(place, None, "a symlink loop" if there else None)
+            elif not self._inside(resolved):
+                out[place] = _Place(place, None,
+                                    "a link out of the shader folder" if there else None)
+            else:
+                out[place] = _Place(place, resolved, None)
+        if not out:
+            return [], "leads out of the shader folder"
+        return list(out.values()), None
 
     def _find_include(self, name: str, including: Path) -> Path | None:
-        for cand in self._candidates(name, including):
-            if _is_regular(cand):
-                return cand
-        return None
+        places, refused = self._places(name, including)
+        if refused is not None:
+            return None
+        return next((p.resolved for p in places if p.problem is None
+                     and p.resolved is not None and _is_regular(p.resolved)), None)
 
     def _expand(self, path: Path, files: list[Path], out: list[str], defines, top: bool,
                 stamps: dict[Path, Any], trace: "_Trace | None" = None) -> None:
@@ -424,6 +465,8 @@ class ShaderLibrary:
                     raise fail(i + 1, "the first directive must be #version")
             else:
                 raise fail(1, "missing #version")
+        if not top and not any(line.strip() for line in lines):
+            raise _EmptyInclude()  # blamed at the #include line, naming this file
         base = sid * LINE_STRIDE
         out.append(f"#line {base + start + 1} {sid}")
         for i in range(start, len(lines)):
@@ -437,28 +480,52 @@ class ShaderLibrary:
                 else:
                     out.append(line)
                 continue
-            candidates = self._candidates(m.group(1), path, trace)
-            target = next((c for c in candidates if _is_regular(c)), None)
+            name = m.group(1)
+            places, refused = self._places(name, path, trace)
+            if refused is not None:  # never looked at, let alone read
+                raise fail(i + 1, f'include "{name}" {refused}: allowed a path to a file inside '
+                                  f"{self.display(self.root)}/, relative to this file or to "
+                                  "common/")
+            usable = [p.resolved for p in places if p.problem is None and p.resolved is not None]
+            target = next((p for p in usable if _is_regular(p)), None)
             if trace is not None and target is not None:
-                for cand in candidates[:candidates.index(target)]:
-                    trace.probes.setdefault(cand, _stamp(cand))  # a file appearing there wins
+                for p in places:
+                    if p.resolved == target:
+                        break
+                    if p.resolved is not None:  # a file appearing there wins
+                        trace.probes.setdefault(p.resolved, _stamp(p.resolved))
             if target is None:
-                for cand in candidates:  # watched: the include appearing recompiles
-                    stamps.setdefault(cand, _stamp(cand))
-                odd = next((c for c in candidates if os.path.lexists(c)), None)
+                for p in places:  # watched: the include appearing (or fixed) recompiles
+                    if p.resolved is not None:
+                        stamps.setdefault(p.resolved, _stamp(p.resolved))
+                    elif _lexists(p.place.parent):  # a bad link: its folder, never its target
+                        stamps.setdefault(p.place.parent, _stamp(p.place.parent))
+                bad = next((p for p in places if p.problem is not None), None)
+                if bad is not None and bad.problem is not None:
+                    shown = self.display(bad.place, follow=False)
+                    raise fail(i + 1, f'include "{name}" is {bad.problem} ({shown}): allowed a '
+                                      f"GLSL text file inside {self.display(self.root)}/"
+                                      + (" (copy the file in)" if "out" in bad.problem else ""))
+                odd = next((p for p in usable if _lexists(p)), None)
                 if odd is not None:
                     try:
                         what = _kind(os.stat(odd).st_mode)
                     except OSError:
                         what = "not readable"
-                    raise fail(i + 1, f'include "{m.group(1)}" is {what} '
+                    raise fail(i + 1, f'include "{name}" is {what} '
                                       f"({self.display(odd)}): allowed a GLSL text file")
-                looked = ", ".join(self.display(b) for b in (path.parent, self.root / "common"))
-                raise fail(i + 1, f'cannot find include "{m.group(1)}" (looked in {looked})')
+                looked = ", ".join(self.display(p.place, follow=False) for p in places)
+                raise fail(i + 1, f'cannot find include "{name}" (no {looked}): allowed a GLSL '
+                                  "file at one of them")
             if target in files:
-                out.append(f"// include {m.group(1)} already included")
+                out.append(f"// include {name} already included")
                 continue
-            self._expand(target, files, out, defines, False, stamps, trace)
+            try:
+                self._expand(target, files, out, defines, False, stamps, trace)
+            except _EmptyInclude:
+                raise fail(i + 1, f'include "{name}" ({self.display(target)}) is empty: '
+                                  "allowed a GLSL file holding the code included from it "
+                                  "(restore it)") from None
             out.append(f"#line {base + i + 2} {sid}")
 
     # -- errors ----------------------------------------------------------------------------
@@ -554,7 +621,7 @@ class ShaderLibrary:
         for line in lines:
             m = _INCLUDE.match(line)
             if m:
-                found = self._find_include(m.group(1), Path(path).resolve())
+                found = self._find_include(m.group(1), _resolved(Path(path)))
                 if found is not None and found not in out:
                     out.append(found)
         return out
@@ -569,7 +636,7 @@ class ShaderLibrary:
             moved = {}
             for ext, path in prog.stage_paths.items():
                 try:
-                    moved[ext] = new_root / Path(path).resolve().relative_to(self.root)
+                    moved[ext] = new_root / _resolved(Path(path)).relative_to(self.root)
                 except ValueError:  # a stage outside the root stays where it is
                     moved[ext] = path
             prog.stage_paths = moved
@@ -642,6 +709,46 @@ class _Expansion:
 _EXPANSIONS: "OrderedDict[tuple, _Expansion]" = OrderedDict()
 _EXPANSIONS_KEPT = 512
 _EXPANSIONS_LOCK = threading.Lock()  # the strict check preprocesses from a thread pool
+
+
+@dataclass(frozen=True)
+class _Place:
+    """A place an include is looked for: ``place`` as named (normalised), ``resolved`` where
+    it leads (``None`` when it cannot be used: a loop, or a link out of the shader folder —
+    ``problem`` says which when something is there)."""
+
+    place: Path
+    resolved: Path | None
+    problem: str | None
+
+
+class _EmptyInclude(Exception):
+    """An included file with nothing in it (reported at the including file's #include)."""
+
+
+def _resolved(path: Path) -> Path:
+    """``path`` with its links followed, or made absolute as named when they loop."""
+    try:
+        return path.resolve()
+    except (OSError, RuntimeError, ValueError):  # a symlink loop (Python < 3.13 raises)
+        return Path(os.path.abspath(path))
+
+
+def _lexists(path: Path) -> bool:
+    try:
+        return os.path.lexists(path)
+    except (OSError, ValueError):
+        return False
+
+
+def _is_loop(path: Path) -> bool:
+    try:
+        os.stat(path)
+    except OSError as exc:
+        return exc.errno == errno.ELOOP
+    except ValueError:
+        return False
+    return False
 
 
 def _is_regular(path: Path) -> bool:

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterable
 
+from ..errors import NaturaError
 from .programs import ProgramSpec
 from .shaders import STAGE_DEFINES, PreprocessError, ShaderError, ShaderLibrary
 
@@ -47,6 +48,23 @@ _VERSION_LINE = re.compile(r"Glslang Version:\s*(\S+)")
 def validator_path() -> str | None:
     """Where ``glslangValidator`` is, or None (Debian: glslang-tools)."""
     return shutil.which(VALIDATOR)
+
+
+class ValidatorMissingError(NaturaError):
+    """The strict check was asked for, but the reference compiler is not installed: the
+    environment lacks something (exit 3), and the check never passes by not running."""
+
+    exit_code = 3
+
+
+def require_validator(what: str = "shaders check --strict") -> str:
+    """Where ``glslangValidator`` is, or :class:`ValidatorMissingError` saying how to get it."""
+    path = validator_path()
+    if path is None:
+        raise ValidatorMissingError(
+            f"{what} cannot run: {VALIDATOR} is not on PATH: allowed once it is installed "
+            "(Debian: apt-get install glslang-tools; macOS: brew install glslang)")
+    return path
 
 
 def validator_version(path: str | None = None) -> str | None:

@@ -151,3 +151,152 @@ def test_an_accepted_program_is_not_judged_again_and_a_changed_byte_is(tmp_path,
         assert not strict.check_program(library, SKY, accepted_dir=seen).ok
         assert len(runs) > before
     assert len(list(seen.iterdir())) == 1
+
+
+# ---- issue 36's fuzz residue: what a copied folder can hold --------------------------------------
+
+def _copy(tmp_path: Path) -> Path:
+    """``natura shaders copy d`` (the same files: a copytree is what it does)."""
+    shutil.copytree(DEFAULT_SHADER_ROOT, tmp_path / "d")
+    return tmp_path / "d"
+
+
+def _render(tmp_path: Path) -> str:
+    """``natura render sky --shaders d`` refused: one line (exit 2), nothing written."""
+    from tests.helpers.cli import run, usage_error
+
+    before = sorted(p.name for p in tmp_path.iterdir())
+    line = usage_error(run("render", "sky", "--shaders", "d", "--size", "32x32", "--out",
+                           "b.png", cwd=tmp_path))
+    assert sorted(p.name for p in tmp_path.iterdir()) == before  # nothing left behind
+    assert len(line) <= 200, line
+    return line
+
+
+def _params(tmp_path: Path) -> str:
+    from tests.helpers.cli import run, usage_error
+
+    return usage_error(run("params", "sky", "--shaders", "d", cwd=tmp_path))
+
+
+def _check(tmp_path: Path, *programs: str) -> list[str]:
+    """``natura shaders check --shaders d PROGRAMS``: exit 1, no traceback; its lines."""
+    r = natura("shaders", "check", "--shaders", "d", *(programs or ("sky/sky",)), cwd=tmp_path)
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert "Traceback" not in r.stdout + r.stderr and r.stderr == "", r.stderr
+    return r.stdout.splitlines()
+
+
+def test_a_symlink_loop_is_named_as_one(tmp_path):
+    """`ln -s sky.frag d/sky/sky.frag`: an internal error (exit 70) in render, an internal error
+    blamed on common/fullscreen.vert in check, before."""
+    d = _copy(tmp_path)
+    (d / "sky" / "sky.frag").unlink()
+    (d / "sky" / "sky.frag").symlink_to("sky.frag")
+    for line in (_render(tmp_path), _params(tmp_path)):
+        assert line.startswith("natura: d/sky/sky.frag:1: is a symlink loop"), line
+        assert "allowed a GLSL text file" in line and "internal" not in line
+    lines = _check(tmp_path, "sky/sky", "sky/sky_face")
+    assert [line for line in lines if ":" in line.split()[0]] == [
+        "d/sky/sky.frag:1: is a symlink loop (a link that leads back to itself): allowed a GLSL "
+        "text file (replace the link with the file)"], lines
+    assert "ok   sky/sky_face" in lines  # the programs that do not use it still compile
+
+
+@pytest.mark.parametrize("include, why", [
+    ("/etc/passwd", "is an absolute path"),
+    ("../../../../../../etc/hostname", "leads out of the shader folder"),
+    ("host.glsl", "is a link out of the shader folder (d/sky/host.glsl)"),  # → /etc/hostname
+], ids=["absolute", "dot-dot", "link-out"])
+def test_an_include_out_of_the_shader_folder_is_refused_unread(tmp_path, include, why):
+    """Before, each was read and compiled (``/etc/passwd:1: error: syntax error ...``)."""
+    d = _copy(tmp_path)
+    (d / "sky" / "host.glsl").symlink_to("/etc/hostname")
+    frag = d / "sky" / "sky.frag"
+    lines = frag.read_text().splitlines()
+    assert lines[3] == '#include "sky_radiance.glsl"'
+    frag.write_text("\n".join([*lines[:4], f'#include "{include}"', *lines[4:]]) + "\n")
+    said = f'd/sky/sky.frag:5: include "{include}" {why}'
+    for line in (_render(tmp_path), _params(tmp_path)):
+        assert line.startswith(f"natura: {said}"), line
+        assert "allowed" in line and "inside d/" in line
+    lines = _check(tmp_path)
+    assert [line for line in lines if line.startswith("d/")] == [
+        next(line for line in lines if line.startswith(said))], lines
+    target = Path("/etc/passwd" if "passwd" in include else "/etc/hostname")
+    first = target.read_text().splitlines()[0].strip() if target.is_file() else ""
+    if len(first) >= 6:  # what it holds is never read, so never shown
+        assert first not in "\n".join(lines), lines
+
+
+@pytest.mark.parametrize("how, said", [
+    ("deleted", 'cannot find include "sky_radiance.glsl" (no d/sky/sky_radiance.glsl, '
+                "d/common/sky_radiance.glsl, d/sky_radiance.glsl): allowed a GLSL file at one "
+                "of them"),
+    ("emptied", 'include "sky_radiance.glsl" (d/sky/sky_radiance.glsl) is empty: allowed a '
+                "GLSL file holding the code included from it (restore it)"),
+    ("a folder", 'include "sky_radiance.glsl" is a folder (d/sky/sky_radiance.glsl): allowed '
+                 "a GLSL text file"),
+], ids=["deleted", "emptied", "folder"])
+def test_a_missing_empty_or_folder_include_is_named_by_render_params_and_check(tmp_path, how,
+                                                                              said):
+    """Before, render said ``unknown parameter 'sky.sun_color'`` and ``natura params sky``
+    exited 0 listing 12 of the 23 parameters: the include's own @params were missing."""
+    d = _copy(tmp_path)
+    radiance = d / "sky" / "sky_radiance.glsl"
+    if how == "deleted":
+        radiance.unlink()
+    elif how == "emptied":
+        radiance.write_text("")
+    else:
+        radiance.unlink()
+        radiance.mkdir()
+    for line in (_render(tmp_path), _params(tmp_path)):
+        assert line == f"natura: d/sky/sky.frag:4: {said}"
+    lines = _check(tmp_path)
+    assert f"d/sky/sky.frag:4: {said}" in lines, lines
+
+
+@pytest.mark.parametrize("where", ["on the uniform", "on a line of its own"])
+def test_check_refuses_the_param_comment_render_refuses(tmp_path, where):
+    """``// @param abc [1, 0]``: render refuses it on a uniform's line, and check said ``ok``.
+    On a line of its own it is a comment to both (it declares nothing: tests/unit/test_params)."""
+    from tests.helpers.cli import run
+
+    d = _copy(tmp_path)
+    radiance = d / "sky" / "sky_radiance.glsl"
+    lines = radiance.read_text().splitlines()
+    at = next(i for i, line in enumerate(lines) if line.startswith("uniform float uSunSize;"))
+    lines.insert(at, "uniform float uAbc; // @param abc [1, 0]" if where == "on the uniform"
+                 else "// @param abc [1, 0]")
+    radiance.write_text("\n".join(lines) + "\n")
+    if where == "on a line of its own":
+        r = run("render", "sky", "--shaders", "d", "--size", "32x32", "--out", "b.png",
+                cwd=tmp_path)
+        assert r.returncode == 0 and (tmp_path / "b.png").is_file(), r.stderr
+        r = natura("shaders", "check", "--shaders", "d", "sky/sky", cwd=tmp_path)
+        assert r.returncode == 0 and "ok   sky/sky" in r.stdout, r.stdout + r.stderr
+        return
+    said = (f"d/sky/sky_radiance.glsl:{at + 1}: @param needs a default first: allowed a "
+            "number, true/false or (a, b, c)")
+    assert _render(tmp_path) == f"natura: {said}"
+    lines = _check(tmp_path, "sky/sky", "sky/sky_face")
+    assert lines.count(said) == 2 and not any(line.startswith("ok") for line in lines), lines
+    assert lines[-1].startswith("2 of 2 programs compiled") and lines[-1].endswith(
+        "; 2 with a broken @param comment (render refuses it)"), lines
+
+
+def test_the_strict_check_without_its_validator_fails_saying_so(tmp_path):
+    """glslangValidator not on PATH: exit 0 and a line among the results, before."""
+    bare = tmp_path / "bin"  # a PATH with no glslangValidator (natura is run by its full path)
+    bare.mkdir()
+    r = natura("shaders", "check", "--strict", "sky/sky", cwd=tmp_path,
+               env={**os.environ, "PATH": str(bare)})
+    assert r.returncode == 3, r.stdout + r.stderr
+    assert r.stdout == "" and "Traceback" not in r.stderr
+    [line] = r.stderr.splitlines()
+    assert line == ("natura: shaders check --strict cannot run: glslangValidator is not on "
+                    "PATH: allowed once it is installed (Debian: apt-get install glslang-tools; "
+                    "macOS: brew install glslang)")
+    assert len(line) <= 200
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bin"]

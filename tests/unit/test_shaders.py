@@ -325,3 +325,148 @@ def test_a_line_past_the_end_of_a_file_is_brought_back_into_it(lib):
     assert (first.file, first.line) == (lib.display(comment), 2)  # where the /* is
     assert (second.file, second.line) == (lib.display(other), 2)
     assert "past the end" in second.message
+
+
+# ---- what a shared folder may hold (issue 36) ----------------------------------------------------
+
+def _opened(monkeypatch) -> list[str]:
+    """Every path the library opens from now on."""
+    opened: list[str] = []
+    real_open = os.open
+
+    def spy(path, *args, **kw):
+        opened.append(os.path.abspath(path))
+        return real_open(path, *args, **kw)
+
+    monkeypatch.setattr(os, "open", spy)
+    return opened
+
+
+@pytest.mark.parametrize("include, why", [
+    ("/etc/hostname", "is an absolute path"),
+    ("../../../../../../../../etc/hostname", "leads out of the shader folder"),
+    ("../../outside.glsl", "leads out of the shader folder"),
+    ("link.glsl", "is a link out of the shader folder (LIB/fx/link.glsl)"),
+    ("away/inside.glsl", "is a link out of the shader folder (LIB/fx/away/inside.glsl)"),
+], ids=["absolute", "dot-dot-etc", "dot-dot", "link-out", "folder-link-out"])
+def test_an_include_never_leaves_the_shader_folder(lib, monkeypatch, include, why):
+    """Refused at the #include line, naming it, and never opened: an absolute path, a ``..``
+    out of the root, a link (of the file, or of a folder on its way) that points out."""
+    outside = lib.root.parent / "outside"
+    outside.mkdir()
+    write(outside / "inside.glsl", "float secret;\n")
+    write(lib.root.parent / "outside.glsl", "float secret;\n")
+    (lib.root / "fx/link.glsl").symlink_to(outside / "inside.glsl")
+    (lib.root / "fx/away").symlink_to(outside)
+    main = write(lib.root / "fx/a.frag", f'#version 330 core\n// two\n#include "{include}"\n')
+    opened = _opened(monkeypatch)
+    with pytest.raises(PreprocessError) as info:
+        lib.preprocess(main)
+    error = info.value.error
+    assert (error.file, error.line) == (lib.display(main), 3)
+    said = why.replace("LIB", lib.display(lib.root))
+    assert error.message.startswith(f'include "{include}" {said}'), error.message
+    assert "allowed a" in error.message and f"inside {lib.display(lib.root)}/" in error.message
+    assert len(str(error)) < 400
+    root = str(lib.root)
+    assert all(p.startswith(root + os.sep) for p in opened), opened  # nothing outside read
+    assert not any(p.startswith(str(outside)) or p.startswith("/etc") for p in opened)
+    assert lib.include_children(main) == []  # the editor's include tree does not follow it
+
+
+def test_a_link_that_stays_inside_is_followed(lib):
+    """Inside the root, or into Natura's own glsl/ (a folder mounted by a link), a link is a
+    file like any other."""
+    write(lib.root / "common/real.glsl", "float real_one;\n")
+    (lib.root / "fx/alias.glsl").symlink_to(lib.root / "common/real.glsl")
+    (lib.root / "shipped").symlink_to(DEFAULT_SHADER_ROOT / "common")
+    main = write(lib.root / "fx/a.frag", '#version 330 core\n#include "alias.glsl"\n'
+                                         '#include "../shipped/math.glsl"\n')
+    src = lib.preprocess(main)
+    assert "float real_one;" in src.text
+    assert (DEFAULT_SHADER_ROOT / "common/math.glsl").resolve() in src.files
+
+
+def test_a_symlink_loop_is_an_error_at_its_line(lib):
+    """A stage file that is a link to itself: its line 1, not an internal error blamed on
+    another stage; an include that is one: at the #include line, naming it."""
+    stage = lib.root / "fx/loop.frag"
+    stage.symlink_to("loop.frag")
+    with pytest.raises(PreprocessError) as info:
+        lib.preprocess(stage)
+    assert (info.value.error.file, info.value.error.line) == (lib.display(stage), 1)
+    assert info.value.error.file.endswith("fx/loop.frag")
+    assert info.value.error.message.startswith("is a symlink loop")
+    (lib.root / "fx/round.glsl").symlink_to("round.glsl")
+    main = write(lib.root / "fx/a.frag", '#version 330 core\n#include "round.glsl"\n')
+    with pytest.raises(PreprocessError) as info:
+        lib.preprocess(main)
+    assert (info.value.error.file, info.value.error.line) == (lib.display(main), 2)
+    assert info.value.error.message.startswith(
+        f'include "round.glsl" is a symlink loop ({lib.display(lib.root)}/fx/round.glsl)')
+    # fixing the link (a file in its place) is seen: the failure is never remembered
+    (lib.root / "fx/round.glsl").unlink()
+    write(lib.root / "fx/round.glsl", "float round_one;\n")
+    assert "float round_one;" in lib.preprocess(main).text
+
+
+@pytest.mark.parametrize("content", ["", "\n\n  \t\n"])
+def test_an_empty_include_is_an_error_at_its_include(lib, content):
+    """The code a file was included for is gone: named at the #include, with the file (a
+    comment alone is not empty: the compile names what is missing)."""
+    inc = write(lib.root / "fx/gone.glsl", content)
+    main = write(lib.root / "fx/a.frag", '#version 330 core\n\n#include "gone.glsl"\n')
+    with pytest.raises(PreprocessError) as info:
+        lib.preprocess(main)
+    error = info.value.error
+    assert (error.file, error.line) == (lib.display(main), 3)
+    assert error.message == (f'include "gone.glsl" ({lib.display(inc)}) is empty: allowed a '
+                             "GLSL file holding the code included from it (restore it)")
+    assert inc.resolve() in info.value.stamps  # watched: filling it recompiles
+    write(inc, "// only a comment\n")
+    assert "only a comment" in lib.preprocess(main).text
+
+
+def test_a_missing_include_names_every_place_it_was_looked_for(lib):
+    main = write(lib.root / "fx/a.frag", '#version 330 core\n#include "later.glsl"\n')
+    with pytest.raises(PreprocessError) as info:
+        lib.preprocess(main)
+    r = lib.display(lib.root)
+    assert info.value.error.message == (
+        f'cannot find include "later.glsl" (no {r}/fx/later.glsl, {r}/common/later.glsl, '
+        f"{r}/later.glsl): allowed a GLSL file at one of them")
+
+
+def test_declaring_parameters_names_an_include_that_cannot_be_read(tmp_path):
+    """The parameters of a file that is not there are unknown: declaring them says which
+    include is missing (before: a later --set named an unknown parameter)."""
+    import shutil
+
+    from app.effects.sky.effect import Sky
+
+    copy = tmp_path / "d"
+    shutil.copytree(DEFAULT_SHADER_ROOT, copy)
+    library = ShaderLibrary(None, copy)
+    assert any(p.name == "sky.sun_color" for p in Sky.glsl_params(library))
+    (copy / "sky/sky_radiance.glsl").unlink()
+    with pytest.raises(UsageError) as info:
+        Sky.glsl_params(library)
+    message = str(info.value)
+    assert message.startswith(f"{library.display(copy / 'sky/sky.frag')}:4: cannot find include "
+                              '"sky_radiance.glsl"'), message
+    assert info.value.exit_code == 2
+    problems: list = []  # the window's reload path lists, never raises
+    Sky.glsl_params(library, problems)
+
+
+def test_every_shipped_stage_preprocesses():
+    """Natura's own includes (``../common/x.glsl``, ``ocean/waves.glsl``…) all stay inside."""
+    from app.cli import program_specs
+
+    library = ShaderLibrary(None)
+    count = 0
+    for spec in program_specs():
+        for path in library.stage_files(spec.name, **spec.stages()).values():
+            library.preprocess(path, dict(spec.defines))
+            count += 1
+    assert count > 200
