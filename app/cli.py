@@ -138,7 +138,9 @@ def _add_common(p: argparse.ArgumentParser) -> None:
 
 
 def _add_scene_options(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--size", default=None, metavar="WxH", help="image size (default 1280x720)")
+    p.add_argument("--size", default=None, metavar="WxH",
+                   help="image size (default 1280x720; 1..16384 a side, within what the "
+                        "renderer can allocate: natura doctor says)")
     p.add_argument("--time", type=_float_in("--time", 0.0, 24.0), default=None, metavar="HOURS",
                    help="hour of day, 0 to 24")
     p.add_argument("--camera", default=None, metavar="X,Y,Z[,YAW[,PITCH[,FOV]]]",
@@ -489,7 +491,7 @@ def cmd_render(args) -> int:
     for i in range(1, args.frames + 1):  # every name before any work (bounded: MAX_FRAMES)
         # the frames share base's folder, which the check above probed once
         check_output_path(frame_path(base, i, args.frames), force=args.force, probe_folder=False)
-    session = open_session(args.scene, params, args.shaders, camera=camera)
+    session = open_session(args.scene, params, args.shaders, camera=camera, sizes=[size])
     attach_mesh(session.scene, mesh)
     written = []
     view = getattr(args, "resolved_view", None)
@@ -527,7 +529,7 @@ def cmd_window(args) -> int:
         out = check_output_path(next_free_path(Path("."), f"natura-{scene_name}", ".png"))
         print(f"natura: no display ({problem}): "
               f"rendering {scene_name!r} headless instead", file=sys.stderr)
-        session = open_session(scene_name, params, args.shaders, camera=camera)
+        session = open_session(scene_name, params, args.shaders, camera=camera, sizes=[size])
         attach_mesh(session.scene, mesh)
         frames = render_frames(session, size)
         try:
@@ -570,7 +572,7 @@ def cmd_params(args) -> int:
         print(f"[{group}]")
         for p in items:
             value = params[p.name]
-            rng = p.allowed()
+            rng = p.allowed() + "".join(f"; and {j.text}" for j in p.joint)
             unit = f" {p.unit}" if p.unit else ""
             where = f"  ({p.section})" if p.section else ""
             print(f"  {p.name} = {value!r}{unit}    {rng}\n      {p.doc}{where}")
@@ -868,7 +870,8 @@ def cmd_bench(args) -> int:
     # all are checked before anything runs, and its chart() writes them all
     suffixes = tuple(getattr(sweeps, "CHART_SUFFIXES", (".png",))) if sweeps is not None else ()
     path, _ = _bench_outputs(args, suffixes)
-    session = open_session(args.scene, params, args.shaders, camera=camera)
+    session = open_session(args.scene, params, args.shaders, camera=camera,
+                           sizes=[size, *(table_sizes or ())])
     attach_mesh(session.scene, mesh)
     try:
         # a slow scene stops adding timed rounds after ROUNDS_BUDGET_S (at least 5 rounds)

@@ -20,10 +20,11 @@ import os
 import re
 import reprlib
 import stat
+import sys
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable, Mapping
 
 from .errors import ParamError, one_line, quote
 
@@ -38,15 +39,42 @@ _SHOW.maxlevel = 3
 _SHOW.maxlist = _SHOW.maxtuple = _SHOW.maxdict = 6
 
 
+def _plain(value: Any, depth: int = 0) -> str:
+    """``value`` as a user writes it: numbers as numbers (numpy's too), a sequence as
+    comma-separated items (the ``--set`` form), a date or time in ISO form (a TOML preset may
+    hold one); anything else by its reprlib repr."""
+    import datetime
+
+    np = sys.modules.get("numpy")  # a numpy value exists only where numpy is loaded
+    if np is not None and isinstance(value, (np.generic, np.ndarray)):
+        value = value.tolist() if value.size <= 6 else value
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        text = repr(value)
+        return text if len(text) <= 12 else f"{value:.6g}"
+    if isinstance(value, int):
+        return _SHOW.repr(value)
+    if isinstance(value, (datetime.date, datetime.time)):
+        return value.isoformat()
+    if isinstance(value, (list, tuple)) and depth < 2:
+        items = [_plain(v, depth + 1) for v in value[:6]]
+        text = ",".join(items) + (",…" if len(value) > 6 else "")
+        return f"[{text}]" if depth else text
+    return _SHOW.repr(value)
+
+
 def show(value: Any) -> str:
-    """A value as a short repr for messages: long strings, deep or long lists, huge integers
-    are cut, and nothing here raises."""
+    """A value as a user writes it, short, for messages: numbers, comma-separated sequences,
+    ISO dates; long strings, deep or long lists, huge integers are cut, and nothing here
+    raises."""
     if isinstance(value, str):
         return quote(value)
     try:
-        return quote(_SHOW.repr(value)).strip("'\"")
+        return quote(_plain(value)).strip("'\"")
     except Exception:  # noqa: BLE001 — e.g. an int too long to print
         return f"<a {type(value).__name__}>"
+
 
 KINDS = ("float", "int", "bool", "vec3", "vec4", "color", "choice")
 #: number of components of each vector kind
@@ -73,6 +101,31 @@ class Inspector:
     params: "ParamSet | None" = None
 
 
+@dataclass(frozen=True, eq=False)
+class Joint:
+    """A rule between parameters that each one's range cannot say (``bake_shape.cells_g <
+    cells_b < cells_a``): ``text`` is how a user reads it, ``holds`` says whether the values of
+    ``names`` (in that order) keep it. Every :class:`Param` it ties carries it in ``joint``, so
+    ``natura params`` and the panel show it beside that parameter's range; a scene's values are
+    checked against it after the defaults, the preset and every ``--set`` are in
+    (:meth:`ParamSet.check_joint`), and the panel refuses a change that would break it."""
+
+    names: tuple[str, ...]
+    text: str
+    holds: Callable[..., bool]
+
+    def broken_by(self, values: Mapping[str, Any]) -> str | None:
+        """None when ``values`` keep the rule, else why not ("" when the rule's own text is
+        all there is to say; a check that knows more says it by raising ParamError)."""
+        try:
+            return None if self.holds(*(values[n] for n in self.names)) else ""
+        except ParamError as exc:
+            return str(exc)
+
+    def kept_by(self, values: Mapping[str, Any]) -> bool:
+        return self.broken_by(values) is None
+
+
 @dataclass
 class Param:
     """A tunable: everything the UI, the CLI, presets and validation need to know."""
@@ -90,6 +143,8 @@ class Param:
     choices: tuple[str, ...] = ()
     source: str = "python"  # "python" or the GLSL file that declared it
     srgb: bool = False  # a colour given as display (sRGB) values rather than linear ones
+    #: the rules that tie it to other parameters (shown beside its range)
+    joint: tuple[Joint, ...] = ()
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -110,6 +165,10 @@ class Param:
     @property
     def short(self) -> str:
         return self.name.split(".", 1)[-1]
+
+    def joint_text(self) -> str:
+        """Its rules with other parameters, as shown beside the range ("" when none)."""
+        return "; ".join(j.text for j in self.joint)
 
     def allowed(self) -> str:
         """What is allowed, as a phrase for error messages."""
@@ -203,6 +262,25 @@ class Param:
         return number
 
 
+def non_zero(name: str, what: str = "vector") -> Joint:
+    """The rule that a direction parameter is not the zero vector (it is normalised)."""
+    return Joint((name,), f"{name} not the zero {what}",
+                 lambda v: math.fsum(float(x) * float(x) for x in v) > 1e-18)
+
+
+def with_joints(params: Iterable[Param], joints: Iterable[Joint]) -> list[Param]:
+    """``params`` with each rule of ``joints`` added to every parameter it ties (copies where
+    one is added; the others as they are)."""
+    import dataclasses
+
+    joints = list(joints)
+    out = []
+    for p in params:
+        mine = tuple(j for j in joints if p.name in j.names and j not in p.joint)
+        out.append(dataclasses.replace(p, joint=p.joint + mine) if mine else p)
+    return out
+
+
 class ParamSet:
     """The parameters of one scene and their current values.
 
@@ -230,6 +308,8 @@ class ParamSet:
         old = self._params.get(param.name)
         if old is not None and not replace and old.source == param.source == "python":
             raise ValueError(f"parameter {param.name} declared twice")
+        if old is not None and old.joint and not param.joint:  # a shader reload keeps its rules
+            param.joint = old.joint
         self._params[param.name] = param
         if param.name in self._values:
             try:
@@ -311,6 +391,39 @@ class ParamSet:
             self._values[param.name] = value
             self._bump(param.group)
         return value
+
+    def joints(self) -> list[Joint]:
+        """The rules between this set's parameters (each once; a rule naming a parameter the
+        scene does not have is left out)."""
+        seen: dict[int, Joint] = {}
+        for p in self._params.values():
+            for j in p.joint:
+                if id(j) not in seen and all(n in self._params for n in j.names):
+                    seen[id(j)] = j
+        return list(seen.values())
+
+    def check_joint(self, changed: Iterable[str] | None = None,
+                    values: Mapping[str, Any] | None = None) -> None:
+        """Raise :class:`ParamError` (one line: the values and the rule) when a rule between
+        parameters is broken — every rule, or those tying a name in ``changed``; ``values``
+        stands in for some current values (a change not made yet)."""
+        current = {**self._values, **(values or {})}
+        names = None if changed is None else {self.resolve(n) for n in changed}
+        for j in self.joints():
+            if names is not None and names.isdisjoint(j.names):
+                continue
+            why = j.broken_by(current)
+            if why is not None:
+                shown = ", ".join(f"{n}={show(current[n])}" for n in j.names)
+                raise ParamError(one_line(f"{why or shown}: allowed {j.text}"))
+
+    def try_set(self, name: str, value: Any) -> Any:
+        """:meth:`set`, refused (ParamError, nothing changed) when the new value breaks a rule
+        it shares with other parameters (the panel's one change at a time)."""
+        param = self.spec(name)
+        value = param.validate(value)
+        self.check_joint([param.name], {param.name: value})
+        return self.set(param.name, value)
 
     def set_from_string(self, assignment: str) -> None:
         """Apply ``name=value`` as given to ``--set``."""

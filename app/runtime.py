@@ -13,6 +13,7 @@ import numpy as np
 from .errors import UsageError, quote
 from .gpu.device import Gpu
 from .gpu.shaders import ShaderLibrary, resolve_shader_root
+from .gpu.targets import check_frame_size
 from .params import ParamSet
 from .scenes import get_scene
 from .scenes.base import Scene
@@ -23,7 +24,8 @@ _SIZE = re.compile(r"\s*(\d{1,9})\s*[xX×]\s*(\d{1,9})\s*")
 
 
 def parse_size(text: str, option: str = "--size") -> tuple[int, int]:
-    """``WxH`` with each side in [1, 16384]."""
+    """``WxH`` with each side in [1, 16384]; what the renderer can hold is checked when a
+    session opens (``app.gpu.targets.check_frame_size``: its side limits and memory)."""
     m = _SIZE.fullmatch(text) if text.isascii() or "×" in text else None
     if not m:
         what = "is empty" if not text.strip() else "is not WxH"
@@ -50,7 +52,7 @@ def scene_params(scene_name: str, shader_root=None, sets: Iterable[str] = (),
                  preset: str | None = None, view=None) -> ParamSet:
     """Validate a scene's parameters without touching the GPU (annotations are read from the
     GLSL files directly): the scene's defaults, then ``view``'s (an ``app.scenes.views.View``),
-    then ``preset``, then ``sets``."""
+    then ``preset``, then ``sets``; then the rules between parameters (their ``Joint``s)."""
     cls = get_scene(scene_name)
     library = ShaderLibrary(None, resolve_shader_root(shader_root))
     params = cls.declare_params(library)
@@ -60,17 +62,27 @@ def scene_params(scene_name: str, shader_root=None, sets: Iterable[str] = (),
         params.load_preset(Path(preset))
     for assignment in sets:
         params.set_from_string(assignment)
+    params.check_joint()  # the rules between parameters, once every value is in
     return params
 
 
 def open_session(scene_name: str, params: ParamSet | None = None, shader_root=None, ctx=None,
-                 camera: Camera | None = None) -> Session:
+                 camera: Camera | None = None,
+                 sizes: Iterable[tuple[int, int]] = ()) -> Session:
+    """A scene on a GPU. ``sizes``: the frame sizes it will render, refused before the scene
+    is built when the context cannot hold them (``app.gpu.targets.TargetSizeError``)."""
     cls = get_scene(scene_name)
     root = resolve_shader_root(shader_root)
     if params is None:
         params = scene_params(scene_name, root)
     gpu = Gpu(ctx, root)
-    return Session(gpu, cls(gpu, params, camera), params)
+    try:
+        for size in sizes:
+            check_frame_size(gpu.ctx, size)
+        return Session(gpu, cls(gpu, params, camera), params)
+    except BaseException:
+        gpu.release()
+        raise
 
 
 def render_frames(session: Session, size: tuple[int, int], frames: int = 1, fps: float = 30.0,

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 from typing import Any, ClassVar, Mapping
 
 from ..errors import ParamError
-from ..params import Param
+from ..params import Joint, Param
 
 SPEC_SHAPE = "spec/001 §1.1 (texture table, Shape); spec/000 §1.6 (NoiseSimulator)"
 SPEC_DETAIL = "spec/001 §1.1 (texture table, Detail); spec/000 §1.6 (NoiseSimulator)"
@@ -60,15 +60,27 @@ class _BakeSpec:
             object.__setattr__(self, f.name, self.param(f.name).validate(getattr(self, f.name)))
         self.check()
 
+    #: rules between fields (``app.params.Joint`` over ``<group>.<field>`` names), shown beside
+    #: their ranges and checked by :meth:`check`
+    joints: ClassVar[tuple[Joint, ...]] = ()
+
     def check(self) -> None:
         """Constraints between fields (raise ParamError)."""
+        values = {f"{self.group}.{f.name}": getattr(self, f.name)
+                  for f in dataclasses.fields(self)}
+        for j in self.joints:
+            if not j.kept_by(values):
+                shown = ", ".join(f"{n}={values[n]}" for n in j.names)
+                raise ParamError(f"{shown}: allowed {j.text}")
 
     # -- parameters ------------------------------------------------------------------------
     @classmethod
     def param(cls, name: str) -> Param:
         f = {f.name: f for f in dataclasses.fields(cls)}[name]
         meta = dict(f.metadata["param"])
-        return Param(f"{cls.group}.{name}", f.default, **meta)
+        full = f"{cls.group}.{name}"
+        return Param(full, f.default, **meta,
+                     joint=tuple(j for j in cls.joints if full in j.names))
 
     @classmethod
     def params(cls) -> list[Param]:
@@ -151,11 +163,10 @@ class ShapeBake(_BakeSpec):
     normalize: bool = _p(True, doc="stretch G/B/A to [0, 1] by their min and max (spec/001 §6 "
                          "criterion B1)", kind="bool", section="spec/001 §6 (criterion B1)")
 
-    def check(self) -> None:
-        if not self.cells_g < self.cells_b < self.cells_a:
-            raise ParamError(f"bake_shape cells G {self.cells_g}, B {self.cells_b}, "
-                             f"A {self.cells_a}: allowed strictly rising cell counts (spec/001: "
-                             "'increasing cell counts')")
+    joints: ClassVar[tuple[Joint, ...]] = (Joint(
+        ("bake_shape.cells_g", "bake_shape.cells_b", "bake_shape.cells_a"),
+        "bake_shape.cells_g < cells_b < cells_a (rising cell counts, G to A)",
+        lambda g, b, a: g < b < a),)
 
     def uniforms(self) -> dict[str, Any]:
         return {"uShapeSeed": self.seed, "uShapeBasePeriod": self.base_cells,
@@ -188,11 +199,10 @@ class DetailBake(_BakeSpec):
     normalize: bool = _p(True, doc="stretch R/G/B to [0, 1] by their min and max (spec/001 §6 "
                          "criterion B1)", kind="bool", section="spec/001 §6 (criterion B1)")
 
-    def check(self) -> None:
-        if not self.cells_r < self.cells_g < self.cells_b:
-            raise ParamError(f"bake_detail cells R {self.cells_r}, G {self.cells_g}, "
-                             f"B {self.cells_b}: allowed strictly rising cell counts (spec/001: "
-                             "'increasing frequency')")
+    joints: ClassVar[tuple[Joint, ...]] = (Joint(
+        ("bake_detail.cells_r", "bake_detail.cells_g", "bake_detail.cells_b"),
+        "bake_detail.cells_r < cells_g < cells_b (rising cell counts, R to B)",
+        lambda r, g, b: r < g < b),)
 
     def uniforms(self) -> dict[str, Any]:
         return {"uDetailSeed": self.seed,

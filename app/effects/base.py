@@ -41,7 +41,7 @@ from ..gpu.shaders import (
     _stamp,  # the stamp the library's live reload compares
     read_source,
 )
-from ..params import Param, ParamSet, parse_glsl_annotations
+from ..params import Joint, Param, ParamSet, parse_glsl_annotations, with_joints
 
 if TYPE_CHECKING:
     from ..frame import FrameContext
@@ -72,6 +72,9 @@ class Effect:
     programs: ClassVar[tuple[ProgramSpec, ...]] = ()
     #: groups of parameters the effect owns besides its own name
     extra_groups: ClassVar[tuple[str, ...]] = ()
+    #: rules between its parameters that their ranges cannot say (``app.params.Joint``): each
+    #: is shown beside the range of every parameter it ties and checked before any work
+    joints: ClassVar[tuple[Joint, ...]] = ()
     #: names the effect (and its parameter group) had before a rename; still accepted
     former_names: ClassVar[tuple[str, ...]] = ()
     #: render stages the effect draws in; the first is where draw() runs
@@ -189,7 +192,7 @@ class Effect:
 
     @classmethod
     def declare(cls, library: ShaderLibrary) -> list[Param]:
-        return cls.python_params() + cls.glsl_params(library)
+        return with_joints(cls.python_params() + cls.glsl_params(library), cls.joints)
 
     # -- life ------------------------------------------------------------------------------
     def __init__(self, gpu: Gpu, params: ParamSet):

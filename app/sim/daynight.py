@@ -20,6 +20,7 @@ import numpy as np
 
 from ..colour import srgb_to_linear
 from ..errors import ParamError
+from ..params import show
 
 GRADIENT_TEXELS = 256
 
@@ -36,7 +37,7 @@ def _unit(v) -> np.ndarray:
     v = np.asarray(v, dtype=np.float64)
     n = np.linalg.norm(v)
     if not np.isfinite(n) or n < 1e-9:
-        raise ParamError(f"sky.ecliptic={tuple(v)!r} is the zero vector: allowed any non-zero axis")
+        raise ParamError(f"sky.ecliptic={show(v)} is the zero vector: allowed any non-zero axis")
     return v / n
 
 

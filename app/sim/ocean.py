@@ -624,7 +624,9 @@ def cascade_bands(n: int, patch_sizes: Sequence[float], boundary_factor: float =
     if not 1 <= len(sizes) <= 4:
         raise ParamError(f"ocean.cascades: {len(sizes)} is outside the allowed range [1, 4]")
     if any(b >= a for a, b in zip(sizes, sizes[1:])) or sizes[-1] <= 0:
-        raise ParamError(f"ocean.patch_sizes: {sizes} must be positive and strictly decreasing")
+        shown = ",".join(f"{x:g}" for x in sizes)
+        raise ParamError(f"ocean.patch_sizes={shown} (the cascades used) are not strictly "
+                         "decreasing to a positive size")
     # A boundary never lies beyond the coarser cascade's Nyquist (small N: the coarse cascade hands
     # over earlier, so its band stays inside what it can represent).
     edges = [0.0] + [min(boundary_factor * 2.0 * math.pi / s, math.pi * n / prev)
@@ -636,8 +638,8 @@ def cascade_bands(n: int, patch_sizes: Sequence[float], boundary_factor: float =
         fundamental = 2.0 * math.pi / s
         if not (lo < hi <= nyq * (1 + 1e-12)) or (i > 0 and lo < fundamental):
             raise ParamError(
-                f"ocean.patch_sizes: cascade {i} (L = {s:g} m) cannot hold the band "
-                f"[{lo:.4g}, {hi:.4g}) rad/m: it resolves [{fundamental:.4g}, {nyq:.4g}]"
+                f"ocean.patch_sizes: cascade {i} (L {s:g} m) cannot hold the band "
+                f"[{lo:.3g}, {hi:.3g}) rad/m, it resolves [{fundamental:.3g}, {nyq:.3g}]"
             )
     return [(edges[i], edges[i + 1]) for i in range(len(sizes))]
 

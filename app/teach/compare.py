@@ -217,6 +217,10 @@ def apply_sets(params: ParamSet, sets: Iterable[str], what: str) -> None:
             params.set_from_string(s)
         except ParamError as exc:
             raise UsageError(one_line(f"{what} {quote(s)}: {exc}")) from None
+    try:
+        params.check_joint()
+    except ParamError as exc:
+        raise UsageError(one_line(f"{what}: {exc}")) from None
 
 
 def side_params(base: ParamSet, sets: Iterable[str], what: str) -> ParamSet:

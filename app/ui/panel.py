@@ -22,7 +22,7 @@ import numpy as np
 from imgui_bundle import imgui
 
 from ..colour import linear_to_srgb, srgb_to_linear
-from ..errors import one_line
+from ..errors import ParamError, one_line
 from ..params import Param, ParamSet
 from ..teach import sections as ts
 
@@ -83,7 +83,9 @@ def section_tooltip(section: ts.Section) -> None:
 def _tooltip(p: Param, section: ts.Section | None = None) -> None:
     if imgui.is_item_hovered(imgui.HoveredFlags_.for_tooltip):
         unit = f" {p.unit}" if p.unit else ""
-        lines = [p.name, p.doc, f"allowed: {p.allowed()}{unit}", f"default: {p.default}"]
+        lines = [p.name, p.doc, f"allowed: {p.allowed()}{unit}"]
+        lines += [f"and: {j.text}" for j in p.joint]
+        lines.append(f"default: {p.default}")
         if p.section:
             lines.append(f"thesis: {p.section}")
         if section is not None:
@@ -91,6 +93,11 @@ def _tooltip(p: Param, section: ts.Section | None = None) -> None:
         if p.source != "python":
             lines.append(f"declared in {p.source}")
         _wrapped_tooltip(lines)
+
+
+#: parameter name → why its last change was refused (a rule it shares with others), shown under
+#: its widget until a change of it is accepted
+REFUSED: dict[str, str] = {}
 
 
 def param_widget(params: ParamSet, p: Param, section: ts.Section | None = None,
@@ -133,12 +140,29 @@ def param_widget(params: ParamSet, p: Param, section: ts.Section | None = None,
                 f"thesis: {section.ref} {section.title}"):
             state.open(section.ref)
         imgui.end_popup()
+    if p.joint:  # its rules with other parameters, beside its range
+        _wrapped_in(imgui.get_style_color_vec4(imgui.Col_.text_disabled),
+                    f"and: {p.joint_text()}")
     if changed:
         try:
-            params.set(p.name, new)
+            params.try_set(p.name, new)
+        except ParamError as exc:  # it would break a rule it shares: say so, keep the value
+            REFUSED[p.name] = str(exc)
+            changed = False
         except Exception:  # a half-typed or out-of-range value: keep the last valid one
             return False
+        else:
+            REFUSED.pop(p.name, None)
+    if p.name in REFUSED:
+        _wrapped_in(imgui.ImVec4(1.0, 0.45, 0.35, 1.0), f"kept: {REFUSED[p.name]}")
     return changed
+
+
+def _wrapped_in(colour, text: str) -> None:
+    """A line of wrapped text in ``colour`` (under a widget: its rules, a refusal)."""
+    imgui.push_style_color(imgui.Col_.text, colour)
+    imgui.text_wrapped(text)
+    imgui.pop_style_color()
 
 
 # ---- the scene's panel ------------------------------------------------------------------------

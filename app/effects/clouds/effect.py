@@ -61,7 +61,7 @@ from ...bakes.textures import BakedTextures
 from ...errors import ParamError
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
-from ...params import Param, ParamSet
+from ...params import Joint, Param, ParamSet, non_zero, show
 from ...render.layers import LAYER_COMPOSITE, composite_layer
 from ...sim.clouds import density_length
 from ..base import Effect, Pass
@@ -89,6 +89,10 @@ class Clouds(Effect):
     extra_groups = ("bake_shape", "bake_detail", "bake_weather")
     stages = (Stage.VOLUMES,)
     consumes = {"main_light": "optional", "image": "optional"}
+    joints = (Joint(("clouds.base_height", "clouds.max_height"),
+                    "clouds.max_height ≥ base_height + 1 m (the layer has a thickness)",
+                    lambda base, top: top - base >= 1.0),
+              non_zero("clouds.sun_direction"))
 
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:
@@ -199,7 +203,7 @@ class Clouds(Effect):
                         * p["clouds.sun_intensity"])
         norm = float(np.linalg.norm(direction))
         if not math.isfinite(norm) or norm < 1e-9:
-            raise ParamError(f"clouds.sun_direction={tuple(direction)!r} is the zero vector: "
+            raise ParamError(f"clouds.sun_direction={show(direction)} is the zero vector: "
                              "allowed any non-zero direction")
         self.light_dir = direction / norm
         self.light_radiance = radiance

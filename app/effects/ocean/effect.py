@@ -35,7 +35,7 @@ from ...frame import Stage
 from ...gpu import fft as gpu_fft
 from ...gpu.copy import ColourCopy
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
-from ...params import Param
+from ...params import Joint, Param
 from ...render.environment import flat_environment
 from ...sim import ocean as oc
 from ..base import Effect, Pass
@@ -103,6 +103,9 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     produces = frozenset({"wind", "water"})
     consumes = {"environment": "optional", "main_light": "optional", "image": "optional",
                 "wind": "optional", "wakes": "optional", "dry_mask": "optional"}
+    joints = (Joint(("ocean.patch_sizes", "ocean.cascades", "ocean.fft_size"),
+                    "falling patch sizes that hold their bands at ocean.fft_size",
+                    lambda sizes, count, n: bool(oc.cascade_bands(int(n), sizes[:count]))),)
 
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:

@@ -22,7 +22,7 @@ from ... import RESOURCES
 from ...frame import Stage
 from ...gpu.cache import build_mipmaps
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
-from ...params import Param
+from ...params import Param, non_zero
 from ...sim.daynight import DEFAULT_SUN_EXTINCTION, DayNight, Keyframes
 from ...sim.sea_plane import GROUNDS, cox_munk_mss, ground_params
 from ...sim.textures import cached_texture
@@ -48,6 +48,7 @@ class Sky(Effect):
     extra_groups = ("time",)
     stages = (Stage.BACKGROUND, Stage.ENVIRONMENT)
     produces = frozenset({"hour", "sun", "moon", "main_light", "environment"})
+    joints = (non_zero("sky.ecliptic", "axis"),)
 
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:
