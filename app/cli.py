@@ -436,6 +436,7 @@ def _session_inputs(args, scene_name: str):
         cls.on_user_camera(params)
     if args.camera is not None:
         parse_camera(args.camera, camera)
+        cls.check_camera(camera)
         cls.on_user_camera(params)
     camera.set(yaw=args.yaw, pitch=args.pitch, fov=args.fov)
     _apply_quality(args, params, scene_name, size)

@@ -16,7 +16,7 @@ from typing import ClassVar
 from .. import RESOURCES
 from ..colour import TONEMAPS
 from ..effects.base import Effect, Pass
-from ..errors import NaturaError
+from ..errors import NaturaError, UsageError
 from ..frame import SCENE_SLOTS, SLOTS, FrameContext, SceneImage
 from ..gpu.shaders import ShaderLibrary
 from ..params import Param, ParamSet
@@ -50,11 +50,26 @@ class Scene:
     #: switches between effects of the scene: parameter → (default, {choice: effect name}, doc).
     #: An effect that is not chosen is skipped entirely, so it creates no GL resources.
     selectors: ClassVar[dict] = {}
+    #: where the camera may stand, metres: (lowest, highest) x, y and z. A flat world is a
+    #: patch of the Earth: no point of its surface is farther than half its circumference
+    #: (2.0e7 m) from the origin, nothing lies deeper than the deepest sea (−1.1e4 m), and above
+    #: the Kármán line (1.0e5 m) a flat sky and sea no longer hold. Far enough for every view,
+    #: and a float32 camera-relative frame stays exact to a few metres there.
+    camera_box: ClassVar[tuple[tuple[float, float], ...]] = (
+        (-2.0e7, 2.0e7), (-1.1e4, 1.0e5), (-2.0e7, 2.0e7))
 
     @classmethod
     def new_camera(cls) -> Camera:
         """A camera at the scene's starting view."""
         return Camera(**cls.default_camera)
+
+    @classmethod
+    def check_camera(cls, camera: Camera, option: str = "--camera") -> None:
+        """Refuse a camera position the scene cannot represent (one line with its range)."""
+        for axis, value, (lo, hi) in zip("xyz", camera.position, cls.camera_box):
+            if not lo <= float(value) <= hi:
+                raise UsageError(f"{option}: {axis} = {float(value):.6g} m is outside the "
+                                 f"{cls.name} scene: allowed {axis} in [{lo:g}, {hi:g}] m")
 
     @classmethod
     def on_user_camera(cls, params: ParamSet) -> None:

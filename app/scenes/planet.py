@@ -3,7 +3,12 @@ thesis's own keys (spec/002 §4)."""
 
 from __future__ import annotations
 
+import math
+
 from ..effects.planet import Planet
+from ..errors import UsageError
+from ..sim.atmosphere import BOTTOM_RADIUS_M
+from ..sim.camera import Camera
 from .base import Scene
 from .keymaps import KeyMap
 
@@ -38,3 +43,16 @@ class PlanetScene(Scene):
     default_camera = {"position": (0.0, 2.0, 60.0), "yaw": 0.0, "pitch": 4.0, "fov": 60.0,
                       "far": 5.0e7}
     keymap = ATMOSPHERE_THESIS
+
+    @classmethod
+    def check_camera(cls, camera: Camera, option: str = "--camera") -> None:
+        """The planet is a sphere of radius ``BOTTOM_RADIUS_M`` centred at (0, −R, 0): the camera
+        may stand anywhere within the far plane's distance of its centre (farther, the whole
+        planet is clipped away and the frame is black)."""
+        far = float(cls.default_camera["far"])
+        x, y, z = (float(v) for v in camera.position)
+        distance = math.hypot(x, y + BOTTOM_RADIUS_M, z)
+        if not distance <= far:  # also NaN
+            raise UsageError(f"{option}: {x:.6g},{y:.6g},{z:.6g} is {distance:.3g} m from the "
+                             f"planet's centre (0,{-BOTTOM_RADIUS_M:g},0): allowed at most "
+                             f"{far:g} m from it")

@@ -420,6 +420,7 @@ def compare(scene_name: str | None, a_sets=(), b_sets=(), *, size=(320, 180), ba
         cam = copy.deepcopy(camera)
     else:
         cam = parse_camera(str(camera), cls.new_camera())
+        cls.check_camera(cam)
         cls.on_user_camera(base)
     a_list, b_list = normalize_sets(a_sets), normalize_sets(b_sets)
     pa = side_params(base, a_list, "--a")
