@@ -29,10 +29,20 @@ import os
 import re
 import signal
 import sys
+import warnings
 from pathlib import Path
 
 from . import __version__
-from .errors import LINE_LIMIT, NaturaError, ShaderCompileError, UsageError, one_line, quote
+from .errors import (
+    LINE_LIMIT,
+    NaturaError,
+    NaturaWarning,
+    ShaderCompileError,
+    UsageError,
+    one_line,
+    quote,
+    quote_path,
+)
 from .gpu.shaders import SHADER_ENV, resolve_shader_root
 
 #: bounds of the counts and rates (checked before anything is allocated or rendered)
@@ -479,7 +489,7 @@ def frame_path(base: Path, i: int, frames: int) -> Path:
 
 
 def cmd_render(args) -> int:
-    from .imageio import check_output_path, next_free_path, write_image
+    from .imageio import OutputError, check_output_path, next_free_path, write_image
     from .runtime import end_progress, open_session, render_frames
 
     _nonempty("--out", args.out, "a file name ending in .png or .exr")
@@ -501,8 +511,17 @@ def cmd_render(args) -> int:
     try:
         for i, image in enumerate(frames, 1):
             out = frame_path(base, i, args.frames)
-            write_image(out, image, session.scene.exposure(), params["output.tonemap"],
-                        force=args.force)
+            try:
+                write_image(out, image, session.scene.exposure(), params["output.tonemap"],
+                            force=args.force)
+            except OutputError as exc:
+                if not written or exc.path is None:
+                    raise
+                # the frames before it are whole images: kept, and their names go to stdout
+                kept = f"frames 1–{i - 1} are" if i > 2 else "frame 1 is"
+                raise OutputError(f"cannot write frame {i} {quote_path(exc.path, 50)} "
+                                  f"({exc.why}): {exc.allowed}; {kept} kept (named on "
+                                  "stdout)") from None
             written.append(out)
     finally:
         frames.close()  # frees its target now, while the session is alive
@@ -1018,6 +1037,48 @@ def _install_sigterm() -> None:
             pass
 
 
+class StdoutError(NaturaError):
+    """Standard output could not take what natura printed (``> /dev/full``, a full disk)."""
+
+
+class _GuardedStdout:
+    """``sys.stdout`` during a command: a failed write or flush becomes one
+    :class:`StdoutError` line naming standard output (an OSError from a print names no file)."""
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def _failed(self, exc: OSError) -> StdoutError:
+        try:  # drop what it could not write: Python's flush at exit would fail again
+            null = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(null, self._stream.fileno())
+            os.close(null)
+        except (OSError, ValueError, AttributeError):
+            pass
+        return StdoutError(f"cannot write to standard output ({exc.strerror or 'error'}, "
+                           f"errno {exc.errno}): allowed an output with room for it (a "
+                           "terminal, a pipe, a file on a disk with free space)")
+
+    def write(self, text: str) -> int:
+        try:
+            return self._stream.write(text)
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise self._failed(exc) from None
+
+    def flush(self) -> None:
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise self._failed(exc) from None
+
+    def __getattr__(self, name: str):
+        return getattr(self._stream, name)
+
+
 def _say(text: str) -> None:
     try:
         print(f"natura: {text}", file=sys.stderr)
@@ -1029,9 +1090,42 @@ def _say(text: str) -> None:
 HEADLESS_COMMANDS = ("render", "bench", "compare", "report", "window")
 
 
+def _tolerate_encoding() -> None:
+    """Output that cannot carry Unicode (``PYTHONIOENCODING=ascii``, a C locale) still gets
+    every line: characters it cannot encode are written as backslash escapes."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.reconfigure(errors="backslashreplace")  # type: ignore[union-attr]
+        except (AttributeError, ValueError, OSError):  # not a text stream of ours, or closed
+            pass
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one ``natura:`` line (Python's own shows a line of Natura's source): a
+    :class:`NaturaWarning` is said as it is, any other as ``warning: …``."""
+    text = str(message)
+    if not issubclass(category, NaturaWarning):
+        text = f"warning: {text} ({category.__name__})"
+    _say(one_line(text, LINE_LIMIT - len("natura: ")))
+
+
 def main(argv: list[str] | None = None) -> int:
+    stdout = sys.stdout
+    if stdout is not None and not isinstance(stdout, _GuardedStdout):
+        sys.stdout = _GuardedStdout(stdout)  # type: ignore[assignment]
+    show = warnings.showwarning
+    warnings.showwarning = _show_warning
+    try:
+        return _main(argv)
+    finally:
+        sys.stdout = stdout
+        warnings.showwarning = show
+
+
+def _main(argv: list[str] | None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     _install_sigterm()
+    _tolerate_encoding()
     parser = build_parser()
     try:
         try:
@@ -1053,7 +1147,9 @@ def main(argv: list[str] | None = None) -> int:
                 "report": cmd_report,
                 "compare": cmd_compare, "doctor": cmd_doctor,
             }[command]
-            return handler(args)
+            code = handler(args)
+            sys.stdout.flush()  # what could not be written fails here, in one line
+            return code
         finally:
             context = sys.modules.get(f"{__package__}.gpu.context")
             if context is not None:

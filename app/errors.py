@@ -31,6 +31,11 @@ class ShaderCompileError(NaturaError):
         super().__init__("\n".join(str(e) for e in self.errors))
 
 
+class NaturaWarning(RuntimeWarning):
+    """Something a user should know that does not stop the command (a bake cache that cannot
+    be written): the CLI prints it as one ``natura: `` line, without a line of source."""
+
+
 class GpuUnavailableError(NaturaError):
     """No OpenGL context could be created."""
 
@@ -52,8 +57,26 @@ def quote(value, limit: int = QUOTE_LIMIT) -> str:
     return text[:head] + "…" + text[-(limit - 1 - head):]
 
 
-_QUOTED = re.compile(r"'(?:[^'\\\n]|\\.){%d,}'|\"(?:[^\"\\\n]|\\.){%d,}\"" % (QUOTE_LIMIT,
-                                                                               QUOTE_LIMIT))
+def quote_path(path, limit: int = QUOTE_LIMIT) -> str:
+    """A path quoted like :func:`quote`, but a long one keeps its whole file name and cuts its
+    folders (``'/tmp/…/F/seq-0005.png'``): the name is what a user looks for."""
+    text = str(path)
+    shown = quote(text, limit)
+    if len(shown) <= len(repr(text)) and "…" not in shown:
+        return shown
+    head, sep, name = text.rpartition("/")
+    if not sep or len(repr(name)) + 8 > limit:
+        return shown
+    room = limit - len(repr(name)) - 3  # the quotes' share is in repr(name); "…/" and a slash
+    keep = max(1, room // 2)
+    return repr(f"{head[:keep]}…{head[-(room - keep):]}/{name}")
+
+
+#: a quoted part (as :func:`quote` writes one) longer than QUOTE_LIMIT: its opening quote does
+#: not follow a letter and its closing quote is not followed by one, so the text between two
+#: quoted parts, or an apostrophe, is never taken for one
+_QUOTED = re.compile(r"(?<!\w)(?:'(?:[^'\\\n]|\\.){%d,}'|\"(?:[^\"\\\n]|\\.){%d,}\")(?!\w)"
+                     % (QUOTE_LIMIT, QUOTE_LIMIT))
 
 
 def _cut(text: str, limit: int) -> str:

@@ -25,7 +25,7 @@ from typing import Iterator
 import numpy as np
 
 from .colour import to_srgb8
-from .errors import NaturaError, OutputExistsError, UsageError, quote
+from .errors import NaturaError, OutputExistsError, UsageError, quote, quote_path
 
 IMAGE_SUFFIXES = (".png", ".exr")
 #: temporary files are ``.natura-XXXXXXXX.tmp`` beside their target: short (a 250-byte target
@@ -39,7 +39,13 @@ _FOLDER_ALLOWED = "allowed an existing, writable folder"
 
 class OutputError(UsageError):
     """An output that could not be written (full disk, read-only file system...): one line
-    naming the file; the temporary file is removed."""
+    naming the file; the temporary file is removed. ``path``, ``why`` and ``allowed`` are its
+    parts, for a caller that says more (the frames of a sequence kept before it)."""
+
+    def __init__(self, message: str, path: Path | None = None, why: str = "",
+                 allowed: str = ""):
+        super().__init__(message)
+        self.path, self.why, self.allowed = path, why, allowed
 
 
 # ---- permissions and temporary files --------------------------------------------------------
@@ -150,15 +156,34 @@ def temp_beside(path: Path) -> Iterator[Path]:
         _remove(tmp)  # after a commit it is gone already
 
 
+#: the system errors an encoder (OpenEXR, Pillow) may only name in its message's text
+_TEXT_ERRNOS = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EACCES, errno.EIO)
+
+
+def _why(exc: BaseException) -> tuple[int | None, str]:
+    """(errno, a short reason) of a writer's failure. An encoder that reports a system error
+    in its message's text (OpenEXR: ``Failed to write pixel data to image file "<its temporary
+    file>". No space left on device.``) is read for it; the paths it quotes are dropped (the
+    message names the output, not its temporary file)."""
+    if isinstance(exc, OSError) and exc.errno:
+        return exc.errno, os.strerror(exc.errno)
+    text = str(exc)
+    for code in _TEXT_ERRNOS:
+        if os.strerror(code) in text:
+            return code, os.strerror(code)
+    text = " ".join(re.sub(r'"[^"]*"|\'[^\']*\'', "", text).split())
+    why = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+    return None, why if len(why) <= 60 else why[:57] + "..."
+
+
 def _write_error(path: Path, exc: BaseException) -> OutputError:
-    why = (os.strerror(exc.errno) if isinstance(exc, OSError) and exc.errno
-           else f"{type(exc).__name__}: {exc}")
-    if isinstance(exc, OSError) and exc.errno == errno.ENOSPC:
+    code, why = _why(exc)
+    if code in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG):
         allowed = "allowed a folder on a disk with free space"
     else:
         allowed = "allowed a writable folder with free space"
-    return OutputError(f"cannot write {quote(str(path))} ({why[:60]}): {allowed}; "
-                       "nothing was left behind")
+    return OutputError(f"cannot write {quote_path(path)} ({why}): {allowed}; "
+                       "nothing was left behind", path, why, allowed)
 
 
 @contextlib.contextmanager
@@ -207,6 +232,10 @@ def check_output_path(path: str | os.PathLike, force: bool = False,
     file created and removed) for names in a folder a previous check just probed."""
     p = expand(path)
     shown = quote(str(p))
+    text = os.fsdecode(os.fspath(path))
+    if text.endswith(("/", os.sep, os.altsep or "/")) or text.endswith(("/.", "/..")):
+        raise UsageError(f"output {quote(text)} ends in a folder separator (a folder's path): "
+                         f"allowed a file name ending in {', '.join(suffixes)}")
     if p.suffix.lower() not in suffixes or p.name == p.suffix:
         raise UsageError(f"output {shown} has an unsupported extension: "
                          f"allowed {', '.join(suffixes)}")

@@ -43,6 +43,8 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import NaturaWarning, quote_path
+
 CACHE_ENV = "NATURA_CACHE"
 MAGIC = b"NATBAKE\n"
 FILE_FORMAT = 1
@@ -68,8 +70,18 @@ def _warn_once(directory: Path, why: str) -> None:
     tag = str(directory)
     if tag not in _warned:
         _warned.add(tag)
-        warnings.warn(f"bake cache {tag!r} {why}: baking without the cache", RuntimeWarning,
+        warnings.warn(f"bake cache {quote_path(tag)} {why}: baking without the cache (allowed "
+                      f"${CACHE_ENV} or ~/.cache naming a folder you can write)", NaturaWarning,
                       stacklevel=3)
+
+
+def _folder_problem(folder: Path, exc: OSError) -> str:
+    """Why a cache folder could not be made, in words: a file in its way is named as such."""
+    for part in (folder, *folder.parents):
+        if part.exists() and not part.is_dir():
+            return ("is a file, not a folder" if part == folder
+                    else f"cannot be made: {quote_path(part)} is a file")
+    return f"cannot be created ({exc.strerror or exc})"
 
 
 def cache_key(kind: str, params: dict[str, Any], shader_digest: str,
@@ -178,7 +190,7 @@ class BakeCache:
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
-            _warn_once(path.parent, f"cannot be created ({exc.strerror or exc})")
+            _warn_once(path.parent, _folder_problem(path.parent, exc))
             return False
         tmp = None
         try:

@@ -369,6 +369,8 @@ class Sweeps:
     report: dict | None
     source: str
     problem: str | None = None
+    #: the user named it (--sweeps FILE): a layout that cannot be read is refused, not noted
+    given: bool = False
 
     @property
     def about(self) -> str:
@@ -427,7 +429,7 @@ def load_sweeps(scene_name: str, sweeps: str | os.PathLike | dict | None = None)
         if not report.get("sweep"):
             raise UsageError(f"--sweeps {name} has no sweeps (run without --no-sweep): "
                              f"{allowed}")
-        return Sweeps(report, str(path))
+        return Sweeps(report, str(path), given=True)
     pattern = re.compile(rf"{re.escape(scene_name)}-(\d+)\.json")
     try:
         runs = sorted(((int(m.group(1)), p) for p in RESULTS.iterdir()
@@ -749,6 +751,21 @@ def _valid(fams: list[Family], scene_name: str) -> tuple[list[Family], list[str]
     return out, notes
 
 
+def _layout_problem(exc: BaseException) -> str:
+    """What a report's layout got wrong, in words (no exception name or repr)."""
+    if isinstance(exc, KeyError) and exc.args:
+        return f"an entry has no {quote(str(exc.args[0]), 30)}"
+    if isinstance(exc, ValueError):
+        m = re.search(r"invalid literal for (\w+)\(\).*?: (.*)$", str(exc))
+        if m:
+            kind = "an integer" if m.group(1) == "int" else "a number"
+            return f"the value {quote(m.group(2).strip(chr(39)), 30)} is not {kind}"
+        return "a value is not a number"
+    if isinstance(exc, IndexError):
+        return "a list is shorter than expected"
+    return "an entry is of the wrong type"
+
+
 def _families(scene_name: str, found: Sweeps) -> tuple[list[Family], list[str]]:
     if found.report is None:
         return [], []
@@ -759,7 +776,12 @@ def _families(scene_name: str, found: Sweeps) -> tuple[list[Family], list[str]]:
     try:
         fams, notes = extract(found.report, found.source)
     except (KeyError, TypeError, ValueError, IndexError, AttributeError) as exc:
-        return [], [f"the sweep's layout is not the one expected ({exc!r:.80})"]
+        problem = f"its sweeps are not laid out as natura bench {scene_name} writes them " \
+                  f"({_layout_problem(exc)})"
+        if found.given:
+            raise UsageError(f"--sweeps {quote(found.source)}: {problem}: allowed a report of "
+                             f"natura bench {scene_name} (JSON, with its sweeps)") from None
+        return [], [problem]
     fams, dropped = _valid(fams, scene_name)
     return fams, notes + dropped
 

@@ -160,3 +160,80 @@ def test_one_line_and_quote(text):
     line = one_line(f"x {text!r} y: allowed z {text}")
     assert "\n" not in line and len(line) <= LINE_LIMIT
     assert len(quote(text)) <= 60
+
+
+# ---- rules between parameters: refused first exactly where the effect would refuse later -----
+
+_CLOUDS = None
+
+
+def _clouds_params():
+    global _CLOUDS
+    if _CLOUDS is None:
+        from app.runtime import scene_params
+
+        _CLOUDS = scene_params("clouds")
+    return _CLOUDS
+
+
+@SETTINGS
+@given(cells=st.lists(st.integers(1, 64), min_size=6, max_size=6),
+       heights=st.tuples(st.integers(0, 20000), st.integers(0, 20000)))
+def test_a_joint_rule_refuses_exactly_what_the_bakes_and_the_march_refuse(cells, heights):
+    """Cell counts and heights drawn inside their ranges: the scene's rules (checked before any
+    work) refuse a set exactly when the bake specs or the cloud march would refuse it, and the
+    message names the rule a user saw in ``natura params``."""
+    import copy
+
+    from app.bakes.params import DetailBake, ShapeBake
+
+    params = copy.deepcopy(_clouds_params())
+    names = ["bake_shape.cells_g", "bake_shape.cells_b", "bake_shape.cells_a",
+             "bake_detail.cells_r", "bake_detail.cells_g", "bake_detail.cells_b"]
+    for name, value in zip(names, cells):
+        params.set(name, value)
+    params.set("clouds.base_height", heights[0])
+    params.set("clouds.max_height", heights[1])
+    later = None
+    try:
+        ShapeBake.from_values(params.values("bake_shape"))
+        DetailBake.from_values(params.values("bake_detail"))
+        if heights[1] - heights[0] < 1:
+            later = "clouds.max_height ≥ base_height + 1 m"
+    except ParamError as exc:
+        later = str(exc)
+    try:
+        params.check_joint()
+    except ParamError as exc:
+        assert later is not None, f"refused first, accepted later: {exc}"
+        rules = [j.text for j in params.joints()]
+        assert any(rule in str(exc) for rule in rules) and len(str(exc)) <= LINE_LIMIT
+    else:
+        assert later is None, f"accepted first, refused later: {later}"
+
+
+@SETTINGS
+@given(sizes=st.lists(st.floats(0.1, 5000.0), min_size=4, max_size=4),
+       cascades=st.integers(1, 4), n=st.sampled_from(["64", "128", "256", "512"]))
+def test_the_ocean_rule_refuses_exactly_what_its_cascades_refuse(sizes, cascades, n):
+    from app.effects.ocean.effect import Ocean
+    from app.params import ParamSet, with_joints
+    from app.sim.ocean import cascade_bands
+
+    params = ParamSet(with_joints(Ocean.python_params(), Ocean.joints))
+    params.set("ocean.patch_sizes", tuple(sizes))
+    params.set("ocean.cascades", cascades)
+    params.set("ocean.fft_size", n)
+    try:
+        cascade_bands(int(n), sizes[:cascades])
+        later = None
+    except ParamError as exc:
+        later = str(exc)
+    try:
+        params.check_joint()
+    except ParamError as exc:
+        assert later is not None and later in str(exc)
+        assert str(exc).endswith("allowed falling patch sizes that hold their bands at "
+                                 "ocean.fft_size")
+    else:
+        assert later is None
