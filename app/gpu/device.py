@@ -143,14 +143,36 @@ class Gpu:
         return [a for a in self.allocations if a.owner == owner]
 
     def free(self, obj: Any) -> None:
-        """Release one resource and forget it."""
+        """Release one resource and forget it (a buffer: with the vertex arrays the programs
+        cached for it, see :meth:`_drop_vertex_arrays`)."""
         for a in list(self.allocations):
             if a.obj is obj:
                 self.allocations.remove(a)
         if isinstance(obj, (RenderTarget, moderngl.Framebuffer)):
             self._park()
+        if isinstance(obj, moderngl.Buffer):
+            self._drop_vertex_arrays(obj)
         if not isinstance(obj, Program):  # programs are shared through the library
             obj.release()
+
+    def _drop_vertex_arrays(self, buffer: moderngl.Buffer) -> None:
+        """Release every vertex array a program cached for ``buffer`` (``Program.vao``: keyed
+        by the buffers' ids, each array keeping its buffers in ``extra``). A deleted buffer
+        still attached to a vertex array keeps its storage in the driver until the array is
+        deleted too, so without this every mesh rebuilt on a live change (the village's
+        terrain on each ``village.resolution``, a walking person each frame) stayed in
+        memory with its arrays, without bound."""
+        for prog in self.shaders.programs():
+            vaos = prog._vaos
+            dead = [key for key, vao in vaos.items()
+                    if isinstance(vao.extra, tuple) and len(vao.extra) == 2
+                    and (buffer is vao.extra[1] or any(buffer is b for b in vao.extra[0]))]
+            for key in dead:
+                vaos.pop(key).release()
+
+    def vertex_arrays(self) -> int:
+        """How many vertex arrays the programs hold (cached by ``Program.vao``)."""
+        return sum(len(prog._vaos) for prog in self.shaders.programs())
 
     def _park(self) -> None:
         """Bind a 1×1 framebuffer of our own before a framebuffer is deleted: deleting the bound

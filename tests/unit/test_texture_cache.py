@@ -48,6 +48,21 @@ def test_the_process_keeps_one_read_only_copy(tmp_path, monkeypatch):
     assert np.array_equal(a, moon_texture(**MOON))
 
 
+def test_the_process_keeps_only_the_most_recently_used_copies(monkeypatch):
+    """A sweep of the star seed on the window's slider (a new field, 2 MB, at each value) keeps
+    MEMO_ENTRIES arrays, not one per seed visited; the most recently used stay."""
+    monkeypatch.setattr(textures, "_MEMO", {})
+    tiny = {"width": 8, "height": 4, "count": 2}
+    moon = cached_texture("moon", None, **MOON)
+    for seed in range(5 * textures.MEMO_ENTRIES):
+        cached_texture("stars", None, seed=seed, **tiny)
+        assert cached_texture("moon", None, **MOON) is moon, "used every frame: kept"
+    assert len(textures._MEMO) == textures.MEMO_ENTRIES
+    last = 5 * textures.MEMO_ENTRIES - 1
+    assert cached_texture("stars", None, seed=last, **tiny) is cached_texture(
+        "stars", None, seed=last, **tiny)
+
+
 def test_no_folder_means_no_file(tmp_path, monkeypatch):
     monkeypatch.setattr(textures, "_MEMO", {})
     monkeypatch.chdir(tmp_path)

@@ -146,8 +146,15 @@ class Boat(Effect):
                                navigation_mode=key[1], sail_mode=key[2])
             self._sim_key = key
             self._last_time = None
-            self._dry = {}
+            self._free_dry()  # its volume is the new hull's
         return self.sim
+
+    def _free_dry(self) -> None:
+        """Free the dry mask's targets and volume (remade at the next draw)."""
+        for k in ("front", "back", "vbo"):
+            if self._dry.get(k) is not None:
+                self.gpu.free(self._dry[k])
+        self._dry = {}
 
     def update(self, frame, dt: float) -> None:
         p = self.params
@@ -326,9 +333,7 @@ class Boat(Effect):
         sim = self.sim
         size = tuple(target.size)
         if self._dry.get("size") != size:
-            for t in (self._dry.get("front"), self._dry.get("back")):
-                if t is not None:
-                    self.gpu.free(t)
+            self._free_dry()
             self._dry = {"size": size,
                          "front": self.gpu.target(self.name, "dry front", size, dtype="f1"),
                          "back": self.gpu.target(self.name, "dry back", size, dtype="f1"),

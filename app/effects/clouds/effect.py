@@ -155,7 +155,6 @@ class Clouds(Effect):
         self.light_dir = np.array([0.0, 1.0, 0.0])
         self.light_radiance = np.ones(3)
         self.ambient_radiance = np.full(3, 0.3)
-        self.last_bakes: list = []
 
     # -- presets ---------------------------------------------------------------------------
     def apply_preset(self, name: str, keep_changed: bool = False) -> list[str]:
@@ -245,11 +244,10 @@ class Clouds(Effect):
     def texture_for(self, kind: str):
         cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake,
                "weather": bakes.WeatherBake}[kind]
-        before = self.bakes.last
-        texture = self.bakes.get(cls.from_values(self.params.values(cls.group)))
-        if self.bakes.last is not before:
-            self.last_bakes.append(self.bakes.last)
-        return texture
+        # one bake per kind is held (``self.bakes.held``), replaced on a change: nothing else
+        # keeps a ``Baked`` (its texels are 8 MB for the default shape bake), so live changes
+        # of the ``bake_*`` parameters do not grow the process
+        return self.bakes.get(cls.from_values(self.params.values(cls.group)))
 
     def layer_for(self, size):
         """The cloud layer target (RGBA32F, no depth): rgb premultiplied radiance, a = T."""
