@@ -163,16 +163,11 @@ class Gpu:
         terrain on each ``village.resolution``, a walking person each frame) stayed in
         memory with its arrays, without bound."""
         for prog in self.shaders.programs():
-            vaos = prog._vaos
-            dead = [key for key, vao in vaos.items()
-                    if isinstance(vao.extra, tuple) and len(vao.extra) == 2
-                    and (buffer is vao.extra[1] or any(buffer is b for b in vao.extra[0]))]
-            for key in dead:
-                vaos.pop(key).release()
+            prog.forget_buffer(buffer)
 
     def vertex_arrays(self) -> int:
         """How many vertex arrays the programs hold (cached by ``Program.vao``)."""
-        return sum(len(prog._vaos) for prog in self.shaders.programs())
+        return sum(prog.vertex_array_count for prog in self.shaders.programs())
 
     def _park(self) -> None:
         """Bind a 1×1 framebuffer of our own before a framebuffer is deleted: deleting the bound

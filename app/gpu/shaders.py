@@ -1234,6 +1234,21 @@ class Program:
             self._vaos[key] = vao
         return self._vaos[key]
 
+    def forget_buffer(self, buffer) -> None:
+        """Release the vertex arrays cached for ``buffer`` (as a vertex or index buffer): a
+        deleted buffer still attached to an array keeps its storage in the driver until the
+        array is deleted too (``Gpu.free`` calls this for every program)."""
+        dead = [key for key, vao in self._vaos.items()
+                if isinstance(vao.extra, tuple) and len(vao.extra) == 2
+                and (buffer is vao.extra[1] or any(buffer is b for b in vao.extra[0]))]
+        for key in dead:
+            self._vaos.pop(key).release()
+
+    @property
+    def vertex_array_count(self) -> int:
+        """How many vertex arrays this program holds (cached by :meth:`vao`)."""
+        return len(self._vaos)
+
     def release(self) -> None:
         for vao in self._vaos.values():
             vao.release()
