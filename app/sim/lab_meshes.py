@@ -54,6 +54,8 @@ FALLBACK_NORMAL = (0.0, 1.0, 0.0)
 HARD_ANGLE_DEG = 30.0
 #: pairs of corners compared at once when smoothing (bounds the memory of a 2 M-triangle mesh)
 _PAIR_CHUNK = 4_000_000
+#: the most corners (or distinct face normals) at one position compared pair by pair
+_CREASE_GROUP = 1024
 
 
 def _attribute(name: str) -> str:
@@ -132,10 +134,10 @@ def _normalize(v: np.ndarray, fallback: np.ndarray | None = None, eps: float = 1
     """(unit vectors, ok mask): rows shorter than ``eps`` (or not finite) become ``fallback``
     (zero when None)."""
     v = np.asarray(v, np.float64)
-    length = np.linalg.norm(v, axis=-1)
-    ok = np.isfinite(length) & (length > eps)
-    out = np.zeros_like(v)
-    out[ok] = v[ok] / length[ok, None]
+    with np.errstate(over="ignore", invalid="ignore"):
+        length = np.linalg.norm(v, axis=-1)
+        ok = np.isfinite(length) & (length > eps)
+        out = np.divide(v, length[..., None], out=np.zeros_like(v), where=ok[..., None])
     if fallback is not None:
         out[~ok] = fallback
     return out, ok
@@ -144,11 +146,13 @@ def _normalize(v: np.ndarray, fallback: np.ndarray | None = None, eps: float = 1
 def _corner_angles(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
     """(T, 3) interior angle at each corner of each triangle (0 at a collapsed corner)."""
     a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+    # the three edges a→b, b→c, c→a, each normalised once: the corner at a lies between a→b
+    # and a→c = −(c→a), and so on round the triangle
+    edges = [_normalize(e) for e in (b - a, c - b, a - c)]
     out = np.zeros(tri.shape, np.float64)
-    for k, (here, u, w) in enumerate(((a, b, c), (b, c, a), (c, a, b))):
-        e1, ok1 = _normalize(u - here)
-        e2, ok2 = _normalize(w - here)
-        cos = np.clip(np.einsum("ij,ij->i", e1, e2), -1.0, 1.0)
+    for k in range(3):
+        (e1, ok1), (e2, ok2) = edges[k], edges[(k + 2) % 3]
+        cos = np.clip(-np.einsum("ij,ij->i", e1, e2), -1.0, 1.0)
         out[:, k] = np.where(ok1 & ok2, np.arccos(cos), 0.0)
     return out
 
@@ -161,49 +165,98 @@ def _face_normals(p: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarra
     area2 = np.linalg.norm(cross, axis=1)
     edge2 = np.max([np.einsum("ij,ij->i", e, e) for e in (b - a, c - b, a - c)], axis=0)
     ok = np.isfinite(area2) & (area2 > 1e-12 * edge2) & (edge2 > 0)
-    n = np.zeros_like(cross)
-    n[ok] = cross[ok] / area2[ok, None]
+    n = np.divide(cross, area2[:, None], out=np.zeros_like(cross), where=ok[:, None])
     return n, ok
+
+
+#: odd 64-bit constants mixing a row's columns into one hash (:func:`unique_rows`)
+_MIX = tuple(np.uint64(c) for c in (0x9E3779B97F4A7C15, 0xC2B2AE3D27D4EB4F,
+                                    0x165667B19E3779F9, 0x27D4EB2F165667C5))
+
+
+def unique_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first, inverse) of the distinct rows of an (N, K) array of integers or floats compared
+    bit for bit: ``rows[first]`` are the distinct rows, each at its first occurrence, and
+    ``rows[first][inverse]`` is ``rows``. As ``np.unique(rows, axis=0, return_index=True,
+    return_inverse=True)`` but for the order of the distinct rows (not sorted), and an order of
+    magnitude faster on millions of rows: a 64-bit hash of each row is sorted rather than the
+    rows, and rows that share a hash without being equal fall back to an exact sort."""
+    r = np.ascontiguousarray(rows)
+    if r.ndim != 2:
+        raise ValueError(f"unique_rows needs an (N, K) array, got shape {r.shape}")
+    n = len(r)
+    if n == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    cols = r.view(f"u{r.dtype.itemsize}").astype(np.uint64, copy=False)
+    h = np.zeros(n, np.uint64)
+    for k in range(cols.shape[1]):
+        h ^= cols[:, k]
+        h *= _MIX[k % len(_MIX)]
+        h ^= h >> np.uint64(29)
+    bits = r.view(f"u{r.dtype.itemsize}")  # compared bit for bit, as hashed
+    order = np.argsort(h, kind="stable")
+    rs = bits[order]
+    same = (rs[1:] == rs[:-1]).all(axis=1)
+    hs = h[order]
+    if (~same & (hs[1:] == hs[:-1])).any():  # a hash shared by different rows: sort exactly
+        order = np.lexsort(cols.T[::-1])
+        rs = bits[order]
+        same = (rs[1:] == rs[:-1]).all(axis=1)
+    start = np.concatenate([[True], ~same])
+    inverse = np.empty(n, np.int64)
+    inverse[order] = np.cumsum(start) - 1
+    return order[start], inverse
 
 
 def _position_groups(p: np.ndarray) -> np.ndarray:
     """(V,) group id per vertex, equal for vertices at exactly the same (float32) position."""
     key = np.ascontiguousarray(np.asarray(p, np.float32) + np.float32(0.0))  # -0 == +0
-    _, inverse = np.unique(key, axis=0, return_inverse=True)
-    return inverse.reshape(-1)
+    return unique_rows(key)[1]
+
+
+def _group_runs(groups: np.ndarray):
+    """Items sorted by group: (order, start of each item's run in that order, run length)."""
+    order = np.argsort(groups, kind="stable")
+    g = groups[order]
+    begins = np.flatnonzero(np.concatenate([[True], g[1:] != g[:-1]]))
+    counts = np.diff(np.concatenate([begins, [len(g)]]))
+    run = np.repeat(np.arange(len(begins)), counts)
+    return order, begins[run], counts[run]
 
 
 def _group_pairs(groups: np.ndarray):
-    """Yield (left, right) index arrays of every ordered pair of items with the same group id
-    (each item paired with itself too), in chunks of about ``_PAIR_CHUNK`` pairs."""
-    order = np.argsort(groups, kind="stable")
-    g = groups[order]
-    _, start, counts = np.unique(g, return_index=True, return_counts=True)
-    which = np.searchsorted(start, np.arange(len(g)), side="right") - 1
-    n = counts[which]
-    s = start[which]
-    total = np.concatenate([[0], np.cumsum(n)])
+    """Yield ``order`` (the items sorted by group id, stably), then (left, right, span) for
+    every ordered pair of items with the same group id (each item paired with itself too), in
+    chunks of about ``_PAIR_CHUNK`` pairs: ``left`` and ``right`` index ``order``, a chunk's
+    ``left`` all lie in ``span = (lo, hi)``, and each item's partners come in order."""
+    order, start, count = _group_runs(groups)
+    yield order
+    total = np.concatenate([[0], np.cumsum(count)])
     a = 0
-    while a < len(g):
+    while a < len(order):
         b = int(np.searchsorted(total, total[a] + _PAIR_CHUNK, side="right")) - 1
         b = max(b, a + 1)
-        reps = n[a:b]
+        reps = count[a:b]
         left = np.repeat(np.arange(a, b), reps)
-        offs = np.arange(len(left)) - np.repeat(total[a:b] - total[a], reps)
-        right = np.repeat(s[a:b], reps) + offs
-        yield order[left], order[right]
+        k = np.arange(len(left)) - np.repeat(total[a:b] - total[a], reps)
+        right = np.repeat(start[a:b], reps) + k
+        yield left, right, (a, b)
         a = b
 
 
-def _smooth_normals(positions: np.ndarray, normals: np.ndarray, indices: np.ndarray
+def _smooth_normals(positions: np.ndarray, normals: np.ndarray, indices: np.ndarray,
+                    groups: np.ndarray | None = None, angles: np.ndarray | None = None
                     ) -> np.ndarray:
     """One normal per position: Σ (corner angle · vertex normal) over every corner at that
-    position, normalised; a vertex whose sum vanishes keeps its own normal."""
+    position, normalised; a vertex whose sum vanishes keeps its own normal. ``groups``
+    (:func:`_position_groups`) and ``angles`` (the corner angles, zero on degenerate
+    triangles) may be given when known."""
     p = np.asarray(positions, np.float64)
     n = np.asarray(normals, np.float64)
     tri = np.asarray(indices, np.int64).reshape(-1, 3)
-    groups = _position_groups(p)
-    angles = np.where(_face_normals(p, tri)[1][:, None], _corner_angles(p, tri), 0.0)
+    groups = _position_groups(p) if groups is None else groups
+    if angles is None:
+        angles = np.where(_face_normals(p, tri)[1][:, None], _corner_angles(p, tri), 0.0)
     weight = np.bincount(tri.reshape(-1), weights=angles.reshape(-1), minlength=len(p))
     # a vertex no triangle uses still counts (weight 1) so its group never comes out empty
     weight = np.where(weight > 0, weight, 1e-9)
@@ -226,17 +279,19 @@ def _fallback_tangent(n: np.ndarray) -> np.ndarray:
 
 
 def _tangents(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray,
-              indices: np.ndarray) -> np.ndarray:
+              indices: np.ndarray, faces: tuple[np.ndarray, np.ndarray] | None = None
+              ) -> np.ndarray:
     """(V, 4) tangents along +u with handedness w (module docstring): per-triangle tangent and
     bitangent from the UV derivatives, angle-weighted per vertex, Gram–Schmidt against the
-    normal; w = sign((n × t) · b)."""
+    normal; w = sign((n × t) · b). ``faces`` = (non-degenerate mask, corner angles) when
+    known."""
     p = np.asarray(positions, np.float64)
     n = np.asarray(normals, np.float64)
     uv = np.asarray(uvs, np.float64)
     tri = np.asarray(indices, np.int64).reshape(-1, 3)
     nv = len(p)
-    t_acc = np.zeros((nv, 3))
-    b_acc = np.zeros((nv, 3))
+    t_acc = np.zeros((3, nv))  # one row per component: contiguous sums
+    b_acc = np.zeros((3, nv))
     if len(tri):
         e1 = p[tri[:, 1]] - p[tri[:, 0]]
         e2 = p[tri[:, 2]] - p[tri[:, 0]]
@@ -250,13 +305,17 @@ def _tangents(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray,
         fb = (e2 * d1[:, 0:1] - e1 * d2[:, 0:1]) / rs
         ft, okt = _normalize(ft)
         fb, okb = _normalize(fb)
-        good &= okt & okb & _face_normals(p, tri)[1]
-        angles = _corner_angles(p, tri)
+        ok_face, angles = (_face_normals(p, tri)[1], _corner_angles(p, tri)) if faces is None \
+            else faces
+        good &= okt & okb & ok_face
+        ft_rows, fb_rows = ft.T.copy(), fb.T.copy()
         for k in range(3):
             w = np.where(good, angles[:, k], 0.0)
+            corner = np.ascontiguousarray(tri[:, k])
             for j in range(3):
-                t_acc[:, j] += np.bincount(tri[:, k], weights=w * ft[:, j], minlength=nv)
-                b_acc[:, j] += np.bincount(tri[:, k], weights=w * fb[:, j], minlength=nv)
+                t_acc[j] += np.bincount(corner, weights=w * ft_rows[j], minlength=nv)
+                b_acc[j] += np.bincount(corner, weights=w * fb_rows[j], minlength=nv)
+    t_acc, b_acc = t_acc.T, b_acc.T
     t = t_acc - n * np.einsum("ij,ij->i", t_acc, n)[:, None]
     t, ok = _normalize(t, eps=1e-9)
     t[~ok] = _fallback_tangent(n[~ok])
@@ -265,18 +324,25 @@ def _tangents(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray,
     return np.hstack([t, w[:, None]]).astype(np.float32)
 
 
-def _finish(name: str, positions, normals, uvs, indices) -> LabMesh:
+def _finish(name: str, positions, normals, uvs, indices, groups: np.ndarray | None = None,
+            faces: tuple[np.ndarray, np.ndarray] | None = None) -> LabMesh:
     """A :class:`LabMesh` from positions, (any-length) normals, uvs and triangles: the normals
-    made unit (bad ones → the fallback), smooth normals and tangents computed."""
+    made unit (bad ones → the fallback), smooth normals and tangents computed. ``groups``
+    (:func:`_position_groups`) and ``faces`` (the triangles' non-degenerate mask and corner
+    angles) may be passed when the caller already has them."""
     p = np.asarray(positions, np.float64).reshape(-1, 3)
     tri = np.asarray(indices, np.int64).reshape(-1, 3)
     n, _ = _normalize(np.asarray(normals, np.float64).reshape(-1, 3),
                       np.array(FALLBACK_NORMAL))
     uv = np.asarray(uvs, np.float64).reshape(-1, 2)
     uv = np.where(np.isfinite(uv), uv, 0.0)
+    if faces is None:
+        faces = (_face_normals(p, tri)[1], _corner_angles(p, tri))
+    angles = np.where(faces[0][:, None], faces[1], 0.0)
     return LabMesh(name=name, positions=p.astype(np.float32), normals=n.astype(np.float32),
-                   smooth_normals=_smooth_normals(p, n, tri), uvs=uv.astype(np.float32),
-                   tangents=_tangents(p, n, uv, tri), indices=tri.astype(np.uint32))
+                   smooth_normals=_smooth_normals(p, n, tri, groups, angles),
+                   uvs=uv.astype(np.float32), tangents=_tangents(p, n, uv, tri, faces),
+                   indices=tri.astype(np.uint32))
 
 
 class _Builder:
@@ -540,58 +606,131 @@ TEST_OBJECTS: dict[str, Callable[[], LabMesh]] = {
 # raw triangles → LabMesh
 
 
-def _crease_normals(p: np.ndarray, tri: np.ndarray, hard_angle_deg: float) -> np.ndarray:
+def _pair_sums(gid: np.ndarray, fn: np.ndarray, ok: np.ndarray, face: np.ndarray,
+               weight: np.ndarray, cos_limit: float) -> np.ndarray:
+    """(N, 3): for each item (a corner: its position group, face, angle weight), Σ weight ·
+    face normal over the items of its group (itself too) whose face is not degenerate and lies
+    within the crease angle of its own."""
+    pairs = _group_pairs(gid)
+    order = next(pairs)
+    f_sorted, w_sorted = face[order], weight[order]
+    acc_sorted = np.zeros((len(order), 3))
+    for left, right, (lo, hi) in pairs:
+        fl, fr = f_sorted[left], f_sorted[right]
+        dot = np.einsum("ij,ij->i", fn[fl], fn[fr])
+        take = ok[fr] & (dot >= cos_limit - 1e-9)
+        left, fr = left[take] - lo, fr[take]
+        weights = w_sorted[right[take]]
+        for k in range(3):
+            acc_sorted[lo:hi, k] += np.bincount(left, weights=weights * fn[fr, k],
+                                                minlength=hi - lo)
+    out = np.empty_like(acc_sorted)
+    out[order] = acc_sorted
+    return out
+
+
+def _big_group_sums(gid: np.ndarray, fn: np.ndarray, ok: np.ndarray, face: np.ndarray,
+                    weight: np.ndarray, cos_limit: float) -> np.ndarray:
+    """:func:`_pair_sums` for corners of positions shared by more than ``_CREASE_GROUP``
+    corners (a fan's hub): the corners of one group with the same face normal taken together
+    (a flat fan is one); a group left with more distinct normals than that gives each corner
+    its own face normal (faceted there: the pairs would grow as the square)."""
+    normal = fn[face]
+    first, inverse = unique_rows(np.column_stack([gid.view(np.uint64),
+                                                  normal.view(np.uint64)]))
+    item_gid = gid[first]
+    item_weight = np.bincount(inverse, weights=weight, minlength=len(first))
+    per_group = np.bincount(item_gid)[item_gid]
+    out = normal.copy()
+    few = per_group <= _CREASE_GROUP
+    if few.any():
+        items = np.flatnonzero(few)
+        sums = _pair_sums(item_gid[items], fn, ok, face[first[items]], item_weight[items],
+                          cos_limit)
+        at = np.full(len(first), -1)
+        at[items] = np.arange(len(items))
+        mine = at[inverse] >= 0
+        out[mine] = sums[at[inverse[mine]]]
+    return out
+
+
+def _crease_normals(p: np.ndarray, tri: np.ndarray, hard_angle_deg: float,
+                    groups: np.ndarray | None = None,
+                    faces: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+                    ) -> np.ndarray:
     """(T, 3, 3) one normal per triangle corner: the corner-angle-weighted mean of the face
     normals at that corner's position that lie within ``hard_angle_deg`` of its own face's
     normal (so faces meeting at a sharper angle stay faceted). A degenerate triangle's corners
-    take every face around them; a corner with none gets its face normal or the fallback."""
-    fn, ok = _face_normals(p, tri)
-    angles = np.where(ok[:, None], _corner_angles(p, tri), 0.0).reshape(-1)
+    take every face around them; a corner with none gets its face normal or the fallback.
+    ``groups`` (:func:`_position_groups` of ``p``) and ``faces`` (face normals, their
+    non-degenerate mask, corner angles) may be given when known."""
+    fn, ok, angles = (*_face_normals(p, tri), _corner_angles(p, tri)) if faces is None \
+        else faces
+    angles = np.where(ok[:, None], angles, 0.0).reshape(-1)
     corners = tri.reshape(-1)
-    groups = _position_groups(p)[corners]
+    gid = (_position_groups(p) if groups is None else groups)[corners]
     face = np.repeat(np.arange(len(tri)), 3)
+    own = fn[face]  # zero on a degenerate triangle
+    weighted = own * angles[:, None]
+    ng = int(gid.max()) + 1 if len(gid) else 0
+    # Σ angle · face normal over every corner at a position: what a degenerate triangle's corner
+    # takes, and what every corner takes where all the faces at its position lie within half
+    # the crease angle of their mean (so within the crease angle of each other)
+    total = np.stack([np.bincount(gid, weights=weighted[:, k], minlength=ng)
+                      for k in range(3)], axis=1)
+    axis, has_axis = _normalize(total)
     cos_limit = math.cos(math.radians(float(hard_angle_deg)))
-    acc = np.zeros((len(corners), 3))
-    for left, right in _group_pairs(groups):
-        fl, fr = face[left], face[right]
-        dot = np.einsum("ij,ij->i", fn[fl], fn[fr])
-        take = ok[fr] & ((dot >= cos_limit - 1e-9) | ~ok[fl])
-        left, fr = left[take], fr[take]
-        weights = angles[right[take]]
-        for k in range(3):
-            acc[:, k] += np.bincount(left, weights=weights * fn[fr, k], minlength=len(corners))
+    half = math.cos(math.radians(float(hard_angle_deg)) / 2.0)
+    near = np.einsum("ij,ij->i", own, axis[gid]) >= half + 1e-9
+    far = np.bincount(gid, weights=ok[face] & ~near, minlength=ng)
+    several = np.bincount(gid, weights=ok[face], minlength=ng) > 1
+    crease = (several & (~has_axis | (far > 0)))[gid] & ok[face]
+    acc = total[gid]  # a degenerate corner keeps the sum of every face
+    if crease.any():
+        size = np.bincount(gid, minlength=ng)[gid]
+        small = crease & (size <= _CREASE_GROUP)
+        if small.any():
+            # each takes the faces of the corners at its position (its own too) within the
+            # crease angle, pair by pair, summed in the same order as the total above
+            pick = np.flatnonzero(small)
+            acc[pick] = _pair_sums(gid[pick], fn, ok, face[pick], angles[pick], cos_limit)
+        big = np.flatnonzero(crease & ~small)
+        if len(big):
+            acc[big] = _big_group_sums(gid[big], fn, ok, face[big], angles[big], cos_limit)
     unit, good = _normalize(acc)
-    own = fn[face]
     unit[~good] = np.where(ok[face][~good, None], own[~good], FALLBACK_NORMAL)
     return unit.reshape(-1, 3, 3)
 
 
-def _box_uvs(p: np.ndarray, normals: np.ndarray, lo: np.ndarray, size: float) -> np.ndarray:
+def _box_uvs(p: np.ndarray, normals: np.ndarray, lo: np.ndarray, size: float,
+             axis: np.ndarray | None = None) -> np.ndarray:
     """Planar projections along each vertex normal's dominant axis (box mapping), in units of
-    the mesh's largest extent, each with u × v along the projection axis."""
+    the mesh's largest extent, each with u × v along the projection axis (``axis``: the
+    dominant axes when known)."""
     q = (p - lo) / size
-    axis = np.argmax(np.abs(normals), axis=1)
+    axis = np.argmax(np.abs(normals), axis=1) if axis is None else axis
     sign = np.where(normals[np.arange(len(p)), axis] < 0, -1.0, 1.0)
-    uv = np.empty((len(p), 2))
     # +x: (−z, y); +y: (x, −z); +z: (x, y); a negative side mirrors u
-    uv[axis == 0] = np.stack([-q[:, 2], q[:, 1]], 1)[axis == 0]
-    uv[axis == 1] = np.stack([q[:, 0], -q[:, 2]], 1)[axis == 1]
-    uv[axis == 2] = np.stack([q[:, 0], q[:, 1]], 1)[axis == 2]
-    uv[:, 0] *= sign
-    return uv
+    u = np.where(axis == 0, -q[:, 2], q[:, 0]) * sign
+    v = np.where(axis == 1, -q[:, 2], q[:, 1])
+    return np.stack([u, v], axis=1)
 
 
 def from_arrays(name: str, positions, indices, normals=None, uvs=None,
-                hard_angle_deg: float = HARD_ANGLE_DEG) -> LabMesh:
+                hard_angle_deg: float = HARD_ANGLE_DEG, welded: bool = False) -> LabMesh:
     """A :class:`LabMesh` from raw triangles: ``positions`` (V, 3), ``indices`` (T, 3) (or a
     flat list), optional per-vertex ``normals`` (V, 3) and ``uvs`` (V, 2).
 
     Without normals they are made by crease angle: faces meeting at more than
     ``hard_angle_deg`` keep their own (faceted) normals and the vertex is split there; smaller
-    angles are smoothed (corner-angle weighted). Without uvs each vertex gets a planar
-    projection along its normal's dominant axis (box mapping, one unit = the mesh's largest
-    extent), splitting vertices where the projection changes. Degenerate triangles are kept
-    (they draw nothing) and never give NaN. Raises ValueError (one line) on bad arrays."""
+    angles are smoothed (corner-angle weighted). Where more than ``_CREASE_GROUP`` (1,024)
+    different face normals meet at one position (the hub of a huge fan), each corner there
+    keeps its own face's normal rather than comparing millions of pairs. Without uvs each
+    vertex gets a planar projection along its normal's dominant axis (box mapping, one unit =
+    the mesh's largest extent), splitting vertices where the projection changes. Degenerate
+    triangles are kept (they draw nothing) and never give NaN. ``welded``: the caller knows no
+    two positions are equal as float32 (so none are looked for). Raises ValueError (one line)
+    on bad arrays."""
     if not 0.0 <= float(hard_angle_deg) <= 180.0:
         raise ValueError(f"{name}: hard_angle_deg must lie in 0…180, got {hard_angle_deg}")
     p = np.asarray(positions, np.float64)
@@ -615,21 +754,28 @@ def from_arrays(name: str, positions, indices, normals=None, uvs=None,
     if uv is not None and uv.shape != (len(p), 2):
         raise ValueError(f"{name}: uvs must be (V, 2), got {uv.shape}")
 
+    # the triangles' shapes and the position groups, computed once: splitting vertices below
+    # changes neither
+    fn, ok = _face_normals(p, tri)
+    faces = (fn, ok, _corner_angles(p, tri))
+    groups = np.arange(len(p)) if welded else _position_groups(p)
     if nrm is None:
-        corner_n = _crease_normals(p, tri, hard_angle_deg).reshape(-1, 3)
+        corner_n = _crease_normals(p, tri, hard_angle_deg, groups, faces).reshape(-1, 3)
         src = tri.reshape(-1)
         # one output vertex per (input vertex, corner normal): split at hard edges
-        key = np.column_stack([src, np.round(corner_n * 1e5).astype(np.int64)])
-        _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        q = np.round(corner_n * 1e5).astype(np.int64) + (1 << 17)  # 0 … 2^18 each
+        key = np.column_stack([src, (q[:, 0] << 36) | (q[:, 1] << 18) | q[:, 2]])
+        first, inverse = unique_rows(key)
         new_p, new_n = p[src[first]], corner_n[first]
         new_uv = None if uv is None else uv[src[first]]
+        groups = groups[src[first]]
         tri = inverse.reshape(-1, 3)
     else:
         new_p = p
         new_n = nrm
         bad = ~_normalize(nrm)[1]
         if bad.any():  # missing normals in the file: those vertices get smooth crease normals
-            corner_n = _crease_normals(p, tri, 180.0).reshape(-1, 3)
+            corner_n = _crease_normals(p, tri, 180.0, groups, faces).reshape(-1, 3)
             acc = np.zeros_like(p)
             for k in range(3):
                 acc[:, k] = np.bincount(tri.reshape(-1), weights=corner_n[:, k],
@@ -643,11 +789,11 @@ def from_arrays(name: str, positions, indices, normals=None, uvs=None,
         lo = new_p.min(axis=0) if len(new_p) else np.zeros(3)
         size = float(np.ptp(new_p, axis=0).max()) if len(new_p) else 1.0
         size = size if size > 0 else 1.0
-        new_uv = _box_uvs(new_p, new_n, lo, size)
+        dominant = np.argmax(np.abs(new_n), axis=1)
+        new_uv = _box_uvs(new_p, new_n, lo, size, dominant)
         # a triangle whose corners project along different axes would be torn: give it
         # vertices of its own, all projected along its first corner's axis
-        axis = np.argmax(np.abs(new_n), axis=1) * 2 + (new_n[np.arange(len(new_n)),
-                                                       np.argmax(np.abs(new_n), 1)] < 0)
+        axis = dominant * 2 + (new_n[np.arange(len(new_n)), dominant] < 0)
         face_axis = axis[tri[:, 0]]
         mixed = (axis[tri] != face_axis[:, None]).any(axis=1)
         if mixed.any():
@@ -661,9 +807,10 @@ def from_arrays(name: str, positions, indices, normals=None, uvs=None,
             new_p = np.vstack([new_p, new_p[extra]])
             new_n = np.vstack([new_n, new_n[extra]])
             new_uv = np.vstack([new_uv, extra_uv])
+            groups = np.concatenate([groups, groups[extra]])
             tri = tri.copy()
             tri[mixed] = (start + np.arange(len(extra))).reshape(-1, 3)
-    return _finish(name, new_p, new_n, new_uv, tri)
+    return _finish(name, new_p, new_n, new_uv, tri, groups, (ok, faces[2]))
 
 
 def concatenate(name: str, parts: Sequence[LabMesh]) -> LabMesh:

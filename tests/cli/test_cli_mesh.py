@@ -1,10 +1,16 @@
 """``--mesh FILE``: a student's own mesh on the shading lab's turntable, as a user types it —
-an OBJ the test writes, rendered; a mesh file that is not one, a scene without a turntable and
-a missing file each refused in one line (exit 2) before any rendering."""
+an OBJ the test writes, rendered; a mesh file that is not one, a scene without a turntable, a
+missing file and the broken files fuzzing found each refused in one line (exit 2) before any
+rendering."""
 
 from __future__ import annotations
 
+import base64
+import json
+import struct
+
 import numpy as np
+import pytest
 
 from tests.helpers.cli import SMALL, run, usage_error
 
@@ -71,3 +77,44 @@ def test_a_pipe_named_like_a_mesh_is_refused_without_blocking(tmp_path):
     line = usage_error(run("render", "shading", "--mesh", "pipe.obj", "--size", SMALL,
                            cwd=tmp_path))
     assert "pipe.obj" in line and "regular file" in line
+
+
+def _stl_claiming_more_triangles_than_it_holds() -> bytes:
+    corners = np.random.default_rng(0).random((12, 3, 3)).astype("<f4")
+    records = b"".join(bytes(12) + c.tobytes() + bytes(2) for c in corners)
+    return b"x" * 80 + struct.pack("<I", 5) + records
+
+
+def _gltf_view_past_its_buffer() -> bytes:
+    data = "data:application/octet-stream;base64," + base64.b64encode(bytes(72)).decode()
+    return json.dumps({"asset": {"version": "2.0"},
+                       "buffers": [{"byteLength": 72, "uri": data}],
+                       "bufferViews": [{"buffer": 0, "byteOffset": 24, "byteLength": 4000}]
+                       }).encode()
+
+
+#: inputs fuzzing found (issue 36), each as a user hands it over, and what its line says
+FUZZED = [
+    ("deep.gltf", b"[" * 100000 + b"]" * 100000, "nests its JSON more than 100 levels deep"),
+    ("huge.obj", b"v 1e39 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "coordinate 1e+39 at line 1"),
+    ("zero.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "vertex index 0 at line 4"),
+    ("count.stl", _stl_claiming_more_triangles_than_it_holds(),
+     "claims 5 triangles (binary STL header) but its 684 bytes hold 12"),
+    ("view.gltf", _gltf_view_past_its_buffer(),
+     "bufferView 0 ending at byte 4,024 of buffer 0's 72"),
+]
+
+
+@pytest.mark.parametrize("name, content, says", FUZZED, ids=[c[0] for c in FUZZED])
+def test_fuzzed_mesh_files_are_one_line_without_warnings(tmp_path, name, content, says):
+    """Each was a traceback-free but wrong answer before: an internal error (RecursionError),
+    ten lines of numpy warnings, a silently invisible mesh, "not UTF-8 text",
+    "(AssertionError)"."""
+    (tmp_path / name).write_bytes(content)
+    r = run("render", "shading", "--mesh", name, "--size", SMALL, "--out", "x.png",
+            cwd=tmp_path)
+    line = usage_error(r)
+    assert line.startswith(f"natura: mesh file '{name}' ") and says in line, line
+    assert ": allowed " in line and len(line) <= 200
+    assert "Warning" not in r.stderr and "Error" not in line
+    assert not (tmp_path / "x.png").exists()
