@@ -21,9 +21,9 @@ the floor of the last reads may exceed the median of the first by less than ``RS
 process holds ~11 MB more at some reads than at others (the village's, about half the reads, at
 random), where a leak raises every read; against the first reads' median, as one of them can dip
 lower now and then (7.5 MB once, on a loaded CI run); with no leak the floors moved by at most
-1.7 MB (llvmpipe, every case). Each case renders 32 × 18 frames with the scene's costly extras off; all are slow
-(2–17 s a case on llvmpipe; the boat's new simulation costs ~2 s a flip, so it flips 12 times);
-pass and fail depend on counts and bytes only, never on time."""
+1.7 MB (llvmpipe, every case). Each case renders 32 × 18 frames with the scene's costly extras
+off; all are slow (2–17 s a case on llvmpipe; the boat's new simulation costs ~2 s a flip, so it
+flips 12 times); pass and fail depend on counts and bytes only, never on time."""
 
 from __future__ import annotations
 
