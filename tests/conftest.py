@@ -18,6 +18,8 @@ from app.sim.camera import Camera
 pytest_plugins = ["tests.helpers.fixtures", "tests.helpers.tiers", "tests.helpers.cores"]
 
 TESTS = Path(__file__).resolve().parent
+#: a natura process a test starts that dies of a signal (a driver crash) prints where it was
+os.environ.setdefault("PYTHONFAULTHANDLER", "1")
 #: the folders under tests/ and the marker each gives its tests (registered in pyproject.toml)
 LAYERS = ("unit", "gl", "stability", "bench", "cli", "window")
 
