@@ -20,6 +20,9 @@
   at most half again the uniform march's error, which at the default settings is far below a
   display step (the mean |Δ| is ~1e-3 of radiance values up to ~3). ``budget`` says whether
   the default meets it.
+* **The amortised march** (``app/bench/amortise.py``): ms of the march pass against the error
+  of the window's image, still and during a 30°/s pan, for each march resolution and refresh
+  fraction, against the full-resolution march averaged over its jittered offsets.
 * **Default before / after**: the uniform 64-step default against the adaptive one, timed in
   one interleaved run (``app.gpu.timing.time_interleaved``: per-round ratios, median and
   quartiles) with the error of each against the same reference.
@@ -31,7 +34,7 @@ import numpy as np
 
 from ..gpu.timing import time_call, time_interleaved
 from ..teach.sweeps import THESIS_MARCH
-from . import at_most, write_chart
+from . import amortise, at_most, write_chart
 
 PRESETS = ("cumulus", "stratocumulus", "stratus")
 DEFAULT_SIZES = ((256, 256), (512, 512), (800, 800), (1920, 1080))
@@ -226,6 +229,10 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None) -> dict:
                "default_change": default_change(session, sizes=change_sizes, warmup=warmup,
                                                 rounds=max(5, 3 * repeat)),
                "table": table(session, sizes or DEFAULT_SIZES, warmup, repeat)}
+        for k, v in saved.items():
+            session.params.set(k, v)
+        out["amortised"] = amortise.sweep(session, "clouds", at_most(size, (320, 180)), warmup,
+                                          repeat)
     finally:
         for k, v in saved.items():
             session.params.set(k, v)
@@ -246,7 +253,8 @@ def chart(report: dict, path, force: bool = False) -> None:
     import matplotlib.pyplot as plt
 
     s = report["sweep"]
-    fig, axes = plt.subplots(1, 2, figsize=(14, 5))
+    fig, axes = plt.subplots(1, 3 if "amortised" in s else 2,
+                             figsize=(21 if "amortised" in s else 14, 5))
     ax = axes[0]
     groups = {"uniform": ("o-", "uniform (thesis marcher)"), "light samples": ("s-", None),
               "all speed work": ("D-", None),
@@ -295,6 +303,8 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.set_yscale("log")
     ax.set_title("the cloud thesis's Table 6.1 layout")
     ax.legend(fontsize=8)
+    if "amortised" in s:
+        amortise.plot(axes[2], s["amortised"])
     write_chart(fig, path, force, title=f"natura bench clouds — {report['renderer']}")
 
 
@@ -333,4 +343,6 @@ def summary(report: dict) -> str:
                          f"({r['before_ms']:.1f} → {r['after_ms']:.1f} ms); error mean "
                          f"{r['before']['mean']:.2e} → {r['after']['mean']:.2e}, p99 "
                          f"{r['before']['p99']:.2e} → {r['after']['p99']:.2e}")
+    if "amortised" in s:
+        lines += amortise.summary(s["amortised"])
     return "\n".join(lines)

@@ -8,7 +8,11 @@
 //
 // Output: the cloud layer, RGBA = (in-scattered radiance, premultiplied; view transmittance T).
 // glsl/common/layer_composite.frag lays it over whatever the scene drew: out = rgb + T · scene,
-// so a pixel the clouds miss (rgb = 0, T = 1) keeps the scene's value bit for bit.
+// so a pixel the clouds miss (rgb = 0, T = 1) keeps the scene's value bit for bit. At location
+// 1 the amortised march's aux (glsl/common/amortise.glsl): the transmittance-weighted distance
+// of the cloud met, Σ (T_{i−1} − T_i) t_i / (1 − T), and the opaque scene's distance. Which
+// pixel a fragment marches is AmortisedPixel(): itself, or one pixel of each block of an
+// amortised frame (app/render/amortise.py).
 //
 // Per pixel
 // 1. Ray interval (§1.5 item 1): the camera ray against the container — an axis-aligned box
@@ -17,9 +21,11 @@
 //    to the opaque scene (the scene depth texture turned into a distance along the ray) and to
 //    uMaxDistance.
 // 2. View march: N = uSteps samples over the interval (the thesis's 64 by default), the first
-//    offset by an interleaved-gradient-noise jitter in [0, 1) of a step (Jimenez 2014, static
-//    per pixel — the thesis's blue-noise jitter against banding, §4); 0.5 (midpoints) with the
-//    jitter off. Each sample's density d (spec/001 eq. 4.16, cloud_model.glsl) is an extinction
+//    offset by a jitter in [0, 1) of a step against banding (the thesis's blue noise, §4): the
+//    thesis's march uses interleaved gradient noise (Jimenez 2014, static per pixel, plus
+//    uJitterPhase, which the reference of app/bench/clouds.py averages over); the amortised
+//    march (glsl/common/amortise.glsl) a void-and-cluster blue noise whose phase moves on with
+//    each refresh of the pixel; 0.5 (midpoints) with the jitter off. Each sample's density d (spec/001 eq. 4.16, cloud_model.glsl) is an extinction
 //    σ = k · d / L_ref per metre, L_ref = the thesis's light step 0.5 · (al_m − al_b) / 6 (so
 //    the light march's d_s below is the thesis's plain sum of 6 densities at the default
 //    settings) and k = uExtinction (the thesis's alpha, a plain sum of 64 samples, has no
@@ -72,9 +78,11 @@
 
 #include "cloud_model.glsl"
 #include "camera.glsl"
+#include "amortise.glsl"
 
 in vec2 vUV;
-out vec4 fragColor;
+layout(location = 0) out vec4 fragColor;
+layout(location = 1) out vec4 outAux;  // amortised march: (cloud distance, scene distance)
 
 // ---- the thesis's panel (spec/001 §2) ----------------------------------------------------
 uniform float uCoverage;        // @param 0.4 [0, 1] step=0.01 §1.3 Nubosidad n_g: global coverage (0 none, 1 overcast)
@@ -135,9 +143,7 @@ uniform vec2 uDetailOffset;
 uniform float uCamNear;          // the projection of the scene's depth buffer
 uniform float uCamFar;
 uniform bool uHasSceneDepth;
-uniform ivec2 uBlockSub;         // temporal reprojection: march pixel uBlockSub of each 4×4 block
-                                 // of a uFullSize image into a quarter-size target; (-1, -1): full size
-uniform vec2 uFullSize;          // the full-resolution size the rays are computed for
+uniform bool uAmortised;         // an amortised march (blue-noise jitter), else the thesis's
 
 uniform sampler2D uWeather;      // RGBA: mc_n0, mc_n1, mc_a, mc_d
 uniform sampler3D uShape;        // RGBA: f_r, f_g, f_b, f_a
@@ -241,24 +247,30 @@ float SceneDistance(vec3 dir, ivec2 pixel) {
 }
 
 void main() {
-    // the full-resolution pixel this fragment stands for (itself unless reprojection renders
-    // one pixel of each 4×4 block at quarter size)
-    ivec2 pixel = uBlockSub.x >= 0 ? ivec2(gl_FragCoord.xy) * 4 + uBlockSub : ivec2(gl_FragCoord.xy);
-    vec2 uv = (vec2(pixel) + 0.5) / uFullSize;
-    vec3 dir = CameraRayDirection(uv);
+    // the full-resolution pixel this fragment stands for (itself, or one pixel of each block
+    // of an amortised frame)
+    ivec2 pixel = AmortisedPixel();
+    vec3 dir = CameraRayDirection(AmortisedUV(pixel));
     vec3 origin = uCameraPos;
     vec2 seg = ContainerInterval(origin, dir);
-    seg.y = min(seg.y, min(SceneDistance(dir, pixel), uMaxDistance));
+    float sceneDist = SceneDistance(dir, pixel);
+    outAux = AmortiseAux(AMORTISE_FAR, sceneDist);
+    seg.y = min(seg.y, min(sceneDist, uMaxDistance));
     if (!(seg.y > seg.x)) { fragColor = vec4(0.0, 0.0, 0.0, 1.0); return; }
 
     float dt0 = (seg.y - seg.x) / float(max(uSteps, 1));
-    float jitter = uJitter ? InterleavedGradientNoise(vec2(pixel) + 0.5) : 0.5;
+    float jitter = 0.5;
+    if (uJitter) {
+        jitter = uAmortised ? AmortiseJitter(pixel)
+                            : fract(InterleavedGradientNoise(vec2(pixel) + 0.5) + uJitterPhase);
+    }
     float cosTheta = dot(uLightDir, dir);
     vec3 ambient = uAmbientRadiance;
     vec3 direct = uLightScale * uLightRadiance;
 
     float T = 1.0;
     vec3 C = vec3(0.0);
+    float tSum = 0.0;  // Σ (T_{i−1} − T_i) t_i: the cloud's distance for the reprojection
     float t = seg.x + jitter * dt0;
     bool fine = !uAdaptiveSteps;
     int empty = 0, inCloud = 0;
@@ -288,6 +300,7 @@ void main() {
             float ds = uLightSteps > 0 ? LightOpticalDepth(p) : 0.0;
             vec3 S = LightEnergy(ds, cosTheta) * direct + ambient;
             C += uEnergyConserving ? T * S * (1.0 - stepT) : T * S * (sigma * dt);
+            tSum += T * (1.0 - stepT) * t;
             T *= stepT;
             if (T < uTransmittanceCutoff) break;
         } else {
@@ -298,4 +311,5 @@ void main() {
         t += dt;
     }
     fragColor = vec4(C, T);
+    if (T < 0.9999) outAux.x = tSum / (1.0 - T);
 }

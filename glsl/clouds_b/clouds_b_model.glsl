@@ -44,6 +44,11 @@
 //    volumeFBM ·= mix(1, smoothstep(0.3, 0.7, gradient), uWeatherCoverage), so clear gaps and
 //    cloud banks kilometres wide break the volume noise's repeating tile (Schneider's weather
 //    map coverage; the map spans the whole box once, the noise tiles every 1/CloudScale km).
+//  * the noise lookups' mip level: implicit derivatives inside the march loop (its break and
+//    branches) are undefined in GLSL and would follow the neighbouring fragments' jitter and,
+//    in an amortised march (app/render/amortise.py), rays a block of pixels apart; the level is
+//    instead the one covering a pixel's footprint at the sample's distance, d · 2 tan(fov/2) / H
+//    metres (gNoiseFootprint, set by the view march), the same for every way of marching;
 // Failure cases left as the thesis has them: fixed-step banding (no jitter); powder takes the
 // density, not the optical depth; a step larger than the cloud features skips them.
 // Numpy twins: app/sim/clouds_b.py.
@@ -79,6 +84,15 @@ uniform vec2 uCoverageShift;  // metres the coverage map has drifted along x, z 
 uniform sampler3D uVolumeNoise;   // shape ("volume") noise, RGBA
 uniform sampler3D uDetailNoise;   // detail noise, RGB (+ A = 1)
 uniform sampler2D uGradientNoise; // GradientSimulator's 2D coverage map, R used
+
+// One pixel's footprint at the sample being taken, in noise units (samplePos): the noise
+// lookups read the mip level that covers it. The view march sets it for each view sample (the
+// light march from there inherits it); 0 reads the base level.
+float gNoiseFootprint = 0.0;
+
+float CloudsBNoiseLod(sampler3D noise) {
+    return log2(max(gNoiseFootprint * float(textureSize(noise, 0).x), 1.0e-8));
+}
 
 
 // spec/000 §A.4, distances along d to the box and through it: (dstToBox, dstInsideBox). d need
@@ -137,7 +151,8 @@ float CloudsBCoverage(vec3 p) {
     vec3 size = uBoundsMax - uBoundsMin;
     float maxDim = max(size.x, size.z);
     vec2 uv = (p.xz - uBoundsMin.xz - uCoverageShift) / maxDim;
-    return texture(uGradientNoise, uv).r;
+    float texels = gNoiseFootprint / (uCloudScale * 0.001) / maxDim * float(textureSize(uGradientNoise, 0).x);
+    return textureLod(uGradientNoise, uv, log2(max(texels, 1.0e-8))).r;
 }
 
 // The weather map's coverage factor on the base shape (1 with uWeatherCoverage = 0, the thesis).
@@ -155,12 +170,12 @@ float CloudsBSampleDensity(vec3 p) {
     float heightGradient = CloudsBHeightGradient(heightPercent, gradient) * CloudsBEdgeWeight(p)
                          * CloudsBWeatherCover(gradient);
 
-    vec4 vn = texture(uVolumeNoise, samplePos + uCloudOffset * 0.1);
+    vec4 vn = textureLod(uVolumeNoise, samplePos + uCloudOffset * 0.1, CloudsBNoiseLod(uVolumeNoise));
     vec4 wv = uVolumeNoiseWeight / max(dot(uVolumeNoiseWeight, vec4(1.0)), 1.0e-6);
     float volumeFBM = dot(vn, wv) * heightGradient;
     float volumeDensity = volumeFBM + uDensityThreshold * 0.1;
     if (volumeDensity > 0.0) {
-        vec3 dn = texture(uDetailNoise, samplePos + uCloudOffset * 0.2).rgb;
+        vec3 dn = textureLod(uDetailNoise, samplePos + uCloudOffset * 0.2, CloudsBNoiseLod(uDetailNoise)).rgb;
         vec3 wd = uDetailNoiseWeight / max(dot(uDetailNoiseWeight, vec3(1.0)), 1.0e-6);
         float detailFBM = dot(dn, wd);
         float oneMinusShape = 1.0 - volumeFBM;

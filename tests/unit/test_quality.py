@@ -203,9 +203,11 @@ def test_a_relative_budget_is_times_the_current_error():
 def test_clouds_reprojection_counts_as_it_takes_effect():
     """``window`` reprojects in the window only: the reprojected sweep applies there."""
     knob = "view steps (adaptive, energy-conserving, reprojected)"
-    render = {c.family.knob: c for c in q.pick("clouds", 0.01, sweeps=_doc("clouds"))}
+    params = scene_params("clouds", sets=["clouds.reprojection=window"])  # default: on
+    render = {c.family.knob: c for c in q.pick("clouds", 0.01, sweeps=_doc("clouds"),
+                                               params=params)}
     window = {c.family.knob: c for c in q.pick("clouds", 0.01, sweeps=_doc("clouds"),
-                                               interactive=True)}
+                                               params=params, interactive=True)}
     assert render[knob].status == "skipped" and "clouds.reprojection=on" in render[knob].reason
     assert window[knob].status == "chosen" and window[knob].point.error <= 0.01
 

@@ -21,10 +21,16 @@ Per frame:
   wrapped by its own tile on the CPU in float64 (so float32 never loses the fraction and
   rendering at time T equals rendering at 0 with the field moved); speed 0 gives identical
   frames (nothing else depends on time: the jitter is static per pixel);
-* pass 1 (volumes stage) marches into the effect's own layer target (RGBA32F: premultiplied
-  radiance, transmittance), clipping each ray at the depth of the frame's ``image`` slot, so
-  clouds behind opaque geometry drawn in earlier stages are hidden; pass 2 blends the layer
-  over the image (``out = rgb + T · scene``; a missed pixel keeps the scene's value exactly).
+* pass 1 (volumes stage) makes the cloud layer (RGBA32F: premultiplied radiance,
+  transmittance), clipping each ray at the depth of the frame's ``image`` slot, so clouds
+  behind opaque geometry drawn in earlier stages are hidden. By default it is amortised as the
+  field renders its clouds (``clouds.reprojection`` on, :mod:`app.render.amortise`, beyond the
+  thesis): each frame marches one pixel of every block of ``clouds.march_scale`` ×
+  ``clouds.refresh`` pixels with blue-noise jitter, the rest is reprojected from the last
+  frame (moved with the wind) or filled by depth-aware upsampling, and a still render
+  converges first. ``clouds.reprojection = off`` is the thesis's march of every pixel every
+  frame, the lesson's reference. Pass 2 blends the layer over the image
+  (``out = rgb + T · scene``; a missed pixel keeps the scene's value exactly).
 
 Presets (spec/001 §2, Ch. 6): ``resources/presets/clouds-<name>.toml`` for cumulus,
 stratocumulus, stratus and the lighting preset. Two ways to use them:
@@ -62,13 +68,17 @@ from ...errors import ParamError
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Joint, Param, ParamSet, non_zero, show
+from ...render.amortise import RESOLVES, Amortiser, amortise_params, amortised, schedule_for
 from ...render.layers import LAYER_COMPOSITE, composite_layer
+from ...sim.amortise import LayerState
 from ...sim.clouds import density_length
 from ..base import Effect, Pass
-from .reprojection import REPROJECT, TemporalReprojection
 
 CLOUD_MARCH = fullscreen("clouds/cloud_march")
-REPROJECTION_MODES = ("window", "on", "off")
+#: the estimate of a full-resolution march, ms per megapixel, that ``auto`` plans the amortised
+#: march with: (software renderer, hardware GPU). The software figure is the default cumulus
+#: view measured at 640×360 on two cores of llvmpipe (243 ms); the GPU's is an estimate.
+FULL_MARCH_MS_PER_MPX = (1050.0, 10.0)
 
 PRESET_DIR = RESOURCES / "presets"
 PRESETS = ("custom", "cumulus", "stratocumulus", "stratus", "lighting")
@@ -85,7 +95,7 @@ class Clouds(Effect):
     name = "clouds"
     title = "Volumetric clouds (model A)"
     spec = SPEC
-    programs = (CLOUD_MARCH, LAYER_COMPOSITE, REPROJECT)
+    programs = (CLOUD_MARCH, LAYER_COMPOSITE, *RESOLVES)
     extra_groups = ("bake_shape", "bake_detail", "bake_weather")
     stages = (Stage.VOLUMES,)
     consumes = {"main_light": "optional", "image": "optional"}
@@ -97,7 +107,11 @@ class Clouds(Effect):
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:
         how = "compute shaders" if caps.compute else "one fragment pass per slice"
-        return {"noise bakes (3D textures)": how}
+        kind = "software renderer" if caps.software else "GPU"
+        march = (f"{params['clouds.reprojection']}: scale {params['clouds.march_scale']}, "
+                 f"refresh {params['clouds.refresh']} (auto: from the frame budget, planned "
+                 f"for a {kind})")
+        return {"noise bakes (3D textures)": how, "amortised march": march}
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -106,11 +120,7 @@ class Clouds(Effect):
             Param("clouds.preset", "cumulus", doc="apply resources/presets/clouds-<name>.toml when "
                   "chosen (custom: nothing; the weather map's contrast is part of each preset)",
                   kind="choice", choices=PRESETS, section=f"{s} §2"),
-            Param("clouds.reprojection", "window", doc="temporal reprojection: march 1 pixel of "
-                  "each 4×4 block per frame, reproject the rest (window = in the interactive "
-                  "window only; single renders are always full)", kind="choice",
-                  choices=REPROJECTION_MODES,
-                  section="beyond the thesis: temporal reprojection (Schneider 2015)"),
+            *amortise_params("clouds"),
             Param("clouds.container", "box", doc="Cubo o esfera: an axis-aligned box or the shell "
                   "between two spheres", kind="choice", choices=CONTAINERS, section=f"{s} §1.5"),
             Param("clouds.sun_from_sky", True, doc="take the light from the frame (a sky's main "
@@ -149,8 +159,10 @@ class Clouds(Effect):
         super().__init__(gpu, params)
         self.bakes = BakedTextures(gpu, self.name)
         self._layer = None  # what the composite reads: the marched target or the resolved history
-        self._own_layer = None  # the full-size march target (without reprojection)
-        self._reprojection = None
+        self._own_layer = None  # the full-size march target (the thesis's march)
+        self.amortiser = Amortiser(gpu, self.name)
+        #: the jitter phase of the thesis's march (the bench's reference averages over it)
+        self.jitter_phase = 0.0
         self._applied_preset: str | None = None
         self.light_dir = np.array([0.0, 1.0, 0.0])
         self.light_radiance = np.ones(3)
@@ -265,48 +277,91 @@ class Clouds(Effect):
         return self._layer
 
     # -- passes ----------------------------------------------------------------------------
+    def container_distances(self, frame) -> tuple[float, float]:
+        """(nearest, farthest) distance from the camera at which a cloud can be: the container
+        (box or shell), the far end bounded by clouds.max_distance."""
+        p = self.params
+        cam = np.asarray(frame.camera.position, dtype=np.float64)
+        base, top = p["clouds.base_height"], p["clouds.max_height"]
+        if p["clouds.container"] == "box":
+            half = p["clouds.box_half_size"]
+            lo, hi = np.array([-half, base, -half]), np.array([half, top, half])
+            near = float(np.linalg.norm(np.maximum(np.maximum(lo - cam, cam - hi), 0.0)))
+        else:
+            radius = p["clouds.planet_radius"]
+            r = float(np.linalg.norm(cam - np.array([0.0, -radius, 0.0])))
+            near = max(radius + base - r, r - radius - top, 0.0)
+        return near, float(p["clouds.max_distance"])
+
+    def layer_state(self, frame) -> LayerState:
+        """What the amortised layer's history depends on this frame."""
+        p = self.params
+        wind = p["clouds.wind_speed"] * np.array([p["clouds.wind_dir_x"], 0.0,
+                                                  p["clouds.wind_dir_y"]])
+        offset = self.wind_offset_m(frame.time)
+        near, far = self.container_distances(frame)
+        key = tuple(self.params.version(g) for g in (self.name, *self.extra_groups))
+        return LayerState(key=key, light_dir=np.asarray(self.light_dir, float),
+                          light_radiance=np.concatenate([self.light_radiance,
+                                                         self.ambient_radiance]),
+                          wind=wind, field_offset=np.array([offset[0], 0.0, offset[1]]),
+                          near=near, far=far)
+
+    def schedule(self, size):
+        """The amortised march's schedule at ``size`` (``auto`` from the frame budget)."""
+        return schedule_for(self.params, self.name, size, self.gpu.caps.software,
+                            FULL_MARCH_MS_PER_MPX)
+
     def render_layer(self, frame, target) -> None:
         # the march and the resolve read depth values, not comparisons
         with frame.image_for(target).depth_values() as depth:
-            mode = self.params["clouds.reprojection"]
-            if mode == "on" or (mode == "window" and frame.interactive):
-                if self._reprojection is None:
-                    self._reprojection = TemporalReprojection(self.gpu, self.name)
-                p = self.params
-                resolve = {"uContainer": CONTAINERS.index(p["clouds.container"]),
-                           "uBaseHeight": p["clouds.base_height"],
-                           "uPlanetRadius": p["clouds.planet_radius"],
-                           "uCamNear": float(frame.camera.near), "uCamFar": float(frame.camera.far)}
-                self._layer = self._reprojection.step(
-                    frame, target.size, lambda t, sub: self.march(frame, target, t, sub),
-                    resolve, depth, moving=p["clouds.wind_speed"] > 0)
+            if amortised(self.params, self.name, frame.interactive):
+                self._layer = self.amortiser.step(
+                    frame, target.size, self.schedule(target.size), self.layer_state(frame),
+                    lambda grid: self.march(frame, target, grid), depth)
             else:
                 self._layer = self.layer_for(target.size)
-                self.march(frame, target, self._layer, (-1, -1))
+                self.march(frame, target, self.amortiser.direct(self._layer.fbo, target.size,
+                                                                self.jitter_phase))
 
-    def march(self, frame, target, layer, block_sub) -> None:
-        """The view march into ``layer``: full size, or one pixel of each 4×4 block, clipped at
-        the depth of ``target`` (the scene image), which must be readable as values
-        (``render_layer`` sees to it)."""
+    def march(self, frame, target, grid) -> None:
+        """The view march into ``grid`` (``app.render.amortise.MarchGrid``: every pixel, or one
+        pixel of each block of an amortised frame), clipped at the depth of ``target`` (the
+        scene image), which must be readable as values (``render_layer`` sees to it)."""
         ctx = self.gpu.ctx
         prog = self.program(CLOUD_MARCH)
         # all bakes first, then the bindings: a bake run now uses texture units of its own
         weather, shape, detail = (self.texture_for(kind) for kind in ("weather", "shape", "detail"))
         depth = frame.image_for(target).depth
         prog.bind_textures({"uWeather": weather, "uShape": shape, "uDetail": detail,
-                            "uSceneDepth": depth})
+                            "uSceneDepth": depth, **grid.textures})
         self.apply_params(prog)
         prog.set_many(frame.camera_uniforms())
         prog.set_many(self.uniforms(frame))
-        prog.set_many({"uHasSceneDepth": depth is not None, "uBlockSub": tuple(block_sub),
-                       "uFullSize": tuple(float(v) for v in target.size)})
-        layer.use()
+        prog.set_many({"uHasSceneDepth": depth is not None, **grid.uniforms})
+        grid.use()
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         draw_fullscreen(prog)
 
     def composite(self, target) -> None:
+        if self._layer is None:  # no march yet: nothing to lay over the image
+            return
         composite_layer(self, self._layer.color, target)
 
     def passes(self, frame, target) -> list[Pass]:
         return [Pass("clouds.march", lambda: self.render_layer(frame, target), Stage.VOLUMES),
                 Pass("clouds.composite", lambda: self.composite(target), Stage.VOLUMES)]
+
+    def panel_notes(self) -> list[str]:
+        a = self.amortiser
+        if a.last_schedule is None or not amortised(self.params, self.name, True):
+            return []
+        s = a.last_schedule
+        return [f"amortised march: {s.label()} — {100.0 * s.fraction:.3g} % of the pixels per "
+                f"frame, every pixel once in {s.cycle} frames; {a.resets} resets "
+                f"(last: {a.last_reset})"]
+
+    def release(self) -> None:
+        super().release()
+        self.amortiser.forget()
+        self._layer = self._own_layer = None

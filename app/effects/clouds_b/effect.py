@@ -28,9 +28,17 @@ How a scene composes it:
 * **passes** read the ``main_light`` slot (else ``sun``; the fallback: its own
   ``clouds_b.sun_elevation``/``sun_azimuth``/``sun_color``) for _SunDir and _SunColor, the
   camera from the frame, and the depth of the ``image`` slot (none = everything far). Pass 1
-  marches into a cloud layer of its own (rgb = in-scattered light, a = transmittance); pass 2
+  makes a cloud layer of its own (rgb = in-scattered light, a = transmittance); pass 2
   blends it into the image: target = target·a + rgb (the thesis's background·transmittance +
   lightEnergy·SunColor). The target's alpha and depth are kept.
+* **amortised** (``clouds_b.reprojection`` on, the default; beyond the thesis,
+  :mod:`app.render.amortise`): pass 1 marches one pixel of every block of
+  ``clouds_b.march_scale`` × ``clouds_b.refresh`` pixels per frame, each ray started a
+  blue-noise fraction of a step past the box entry (the thesis's fixed step bands), and
+  reprojects the rest from the last frame (moved with the wind) or fills it by depth-aware
+  upsampling — the boat's mast and the horizon do not bleed; a still render converges first.
+  ``clouds_b.reprojection = off`` is the thesis's march of every pixel every frame, the
+  lesson's reference.
 * beyond the thesis, both off by default: ``clouds_b.weather_coverage`` lets the coverage map
   thin the clouds where it is low (cloud banks and clear gaps kilometres wide instead of one
   repeating tile), and ``clouds_b.haze_distance`` fades distant clouds into the horizon's haze
@@ -51,18 +59,24 @@ from ...bakes.textures import BakedTextures
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Param, ParamSet
+from ...render.amortise import RESOLVES, Amortiser, amortise_params, amortised, schedule_for
 from ...render.layers import LAYER_COMPOSITE, composite_layer
 from ...sim import clouds_b as twin
+from ...sim.amortise import LayerState
 from ..base import Effect, Pass
 
 CLOUDS_B = fullscreen("clouds_b/clouds_b")
+#: the estimate of a full-resolution march, ms per megapixel, that ``auto`` plans the amortised
+#: march with: (software renderer, hardware GPU). The software figure is the maritime scene's
+#: default view measured at 640×360 on two cores of llvmpipe (769 ms); the GPU's is an estimate.
+FULL_MARCH_MS_PER_MPX = (3300.0, 20.0)
 
 
 class CloudsB(Effect):
     name = "clouds_b"
     title = "Volumetric clouds, model B (maritime thesis)"
     spec = "spec/000"
-    programs = (CLOUDS_B, LAYER_COMPOSITE)
+    programs = (CLOUDS_B, LAYER_COMPOSITE, *RESOLVES)
     stages = (Stage.VOLUMES,)
     consumes = {"main_light": "optional", "sun": "optional", "wind": "optional",
                 "image": "optional", "environment": "optional"}
@@ -70,7 +84,11 @@ class CloudsB(Effect):
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:
         how = "compute shaders" if caps.compute else "one fragment pass per slice"
-        return {"noise bakes (3D textures)": how}
+        kind = "software renderer" if caps.software else "GPU"
+        march = (f"{params['clouds_b.reprojection']}: scale {params['clouds_b.march_scale']}, "
+                 f"refresh {params['clouds_b.refresh']} (auto: from the frame budget, planned "
+                 f"for a {kind})")
+        return {"noise bakes (3D textures)": how, "amortised march": march}
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -94,6 +112,7 @@ class CloudsB(Effect):
                   "sets a light (0 = north, 90 = east)", step=0.5, unit="°", section=s),
             Param("clouds_b.sun_color", (1.0, 1.0, 1.0), 0.0, 100.0, "_SunColor when no effect "
                   "before sets a light", kind="vec3", step=0.01, section=s),
+            *amortise_params("clouds_b"),
         ]
 
     @classmethod
@@ -106,7 +125,11 @@ class CloudsB(Effect):
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
         self.bakes = BakedTextures(gpu, self.name)
-        self._layer = None
+        self._layer = None  # what the composite reads: the marched target or the resolved history
+        self._own_layer = None  # the full-size march target (the thesis's march)
+        self.amortiser = Amortiser(gpu, self.name)
+        #: the bench's reference: the thesis's march jittered at this phase (None: not jittered)
+        self.jitter_phase: float | None = None
         self.cloud_offset = np.zeros(3)
         self.coverage_shift = np.zeros(2)  # metres the coverage map has drifted (x, z)
 
@@ -153,30 +176,67 @@ class CloudsB(Effect):
         return self.bakes.get(self.bake_specs()[kind])
 
     def layer(self, size):
-        """The cloud layer target (rgb in-scattered light, a transmittance) of the last render."""
-        if self._layer is None or self._layer.size != tuple(size):
-            if self._layer is not None:
-                self.gpu.free(self._layer)
-            self._layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4",
-                                          depth=False)
-        return self._layer
+        """The full-size march target of the thesis's march (rgb in-scattered light, a
+        transmittance)."""
+        if self._own_layer is None or self._own_layer.size != tuple(size):
+            if self._own_layer is not None:
+                self.gpu.free(self._own_layer)
+            self._own_layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4",
+                                              depth=False)
+        return self._own_layer
+
+    def container_distances(self, frame) -> tuple[float, float]:
+        """(nearest, farthest) distance from the camera to the cloud box."""
+        lo = np.asarray(self.params["clouds_b.bounds_min"], dtype=np.float64)
+        hi = np.asarray(self.params["clouds_b.bounds_max"], dtype=np.float64)
+        cam = np.asarray(frame.camera.position, dtype=np.float64)
+        near = float(np.linalg.norm(np.maximum(np.maximum(lo - cam, cam - hi), 0.0)))
+        far = float(np.linalg.norm(np.maximum(np.abs(lo - cam), np.abs(hi - cam))))
+        return near, far
+
+    def layer_state(self, frame) -> LayerState:
+        """What the amortised layer's history depends on this frame: the base shape and the
+        coverage map move with the wind (the detail noise at twice its speed)."""
+        light_dir, light_color = self.light(frame)
+        wind = self.wind_velocity(frame)
+        near, far = self.container_distances(frame)
+        env = frame.environment is not None and self.params["clouds_b.haze_distance"] > 0.0
+        return LayerState(key=(self.params.version(self.name), env), light_dir=light_dir,
+                          light_radiance=np.asarray(light_color, float),
+                          wind=np.array([wind[0], 0.0, wind[1]]),
+                          field_offset=np.array([self.coverage_shift[0], 0.0,
+                                                 self.coverage_shift[1]]),
+                          near=near, far=far)
+
+    def schedule(self, size):
+        """The amortised march's schedule at ``size`` (``auto`` from the frame budget)."""
+        return schedule_for(self.params, self.name, size, self.gpu.caps.software,
+                            FULL_MARCH_MS_PER_MPX)
 
     # -- passes ----------------------------------------------------------------------------
     def march(self, frame, target) -> None:
-        """Pass 1: the view march into the cloud layer."""
+        """Pass 1: the cloud layer (amortised, or the thesis's march of every pixel)."""
         prog = self.program(CLOUDS_B)
         self.apply_params(prog)
-        layer = self.layer(target.size)
         # all bakes first, then the bindings: a bake run now uses texture units of its own
         shape, detail, weather = (self.texture(kind) for kind in ("shape", "detail", "weather"))
         # the stored depth, not a shadow comparison
         with frame.image_for(target).depth_values() as depth:
-            self._march(frame, prog, layer, shape, detail, weather, depth)
+            if amortised(self.params, self.name, frame.interactive):
+                self._layer = self.amortiser.step(
+                    frame, target.size, self.schedule(target.size), self.layer_state(frame),
+                    lambda grid: self._march(frame, prog, grid, shape, detail, weather, depth),
+                    depth)
+            else:
+                self._layer = self.layer(target.size)
+                grid = self.amortiser.direct(self._layer.fbo, target.size,
+                                             self.jitter_phase or 0.0)
+                self._march(frame, prog, grid, shape, detail, weather, depth)
 
-    def _march(self, frame, prog, layer, shape, detail, weather, depth) -> None:
+    def _march(self, frame, prog, grid, shape, detail, weather, depth) -> None:
         ctx = self.gpu.ctx
         textures = {"uVolumeNoise": shape, "uDetailNoise": detail, "uGradientNoise": weather,
-                    "uSceneDepth": depth}
+                    "uSceneDepth": depth, **grid.textures}
         # aerial perspective's horizon colour: the sky probe (without its sun disk), when the
         # scene has one and the haze is on (clouds_b.haze_distance > 0)
         env = None
@@ -196,19 +256,37 @@ class CloudsB(Effect):
             "uCoverageShift": tuple(float(v) for v in self.coverage_shift),
             "uHasHazeEnvironment": env is not None,
             "uHazeLods": float(max(0, int(math.log2(env.size[0])))) if env is not None else 0.0,
+            "uJitterReference": self.jitter_phase is not None,
+            **grid.uniforms,
         })
-        layer.use()
+        grid.use()
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         draw_fullscreen(prog)
 
     def composite(self, frame, target) -> None:
         """Pass 2: target = target·transmittance + in-scattered light (alpha kept)."""
-        composite_layer(self, self.layer(target.size).color, target)
+        if self._layer is None:  # no march yet: nothing to lay over the image
+            return
+        composite_layer(self, self._layer.color, target)
 
     def passes(self, frame, target) -> list[Pass]:
         return [Pass("clouds_b.march", lambda: self.march(frame, target), Stage.VOLUMES),
                 Pass("clouds_b.composite", lambda: self.composite(frame, target),
                      Stage.VOLUMES)]
+
+    def panel_notes(self) -> list[str]:
+        a = self.amortiser
+        if a.last_schedule is None or not amortised(self.params, self.name, True):
+            return []
+        s = a.last_schedule
+        return [f"amortised march: {s.label()} — {100.0 * s.fraction:.3g} % of the pixels per "
+                f"frame, every pixel once in {s.cycle} frames; {a.resets} resets "
+                f"(last: {a.last_reset})"]
+
+    def release(self) -> None:
+        super().release()
+        self.amortiser.forget()
+        self._layer = self._own_layer = None
 
     def read_layer(self) -> np.ndarray:
         """(h, w, 4) float32 of the last cloud layer: rgb in-scattered light, a transmittance."""

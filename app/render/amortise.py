@@ -1,0 +1,366 @@
+"""Amortised rendering of an expensive full-screen layer, as the field renders its clouds (beyond
+the theses; after Schneider 2015, "The real-time volumetric cloudscapes of Horizon: Zero Dawn"):
+a fraction of the pixels is marched per frame at a reduced resolution, with blue-noise
+jittered rays, and the rest is reprojected from the last frame or filled by depth-aware
+upsampling. Effect-agnostic: both cloud models use it (``clouds.reprojection``,
+``clouds_b.reprojection`` and their ``march_scale`` and ``refresh``). The numpy side — the
+schedule, the blue noise, the rejection rules and the twins of the shader's filling — is
+:mod:`app.sim.amortise` (its docstring has the scheme); the shaders are
+``glsl/common/amortise.glsl`` (the march's side) and ``glsl/common/amortise_resolve.frag``.
+
+What an effect does:
+
+* declare :func:`amortise_params` and list :data:`RESOLVES` in its programs;
+* its march shader includes ``amortise.glsl``: it marches ``AmortisedPixel()`` with the jitter
+  ``AmortiseJitter(pixel)`` and writes ``AmortiseAux(cloud distance, scene distance)`` at
+  location 1;
+* per frame, when :func:`amortised`: ``layer = amortiser.step(frame, size, schedule, state,
+  march, depth)``, where ``march(grid)`` binds ``grid.textures``, sets ``grid.uniforms`` and
+  draws into ``grid`` (``grid.use()``); otherwise it marches every pixel itself through
+  :meth:`Amortiser.direct` (the thesis's march, the lesson's reference);
+* composite ``layer.color`` over the image.
+
+Still renders (``frame.interactive`` false: ``natura render``, the gallery, the tests, the
+bench) converge before they return: the first render of a view resets the history and runs
+``schedule.still_steps`` steps — every full-resolution pixel of each ``scale × scale`` block
+marched once, at refresh 1, the state the window reaches after ``schedule.cycle`` frames of a
+still camera — so a still image is the full-resolution march itself (with its blue-noise
+jitter). Rendering the same view again (the bench's repeated frame) runs one ordinary step: what
+``natura bench`` times is the steady-state cost per frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import moderngl
+import numpy as np
+
+from ..gpu.cache import memoised
+from ..gpu.programs import draw_fullscreen, fullscreen
+from ..params import Param, ParamSet
+from ..sim.amortise import (
+    REFRESHES,
+    SCALES,
+    LayerState,
+    Schedule,
+    block_position,
+    blue_noise,
+    choose_schedule,
+    jitter_phase,
+    reset_reason,
+)
+
+#: the resolve, one program per path (``AMORTISE_PATH``: 0 reset, 1 still, 2 moving; see
+#: glsl/common/amortise_resolve.frag): an effect lists all three in its programs
+RESOLVES = tuple(fullscreen("common/amortise_resolve", defines=(("AMORTISE_PATH", path),))
+                 for path in (0, 1, 2))
+MODES = ("on", "window", "off")
+#: the frame budget ``auto`` plans for when the scene has no ``output.frame_budget_ms``
+DEFAULT_BUDGET_MS = 33.0
+SECTION = "beyond the thesis: amortised march (Schneider 2015)"
+
+
+def amortise_params(group: str, section: str = SECTION) -> list[Param]:
+    """``<group>.reprojection``, ``<group>.march_scale`` and ``<group>.refresh``."""
+    return [
+        Param(f"{group}.reprojection", "on", doc="amortised march (Schneider 2015): a fraction "
+              "of the pixels marched per frame at march_scale with blue-noise jitter, the rest "
+              "reprojected from the last frame or filled by depth-aware upsampling; a still "
+              "render converges first (every pixel marched once). off: the thesis's "
+              "full-resolution march of every pixel every frame (the reference); window: "
+              "amortised in the interactive window only", kind="choice", choices=MODES,
+              section=section),
+        Param(f"{group}.march_scale", "auto", doc="resolution of one frame's march grid, per "
+              "side (auto: half or quarter, from the frame budget and the context's speed; "
+              "full: every pixel's own ray)", kind="choice",
+              choices=("auto", *SCALES), section=section),
+        Param(f"{group}.refresh", "auto", doc="fraction of the march grid re-marched per frame "
+              "(auto: from the frame budget); every pixel is refreshed once per "
+              "(scale · refresh)² frames", kind="choice", choices=("auto", *REFRESHES),
+              section=section),
+    ]
+
+
+def amortised(params: ParamSet, group: str, interactive: bool) -> bool:
+    """Whether ``<group>.reprojection`` amortises this frame."""
+    mode = params[f"{group}.reprojection"]
+    return mode == "on" or (mode == "window" and interactive)
+
+
+def frame_budget_ms(params: ParamSet) -> float:
+    """The frame budget ``auto`` plans for: ``output.frame_budget_ms`` where the scene has it."""
+    try:
+        return float(params["output.frame_budget_ms"])
+    except Exception:  # noqa: BLE001 - a scene without the parameter
+        return DEFAULT_BUDGET_MS
+
+
+def schedule_for(params: ParamSet, group: str, size, software: bool,
+                 full_march_ms_per_mpx: tuple[float, float]) -> Schedule:
+    """The schedule of ``<group>.march_scale`` and ``<group>.refresh`` at ``size``;
+    ``full_march_ms_per_mpx``: the effect's estimate of a full-resolution march per megapixel
+    (software renderer, hardware GPU), which ``auto`` plans with."""
+    cost = full_march_ms_per_mpx[0] if software else full_march_ms_per_mpx[1]
+    return choose_schedule(params[f"{group}.march_scale"], params[f"{group}.refresh"],
+                           tuple(size), cost, frame_budget_ms(params))
+
+
+@dataclass
+class MarchGrid:
+    """Where and how one march pass draws: the framebuffer, and what it binds and sets."""
+
+    fbo: Any
+    size: tuple[int, int]
+    uniforms: dict = field(default_factory=dict)
+    textures: dict = field(default_factory=dict)
+
+    def use(self) -> None:
+        self.fbo.use()
+
+
+class LayerHistory:
+    """A full-resolution pair: the resolved layer (RGBA32F) and its aux (RGBA32F: cloud distance,
+    clipped scene distance, marched fraction); bilinear, for the moving resolve."""
+
+    def __init__(self, gpu, owner: str, size):
+        self.color = gpu.texture(owner, "amortised layer", size, 4, dtype="f4")
+        self.aux = gpu.texture(owner, "amortised layer aux", size, 4, dtype="f4")
+        self.fbo = gpu.framebuffer(owner, "amortised layer", [self.color, self.aux])
+        self.size = tuple(int(v) for v in size)
+
+    def read(self) -> np.ndarray:
+        """(h, w, 4) float32, row 0 at the top: rgb premultiplied radiance, a transmittance."""
+        w, h = self.size
+        data = np.frombuffer(self.color.read(), dtype=np.float32).reshape(h, w, 4)
+        return data[::-1].copy()
+
+    def read_aux(self) -> np.ndarray:
+        """(h, w, 4) float32, row 0 at the top: cloud distance, clipped scene distance, marched
+        fraction (1: the pixel's own march; 0: filled from its neighbours), 0."""
+        w, h = self.size
+        data = np.frombuffer(self.aux.read(), dtype=np.float32).reshape(h, w, 4)
+        return data[::-1].copy()
+
+    def free(self, gpu) -> None:
+        for obj in (self.fbo, self.color, self.aux):
+            gpu.free(obj)
+
+
+class _Grid:
+    """One frame's march target at ``block``: layer (RGBA32F) and aux (RG32F)."""
+
+    def __init__(self, gpu, owner: str, size, block: int):
+        self.size = ((size[0] + block - 1) // block, (size[1] + block - 1) // block)
+        nearest = (moderngl.NEAREST, moderngl.NEAREST)
+        self.layer = gpu.texture(owner, f"amortised march 1/{block}", self.size, 4, dtype="f4",
+                                 filter=nearest)
+        self.aux = gpu.texture(owner, f"amortised march aux 1/{block}", self.size, 2,
+                               dtype="f4", filter=nearest)
+        self.fbo = gpu.framebuffer(owner, f"amortised march 1/{block}", [self.layer, self.aux])
+
+    def free(self, gpu) -> None:
+        for obj in (self.fbo, self.layer, self.aux):
+            gpu.free(obj)
+
+
+class Amortiser:
+    """The history of one effect's amortised layer and the passes that keep it (see the
+    module docstring). ``steps``, ``resets``, ``last_reset`` and ``last_schedule`` say what it
+    did (the panel and the tests read them)."""
+
+    def __init__(self, gpu, owner: str):
+        self.gpu = gpu
+        self.owner = owner
+        self._pair: list[LayerHistory] = []
+        self._grids: dict[int, _Grid] = {}
+        self._noise = None
+        self._last: LayerState | None = None
+        self._origin: LayerState | None = None
+        self._prev_view_proj: np.ndarray | None = None
+        self._prev_position: np.ndarray | None = None
+        self._prev_forward: np.ndarray | None = None
+        self._converged: tuple | None = None
+        self._schedule: Schedule | None = None
+        self.counter = 0  # steps since the last reset
+        self.steps = 0  # march passes run in all
+        self.resets = 0
+        self.last_reset: str | None = None  # why the last reset happened
+        self.last_schedule: Schedule | None = None
+        self.last_path: int | None = None  # the resolve's AMORTISE_PATH of the last step
+
+    # -- resources -----------------------------------------------------------------------
+    def blue_noise(self):
+        """The 64² blue-noise texture (R32F, nearest, repeating)."""
+        if self._noise is None:
+            data = memoised(blue_noise)
+            self._noise = self.gpu.texture(self.owner, "blue noise", data.shape[::-1], 1,
+                                           data=np.ascontiguousarray(data).tobytes(), dtype="f4",
+                                           filter=(moderngl.NEAREST, moderngl.NEAREST),
+                                           repeat=True)
+        return self._noise
+
+    def _ensure(self, size) -> None:
+        size = tuple(int(v) for v in size)
+        if self._pair and self._pair[0].size == size:
+            return
+        self.release()
+        self._pair = [LayerHistory(self.gpu, self.owner, size),
+                      LayerHistory(self.gpu, self.owner, size)]
+
+    def _grid(self, size, block: int) -> _Grid:
+        g = self._grids.get(block)
+        want = ((size[0] + block - 1) // block, (size[1] + block - 1) // block)
+        if g is None or g.size != want:
+            if g is not None:
+                g.free(self.gpu)
+            g = self._grids[block] = _Grid(self.gpu, self.owner, size, block)
+        return g
+
+    def release(self) -> None:
+        """Free the history and the march targets (the blue noise is kept); the next step
+        starts afresh."""
+        for h in self._pair:
+            h.free(self.gpu)
+        for g in self._grids.values():
+            g.free(self.gpu)
+        self._pair = []
+        self._grids = {}
+        self._last = self._origin = None
+        self._converged = None
+
+    def forget(self) -> None:
+        """Drop every reference without freeing (the owner's resources were released)."""
+        self._pair = []
+        self._grids = {}
+        self._noise = None
+        self._last = self._origin = None
+        self._converged = None
+
+    @property
+    def layer(self) -> LayerHistory | None:
+        """The last resolved layer (None before the first step)."""
+        return self._pair[0] if self._pair else None
+
+    # -- marching ------------------------------------------------------------------------
+    def direct(self, fbo, size, phase: float = 0.0) -> MarchGrid:
+        """A grid for marching every pixel of ``size`` into ``fbo`` (no amortisation: the
+        thesis's march), the jitter phase ``phase``."""
+        return MarchGrid(fbo, tuple(size), self._uniforms(size, 1, (0, 0), phase, False),
+                         {"uBlueNoise": self.blue_noise()})
+
+    def _uniforms(self, size, block: int, sub, phase: float, amortised: bool) -> dict:
+        return {"uAmortiseBlock": int(block), "uAmortiseShift": int(block).bit_length() - 1,
+                "uAmortiseSub": (int(sub[0]), int(sub[1])),
+                "uAmortiseFullSize": (float(size[0]), float(size[1])),
+                "uJitterPhase": float(phase), "uAmortised": bool(amortised)}
+
+    def _march(self, size, block: int, sub, phase: float,
+               march: Callable[[MarchGrid], None]) -> _Grid:
+        g = self._grid(size, block)
+        march(MarchGrid(g.fbo, g.size, self._uniforms(size, block, sub, phase, True),
+                        {"uBlueNoise": self.blue_noise()}))
+        self.steps += 1
+        return g
+
+    # -- a frame -------------------------------------------------------------------------
+    def step(self, frame, size, schedule: Schedule, state: LayerState,
+             march: Callable[[MarchGrid], None], scene_depth=None,
+             still: bool | None = None) -> LayerHistory:
+        """One frame of the amortised layer at ``size`` (see the module docstring); ``still``
+        (default: not ``frame.interactive``) converges a new view before returning."""
+        size = tuple(int(v) for v in size)
+        still = (not frame.interactive) if still is None else still
+        self._ensure(size)
+        cam = frame.camera
+        view_proj = cam.view_projection_relative(frame.aspect)
+        position = np.asarray(cam.position, dtype=np.float64)
+        forward = np.asarray(cam.forward(), dtype=np.float64)
+        self.last_schedule = schedule
+        if still:
+            key = (size, schedule, state.key, view_proj.tobytes(), position.tobytes(),
+                   np.asarray(state.light_dir, float).tobytes(),
+                   np.asarray(state.light_radiance, float).tobytes(),
+                   np.asarray(state.field_offset, float).tobytes(), float(cam.near),
+                   float(cam.far))
+            if key != self._converged or self._last is None:
+                self._reset(frame, size, schedule, state, march, scene_depth, "a new still view")
+                for i in range(1, schedule.still_steps):
+                    sub = block_position(i, schedule.scale)
+                    self._resolve(frame, size, self._march(size, schedule.scale, sub, 0.0, march),
+                                  schedule.scale, sub, state, scene_depth, view_proj, position,
+                                  forward)
+                self.counter = 0
+                self._converged = key
+                return self._pair[0]
+        else:
+            self._converged = None
+            move = (float(np.linalg.norm(position - self._prev_position))
+                    if self._prev_position is not None else 0.0)
+            turn = (float(np.degrees(np.arccos(np.clip(forward @ self._prev_forward, -1.0, 1.0))))
+                    if self._prev_forward is not None else 0.0)
+            why = reset_reason(state, self._last, self._origin, move, turn)
+            if why is None and schedule != self._schedule:
+                why = "the schedule changed"
+            if why is not None:
+                self._reset(frame, size, schedule, state, march, scene_depth, why)
+                return self._pair[0]
+        self.counter += 1
+        block = schedule.block
+        sub = block_position(self.counter, block)
+        phase = jitter_phase(self.counter // (block * block))
+        grid = self._march(size, block, sub, phase, march)
+        self._resolve(frame, size, grid, block, sub, state, scene_depth, view_proj, position,
+                      forward)
+        return self._pair[0]
+
+    def _reset(self, frame, size, schedule, state, march, scene_depth, why: str) -> None:
+        self.resets += 1
+        self.last_reset = why
+        self._last = None
+        self._schedule = schedule
+        self.counter = 0
+        grid = self._march(size, schedule.scale, (0, 0), 0.0, march)
+        cam = frame.camera
+        self._resolve(frame, size, grid, schedule.scale, (0, 0), state, scene_depth,
+                      cam.view_projection_relative(frame.aspect),
+                      np.asarray(cam.position, dtype=np.float64),
+                      np.asarray(cam.forward(), dtype=np.float64))
+        self._origin = state
+
+    def _resolve(self, frame, size, grid: _Grid, block: int, sub, state: LayerState,
+                 scene_depth, view_proj, position, forward) -> None:
+        src, dst = self._pair
+        last, prev_position, prev_view_proj = self._last, self._prev_position, self._prev_view_proj
+        have = last is not None and prev_position is not None and prev_view_proj is not None
+        shift = (np.asarray(state.field_offset, float) - np.asarray(last.field_offset, float)
+                 if last is not None and have else np.zeros(3))
+        delta = position - prev_position if prev_position is not None and have else np.zeros(3)
+        still = bool(have and not shift.any() and not delta.any()
+                     and prev_view_proj is not None and np.array_equal(view_proj, prev_view_proj))
+        path = 0 if not have else 1 if still else 2
+        self.last_path = path
+        prog = self.gpu.program(self.owner, RESOLVES[path])
+        prog.bind_textures({"uFresh": grid.layer, "uFreshAux": grid.aux, "uHistory": src.color,
+                            "uHistoryAux": src.aux, "uSceneDepth": scene_depth,
+                            "uBlueNoise": self.blue_noise()})
+        prog.set_many(frame.camera_uniforms())
+        cam = frame.camera
+        prog.set_many({
+            **self._uniforms(size, block, sub, 0.0, True),
+            "uHasSceneDepth": scene_depth is not None, "uCamNear": float(cam.near),
+            "uCamFar": float(cam.far),
+            "uPrevViewProj": self._prev_view_proj if have else np.identity(4),
+            "uCameraDelta": tuple(float(v) for v in delta),
+            "uFieldShift": tuple(float(v) for v in shift),
+            "uNearCloud": float(state.near), "uFarCloud": float(state.far),
+        })
+        dst.fbo.use()
+        self.gpu.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+        draw_fullscreen(prog)
+        self._pair.reverse()  # dst, now [0]: the layer, and the next frame's history
+        self._last = state
+        self._prev_view_proj = view_proj
+        self._prev_position = position
+        self._prev_forward = forward

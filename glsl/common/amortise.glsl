@@ -1,0 +1,54 @@
+// Amortised marching of an expensive full-screen layer, the march's side (beyond the theses;
+// after Schneider 2015, the clouds of Horizon: Zero Dawn). Python: app/render/amortise.py;
+// numpy twins: app/sim/amortise.py; the resolve: amortise_resolve.frag.
+//
+// A march pass draws into a grid of ceil(W/B) × ceil(H/B) texels, B = uAmortiseBlock: texel t
+// marches the full-resolution pixel t·B + uAmortiseSub (B = 1, sub (0, 0): every pixel of the
+// frame, the un-amortised march). A ray's first sample is offset along it by
+// AmortiseJitter: a 64² void-and-cluster blue-noise value plus the golden-ratio phase of the
+// refresh cycle. Besides its layer (location 0) a march writes, at location 1,
+// AmortiseAux(cloud distance, scene distance): the transmittance-weighted mean distance of what
+// it met (AMORTISE_FAR when nothing) and the opaque scene's distance along the ray — what the
+// resolve reprojects with and compares depths by.
+// Failure cases guarded: a texel of the last row or column whose pixel lies off the image
+// (W or H not a multiple of B) marches a valid ray all the same and the resolve ignores it; the
+// blue-noise lookup wraps with a bit mask (its sides are powers of two; pixels are ≥ 0). B is a
+// power of two, so blocks are shifts and masks (integer division is scalar on a software
+// renderer).
+
+uniform int uAmortiseBlock;        // full-resolution pixels per side between two marched rays
+uniform int uAmortiseShift;        // log2 of it (the block is a power of two)
+uniform ivec2 uAmortiseSub;        // the pixel of each block marched this pass
+uniform vec2 uAmortiseFullSize;    // the full-resolution size (pixels)
+uniform sampler2D uBlueNoise;      // R: blue-noise ranks in (0, 1), app.sim.amortise.blue_noise
+uniform float uJitterPhase;        // frac(refresh cycle · φ)
+
+const float AMORTISE_FAR = 1.0e7;  // the cloud distance of a ray that met nothing (metres)
+
+// The full-resolution pixel this fragment marches.
+ivec2 AmortisedPixel() {
+    return (ivec2(gl_FragCoord.xy) << uAmortiseShift) + uAmortiseSub;
+}
+
+// Its uv in [0, 1]² (pixel centre, (0, 0) at the bottom left).
+vec2 AmortisedUV(ivec2 pixel) {
+    return (vec2(pixel) + 0.5) / uAmortiseFullSize;
+}
+
+// Blue-noise jitter in [0, 1) of the first sample, this refresh cycle.
+float AmortiseJitter(ivec2 pixel) {
+    ivec2 n = textureSize(uBlueNoise, 0);  // a power of two per side
+    float v = texelFetch(uBlueNoise, pixel & (n - 1), 0).r;
+    return fract(v + uJitterPhase);
+}
+
+// The aux output of a march: (cloud distance, scene distance, 0, 0).
+vec4 AmortiseAux(float cloudDistance, float sceneDistance) {
+    return vec4(cloudDistance, sceneDistance, 0.0, 0.0);
+}
+
+// Whether two opaque-scene distances of neighbouring rays (clipped at the layer's far
+// distance) are one surface: |a − b| ≤ 5 % of the larger + 1 m (app.sim.amortise.depth_agree).
+bool AmortiseDepthAgree(float a, float b) {
+    return abs(a - b) <= 0.05 * max(a, b) + 1.0;
+}
