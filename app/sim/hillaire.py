@@ -181,3 +181,17 @@ def multiple_scattering_texel(m: Model, h: float, mu_s: float, directions: int =
     return (L2 / (1 - np.minimum(f, 0.999)) if infinite else L2), f
 
 
+def multiple_scattering_lookup(table: np.ndarray, m: Model, h: float, mu_s: float) -> np.ndarray:
+    """Ψ_ms rgb at altitude h and sun cosine μ_s read from a multiple-scattering LUT ``table``
+    (rows × columns × ≥ 3, row = altitude, column = μ_s) as HillaireMultipleScatteringAt reads
+    it: unit coordinates (μ_s/2 + ½, h/H) on texel centres, bilinear, clamped at the edges."""
+    rows, cols = table.shape[:2]
+    x = float(np.clip(0.5 * mu_s + 0.5, 0.0, 1.0)) * (cols - 1)
+    y = float(np.clip(h / m.height, 0.0, 1.0)) * (rows - 1)
+    x0, y0 = min(int(x), cols - 2) if cols > 1 else 0, min(int(y), rows - 2) if rows > 1 else 0
+    fx, fy = x - x0, y - y0
+    x1, y1 = min(x0 + 1, cols - 1), min(y0 + 1, rows - 1)
+    t = np.asarray(table[..., :3], dtype=np.float64)
+    top = (1 - fx) * t[y0, x0] + fx * t[y0, x1]
+    bottom = (1 - fx) * t[y1, x0] + fx * t[y1, x1]
+    return (1 - fy) * top + fy * bottom

@@ -45,43 +45,71 @@ vec2 SunDepthBruteForce(vec3 P) {
 }
 
 #ifdef SUN_DEPTH_LUT
-vec2 SunDepth(vec3 P, float h) {
-    vec3 normalEarth = normalize(P - uEarthCenter);
-    return OpticalDepthToSun(h, dot(normalEarth, uSunDir));
-}
+// τ(AP) from the LUT at height h with the sun at cos Φ to the local vertical (the position is not
+// needed: cos Φ comes from the ray's own geometry, see InScatterSteps).
+vec2 SunDepth(vec3 P, float h, float cosPhi) { return OpticalDepthToSun(h, cosPhi); }
 #else
-vec2 SunDepth(vec3 P, float h) { return SunDepthBruteForce(P); }
+vec2 SunDepth(vec3 P, float h, float cosPhi) { return SunDepthBruteForce(P); }
 #endif
 
-// In-scattered radiance along dir over [t0, t1]; depthPC returns the camera→end density integral.
-vec3 InScatter(vec3 dir, float t0, float t1, out vec2 depthPC) {
-    depthPC = vec2(0.0);
-    if (t1 <= t0) return vec3(0.0);
-    float mu = dot(dir, CameraUp());
-    float ds = (t1 - t0) / float(uSteps);
-    vec3 rayleigh = vec3(0.0), mie = vec3(0.0);
-    for (int i = 0; i < 4096; ++i) {
-        if (i >= uSteps) break;
+// The running sums of the in-scattering integral along one view ray.
+struct InScatterSums {
+    vec2 depthPC;    // density integral camera → the current position
+    vec3 rayleigh;   // Σ ρ_R e^(−τ) V ds
+    vec3 mie;        // Σ ρ_M e^(−τ) V ds
+};
+
+// Samples first … last − 1 (s = i + 0.5 of uSteps) of the midpoint sum on dir from t0, in order.
+// cos Φ at a sample, the sun's angle to its local vertical, is (r_c μ_s + t ν) / r along the ray
+// (r_c the camera's radius, μ_s the sun's cosine to the camera's vertical, ν the view–sun
+// cosine): the same as normalize(P − C) · sun without forming planet-scale differences.
+// `shadowed` (a constant at each call) adds V(P) from the shadow map; the caller passes it only
+// for the samples ShadowSampleRange says may be in shadow — V ≡ 1 elsewhere, exactly (see
+// planet/shadow.glsl) — so samples far from the casters pay no shadow-map read.
+void InScatterSteps(inout InScatterSums acc, vec3 dir, float mu, float muS, float nu, float t0,
+                    float ds, int first, int last, bool shadowed) {
+    for (int i = first; i < last; ++i) {
         float t = t0 + (float(i) + 0.5) * ds;
         vec3 P = dir * t;
         float h = HeightAlongRay(t, mu);
         // No air above the top of the atmosphere (§2.4: samples outside it have zero density);
         // only the unclipped method 1 has such samples, which otherwise add a glow beyond the limb.
         vec2 rho = h > uTopRadius - uBottomRadius ? vec2(0.0) : DensityRM(h);
-        vec2 depthAP = SunDepth(P, h);
+        vec2 depthAP = SunDepth(P, h, (uCameraRadius * muS + t * nu) / (uBottomRadius + h));
         // τ(PC) to the sample: the thesis adds the whole current step first, which overstates it by
         // half a step (≈ 50 % error on the horizon at N = 30); the midpoint rule adds half of it.
-        vec2 toSample = depthPC + rho * ds * (uThesisPcRule ? 1.0 : 0.5);
-        depthPC += rho * ds;
-        vec3 ext = TransmittanceFromDepths(depthAP + toSample);
-        float visibility = 1.0;
+        vec2 toSample = acc.depthPC + rho * ds * (uThesisPcRule ? 1.0 : 0.5);
+        acc.depthPC += rho * ds;
+        vec3 ext = TransmittanceFromDepths(depthAP + toSample) * ds;
 #ifdef SHADOWED_INSCATTER
-        visibility = ShadowVisibilityPoint(P + uCameraLocal);
+        if (shadowed) ext *= ShadowVisibilityPoint(P + uCameraLocal);
 #endif
-        rayleigh += rho.x * ext * ds * visibility;
-        mie += rho.y * ext * ds * visibility;
+        acc.rayleigh += rho.x * ext;
+        acc.mie += rho.y * ext;
     }
+}
+
+// In-scattered radiance along dir over [t0, t1]; depthPC returns the camera→end density integral.
+vec3 InScatter(vec3 dir, float t0, float t1, out vec2 depthPC) {
+    depthPC = vec2(0.0);
+    if (t1 <= t0) return vec3(0.0);
+    vec3 up = CameraUp();
+    float mu = dot(dir, up);
+    float muS = dot(uSunDir, up);
     float cosTheta = dot(dir, uSunDir);
-    return (rayleigh * uBetaRayleigh * PhaseRayleigh(cosTheta)
-            + mie * uBetaMieScatter * PhaseMieCornetteShanks(cosTheta, uMieG)) * uSunIntensity;
+    int n = clamp(uSteps, 0, 4096);
+    float ds = (t1 - t0) / float(n);
+    InScatterSums acc = InScatterSums(vec2(0.0), vec3(0.0), vec3(0.0));
+#ifdef SHADOWED_INSCATTER
+    // three runs of the same sum in the same order: V read only where a caster may hide the sun
+    ivec2 shadowed = ShadowSampleRange(uCameraLocal, dir, t0, ds, n);
+    InScatterSteps(acc, dir, mu, muS, cosTheta, t0, ds, 0, shadowed.x, false);
+    InScatterSteps(acc, dir, mu, muS, cosTheta, t0, ds, shadowed.x, shadowed.y, true);
+    InScatterSteps(acc, dir, mu, muS, cosTheta, t0, ds, shadowed.y, n, false);
+#else
+    InScatterSteps(acc, dir, mu, muS, cosTheta, t0, ds, 0, n, false);
+#endif
+    depthPC = acc.depthPC;
+    return (acc.rayleigh * uBetaRayleigh * PhaseRayleigh(cosTheta)
+            + acc.mie * uBetaMieScatter * PhaseMieCornetteShanks(cosTheta, uMieG)) * uSunIntensity;
 }

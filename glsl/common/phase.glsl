@@ -31,6 +31,7 @@ float PhaseRayleigh(float mu) { return 3.0 / (16.0 * PI) * (1.0 + mu * mu); }
 float PhaseMieCornetteShanks(float mu, float g) {
     g = clamp(g, -0.9999, 0.9999);
     float g2 = g * g;
-    float denom = pow(max(1.0 + g2 - 2.0 * g * mu, 1.0e-8), 1.5);
+    float base = max(1.0 + g2 - 2.0 * g * mu, 1.0e-8);
+    float denom = base * sqrt(base);   // base^1.5 without pow's log2/exp2
     return 1.0 / (4.0 * PI) * 3.0 * (1.0 - g2) / (2.0 * (2.0 + g2)) * (1.0 + mu * mu) / denom;
 }

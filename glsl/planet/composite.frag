@@ -77,6 +77,9 @@ uniform vec3 uCameraLocal;   // camera in the local frame at the scene origin (m
 #endif
 #include "atmosphere/inscatter.glsl"
 #if METHOD == 4
+#ifndef HILLAIRE_PART
+#define HILLAIRE_PART 0
+#endif
 #include "atmosphere/hillaire/hillaire_lookup.glsl"
 #endif
 
@@ -96,6 +99,51 @@ float UniverseDistance(vec3 dir) {
                                                                                     : 0.0;
 }
 
+#if METHOD == 4
+// Method 4's pass is lookups only (Hillaire 2020 §5.3–5.4). HILLAIRE_PART says which pixels a
+// program shades: 1 those no mesh covers (drawn on the far plane with the depth test '<='
+// against the G-buffer's depth: the sky, or the analytic ground — the sky-view LUT's rays end
+// exactly there), 2 the meshes (the test '>'), 0 both, chosen per pixel (one pass where the
+// depth cannot be shared). Each program then carries one path's code only, which is what a
+// software rasteriser, running every branch, pays for.
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    vec3 dir = CameraRayDirection(vUV);
+    vec3 inscatter, transmittance, surface;
+#if HILLAIRE_PART == 2
+    bool mesh = true;
+#elif HILLAIRE_PART == 1
+    bool mesh = false;
+#else
+    bool mesh = texelFetch(uGPosition, px, 0).w > 0.5;
+#endif
+#if HILLAIRE_PART != 1
+    if (mesh) {
+        vec3 gpos = texelFetch(uGPosition, px, 0).xyz;
+        float dist = length(gpos);
+        HillaireAerial(vUV, gpos / dist, dist, inscatter, transmittance);
+        surface = texelFetch(uGColor, px, 0).rgb;
+    }
+#endif
+#if HILLAIRE_PART != 2
+    if (!mesh) {
+        HillaireSkyView(dir, inscatter, transmittance);
+#ifdef SURFACES_IN_GBUFFER
+        surface = texelFetch(uGColor, px, 0).rgb;   // planet/ground.frag's
+#else
+        float dist = GroundDistance(dir);
+        surface = dist >= 1.0e29 ? Background(dir) : GroundColor(dir * dist);
+#endif
+    }
+#endif
+    if (uDebugView == 1) surface = vec3(0.0);
+    if (uDebugView == 2) {
+        surface = vec3(1.0);
+        inscatter = vec3(0.0);
+    }
+    fragColor = vec4(surface * transmittance + inscatter, 1.0);
+}
+#else
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     vec4 gpos = texelFetch(uGPosition, px, 0);
@@ -125,16 +173,6 @@ void main() {
 
     vec3 inscatter;
     vec3 transmittance;
-#if METHOD == 4
-    if (space) {
-        inscatter = HillaireSkyRadiance(dir);
-        vec2 seg = AtmosphereSegment(dir, 1.0e30);
-        transmittance = seg.y > seg.x ? HillaireTransmittance(seg.y, dir) : vec3(1.0);
-    } else {
-        inscatter = HillaireAerialPerspectiveAlongRay(vUV, dir, dist).rgb;
-        transmittance = HillaireTransmittance(dist, dir);
-    }
-#else
     float t0, t1;
 #if METHOD == 1
     t0 = 0.0;
@@ -148,7 +186,7 @@ void main() {
     bool crosses = t1 > t0 && t0 >= 0.0;
     inscatter = crosses ? InScatter(dir, t0, t1, depthPC) : vec3(0.0);
     transmittance = crosses ? TransmittanceFromDepths(depthPC) : vec3(1.0);
-#endif
     if (uDebugView == 2) inscatter = vec3(0.0);
     fragColor = vec4(surface * transmittance + inscatter, 1.0);
 }
+#endif

@@ -6,6 +6,8 @@
 // Failure cases guarded: float32 precision at planet scale — the camera's local position
 // comes from the CPU and positions are camera-relative before the rotation-only view ×
 // projection; normals and tangents are passed unnormalised (the fragment stage normalises).
+// gl_Position is invariant: the depth pre-pass (planet/shadow_depth.frag on this vertex stage)
+// and the shading pass must produce the same depths for the shading pass's test '<='.
 in vec3 in_position;
 in vec3 in_normal;
 in vec3 in_tangent;
@@ -19,6 +21,7 @@ out vec3 vLocal;
 out vec3 vNormal;
 out vec3 vTangent;
 out vec2 vUv;
+invariant gl_Position;
 
 void main() {
     vLocal = in_position;

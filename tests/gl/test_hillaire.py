@@ -245,6 +245,39 @@ def test_static_luts_rebuild_only_when_the_model_changes(gl_ctx):
         r.release()
 
 
+def test_frame_luts_rebuild_only_when_their_inputs_change(gl_ctx):
+    """The sky view follows the camera's altitude and the sun's elevation (its azimuth is
+    relative to the sun), the volume the camera and the sun's direction; neither rebuilds for
+    a still camera under a still sun, nor for G or the sun's intensity (applied per pixel). A
+    LUT kept from an earlier frame reads as one rebuilt for this frame."""
+    r = Rig(gl_ctx)
+    try:
+        b = r.luts.builds
+        r.update(altitude=2.0, sun_el=20.0, pitch=10.0)
+        first = dict(b)
+        r.update(altitude=2.0, sun_el=20.0, pitch=10.0, uMieG=0.9, uSunIntensity=30.0)
+        assert b == first                                     # nothing moved
+        r.update(altitude=2.0, sun_el=20.0, pitch=10.0, yaw=40.0)   # the camera turns
+        assert b["skyview"] == first["skyview"]
+        assert b["aerial_perspective"] == first["aerial_perspective"] + 1
+        r.update(altitude=2.0, sun_el=20.0, pitch=10.0, yaw=40.0, sun_az=60.0)  # sun's azimuth
+        assert b["skyview"] == first["skyview"]
+        assert b["aerial_perspective"] == first["aerial_perspective"] + 2
+        r.update(altitude=2.0, sun_el=25.0, pitch=10.0, yaw=40.0, sun_az=60.0)  # its elevation
+        assert b["skyview"] == first["skyview"] + 1
+        assert b["aerial_perspective"] == first["aerial_perspective"] + 3
+        r.update(altitude=500.0, sun_el=25.0, pitch=10.0, yaw=40.0, sun_az=60.0)  # it climbs
+        assert b["skyview"] == first["skyview"] + 2
+        assert b["transmittance"] == b["multiscattering"] == 1   # the model never changed
+        kept = [r.luts.read(name) for name in ("skyview0", "skyview1", "ap0", "ap1")]
+        r.luts.rebuild_frame_luts()
+        assert b["skyview"] == first["skyview"] + 3
+        for name, old in zip(("skyview0", "skyview1", "ap0", "ap1"), kept):
+            assert np.array_equal(r.luts.read(name), old), name
+    finally:
+        r.release()
+
+
 def test_horizon_band_has_no_dark_row(hillaire_rig):
     """No dark row just above the horizon (spec/002 §3.2.3 artifact), sun low."""
     hillaire_rig.update(altitude=2.0, sun_el=3.0, pitch=0.0, fov=10.0)

@@ -18,6 +18,7 @@ from tests.helpers.planet import DARK_SPACE, camera, sun_sets
 GROUND = camera(pos=(0.0, 2.0, 60.0), pitch=4.0)
 SPACE = camera(pos=(0.0, 300000.0, 60.0), pitch=-30.0)
 SHADE = camera(pos=(-36.0, 600.0, -440.0), pitch=-90.0, fov=40.0)
+OUTSIDE = camera(pos=(0.0, 300.0, 6000.0), pitch=2.0)   # south of the city and the mountains
 
 
 def test_hardware_compares_give_the_manual_filters_image(planet):
@@ -117,3 +118,83 @@ def test_bench_changes_section_reports_ratios_and_errors(gl_ctx):
     text = "\n".join(lines)
     assert "hardware depth compares / manual" in text and "LUT speed-up" in text
     assert "ground pass in the G-buffer" in text
+
+
+def test_depth_prepass_keeps_the_image(planet):
+    """The meshes' depth drawn first, then each covered pixel shaded once (planet.depth_prepass,
+    the default) gives the image of shading every layer as it is drawn: the two passes share the
+    vertex stage, whose gl_Position is invariant. Only where two triangles tie in depth (the
+    test '<=' keeps the last one drawn, '<' the first) may a pixel differ: at most 1 % of the
+    mesh pixels, each by less than 0.5/255 in display."""
+    for cam in (GROUND, SHADE):
+        sets = {"planet.method": "shadowed", **sun_sets(30.0, 135.0)}
+        old = planet.shoot(cam, (96, 54), {**sets, "planet.depth_prepass": False})
+        new = planet.shoot(cam, (96, 54), {**sets, "planet.depth_prepass": True})
+        assert new.mesh.any() and np.array_equal(new.mesh, old.mesh)
+        d = np.abs(new.display - old.display).max(axis=-1)
+        assert np.count_nonzero(d) <= 0.01 * np.count_nonzero(new.mesh), cam.position
+        assert d.max() < 0.5 / 255.0, (cam.position, d.max() * 255.0)
+
+
+def test_hillaire_lookup_parts_give_the_one_pass_image(planet, monkeypatch):
+    """Method 4's per-pixel pass as the paper's: two lookup-only programs drawn against the
+    G-buffer's depth (the sky view where no mesh is, the volume on the meshes) give the image of
+    the one pass over every pixel that carries the march as well (what the scene draws when a
+    mesh may lie past 90 % of the volume's range) wherever every mesh is within that range;
+    the meshes' part is drawn only within the screen rectangle of their bounding box."""
+    from app.effects.planet.effect import Planet
+
+    sets = {"planet.method": "hillaire", **sun_sets(20.0, 135.0)}
+    rects = []
+    for cam in (GROUND, SHADE, OUTSIDE):
+        parts = planet.shoot(cam, (96, 54), sets, fresh=True)
+        luts = planet.effect.hillaire()
+        assert luts.march_mode(False) == 0   # inside the atmosphere: the lookups alone
+        frame = planet.scene.frame((96, 54))
+        assert not planet.effect.far_meshes(frame)
+        rect = planet.effect.mesh_rect(frame, (96, 54))   # the meshes' part's scissor
+        rects.append(rect)
+        if rect is not None:                                # None: the camera is among them
+            x, y, w, h = rect
+            rows, cols = np.nonzero(parts.mesh)
+            ys = 54 - 1 - rows                              # GL rows count from the bottom
+            assert cols.min() >= x and cols.max() < x + w and ys.min() >= y and ys.max() < y + h
+            assert w * h < 96 * 54                          # it does cut the pass
+        with monkeypatch.context() as m:
+            m.setattr(Planet, "far_meshes", lambda self, frame: True)
+            assert luts.march_mode(True) == 1
+            one = planet.shoot(cam, (96, 54), sets, fresh=True)
+        assert parts.mesh.any() and (~parts.mesh).any()
+        d = np.abs(parts.rgb - one.rgb) / np.maximum(np.abs(one.rgb), 1e-6)
+        assert d.max() < 1e-5, (cam.position, d.max())
+    assert rects[-1] is not None   # from outside the meshes' box: a rectangle
+
+
+def test_bench_rebuilds_the_frame_luts_and_times_a_3d_lookup(planet):
+    """The frame rebuilds method 4's sky view and volume only when the camera or the sun moved;
+    `natura bench` times their rebuild (what a moving camera costs every frame) and
+    ``reference.3d_lookup``, the yardstick of the per-pixel pass: one trilinear read of a 3D
+    texture per pixel, whose image is that volume's content (finite, not empty)."""
+    planet.shoot(GROUND, (64, 36), {"planet.method": "hillaire"}, fresh=True)
+    eff = planet.effect
+    frame = planet.scene.frame((64, 36), 0.0)
+    target = planet.gpu.target("test", "bench planet", (64, 36))
+    try:
+        builds = eff.hillaire().builds
+        before = dict(builds)
+        for p in eff.passes(frame, target):      # a frame with the same camera and sun
+            p.run()
+        assert builds == before
+        bench = {p.name: p for p in eff.bench_passes(frame, target)}
+        assert {"planet.hillaire_luts", "planet.scattering[hillaire]",
+                "reference.3d_lookup"} <= set(bench)
+        bench["planet.hillaire_luts"].run()
+        assert builds["skyview"] == before["skyview"] + 1
+        assert builds["aerial_perspective"] == before["aerial_perspective"] + 1
+        assert builds["transmittance"] == before["transmittance"]
+        target.clear()
+        bench["reference.3d_lookup"].run()
+        img = target.read()[..., :3]
+        assert np.all(np.isfinite(img)) and img.min() >= 0.0 and img.max() > 0.0
+    finally:
+        planet.gpu.free(target)

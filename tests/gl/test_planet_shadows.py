@@ -73,7 +73,7 @@ def test_shadow_map_is_orthographic_and_rerenders_only_when_the_sun_moves(planet
     effect = scene.effect("planet")
     planet.apply({"planet.method": "shadowed", "planet.shadow_map_size": 256})
     scene.camera = camera()
-    frames = render_frames(Session(planet.gpu, scene, planet.params), (32, 18), frames=20)
+    frames = render_frames(Session(planet.gpu, scene, planet.params), (32, 18), frames=23)
     for _ in range(10):
         next(frames)
     assert effect.shadow_passes == 1
@@ -81,7 +81,28 @@ def test_shadow_map_is_orthographic_and_rerenders_only_when_the_sun_moves(planet
     for _ in range(10):
         next(frames)
     assert effect.shadow_passes == 2
+    planet.params.set("planet.shadow_map_size", 512)      # what it depends on besides the sun
+    for _ in range(3):
+        next(frames)
+    assert effect.shadow_passes == 3
     frames.close()
+
+
+@pytest.mark.parametrize("elevation,azimuth", [(35.0, 180.0), (8.0, 70.0), (80.0, 300.0)])
+def test_caster_box_holds_every_caster(elevation, azimuth):
+    """Where the map is read at all (planet/shadow.glsl's uShadowCasterBox, uShadowCasterDepth):
+    every caster vertex lies inside the box, at least the filter's reach and a texel from its
+    edges, and no nearer the sun than its depth; outside, the comparisons pass anyway."""
+    sun = pfx.sun_direction(elevation, azimuth)
+    size = 1024
+    pts = pfx.caster_points(MODEL.bottom_radius)
+    (x0, y0, x1, y1), depth = pfx.caster_box(pts, sun, size)
+    m = pfx.light_view_proj(sun)
+    p = (pts @ m[:3, :3].T + m[:3, 3]) * 0.5 + 0.5
+    reach = (shadows.PCF_RADIUS + 1) / size
+    assert np.all(p[:, 0] >= x0 + reach) and np.all(p[:, 0] <= x1 - reach)
+    assert np.all(p[:, 1] >= y0 + reach) and np.all(p[:, 1] <= y1 - reach)
+    assert np.all(p[:, 2] > depth) and p[:, 2].min() - depth < 1e-4
 
 
 def test_open_ground_is_lit_lambert_by_the_shadowed_method(planet):

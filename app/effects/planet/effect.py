@@ -35,14 +35,16 @@ camera-relative vectors (float32 breaks at planet scale otherwise).
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import moderngl
 import numpy as np
 
 from ...frame import ShadowMap, Stage
 from ...gpu.cache import MEMO, build_mipmaps, memoised
-from ...gpu.programs import ProgramSpec, draw_fullscreen
+from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
+from ...render import shadows
 from ...render.shadow_maps import render_depth_pass
 from ...render.shadows import COMPARE_MODES, configure_compare, depth_target, directional_view_proj
 from ...sim import atmosphere as atm
@@ -69,20 +71,35 @@ GROUND_CAP_TAN = math.tan(math.radians(GROUND_CAP_DEG))
 
 
 def composite_spec(method: str, compare: str = "hardware", noise: str = "baked",
-                   ground: str = "gbuffer") -> ProgramSpec:
+                   ground: str = "gbuffer", part: int = 0, march: int = 1) -> ProgramSpec:
     """The scattering pass for ``method``, with the shadow comparisons ``compare`` (hardware or
     manual), the ground's noise ``noise`` (baked or live; only where the pass shades the ground
     itself) and ``ground``: ``gbuffer`` reads the analytic ground's and the background's colour
-    from the G-buffer (the ground pass's, :func:`ground_spec`), ``scattering`` shades them here."""
+    from the G-buffer (the ground pass's, :func:`ground_spec`), ``scattering`` shades them here.
+    Method 4 only: ``part`` (HILLAIRE_PART: 0 every pixel, 1 those no mesh covers, 2 the meshes;
+    1 and 2 are drawn on the far plane, planet/ground.vert, against the G-buffer's depth) and
+    ``march`` (HILLAIRE_MARCH of hillaire_lookup.glsl: 0 lookups, 1 both, 2 the march)."""
     defines: tuple = (("METHOD", METHODS.index(method) + 1),)
-    if compare == "manual":
-        defines += (("SHADOW_COMPARE_MANUAL", 1),)
+    if compare == "manual" and not (method == "hillaire" and ground == "gbuffer"):
+        defines += (("SHADOW_COMPARE_MANUAL", 1),)  # method 4 reads no shadows from the G-buffer
     if ground == "gbuffer":
         defines += (("SURFACES_IN_GBUFFER", 1),)
     elif noise == "baked":
         defines += (("GROUND_NOISE_BAKED", 1),)
-    return ProgramSpec("planet/composite", vert="common/fullscreen.vert",
-                       frag="planet/composite.frag", defines=defines)
+    vert = "common/fullscreen.vert"
+    if method == "hillaire":
+        defines += (("HILLAIRE_PART", int(part)), ("HILLAIRE_MARCH", int(march)))
+        if part:
+            vert = "planet/ground.vert"
+    return ProgramSpec("planet/composite", vert=vert, frag="planet/composite.frag",
+                       defines=defines)
+
+
+#: method 4's composite programs per (compare, noise, ground): the two lookup-only parts, drawn
+#: against the G-buffer's depth, and one pass over every pixel with the march blended in (the
+#: camera in the band above the atmosphere, a mesh past the volume's range, or a target whose
+#: depth the G-buffer's cannot stand in for) or alone (from space)
+HILLAIRE_PARTS = ((1, 0), (2, 0), (0, 1), (0, 2))
 
 
 def ground_spec(compare: str = "hardware", noise: str = "baked") -> ProgramSpec:
@@ -99,12 +116,12 @@ def ground_spec(compare: str = "hardware", noise: str = "baked") -> ProgramSpec:
 #: the defaults (hardware compares, the ground in the G-buffer) by method
 COMPOSITE = {m: composite_spec(m) for m in METHODS}
 #: every variant `natura shaders check` compiles: the defaults and each earlier path alone
-COMPOSITE_VARIANTS = tuple(composite_spec(m, c, n, g) for m in METHODS
-                           for c, n, g in (("hardware", "baked", "gbuffer"),
-                                           ("manual", "baked", "gbuffer"),
-                                           ("hardware", "baked", "scattering"),
-                                           ("manual", "baked", "scattering"),
-                                           ("hardware", "live", "scattering")))
+COMPOSITE_VARIANTS = tuple(dict.fromkeys(
+    composite_spec(m, c, n, g, part, march) for m in METHODS
+    for c, n, g in (("hardware", "baked", "gbuffer"), ("manual", "baked", "gbuffer"),
+                    ("hardware", "baked", "scattering"), ("manual", "baked", "scattering"),
+                    ("hardware", "live", "scattering"))
+    for part, march in (HILLAIRE_PARTS if m == "hillaire" else ((0, 1),))))
 GROUND = ground_spec()
 GROUND_VARIANTS = (GROUND, ground_spec("manual"), ground_spec("hardware", "live"))
 SURFACE = ProgramSpec("planet/surface")
@@ -112,6 +129,11 @@ SURFACE_MANUAL = ProgramSpec("planet/surface", defines=(("SHADOW_COMPARE_MANUAL"
 GROUND_NOISE_BAKE = ProgramSpec("planet/ground_noise_bake", vert="common/fullscreen.vert",
                                 frag="planet/ground_noise_bake.frag")
 SHADOW_DEPTH = ProgramSpec("planet/shadow_depth")
+#: `natura bench planet`'s yardstick for method 4's pass: one trilinear 3D read per pixel
+LOOKUP_REFERENCE = fullscreen("planet/lookup_reference")
+#: the meshes' depth pre-pass: the surfaces' own vertex stage (invariant gl_Position), no colour
+SURFACE_DEPTH = ProgramSpec("planet/surface_depth", vert="planet/surface.vert",
+                            frag="planet/shadow_depth.frag")
 
 SHADOW_CENTRE = np.array([0.0, 800.0, -9000.0])
 SHADOW_HALF = 17000.0
@@ -137,12 +159,45 @@ def light_view_proj(sun_dir: np.ndarray) -> np.ndarray:
     return directional_view_proj(sun_dir, SHADOW_CENTRE, SHADOW_HALF, 30000.0, 60000.0)
 
 
+def caster_points(radius: float) -> np.ndarray:
+    """(N, 3) float64 vertex positions of every shadow caster (the mountains and the city)."""
+    return np.concatenate([np.asarray(build(radius)[0], dtype=np.float64).reshape(-1, 11)[:, :3]
+                           for build in (mountains, boxes)])
+
+
+#: texels the caster box is padded by on each side: the filter's radius, one more for a bilinear
+#: comparison's neighbour, one for rasterisation (a texel is a caster's when its centre is covered)
+CASTER_PAD_TEXELS = shadows.PCF_RADIUS + 2
+#: light-space depth the nearest caster's is lowered by (a 24-bit depth's rounding is 6e-8)
+CASTER_DEPTH_PAD = 1.0e-5
+
+
+def caster_bounds(radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """The casters' (meshes') axis-aligned bounds in the local frame: (lo, hi)."""
+    pts = memoised(caster_points, radius)
+    return pts.min(axis=0), pts.max(axis=0)
+
+
+def caster_box(points: np.ndarray, sun_dir: np.ndarray, size: int) -> tuple[tuple, float]:
+    """Where the shadow map can hide the sun (planet/shadow.glsl's uShadowCasterBox and
+    uShadowCasterDepth): the light-space (x0, y0, x1, y1) in [0, 1] of the casters' vertices,
+    padded by ``CASTER_PAD_TEXELS`` texels of a ``size``² map, and their nearest depth. A point
+    outside that box, or in front of that depth, passes every comparison: it is lit."""
+    m = light_view_proj(sun_dir)
+    p = (points @ m[:3, :3].T + m[:3, 3]) * 0.5 + 0.5       # orthographic: w = 1
+    pad = CASTER_PAD_TEXELS / float(size)
+    lo, hi = p.min(axis=0), p.max(axis=0)
+    box = (float(lo[0] - pad), float(lo[1] - pad), float(hi[0] + pad), float(hi[1] + pad))
+    return box, float(lo[2] - CASTER_DEPTH_PAD)
+
+
 class Planet(Effect):
     name = "planet"
     title = "Atmospheric scattering"
     spec = "spec/002"
     programs = (COMPOSITE_VARIANTS + GROUND_VARIANTS
-                + (SURFACE, SURFACE_MANUAL, SHADOW_DEPTH, GROUND_NOISE_BAKE)
+                + (SURFACE, SURFACE_MANUAL, SURFACE_DEPTH, SHADOW_DEPTH, GROUND_NOISE_BAKE,
+                   LOOKUP_REFERENCE)
                 + tuple(hillaire.HillaireLuts.programs))
     extra_groups = ("atmosphere", "hillaire")
     stages = (Stage.SHADOW, Stage.OPAQUE, Stage.FOG)
@@ -195,6 +250,11 @@ class Planet(Effect):
                   "ground pass, outside the per-method scattering pass, whose time is then the "
                   "atmosphere's alone) or scattering (in the scattering pass: the earlier path, "
                   "the same image)", kind="choice", choices=GROUND_PASS, section=f"{s} §5"),
+            Param("planet.depth_prepass", True, doc="draw the meshes' depth first, then shade "
+                  "each covered pixel once (depth test '<='): the mountains' triangles overlap "
+                  "about nine deep on screen, and without it (the earlier path, the same image) "
+                  "every layer drawn in front of the depth so far is shaded", kind="bool",
+                  section=f"{s} §3.3"),
             Param("planet.ground_noise_size", 2048, 64, 8192, "texels per side of the baked ground "
                   "noise's cap about the origin (its cubemap for the rest: a quarter of that)",
                   kind="int", section=f"{s} §5"),
@@ -264,6 +324,8 @@ class Planet(Effect):
         super().__init__(gpu, params)
         self.shadow_passes = 0
         self._shadow_rendered = None  # the key the shadow map was last rendered for
+        #: where the casters can hide the sun, for the key the shadow map was last rendered for
+        self._caster_box: tuple[tuple, float] = ((1.0, 1.0, 0.0, 0.0), 2.0)
         #: (depth texture, framebuffer) of the shadow map, remade when its size changes
         self._shadow = self.keyed(self._make_shadow_map, release=self._free_all)
         self._lut = self.keyed(self._build_lut, release=gpu.free)
@@ -274,6 +336,7 @@ class Planet(Effect):
         #: (colour, position, depth, framebuffer), remade when the target's size changes
         self._gbuffer = self.keyed(self._make_gbuffer, release=self._free_all)
         self._hillaire = None
+        self._reference_volume = None
         self._gradient = None
         self._stars = None
         self.sun_dir = sun_direction(params["planet.sun_elevation"], params["planet.sun_azimuth"])
@@ -469,13 +532,15 @@ class Planet(Effect):
         return self._shadow.value[0] if self._shadow.value is not None else None
 
     def shadow_map(self):
-        """Depth from the sun; re-rendered only when the sun direction or the size changed."""
+        """Depth from the sun; re-rendered only when what it shows changed: the sun's direction,
+        the map's size or the casters (their geometry follows the planet's radius)."""
         size = self.params["planet.shadow_map_size"]
         tex, _ = self._shadow.get(size)
-        key = (tuple(np.round(self.sun_dir, 9)), size)
+        key = (tuple(np.round(self.sun_dir, 9)), size, self.model().bottom_radius)
         if key != self._shadow_rendered:
             self._render_shadow_map()
             self._shadow_rendered = key
+            self._caster_box = caster_box(memoised(caster_points, key[2]), self.sun_dir, size)
         return tex
 
     def _render_shadow_map(self) -> None:
@@ -522,15 +587,17 @@ class Planet(Effect):
             tex = self.shadow_map()
             configure_compare(tex, p["planet.shadow_compare"])
             textures["uShadowMap"] = tex
+            box, depth = self._caster_box
+            prog.set_many({"uShadowCasterBox": box, "uShadowCasterDepth": depth})
         return textures
 
     def surface_spec(self) -> ProgramSpec:
         return SURFACE_MANUAL if self.params["planet.shadow_compare"] == "manual" else SURFACE
 
-    def composite_spec(self) -> ProgramSpec:
+    def composite_spec(self, part: int = 0, march: int = 1) -> ProgramSpec:
         p = self.params
         return composite_spec(self.method(), p["planet.shadow_compare"], p["planet.ground_noise"],
-                              p["planet.ground_pass"])
+                              p["planet.ground_pass"], part, march)
 
     def ground_spec(self) -> ProgramSpec:
         p = self.params
@@ -588,8 +655,21 @@ class Planet(Effect):
             "uViewProj": self.projection(frame),
         })
         ctx.enable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
-        self._draw_meshes(prog)
-        ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+        if p["planet.depth_prepass"]:
+            # depth first (no fragment work), then shade only the front surface: '<=' passes the
+            # same depths (the vertex stage is shared and its gl_Position invariant)
+            depth_prog = self.program(SURFACE_DEPTH)
+            depth_prog.set_many({"uCameraLocal": tuple(self.camera_local(frame).astype(np.float32)),
+                                 "uViewProj": self.projection(frame)})
+            self._draw_meshes(depth_prog, depth_only=True)
+            ctx.depth_func = "<="
+            fbo.depth_mask = False
+        try:
+            self._draw_meshes(prog)
+        finally:
+            ctx.depth_func = "<"
+            fbo.depth_mask = True
+            ctx.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
         if p["planet.ground_pass"] == "gbuffer":
             self.render_ground(frame, size)
 
@@ -614,9 +694,9 @@ class Planet(Effect):
             ctx.disable(moderngl.DEPTH_TEST)
             fbo.depth_mask = True
 
-    def render_composite(self, frame, target) -> None:
-        method = self.method()
-        prog = self.program(self.composite_spec())
+    def _composite_program(self, frame, target, spec: ProgramSpec):
+        """``spec``'s program with every uniform and texture of the scattering pass bound."""
+        prog = self.program(spec)
         textures = self._shared(prog, frame)
         p = self.params
         colour, position, _, _ = self._gbuffer_for(target.size)
@@ -631,15 +711,94 @@ class Planet(Effect):
         })
         if p["planet.ground_pass"] == "scattering":
             self._surroundings(prog, frame, textures)
-        if method == "hillaire":
+        if self.method() == "hillaire":
             luts = self.hillaire()
-            luts.update(self.model_uniforms(frame), frame.camera_uniforms())
             textures.update(luts.textures())
             prog.set_many(luts.lookup_uniforms())
         prog.bind_textures(textures)
+        return prog
+
+    def render_composite(self, frame, target) -> None:
+        if self.method() == "hillaire":
+            self.render_hillaire(frame, target)
+            return
+        prog = self._composite_program(frame, target, self.composite_spec())
         target.use()
         self.gpu.ctx.disable(moderngl.DEPTH_TEST)
         draw_fullscreen(prog)
+
+    def update_hillaire(self, frame) -> None:
+        """Method 4's LUTs for this frame: each rebuilt only when what it depends on changed
+        (:meth:`hillaire.HillaireLuts.update`)."""
+        self.hillaire().update(self.model_uniforms(frame), frame.camera_uniforms())
+
+    def far_meshes(self, frame) -> bool:
+        """Whether a mesh may lie past 90 % of the aerial-perspective volume's range (the far
+        corner of the meshes' bounding box from the camera), where the lookup hands over to the
+        per-pixel march."""
+        lo, hi = memoised(caster_bounds, self.model().bottom_radius)
+        corner = np.maximum(np.abs(lo - self.camera_local(frame)),
+                            np.abs(hi - self.camera_local(frame)))
+        return float(np.linalg.norm(corner)) > 0.9 * float(self.params["hillaire.ap_range"])
+
+    def mesh_rect(self, frame, size) -> tuple[int, int, int, int] | None:
+        """The pixel rectangle (x, y, width, height) of a ``size`` image that holds every mesh
+        pixel: the screen bounds of the projected corners of the meshes' bounding box, a pixel
+        wider each side, clamped to the image (width or height 0: no mesh on screen); None when
+        a corner is not in front of the camera (the whole image may hold meshes)."""
+        lo, hi = memoised(caster_bounds, self.model().bottom_radius)
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                            for z in (lo[2], hi[2])]) - self.camera_local(frame)
+        clip = np.c_[corners, np.ones(8)] @ self.projection(frame).T
+        if not np.all(clip[:, 3] > 1.0e-3):
+            return None
+        w, h = (int(v) for v in size)
+        px = (clip[:, :2] / clip[:, 3:4] * 0.5 + 0.5) * (w, h)
+        x0, y0 = (int(np.clip(np.floor(v) - 1, 0, n)) for v, n in zip(px.min(axis=0), (w, h)))
+        x1, y1 = (int(np.clip(np.ceil(v) + 1, 0, n)) for v, n in zip(px.max(axis=0), (w, h)))
+        return x0, y0, max(x1 - x0, 0), max(y1 - y0, 0)
+
+    def render_hillaire(self, frame, target) -> None:
+        """Method 4's per-pixel pass (Hillaire 2020 §5.3–5.4): lookups only. Pixels no mesh covers
+        read the sky-view LUT and the meshes the volume, each in a draw of its own on the far
+        plane against the G-buffer's depth (the depth test picks the pixels before they are
+        shaded); in the band above the atmosphere, from space, with a mesh past the volume's
+        range, or on a target whose depth the G-buffer's cannot stand in for, one draw over
+        every pixel with the per-pixel march compiled in."""
+        self.update_hillaire(frame)  # nothing is rebuilt when the LUT pass did it this frame
+        luts = self.hillaire()
+        ctx = self.gpu.ctx
+        _, _, depth, _ = self._gbuffer_for(target.size)
+        march = luts.march_mode(self.far_meshes(frame))
+        if march or target.samples or tuple(target.size) != tuple(depth.size):
+            prog = self._composite_program(frame, target, self.composite_spec(0, max(march, 1)))
+            target.use()
+            ctx.disable(moderngl.DEPTH_TEST)
+            draw_fullscreen(prog)
+            return
+        # the target's colour with the G-buffer's depth: no depth writes, only the tests
+        fbo = ctx.framebuffer(color_attachments=[target.color], depth_attachment=depth)
+        try:
+            fbo.use()
+            fbo.depth_mask = False
+            ctx.enable(moderngl.DEPTH_TEST)
+            rect = self.mesh_rect(frame, target.size)
+            for part, test in ((1, "<="), (2, ">")):
+                if part == 2 and rect is not None and (rect[2] <= 0 or rect[3] <= 0):
+                    continue  # no mesh on screen
+                prog = self._composite_program(frame, target, self.composite_spec(part, 0))
+                # the meshes' part only within their rectangle: outside it the depth test would
+                # reject every pixel, but a software rasteriser pays for visiting them
+                scissor: Any = rect if part == 2 else None
+                fbo.scissor = scissor
+                fbo.use()  # the shadow map or a LUT may have been rendered just now
+                ctx.depth_func = test
+                draw_fullscreen(prog)
+        finally:
+            ctx.depth_func = "<"
+            ctx.disable(moderngl.DEPTH_TEST)
+            target.use()
+            fbo.release()
 
     def hillaire(self) -> "hillaire.HillaireLuts":
         if self._hillaire is None:
@@ -658,14 +817,45 @@ class Planet(Effect):
             out.append(Pass("planet.shadow_map", lambda: self.shadow_stage(frame), Stage.SHADOW))
         out.append(Pass("planet.surfaces", lambda: self.render_surfaces(frame, target.size),
                         Stage.OPAQUE))
+        if self.method() == "hillaire":
+            out.append(Pass("planet.hillaire_luts", lambda: self.update_hillaire(frame),
+                            Stage.FOG))
         out.append(Pass(f"planet.scattering[{self.method()}]",
                         lambda: self.render_composite(frame, target), Stage.FOG))
         return out
 
     def bench_passes(self, frame, target) -> list[Pass]:
-        """The passes, with the shadow map re-rendered every time (the frame re-renders it only
-        when the sun moves)."""
+        """The passes, with the shadow map and method 4's sky-view LUT and volume rebuilt every
+        time (the frame rebuilds them only when the sun or the camera moves, as a moving camera
+        does every frame), and ``reference.3d_lookup``: one trilinear read of a 3D texture per
+        pixel, the yardstick of method 4's per-pixel pass."""
         out = self.passes(frame, target)
-        if self.uses_shadows():
-            out[0] = Pass("planet.shadow_map", self._render_shadow_map, Stage.SHADOW)
+        for i, p in enumerate(out):
+            if p.name == "planet.shadow_map":
+                out[i] = Pass(p.name, self._render_shadow_map, Stage.SHADOW)
+            elif p.name == "planet.hillaire_luts":
+                out[i] = Pass(p.name, self._rebuild_hillaire(frame), Stage.FOG)
+        out.append(Pass("reference.3d_lookup", lambda: self.render_lookup_reference(target),
+                        Stage.POST))
         return out
+
+    def _rebuild_hillaire(self, frame):
+        def run():
+            self.update_hillaire(frame)
+            self.hillaire().rebuild_frame_luts()
+        return run
+
+    def render_lookup_reference(self, target) -> None:
+        """``reference.3d_lookup``: planet/lookup_reference.frag over the whole target, reading
+        a volume of the aerial perspective's size and format (RGBA32F, trilinear)."""
+        if self._reference_volume is None:
+            w, h, d = self.hillaire().sizes()["aerial_perspective"]
+            data = np.random.default_rng(0).random((d, h, w, 4), dtype=np.float32)
+            self._reference_volume = self.gpu.texture3d(
+                self.name, "lookup reference volume", (w, h, d), 4, data=data.tobytes(),
+                dtype="f4", repeat=False)
+        prog = self.program(LOOKUP_REFERENCE)
+        prog.bind_textures({"uVolume": self._reference_volume})
+        target.use()
+        self.gpu.ctx.disable(moderngl.DEPTH_TEST)
+        draw_fullscreen(prog)

@@ -3,10 +3,12 @@
 S. Hillaire, "A Scalable and Production Ready Sky and Atmosphere Rendering Technique",
 EGSR 2020 — with the thesis's physical model and constants (spec/002 §1, §7;
 ``glsl/atmosphere/model.glsl``): a transmittance LUT, a multiple-scattering LUT (second-order
-light Ψ = L_2nd / (1 − f_ms) with an isotropic phase over N² directions), and, every frame, a
-sky-view LUT and an aerial-perspective volume over the camera frustum. The scene's composite pass
-includes ``glsl/atmosphere/hillaire/hillaire_lookup.glsl`` and calls ``HillaireSkyRadiance``,
-``HillaireAerialPerspective``, ``HillaireTransmittance`` and ``HillaireSunTransmittance``.
+light Ψ = L_2nd / (1 − f_ms) with an isotropic phase over N² directions), a sky-view LUT and an
+aerial-perspective volume over the camera frustum. The scene's composite pass includes
+``glsl/atmosphere/hillaire/hillaire_lookup.glsl`` and calls ``HillaireSkyView`` (pixels no mesh
+covers) and ``HillaireAerial`` (meshes): two reads each, the per-pixel pass of the paper;
+``HillaireSkyRadiance``, ``HillaireAerialPerspective``, ``HillaireTransmittance`` and
+``HillaireSunTransmittance`` remain for other callers (the probes, the preview).
 
 Use::
 
@@ -18,12 +20,19 @@ Use::
 (``uEarthCenter``, ``uCameraRadius``, ``uBottomRadius``, ``uTopRadius``, ``uBetaRayleigh``,
 ``uBetaMieScatter``, ``uBetaMieExt``, ``uHRayleigh``, ``uHMie``, ``uP0``, ``uMieG``,
 ``uSunIntensity``, ``uSunDir``); :func:`model_uniforms` builds one for tests and benches.
-The transmittance and multiple-scattering LUTs are rebuilt only when a value they depend on
-changes (radii, β, H, P0, their sizes and sample counts, albedo, the series switch); G and the
-sun intensity are applied per pixel and never cause a rebuild. The sky-view LUT and the volume
-are rebuilt on every :meth:`HillaireLuts.update` while the camera is inside the atmosphere (or
-within the blend band above it); from space the lookups march the two static LUTs per pixel,
-so those two are not built at all.
+Every LUT is rebuilt only when a value it depends on changes (Hillaire's paper builds the
+sky-view LUT and the volume every frame; a still camera under a still sun needs neither again):
+
+* transmittance and multiple scattering: the model (radii, β, H, P0), their sizes and sample
+  counts, the albedo and the series switch — never the sun or the camera;
+* sky view: those, the camera's altitude, the sun's elevation seen from the camera (μ_s), the
+  multiple-scattering switch, its size and steps — not the camera's orientation;
+* aerial perspective: those of the static LUTs, the camera (altitude, orientation, field of
+  view, aspect), the sun's direction, the switch, its size, range and substeps.
+
+G and the sun intensity are applied per pixel and never cause a rebuild. From space (above the
+blend band) the lookups march the two static LUTs per pixel, so the sky view and the volume are
+not built at all. ``builds`` counts each LUT's builds.
 
 Conventions, and what differs from Hillaire's paper (all documented in the GLSL headers):
 
@@ -35,6 +44,11 @@ Conventions, and what differs from Hillaire's paper (all documented in the GLSL 
   is as sharp as in methods 1–3 (Hillaire stores the phased total and squeezes u to the sun);
 * no ozone layer (the thesis has none), ground albedo 0 by default (the thesis has no ground
   reflection in the sky), planet shadow as a hard test (the LUT transmittance is ~0 there).
+
+The near-camera source factors (``uHillaireSource*``: sunlight × σ_R and × σ_M, and σ_s Ψ_ms at
+the camera, which the volume's lookup needs before its first slice) are computed here: the
+sunlight exactly (:func:`app.sim.hillaire.sun_transmittance`), Ψ_ms from the multiple-scattering
+LUT read back once after each build, interpolated as the GPU does.
 
 Limits (measured in tests/**/test_hillaire*.py): the sky lookup is within 2 % of a brute-force
 march's peak everywhere tested, the worst at rays grazing the ground horizon from altitude; the
@@ -61,6 +75,7 @@ import numpy as np
 
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
+from ...sim import hillaire as twin
 
 GROUP = "hillaire"
 SECTION = "Hillaire 2020"
@@ -262,6 +277,14 @@ class HillaireLuts:
         self.measure = measure
         self.builds = {"transmittance": 0, "multiscattering": 0, "skyview": 0,
                        "aerial_perspective": 0}
+        #: what the sky view and the volume were last built for (None: to be built)
+        self._skyview_key: tuple | None = None
+        self._ap_key: tuple | None = None
+        self._ms_table: np.ndarray | None = None   # the multiple-scattering LUT, read back
+        self._source_key: tuple | None = None       # what _source was computed for
+        self._source = {"uHillaireSourceRayleigh": (0.0, 0.0, 0.0),
+                        "uHillaireSourceMie": (0.0, 0.0, 0.0),
+                        "uHillaireSourceMultiple": (0.0, 0.0, 0.0)}
         self.timings: dict[str, float] = {}
         self._textures: dict[str, Any] = {}
         self._fbos: dict[str, Any] = {}
@@ -474,9 +497,9 @@ class HillaireLuts:
 
     def update(self, uniforms: Mapping[str, Any],
                camera_frame: CameraFrame | Mapping[str, Any]) -> None:
-        """Bring the LUTs up to date for this frame: the transmittance and multiple-scattering
-        LUTs when the model changed, the sky-view LUT and the volume always (unless the camera
-        is so far above the atmosphere that the lookups only march).
+        """Bring the LUTs up to date for this frame: each one is rebuilt only when a value it
+        depends on changed (see the module doc); the sky view and the volume not at all while
+        the camera is so far above the atmosphere that the lookups only march.
 
         ``uniforms``: model.glsl uniform values (see the module doc). ``camera_frame``: a
         :class:`CameraFrame`, or a mapping of camera.glsl uniform values."""
@@ -496,20 +519,83 @@ class HillaireLuts:
         if key != self._static_key:
             self.build_transmittance()
             self.build_multiscattering()
+            self._ms_table = self.read("multiscattering")  # once per build: the camera's source
             self._static_key = key
+            self._skyview_key = self._ap_key = None
+        up = -np.asarray(_freeze(self._uniforms["uEarthCenter"]), dtype=float)
+        up /= max(float(np.linalg.norm(up)), 1e-300)
+        sun = np.asarray(_freeze(self._uniforms["uSunDir"]), dtype=float)
+        mu_s = float(np.clip(sun @ up, -1.0, 1.0))
+        ms_on = bool(self.value("multiple_scattering"))
+        source_key = (self._static_key, self._height, mu_s, ms_on)
+        if source_key != self._source_key:   # a numpy march: only when its inputs change
+            self._source = self._camera_source(mu_s, ms_on)
+            self._source_key = source_key
+        sizes = self.sizes()
+        if self._space_weight < 1.0:
+            sky_key = (self._height, mu_s, ms_on, sizes["skyview"],
+                       int(self.value("skyview_steps")))
+            if sky_key != self._skyview_key:
+                self.build_skyview()
+                self._skyview_key = sky_key
+            ap_key = (self._height, tuple(up), tuple(sun), ms_on, frame.right, frame.up,
+                      frame.forward, float(frame.tan_half_fov), float(frame.aspect),
+                      sizes["aerial_perspective"], float(self.value("ap_range")),
+                      int(self.value("ap_substeps")), self.use_compute, self.fragment_rows)
+            if ap_key != self._ap_key:
+                self.build_aerial_perspective()
+                self._ap_key = ap_key
+        else:  # the lookups only march; keep valid (empty) textures bound
+            for name, size in (("skyview0", sizes["skyview"]), ("skyview1", sizes["skyview"]),
+                               ("ap0", sizes["aerial_perspective"]),
+                               ("ap1", sizes["aerial_perspective"])):
+                self._texture(name, size)
+            self._skyview_key = self._ap_key = None
+
+    def rebuild_frame_luts(self) -> None:
+        """Rebuild the sky view and the volume for the camera and sun of the last
+        :meth:`update` (what the paper does every frame; ``natura bench`` times this)."""
+        if self._camera is None:
+            raise RuntimeError("HillaireLuts.rebuild_frame_luts before update(): no camera yet")
         if self._space_weight < 1.0:
             self.build_skyview()
             self.build_aerial_perspective()
-        else:  # the lookups only march; keep valid (empty) textures bound
-            for name, size in (("skyview0", self.sizes()["skyview"]),
-                               ("skyview1", self.sizes()["skyview"]),
-                               ("ap0", self.sizes()["aerial_perspective"]),
-                               ("ap1", self.sizes()["aerial_perspective"])):
-                self._texture(name, size)
+
+    def _camera_source(self, mu_s: float, ms_on: bool) -> dict:
+        """The volume lookup's near-camera factors per unit sun intensity (uHillaireSource*):
+        T_sun σ_R, T_sun σ^s_M and σ_s Ψ_ms at the camera (zero above the atmosphere)."""
+        u = self._uniforms
+        m = twin.Model.from_uniforms(u)
+        h = self._height
+        zero = (0.0, 0.0, 0.0)
+        if h >= m.height:
+            return {"uHillaireSourceRayleigh": zero, "uHillaireSourceMie": zero,
+                    "uHillaireSourceMultiple": zero}
+        rho_r, rho_m = (float(v) for v in m.density(h))
+        scat_r = np.asarray(m.beta_rayleigh) * rho_r
+        scat_m = np.asarray(m.beta_mie_scatter) * rho_m
+        sun = np.asarray(twin.sun_transmittance(m, h, mu_s), dtype=float).reshape(3)
+        psi = np.zeros(3) if not ms_on or self._ms_table is None else \
+            twin.multiple_scattering_lookup(self._ms_table, m, h, mu_s)
+
+        def vec(v):
+            return tuple(float(x) for x in v)
+
+        return {"uHillaireSourceRayleigh": vec(sun * scat_r),
+                "uHillaireSourceMie": vec(sun * scat_m),
+                "uHillaireSourceMultiple": vec((scat_r + scat_m) * psi)}
+
+    def march_mode(self, far_meshes: bool = False) -> int:
+        """HILLAIRE_MARCH for a composite program (hillaire_lookup.glsl): 2 above the blend band
+        (the per-pixel march alone), 1 within it or when a mesh may lie past 90 % of the
+        volume's range (``far_meshes``: both, chosen per pixel), else 0 (the lookups alone)."""
+        if self._space_weight >= 1.0:
+            return 2
+        return 1 if self._space_weight > 0.0 or far_meshes else 0
 
     def invalidate(self) -> None:
-        """Force the transmittance and multiple-scattering LUTs to rebuild on the next update."""
-        self._static_key = None
+        """Force every LUT to rebuild on the next update."""
+        self._static_key = self._skyview_key = self._ap_key = self._source_key = None
 
     def textures(self) -> dict:
         """The six LUTs by the sampler names hillaire_lookup.glsl reads."""
@@ -523,7 +609,7 @@ class HillaireLuts:
                 "uHillaireMsScale": 1.0 if self.value("multiple_scattering") else 0.0,
                 "uHillaireApRange": float(self.value("ap_range")),
                 "uHillaireSpaceWeight": float(self._space_weight),
-                "uHillaireMarchSteps": int(self.value("march_steps"))}
+                "uHillaireMarchSteps": int(self.value("march_steps")), **self._source}
 
     def bind(self, prog) -> None:
         """For a program that reads only the LUTs: bind :meth:`textures` (units assigned by
@@ -548,4 +634,4 @@ class HillaireLuts:
         if self._pbo is not None:
             self.gpu.free(self._pbo)
             self._pbo = None
-        self._static_key = None
+        self._static_key = self._skyview_key = self._ap_key = self._source_key = None

@@ -1,6 +1,6 @@
 #version 430 core
 // =============================================================================================
-// Method 4, pass 4 (compute, GL ≥ 4.3) — the aerial-perspective volume, every frame
+// Method 4, pass 4 (compute, GL ≥ 4.3) — the aerial-perspective volume, when the camera or the sun moved
 // (Hillaire 2020 §5.4). One invocation per froxel column marches the camera ray once and stores
 // all slices into two RGBA32F 3D images. Model, layout and failure cases: aerial_perspective.glsl.
 // The fragment fallback is aerial_perspective.frag.

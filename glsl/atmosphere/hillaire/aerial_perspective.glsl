@@ -11,8 +11,9 @@
 // Each slice is cut into uHillaireApSubsteps midpoint samples, clipped to the atmosphere
 // segment of the ray (from space the part before the entry point contributes nothing; past the
 // top the values repeat). Columns are not clipped at the ground (see HillaireApColumn).
-// Volume 0: rgb = P_R(ν) ∫T T_sun σ_R + ∫T σ_s Ψ_ms, a = mean T_view; volume 1: rgb = ∫T T_sun σ_M
-// (no phase: the lookup applies P_M of the pixel's own ν). All per unit sun intensity.
+// Volume 0: rgb = P_R(ν) ∫T T_sun σ_R + ∫T σ_s Ψ_ms, a = ∫ρ_R dt; volume 1: rgb = ∫T T_sun σ_M
+// (no phase: the lookup applies P_M of the pixel's own ν), a = ∫ρ_M dt (the lookup's
+// per-channel transmittance). Radiances per unit sun intensity.
 //
 // The compute path marches each column once and stores every slice; the fragment path marches
 // the same samples in the same order and stops at its slice — both give the same numbers.
@@ -47,7 +48,7 @@ void HillaireApColumn(ivec2 texel, int lastSlice, out vec4 rayleighMultiple, out
     HillaireInScatter acc = HillaireZeroInScatter();
     int n = max(uHillaireApSubsteps, 1);
     int last = lastSlice < 0 ? uHillaireApSize.z - 1 : lastSlice;
-    rayleighMultiple = vec4(0.0, 0.0, 0.0, 1.0);
+    rayleighMultiple = vec4(0.0);
     mie = vec4(0.0);
     for (int k = 0; k <= last; ++k) {
         float d0 = HillaireApSliceDistance(float(k));
@@ -58,8 +59,8 @@ void HillaireApColumn(ivec2 texel, int lastSlice, out vec4 rayleighMultiple, out
             if (tb > ta) HillaireAccumulate(acc, h0, mu, muS, nu, 0.5 * (ta + tb), tb - ta, true);
         }
         rayleighMultiple = vec4(phaseR * acc.rayleigh + uHillaireMsScale * acc.multiple,
-                                HillaireMean(exp(-acc.opticalDepth)));
-        mie = vec4(acc.mie, 0.0);
+                                acc.density.x);
+        mie = vec4(acc.mie, acc.density.y);
 #ifdef HILLAIRE_AP_STORE
         HILLAIRE_AP_STORE(ivec3(texel, k), rayleighMultiple, mie);
 #endif

@@ -182,10 +182,11 @@ struct HillaireInScatter {
     vec3 multiple;      // ∫ T_view σ_s Ψ_ms dt               (isotropic, per unit sun intensity)
     vec3 transfer;      // ∫ T_view σ_s dt                    (f_ms integrand, Hillaire 2020 eq. 8)
     vec3 opticalDepth;  // ∫ σ_t dt from the start of the segment
+    vec2 density;       // (∫ ρ_R dt, ∫ ρ_M dt): σ_t's integral is β^ext_R x + β^ext_M y
 };
 
 HillaireInScatter HillaireZeroInScatter() {
-    return HillaireInScatter(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+    return HillaireInScatter(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec2(0.0));
 }
 
 // One midpoint sample at distance t of width dt on the ray (h0, μ) with sun cosine μ_s and
@@ -206,6 +207,7 @@ void HillaireAccumulate(inout HillaireInScatter acc, float h0, float mu, float m
     acc.transfer += viewT * (scatR + scatM) * dt;
     if (withMultiple) acc.multiple += viewT * (scatR + scatM) * HillaireMultipleScatteringAt(h, muSAt) * dt;
     acc.opticalDepth += stepDepth;
+    acc.density += density * dt;
 }
 
 // n samples on [a, b], t = a + L s² (denseAtStart) or t = b − L s², in increasing t.

@@ -18,6 +18,14 @@
 //        the same with the ray given (a mesh pass that knows its fragment's direction);
 //   vec3 HillaireTransmittance(float t, vec3 viewDir)
 //        per-channel transmittance from the camera to distance t (transmittance-LUT ratio);
+//   void HillaireSkyView(vec3 viewDir, out vec3 radiance, out vec3 transmittance)
+//        a pixel no mesh covers (the sky, or the analytic ground the ray meets): the sky-view
+//        LUT's radiance and per-channel transmittance of the whole ray (to the top or the
+//        ground), two bilinear reads;
+//   void HillaireAerial(vec2 screenUv, vec3 viewDir, float distanceMetres, out vec3 radiance,
+//                       out vec3 transmittance)
+//        a mesh at that distance: the volume's radiance and per-channel transmittance, two
+//        trilinear reads. These two are the per-pixel pass of Hillaire's paper: lookups only.
 //   vec3 HillaireSunTransmittance(vec3 positionRelCamera)
 //        transmittance of sunlight reaching a point (0 in the planet's shadow): light a surface
 //        with uSunIntensity · HillaireSunTransmittance(p) · BRDF · cos.
@@ -32,10 +40,22 @@
 // multiple-scattering LUTs (uHillaireMarchSteps samples); the weight uHillaireSpaceWeight (set
 // by the CPU) ramps from 0 at the top to 1 a tenth of the atmosphere's height above it, so
 // flying out is continuous. Past uHillaireApRange the volume hands over to the same march
-// (blended over the last 10 % of the range).
+// (blended over the last 10 % of the range). HILLAIRE_MARCH says at compile time which of them
+// a program contains: 1 (the default) both, chosen per pixel as above; 0 the lookups alone (the
+// camera inside the atmosphere, every mesh within the range: what the scene's pass compiles in
+// the usual case); 2 the march alone (the camera above the blend band). A software rasteriser
+// runs every branch a program contains, so the march must be compiled out, not skipped.
 //
-// Texture units: six, from first_unit: transmittance, multiple scattering, sky-view ×2,
-// aerial perspective ×2.
+// What the LUTs store (skyview_lut.frag, aerial_perspective.glsl): rgb the phase-free Mie and
+// the phased Rayleigh + multiple scattering integrals, and in their alphas the density
+// integrals (∫ρ_R dt, ∫ρ_M dt) of the same ray, so that the per-channel transmittance is
+// exp(−(β^ext_R x + β^ext_M y)) from the same two reads (model.glsl's TransmittanceFromDepths).
+// The volume's first slice lies range/D² from the camera; nearer (a mesh within ~125 m), the
+// radiance follows the quadratic through 0 whose slope is the camera's own source term, whose
+// per-frame factors (sunlight × σ_R, sunlight × σ_M, σ_s Ψ_ms at the camera) come from the CPU
+// (uHillaireSource*, HillaireLuts.lookup_uniforms), and the density integrals fall linearly.
+//
+// Texture units: six: transmittance, multiple scattering, sky-view ×2, aerial perspective ×2.
 // Failure cases: a camera/LUT mismatch (the volume was built for another camera: it is drawn
 // with the wrong rays), G → ±1 (PhaseMieCornetteShanks clamps), t ≤ 0 (returns 0, T = 1).
 // =============================================================================================
@@ -43,13 +63,21 @@
 #include "skyview.glsl"
 #include "camera.glsl"
 
-uniform sampler2D uHillaireSkyViewRayleighMs;   // sky-view target 0
-uniform sampler2D uHillaireSkyViewMie;          // sky-view target 1
-uniform sampler3D uHillaireApRayleighMs;        // aerial-perspective volume 0
-uniform sampler3D uHillaireApMie;               // aerial-perspective volume 1
+#ifndef HILLAIRE_MARCH
+#define HILLAIRE_MARCH 1
+#endif
+
+uniform sampler2D uHillaireSkyViewRayleighMs;   // sky-view target 0: rgb, a = ∫ρ_R dt
+uniform sampler2D uHillaireSkyViewMie;          // sky-view target 1: rgb, a = ∫ρ_M dt
+uniform sampler3D uHillaireApRayleighMs;        // aerial-perspective volume 0: rgb, a = ∫ρ_R dt
+uniform sampler3D uHillaireApMie;               // aerial-perspective volume 1: rgb, a = ∫ρ_M dt
 uniform float uHillaireApRange;                 // m, distance of the last slice
 uniform float uHillaireSpaceWeight;             // 0: LUTs valid; 1: per-pixel march only
 uniform int uHillaireMarchSteps;                // samples of the fallback march
+// the camera's own source term per unit sun intensity, without the phases (from the CPU):
+uniform vec3 uHillaireSourceRayleigh;   // T_sun σ_R at the camera
+uniform vec3 uHillaireSourceMie;        // T_sun σ^s_M at the camera
+uniform vec3 uHillaireSourceMultiple;   // σ_s Ψ_ms at the camera (0 with multiple scattering off)
 
 // (μ, ν, μ_s, cos φ) of a direction, in the camera's local vertical frame.
 vec4 HillaireViewAngles(vec3 viewDir) {
@@ -57,10 +85,11 @@ vec4 HillaireViewAngles(vec3 viewDir) {
     float mu = ClampCosine(dot(viewDir, up));
     float muS = ClampCosine(dot(uSunDir, up));
     float nu = ClampCosine(dot(viewDir, uSunDir));
-    vec3 vH = viewDir - up * mu;
-    vec3 sH = uSunDir - up * muS;
-    float lv = length(vH), ls = length(sH);
-    float cosPhi = (lv > 1.0e-6 && ls > 1.0e-6) ? dot(vH, sH) / (lv * ls) : 1.0;
+    // cos φ between the horizontal parts v − μ up and s − μ_s up, from the cosines alone:
+    // (ν − μ μ_s) / sqrt((1 − μ²)(1 − μ_s²)) — no vectors formed per pixel (1 when either is
+    // vertical, where φ is undefined and the sky-view LUT does not depend on it)
+    float d = (1.0 - mu * mu) * (1.0 - muS * muS);
+    float cosPhi = d > 1.0e-12 ? (nu - mu * muS) * inversesqrt(d) : 1.0;
     return vec4(mu, nu, muS, ClampCosine(cosPhi));
 }
 
@@ -77,24 +106,45 @@ vec4 HillaireMarch(vec3 viewDir, float maxDist, out vec3 transmittance) {
     return vec4(HillaireRadiance(acc, a.y), HillaireMean(transmittance));
 }
 
-vec3 HillaireSkyRadianceFromLut(vec3 viewDir) {
+// The sky-view LUT for the ray along viewDir: radiance (no sun disk) and the per-channel
+// transmittance of the whole ray, to the top of the atmosphere or to the ground.
+void HillaireSkyViewLookup(vec3 viewDir, out vec3 radiance, out vec3 transmittance) {
     vec4 a = HillaireViewAngles(viewDir);
     vec2 size = vec2(textureSize(uHillaireSkyViewRayleighMs, 0));
     vec2 uv = HillaireSkyViewUv(a.x, a.w, size, uHillaireCameraHeight);
-    vec3 rayleighMs = texture(uHillaireSkyViewRayleighMs, uv).rgb;
-    vec3 mie = texture(uHillaireSkyViewMie, uv).rgb;
-    return uSunIntensity * (rayleighMs + PhaseMieCornetteShanks(a.y, uMieG) * mie);
+    vec4 rayleighMs = texture(uHillaireSkyViewRayleighMs, uv);
+    vec4 mie = texture(uHillaireSkyViewMie, uv);
+    radiance = uSunIntensity * (rayleighMs.rgb + PhaseMieCornetteShanks(a.y, uMieG) * mie.rgb);
+    transmittance = TransmittanceFromDepths(vec2(rayleighMs.a, mie.a));
+}
+
+vec3 HillaireSkyRadianceFromLut(vec3 viewDir) {
+    vec3 L, T;
+    HillaireSkyViewLookup(viewDir, L, T);
+    return L;
+}
+
+// A pixel no mesh covers: the sky-view LUT (HILLAIRE_MARCH 0), the march (2), or the two blended
+// by uHillaireSpaceWeight (1).
+void HillaireSkyView(vec3 viewDir, out vec3 radiance, out vec3 transmittance) {
+#if HILLAIRE_MARCH == 2
+    radiance = HillaireMarch(viewDir, HILLAIRE_INFINITY, transmittance).rgb;
+#elif HILLAIRE_MARCH == 1
+    float w = clamp(uHillaireSpaceWeight, 0.0, 1.0);
+    vec3 lutL = vec3(0.0), lutT = vec3(1.0), marchL = vec3(0.0), marchT = vec3(1.0);
+    if (w < 1.0) HillaireSkyViewLookup(viewDir, lutL, lutT);
+    if (w > 0.0) marchL = HillaireMarch(viewDir, HILLAIRE_INFINITY, marchT).rgb;
+    radiance = mix(lutL, marchL, w);
+    transmittance = mix(lutT, marchT, w);
+#else
+    HillaireSkyViewLookup(viewDir, radiance, transmittance);
+#endif
 }
 
 vec3 HillaireSkyRadiance(vec3 viewDir) {
-    float w = clamp(uHillaireSpaceWeight, 0.0, 1.0);
-    vec3 lut = vec3(0.0), march = vec3(0.0);
-    if (w < 1.0) lut = HillaireSkyRadianceFromLut(viewDir);
-    if (w > 0.0) {
-        vec3 T;
-        march = HillaireMarch(viewDir, HILLAIRE_INFINITY, T).rgb;
-    }
-    return mix(lut, march, w);
+    vec3 L, T;
+    HillaireSkyView(viewDir, L, T);
+    return L;
 }
 
 // Per-channel transmittance from the camera to distance t along viewDir: the ratio of two
@@ -120,48 +170,72 @@ vec3 HillaireTransmittance(float t, vec3 viewDir) {
     return clamp(T, 0.0, 1.0);
 }
 
-// In-scattered radiance per metre at the camera itself (the integrand at t = 0).
-vec3 HillaireSourceAtCamera(float mu, float nu, float muS) {
-    float h = uHillaireCameraHeight;
-    if (h >= HillaireAtmosphereHeight()) return vec3(0.0);
-    vec2 density = DensityRM(h);
-    vec3 scatR = uBetaRayleigh * density.x, scatM = uBetaMieScatter * density.y;
-    vec3 sunT = HillaireSunTransmittanceAt(h, muS);
-    return uSunIntensity * (sunT * (scatR * PhaseRayleigh(nu) + scatM * PhaseMieCornetteShanks(nu, uMieG))
-                            + uHillaireMsScale * (scatR + scatM) * HillaireMultipleScatteringAt(h, muS));
+// In-scattered radiance per metre at the camera itself (the integrand at t = 0), from the
+// per-frame factors the CPU sets (0 above the top of the atmosphere).
+vec3 HillaireSourceAtCamera(float nu) {
+    return uSunIntensity * (uHillaireSourceRayleigh * PhaseRayleigh(nu)
+                            + uHillaireSourceMie * PhaseMieCornetteShanks(nu, uMieG)
+                            + uHillaireSourceMultiple);
 }
 
-vec4 HillaireAerialPerspectiveFromVolume(vec2 screenUv, vec3 viewDir, float dist) {
-    vec4 ang = HillaireViewAngles(viewDir);
+// The volume's radiance and per-channel transmittance to distance dist along the pixel's ray
+// (screenUv for the froxel column, viewDir for the Mie phase): two trilinear reads.
+void HillaireVolumeLookup(vec2 screenUv, vec3 viewDir, float dist, out vec3 radiance,
+                          out vec3 transmittance) {
+    float nu = ClampCosine(dot(viewDir, uSunDir));
     float D = float(textureSize(uHillaireApRayleighMs, 0).z);
     float s = D * sqrt(max(dist, 0.0) / uHillaireApRange);   // slice k holds s = k + 1
     vec3 uvw = vec3(screenUv, clamp((max(s, 1.0) - 0.5) / D, 0.5 / D, 1.0 - 0.5 / D));
     vec4 a = texture(uHillaireApRayleighMs, uvw);
-    vec3 mie = texture(uHillaireApMie, uvw).rgb;
-    vec3 L = uSunIntensity * (a.rgb + PhaseMieCornetteShanks(ang.y, uMieG) * mie);
-    if (s >= 1.0) return vec4(L, a.a);
+    vec4 b = texture(uHillaireApMie, uvw);
+    float phaseM = PhaseMieCornetteShanks(nu, uMieG);
+    vec3 L = uSunIntensity * (a.rgb + phaseM * b.rgb);
     // Before the first slice (d1 = range / D²): the quadratic through 0 with the camera's own
     // source term as its slope, I(d) = S0 d + (I1 − S0 d1)(d/d1)² — linear fading alone is 10 %
     // low when the density falls fast along the ray (Mie, looking up). It stays ≥ 0 on [0, d1].
+    // The density integrals fall linearly to 0 there. Branch-free: x = 1 from the first slice on.
     float d1 = uHillaireApRange / (D * D);
-    float x = dist / d1;
-    vec3 S0 = HillaireSourceAtCamera(ang.x, ang.y, ang.z);
-    vec3 Lnear = max(S0 * dist + (L - S0 * d1) * x * x, 0.0);
-    return vec4(Lnear, mix(1.0, a.a, x));
+    float x = clamp(dist / d1, 0.0, 1.0);
+    vec3 S0 = uSunIntensity * (uHillaireSourceRayleigh * PhaseRayleigh(nu)
+                               + uHillaireSourceMie * phaseM + uHillaireSourceMultiple);
+    vec3 Lnear = max(S0 * (x * d1) + (L - S0 * d1) * x * x, 0.0);
+    radiance = s >= 1.0 ? L : Lnear;
+    transmittance = TransmittanceFromDepths(vec2(a.a, b.a) * x);
 }
 
-vec4 HillaireAerialPerspectiveAlongRay(vec2 screenUv, vec3 viewDir, float distanceMetres) {
-    if (!(distanceMetres > 0.0)) return vec4(0.0, 0.0, 0.0, 1.0);
+vec4 HillaireAerialPerspectiveFromVolume(vec2 screenUv, vec3 viewDir, float dist) {
+    vec3 L, T;
+    HillaireVolumeLookup(screenUv, viewDir, dist, L, T);
+    return vec4(L, HillaireMean(T));
+}
+
+// A mesh at distanceMetres along the pixel's ray: the volume (HILLAIRE_MARCH 0), the march (2),
+// or the two blended by uHillaireSpaceWeight and past 90 % of the volume's range (1).
+void HillaireAerial(vec2 screenUv, vec3 viewDir, float distanceMetres, out vec3 radiance,
+                    out vec3 transmittance) {
+    radiance = vec3(0.0);
+    transmittance = vec3(1.0);
+    if (!(distanceMetres > 0.0)) return;
+#if HILLAIRE_MARCH == 2
+    radiance = HillaireMarch(viewDir, distanceMetres, transmittance).rgb;
+#elif HILLAIRE_MARCH == 1
     float range = uHillaireApRange;
     float far = clamp((distanceMetres - 0.9 * range) / (0.1 * range), 0.0, 1.0);
     float w = max(clamp(uHillaireSpaceWeight, 0.0, 1.0), far);
-    vec4 vol = vec4(0.0), march = vec4(0.0);
-    if (w < 1.0) vol = HillaireAerialPerspectiveFromVolume(screenUv, viewDir, distanceMetres);
-    if (w > 0.0) {
-        vec3 T;
-        march = HillaireMarch(viewDir, distanceMetres, T);
-    }
-    return mix(vol, march, w);
+    vec3 volL = vec3(0.0), volT = vec3(1.0), marchL = vec3(0.0), marchT = vec3(1.0);
+    if (w < 1.0) HillaireVolumeLookup(screenUv, viewDir, distanceMetres, volL, volT);
+    if (w > 0.0) marchL = HillaireMarch(viewDir, distanceMetres, marchT).rgb;
+    radiance = mix(volL, marchL, w);
+    transmittance = mix(volT, marchT, w);
+#else
+    HillaireVolumeLookup(screenUv, viewDir, distanceMetres, radiance, transmittance);
+#endif
+}
+
+vec4 HillaireAerialPerspectiveAlongRay(vec2 screenUv, vec3 viewDir, float distanceMetres) {
+    vec3 L, T;
+    HillaireAerial(screenUv, viewDir, distanceMetres, L, T);
+    return vec4(L, HillaireMean(T));
 }
 
 vec4 HillaireAerialPerspective(vec2 screenUv, float distanceMetres) {

@@ -1,15 +1,17 @@
 #version 330 core
 // =============================================================================================
-// Method 4, pass 3 — the sky-view LUT, every frame (Hillaire 2020 §5.3). For each (θ, φ) texel
+// Method 4, pass 3 — the sky-view LUT, when the camera's altitude or the sun's elevation changed
+// (Hillaire 2020 §5.3; the paper builds it every frame). For each (θ, φ) texel
 // (skyview.glsl), integrate the view ray from the camera (or from the atmosphere's entry point
 // when the camera is above the top, §6) to the top or the ground:
 //
 //   L = E_sun ∫ T_view [ T_sun (σ_R P_R(ν) + σ_M P_M(ν)) + σ_s Ψ_ms ] dt
 //                                            (Hillaire 2020 eq. 1, Hillaire 2020 eq. 11)
 //
-// Target 0: rgb = P_R(ν) ∫T T_sun σ_R + ∫T σ_s Ψ_ms (per unit E_sun), a = mean T_view;
-// target 1: rgb = ∫T T_sun σ_M (no phase) — the lookup multiplies by P_M(ν) of the pixel, so
-// the Mie halo stays as sharp as G makes it. Sun disk not included (the scene adds it).
+// Target 0: rgb = P_R(ν) ∫T T_sun σ_R + ∫T σ_s Ψ_ms (per unit E_sun), a = ∫ρ_R dt;
+// target 1: rgb = ∫T T_sun σ_M (no phase), a = ∫ρ_M dt — the lookup multiplies by P_M(ν) of the
+// pixel, so the Mie halo stays as sharp as G makes it, and takes the ray's per-channel
+// transmittance from the two density integrals. Sun disk not included (the scene adds it).
 // uHillaireSkyViewSteps samples, dense at low altitudes (hillaire_common.glsl).
 //
 // Failure cases: rays that miss the atmosphere from space (0, T = 1); the sun at the zenith
@@ -35,7 +37,6 @@ void main() {
     vec2 seg = HillaireRaySegment(h0, mu, HILLAIRE_INFINITY);
     HillaireInScatter acc = HillaireIntegrateSegment(h0, mu, muS, nu, max(seg.x, 0.0), seg.y,
                                                      uHillaireSkyViewSteps, true);
-    outRayleighMultiple = vec4(PhaseRayleigh(nu) * acc.rayleigh + acc.multiple,
-                               HillaireMean(exp(-acc.opticalDepth)));
-    outMie = vec4(acc.mie, 0.0);
+    outRayleighMultiple = vec4(PhaseRayleigh(nu) * acc.rayleigh + acc.multiple, acc.density.x);
+    outMie = vec4(acc.mie, acc.density.y);
 }
