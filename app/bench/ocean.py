@@ -1,6 +1,6 @@
 """Speed against accuracy for the ocean: FFT size and cascades, ms per frame and spectrum error.
 
-A comparison and four sweeps, run by ``natura bench ocean`` after the per-pass timings, all at
+Two comparisons and four sweeps, run by ``natura bench ocean`` after the per-pass timings, all at
 the bench view size with the scene's camera and the session's sea state (wind, spectrum, patch
 sizes):
 
@@ -10,11 +10,17 @@ sizes):
    per-round ratio deferred/forward (median [p25–p75]), and the difference of the two images in
    linear radiance (mean and max |Δ| over pixels and channels).
 
-1. **FFT size × cascades** — N ∈ {64, 128, 256, 512} (``fft_sizes``; ``--sizes NxN,...``
-   narrows it) × 1–4 cascades.  Time: ms per frame (median; ``scene.frame(size, dt=1/30)`` then
-   ``scene.render``, so the simulation update and every ocean pass, with the sky) and ms of the
-   simulation alone (``GpuOceanSim.update``).  Error: the mean-square slope and Hs carried by
-   the cascades' actual h₀ — mss = Σ_k k²(|h₀(k)|² + |h₀(−k)|²) = 2·Σk²|h₀|²,
+0b. **Simulation, what the view resolves against the thesis's** (``ocean.simulation``):
+   :func:`simulation_comparison` — ms of one frame's simulation each way, interleaved, and the
+   error of the view's sea (cropped grids, slow cascades interpolated) against every cascade
+   at ``ocean.fft_size`` every frame, measured at random points and predicted.
+
+1. **FFT size × cascades** (``ocean.simulation = full``: the grid of each row) — N ∈ {64,
+   128, 256, 512} (``fft_sizes``; ``--sizes NxN,...`` narrows it) × 1–4 cascades.  Time: ms
+   per frame (median; ``scene.frame(size, dt=1/30)`` then ``scene.render``, so the
+   simulation update and every ocean pass, with the sky) and ms of the simulation alone
+   (``GpuOceanSim.update``).  Error: the mean-square slope and Hs carried by the cascades'
+   actual h₀ — mss = Σ_k k²(|h₀(k)|² + |h₀(−k)|²) = 2·Σk²|h₀|²,
    Hs = 4·sqrt(2·Σ|h₀|²), summed over cascades — against ``spectrum_moments`` of the same
    spectrum (same short-wave fade) up to k_ref = π·512/L_min, the Nyquist of the finest
    configuration: the *mss deficit* 1 − mss/mss_ref and the *Hs error* |Hs − Hs_ref|/Hs_ref.
@@ -77,7 +83,9 @@ DIRECT_TIME = 3.0  # simulation time [s] of the direct-sum comparison
 
 SHADINGS = ("forward", "deferred")
 
-TITLES = {"shading": "Surface pass, forward vs deferred", "fft": "FFT size × cascades",
+TITLES = {"shading": "Surface pass, forward vs deferred",
+          "simulation": "Simulation, what the view resolves vs the thesis's",
+          "fft": "FFT size × cascades",
           "gerstner": "Gerstner waves vs FFT", "direct_sum": "GPU FFT vs direct sum"}
 
 
@@ -208,6 +216,144 @@ def shading_comparison(session, size, warmup: int = 2, rounds: int = 5) -> dict:
     return out
 
 
+# ---- comparison: the simulation for what the view resolves against the thesis's --------------
+
+SIM_POINTS = 4096  # random rest points the two seas are compared at
+SIM_FRAMES = 12  # frames of 1/30 s the error is measured over (a slow cascade's period or more)
+
+
+def _sea_at_points(sim, patch_sizes, x, z) -> tuple[np.ndarray, np.ndarray]:
+    """(height, slope (x, z)) of ``sim``'s displayed textures at rest points (x, z): each cascade
+    read back, looked up bilinearly (as the surface samples level 0), summed."""
+    disp, slope = [], []
+    for i in range(sim.cascade_count):
+        f = sim.read_fields(i)
+        disp.append(np.stack([f["height"]], axis=-1).astype(np.float64))
+        slope.append(np.stack([f["slope_x"], f["slope_z"]], axis=-1).astype(np.float64))
+    h = oc.sample_cascade_groups(oc.group_cascade_grids(disp, patch_sizes), x, z)
+    s = oc.sample_cascade_groups(oc.group_cascade_grids(slope, patch_sizes), x, z)
+    return h[..., 0], s
+
+
+def simulation_comparison(session, size, warmup: int = 2, rounds: int = 5,
+                          frames: int = SIM_FRAMES) -> dict:
+    """``ocean.simulation`` = view against full (the thesis: every cascade at ``ocean.fft_size``,
+    every frame) for the scene's view at ``size``: the view's grids and slow-cascade periods
+    (as the effect chose them), the ms of one frame's simulation of each — two copies of the
+    simulation, each on a clock of its own that moves 1/30 s a call, timed in the same
+    interleaved rounds — and the error of the view's sea against the full one: both simulated
+    over ``frames`` frames in step, read back and looked up at the same random rest points
+    (rms and max |Δη| over Hs/4 and Hs, rms |Δslope| over the sea's rms slope), beside the
+    error predicted for the worst instant (mid-interval): the dropped modes' energy plus
+    :func:`app.sim.ocean.interpolation_error`."""
+    from ..effects.ocean.fft import GpuOceanSim
+
+    p = session.params
+    eff = _effect(session)
+    gpu = session.gpu
+    p.set("ocean.model", "fft")
+    p.set("ocean.simulation", "view")
+    target = gpu.target("bench", "ocean simulation", tuple(size))
+    sims: dict[str, GpuOceanSim] = {}
+    try:
+        for _ in range(3):  # the view's grids and periods settle at frames of 1/30 s
+            session.scene.render(session.scene.frame(tuple(size), DT), target)
+        full_cascades = eff.reference.cascades
+        view_cascades = list(eff._sim_cascades)
+        sizes, periods = list(eff.sim.sizes), list(eff.sim.periods)
+        lam = p["ocean.choppiness"]
+        thresholds = eff.foam_thresholds()
+        foam = {"foam_threshold": [t for t, _ in thresholds],
+                "foam_width": [w for _, w in thresholds],
+                "foam_decay_time": p["ocean.foam_decay"]}
+        for name, cascades, refresh in (("full", full_cascades, [0.0] * len(sizes)),
+                                        ("view", view_cascades, periods)):
+            sim = GpuOceanSim(gpu, "bench", use_compute=eff.sim.use_compute)
+            sim.set_spectrum(cascades)
+            sim.set_refresh(refresh)
+            sims[name] = sim
+        t0 = float(session.scene.time)
+        clock = {name: 0 for name in sims}
+
+        def variant(name: str):
+            def run():
+                clock[name] += 1
+                sims[name].update(t0 + clock[name] * DT, lam, DT, **foam)
+
+            return run
+
+        timed = time_interleaved(gpu.ctx, {n: variant(n) for n in sims}, warmup, rounds)
+        rng = np.random.default_rng(37)
+        span = max(eff.patch_sizes())
+        x, z = rng.uniform(-span, span, SIM_POINTS), rng.uniform(-span, span, SIM_POINTS)
+        patch = eff.patch_sizes()
+        t1 = t0 + (max(clock.values()) + 10) * DT  # a jump ahead: the slow cascades start over
+        d_h2, d_s2, d_max, h2, s2 = 0.0, 0.0, 0.0, 0.0, 0.0
+        for j in range(max(1, frames)):
+            for sim in sims.values():
+                sim.update(t1 + j * DT, lam, DT, **foam)
+            hf, sf = _sea_at_points(sims["full"], patch, x, z)
+            hv, sv = _sea_at_points(sims["view"], patch, x, z)
+            d_h2 += float(np.mean((hv - hf) ** 2))
+            d_s2 += float(np.mean(np.sum((sv - sf) ** 2, axis=-1)))
+            d_max = max(d_max, float(np.max(np.abs(hv - hf))))
+            h2 += float(np.mean(hf ** 2))
+            s2 += float(np.mean(np.sum(sf ** 2, axis=-1)))
+    finally:
+        for sim in sims.values():
+            sim.release()
+        gpu.free(target)
+    # predicted at mid-interval: the dropped modes' energy, plus the blend's shortfall
+    m_full = [c.moments() for c in full_cascades]
+    m_view = [c.moments() for c in view_cascades]
+    pred_h2 = sum(a[0] - b[0] for a, b in zip(m_full, m_view))
+    pred_s2 = sum(a[1] - b[1] for a, b in zip(m_full, m_view))
+    for c, period in zip(view_cascades, periods):
+        if period > 0.0:
+            e_h, e_s = oc.interpolation_error(c, period)
+            pred_h2 += e_h * e_h
+            pred_s2 += e_s * e_s
+    var_full = sum(a[0] for a in m_full)
+    mss_full = sum(a[1] for a in m_full)
+    hs = 4.0 * math.sqrt(var_full)
+    n = max(1, frames)
+    out = {"view_size": list(size), "fft_size": int(p["ocean.fft_size"]), "grids": sizes,
+           "periods_s": periods, "footprint_m": float(eff.footprint),
+           "rounds": timed.rounds, "warmup": warmup, "frames": n, "points": SIM_POINTS,
+           "ratio": timed.ratio("view", "full"), "hs_m": hs,
+           "rms_height_error": math.sqrt(d_h2 / n) / math.sqrt(h2 / n),
+           "max_height_error": d_max / hs,
+           "rms_slope_error": math.sqrt(d_s2 / n) / math.sqrt(s2 / n),
+           "predicted_rms_height_error": math.sqrt(max(pred_h2, 0.0) / var_full),
+           "predicted_rms_slope_error": math.sqrt(max(pred_s2, 0.0) / mss_full)}
+    for name in sims:
+        p25, med, p75 = timed.quartiles(name)
+        out[name] = {"median_ms": med, "p25_ms": p25, "p75_ms": p75}
+    return out
+
+
+def simulation_summary(c: dict) -> list[str]:
+    """Lines of the view/full simulation comparison."""
+    w, h = c["view_size"]
+    r = c["ratio"]
+    slow = ", ".join(f"{i}: {1e3 * t:.0f} ms" for i, t in enumerate(c["periods_s"]) if t > 0)
+    lines = [f"{TITLES['simulation']} at {w}x{h} ({c['rounds']} interleaved rounds): view grids "
+             f"{'/'.join(map(str, c['grids']))} of {c['fft_size']} (smallest footprint "
+             f"{100.0 * c['footprint_m']:.1f} cm), snapshot periods "
+             f"{slow or 'none (every cascade every frame)'}"]
+    for mode in ("full", "view"):
+        t = c[mode]
+        lines.append(f"  {mode:5s} {t['median_ms']:8.1f} ms  [{t['p25_ms']:.1f}–{t['p75_ms']:.1f}]")
+    lines.append(f"  view/full ×{r['median']:.3f} [{r['p25']:.3f}–{r['p75']:.3f}] per round; "
+                 f"view's sea against the full one over {c['frames']} frames at {c['points']} "
+                 f"points: rms Δη {_pct(c['rms_height_error'])} of rms η (predicted at worst "
+                 f"{_pct(c['predicted_rms_height_error'])}), max |Δη| "
+                 f"{_pct(c['max_height_error'])} of Hs {c['hs_m']:.2f} m, rms Δslope "
+                 f"{_pct(c['rms_slope_error'])} of rms slope (predicted at worst "
+                 f"{_pct(c['predicted_rms_slope_error'])})")
+    return lines
+
+
 # ---- sweep 1 ---------------------------------------------------------------------------------
 
 def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int = 2,
@@ -217,6 +363,7 @@ def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int
     ref = ref or reference(session)
     sp = eff.spectrum_params()
     p.set("ocean.model", "fft")
+    p.set("ocean.simulation", "full")  # every cascade on the N of the row, every frame
     all_sizes = [float(s) for s in p["ocean.patch_sizes"]]
     bins = shape_bins(sp, ref)
     rows = []
@@ -254,6 +401,7 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
     eff = _effect(session)
     ref = ref or reference(session)
     sp = eff.spectrum_params()
+    p.set("ocean.simulation", "full")  # the FFT at the N compared, every frame
     rows = []
     bins = shape_bins(sp, ref)
     p.set("ocean.model", "gerstner")
@@ -400,6 +548,7 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None, fft_sizes
             "warmup": warmup, "repeat": repeat,
             "reference": ref,
             "shading": shading_comparison(session, size, warmup, max(repeat, 3)),
+            "simulation": simulation_comparison(session, size, warmup, max(repeat, 3)),
             "fft": fft_sweep(session, size, fft_sizes, cascades, warmup, repeat, ref),
             "gerstner": gerstner_sweep(session, size, gerstner_counts, fft_compare, warmup, repeat,
                                        ref),
@@ -544,6 +693,8 @@ def summary(report: dict) -> str:
     s = report["sweep"]
     ref = s["reference"]
     lines = shading_summary(s["shading"]) if "shading" in s else []
+    if "simulation" in s:
+        lines += simulation_summary(s["simulation"])
     lines += [f"reference: {s['spectrum']}, U = {s['wind']:g} m/s, Hs = {ref['hs']:.3f} m, "
               f"mss = {ref['mss']:.4g}, "
               f"Tp = {ref['tp_s'] or float('nan'):.2f} s, k ≤ {ref['k_ref']:.0f} rad/m",

@@ -28,6 +28,8 @@ grows like log2 N·ε_f32·rms (about 1e-7 relative at N = 256, as the GPU ocean
 from __future__ import annotations
 
 import math
+from functools import partial
+from typing import Callable
 
 import moderngl
 import numpy as np
@@ -167,6 +169,39 @@ class GpuFFT:
             self._inverse_compute()
         else:
             self._inverse_fragment()
+
+    def steps(self) -> list[Callable[[], None]]:
+        """The same transform as :meth:`inverse`, cut into steps to run in order, each setting
+        every state it needs (other GL work may come between two of them, in other frames): one
+        per radix-2 pass on the fragment path (2·log2 N), one per axis and texture on the
+        compute path. The textures must not be touched by anything else until the last step."""
+        if self.use_compute:
+            return [partial(self._compute_step, axis, tex)
+                    for axis in (0, 1) for tex in self.textures]
+        return [partial(self._fragment_step, axis, stage)
+                for axis in (0, 1) for stage in range(self.log2n)]
+
+    def _compute_step(self, axis: int, tex) -> None:
+        prog = self._prog
+        prog.bind_textures({"uTwiddle": self.twiddles})
+        prog.set("uAxis", axis)
+        tex.bind_to_image(0, read=True, write=True)
+        prog.program.run(self.n, 1, 1)
+        self.gpu.ctx.memory_barrier()
+
+    def _fragment_step(self, axis: int, stage: int) -> None:
+        # pass p = axis·log2 N + stage reads set p mod 2 and writes the other (as inverse())
+        src = (axis * self.log2n + stage) % 2
+        sets = [self.textures, self._scratch]
+        prog = self._prog
+        with self.gpu.ctx.scope(self._fbos[1 - src], enable_only=moderngl.NOTHING):
+            self._fbos[1 - src].use()
+            prog.set("uN", self.n)
+            prog.set("uAxis", axis)
+            prog.set("uSpan", 1 << stage)
+            prog.bind_textures({**{f"uSrc{i}": tex for i, tex in enumerate(sets[src])},
+                                "uTwiddle": self.twiddles})
+            draw_fullscreen(prog)
 
     def _inverse_compute(self) -> None:
         ctx = self.gpu.ctx

@@ -613,6 +613,29 @@ def sample_periodic_cascades(grids, patch_sizes, x, z, channels: int | None = No
     return out if grids.ndim > 3 else out.reshape(x.shape)
 
 
+def group_cascade_grids(grids, patch_sizes) -> list[tuple[np.ndarray, tuple]]:
+    """Cascade grids of possibly different N — one (C, N, N, K) array, or a sequence of
+    (N_i, N_i, K) grids — as groups of one N each, in cascade order: [(stacked grids, their
+    patch sizes)], made once for the many lookups of :func:`sample_cascade_groups`."""
+    if isinstance(grids, np.ndarray):
+        return [(grids, tuple(float(s) for s in patch_sizes))]
+    groups: dict[int, list] = {}
+    for grid, size in zip(grids, patch_sizes):
+        groups.setdefault(np.shape(grid)[0], []).append((grid, float(size)))
+    return [(np.stack([g for g, _ in members]), tuple(s for _, s in members))
+            for members in groups.values()]
+
+
+def sample_cascade_groups(groups, x, z, channels: int | None = None):
+    """Σ over every cascade of :func:`group_cascade_grids`'s groups of the bilinear lookup at
+    world points (x, z): :func:`sample_periodic_cascades` per group (one group: exactly it)."""
+    out = None
+    for grids, sizes in groups:
+        part = sample_periodic_cascades(grids, sizes, x, z, channels=channels)
+        out = part if out is None else out + part
+    return out
+
+
 # ---------------------------------------------------------------------------------------------
 # Cascades
 # ---------------------------------------------------------------------------------------------
@@ -740,6 +763,18 @@ class FFTOcean:
                                            boundary_factor)
         self.cascades: list[Cascade] = [Cascade(*a) for a in arrays]
         self.time = None
+
+    @classmethod
+    def from_cascades(cls, params: SpectrumParams, cascades: Sequence[Cascade],
+                      choppiness: float = 1.0) -> "FFTOcean":
+        """The ocean of these cascades as they are (each on its own grid, e.g. cropped to what
+        a view resolves: :func:`crop_cascade`), of the sea ``params``."""
+        held = tuple((c.patch_size, c.band, c.kx, c.kz, c.omega, c.h0) for c in cascades)
+        ocean = cls(params, n=int(np.shape(cascades[0].h0)[-1]),
+                    patch_sizes=[c.patch_size for c in cascades], choppiness=choppiness,
+                    build=lambda *_: held)
+        ocean.n = max(int(np.shape(c.h0)[-1]) for c in cascades)
+        return ocean
 
     def update(self, t: float) -> None:
         for c in self.cascades:
@@ -905,3 +940,122 @@ def gerstner_moments(waves: Sequence[GerstnerWave]) -> dict:
     s = np.array([w.steepness for w in waves])
     m0 = float(np.sum(a * a) / 2.0)
     return {"m0": m0, "hs": 4.0 * math.sqrt(m0), "mss": float(np.sum(s * s) / 2.0)}
+
+
+# ---------------------------------------------------------------------------------------------
+# What the view resolves: each cascade's grid from the screen footprint of its wavelengths, and
+# how often a slow cascade needs a new snapshot
+# ---------------------------------------------------------------------------------------------
+
+
+def crop_cascade(c: Cascade, n: int) -> Cascade:
+    """Cascade ``c`` on an n × n grid (n a power of two ≤ its own N): the modes with
+    |m_x|, |m_z| < n/2 keep their h₀, k and ω exactly (copied, not recomputed), the finer ones
+    are dropped, and the n grid's Nyquist row and column are zero as
+    :func:`initial_amplitudes` leaves them.  Sampled at the n grid's points, its fields equal the
+    full grid's fields of the same truncated spectrum: a smaller N removes only the shortest
+    waves, never redraws the sea.  The band's top becomes min(band top, π·n/L)."""
+    size = c.h0.shape[-1]
+    n = int(n)
+    if n >= size:
+        return c
+    if n < 4 or n & (n - 1):
+        raise ParamError(f"ocean.fft_size: {n} is not a power of two ≥ 4")
+    half = n // 2
+    idx = np.r_[0:half, size - half:size]  # numpy FFT order of the n grid, m = 0…n/2−1, −n/2…−1
+    pick = np.ix_(idx, idx)
+    h0 = c.h0[pick].copy()
+    h0[half, :] = 0.0
+    h0[:, half] = 0.0
+    band = (c.band[0], min(c.band[1], math.pi * n / c.patch_size))
+    return Cascade(c.patch_size, band, c.kx[pick].copy(), c.kz[pick].copy(),
+                   c.omega[pick].copy(), h0)
+
+
+def nearest_water_footprint(camera, aspect: float, rows: int, clearance: float) -> float:
+    """The smallest pixel footprint [m] on the water the camera can see, along the view (the
+    axis a mip-mapped lookup filters by): h·p/d_y², with h the camera's height above the highest
+    crest (``clearance``: its height above the mean level minus the crests' reach), p =
+    2·tan(fov/2)/rows a pixel row's height on the image plane at unit distance, and d = f + y·u
+    the ray through image-plane height y (f, u the camera's forward and up vectors).  The hit
+    of that ray on a plane h below is at d·h/(−d_y), whose derivative in y has length
+    h·|u·f_y − f·u_y|/d_y² = h/d_y² (no roll: the world's up lies in the (f, u) plane), so the
+    row spacing is smallest where −d_y is largest: at the bottom edge of the frustum, y =
+    −tan(fov/2), on every column alike.  0 when the camera is at or below the crests (the
+    surface may be at any distance); inf when no ray looks down."""
+    if not clearance > 0.0:
+        return 0.0
+    _, u, f = camera.basis()
+    th = math.tan(math.radians(camera.fov) * 0.5)
+    d_y = float(f[1]) - th * float(u[1])
+    if d_y >= 0.0:
+        return math.inf
+    pixel = 2.0 * th / max(int(rows), 1)
+    return clearance * pixel / (d_y * d_y)
+
+
+def view_cascade_size(patch_size: float, band_top: float, footprint: float, n_max: int,
+                      samples: float = 4.0, current: int | None = None, n_min: int = 16) -> int:
+    """The grid N a cascade of tile ``patch_size`` [m] needs for a view: texels as large as the
+    larger of the view's smallest footprint (finer texels cover less than a pixel anywhere on
+    screen: the mip chain would average them away) and the band's shortest wave 2π/``band_top``
+    over ``samples`` (a finer grid resolves no more of the band's waves); N = the smallest power
+    of two whose texels are no larger than that, within [n_min, n_max].  With ``current``, a
+    smaller N is taken only once the need L/texel is 20 % under current/2 (no back and forth
+    at the threshold); a larger one at once."""
+    texel = max(float(footprint), 2.0 * math.pi / (float(band_top) * samples))
+    need = patch_size / texel if texel > 0.0 else math.inf
+    n = n_max if not math.isfinite(need) else 1 << max(0, math.ceil(math.log2(max(need, 1.0))))
+    n = int(min(max(n, n_min), n_max))
+    if current is not None and n < current and need > 0.5 * current / 1.25:
+        return int(min(current, n_max))
+    return n
+
+
+def interpolation_error(c: Cascade, period: float) -> tuple[float, float]:
+    """Expected rms error (height [m], slope) of cascade ``c`` drawn as the linear interpolation
+    between its snapshots ``period`` seconds apart, at mid-interval where it is largest.
+
+    Each mode evolves as e^{iωt} (spec/000 eq. 2.11): between snapshots at t_a and t_a + T, the
+    interpolated phasor at the middle is cos(ωT/2)·e^{iω(t_a + T/2)}, short by 1 − cos(ωT/2) =
+    2·sin²(ωT/4) of its length; over the random phases of h₀ the squared errors add:
+    e_η² = Σ_k 2|h₀(k)|²·(2 sin²(ω_k T/4))² (the Hermitian pair counted once each, as in
+    :meth:`Cascade.moments`), e_s² the same weighted by k²."""
+    h2 = 2.0 * np.abs(c.h0) ** 2
+    f2 = (2.0 * np.sin(c.omega * (0.25 * float(period))) ** 2) ** 2
+    k2 = c.kx ** 2 + c.kz ** 2
+    return math.sqrt(float((h2 * f2).sum())), math.sqrt(float((k2 * h2 * f2).sum()))
+
+
+def refresh_period(c: Cascade, slope_tolerance: float, longest: float = 1.0) -> float:
+    """The longest snapshot period T ≤ ``longest`` [s] up to which the interpolation slope error
+    (:func:`interpolation_error`) stays within ``slope_tolerance`` (absolute rms slope): the
+    first period of a geometric scan from 1 ms (×1.25) whose error exceeds it, refined by
+    bisection against the last that did not (the error is not monotonic once ωT passes 2π for
+    the fastest modes, so the scan stops at the first excess); 0 when 1 ms already exceeds it."""
+    if not slope_tolerance > 0.0:
+        return 0.0
+    held = np.abs(c.h0) > 0.0
+    h2 = 2.0 * np.abs(c.h0[held]) ** 2
+    k2h2 = (c.kx[held] ** 2 + c.kz[held] ** 2) * h2
+    omega = c.omega[held]
+
+    def slope_error(periods: np.ndarray) -> np.ndarray:
+        f = 2.0 * np.sin(np.outer(periods, omega) * 0.25) ** 2
+        return np.sqrt((f * f) @ k2h2)
+
+    scan = np.minimum(1e-3 * 1.25 ** np.arange(int(math.log(longest / 1e-3) / math.log(1.25)) + 2),
+                      longest)
+    over = np.nonzero(slope_error(scan) > slope_tolerance)[0]
+    if over.size == 0:
+        return float(longest)
+    if over[0] == 0:
+        return 0.0
+    lo, hi = float(scan[over[0] - 1]), float(scan[over[0]])
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        if slope_error(np.array([mid]))[0] <= slope_tolerance:
+            lo = mid
+        else:
+            hi = mid
+    return lo

@@ -13,6 +13,8 @@
 // neighbouring pixels here may come from different triangles, or from the mesh and the far plane.
 // Two programs: OCEAN_SEEN_FROM_ABOVE (the camera clearly above the water) compiles only the view
 // from above; without it, the view from below and the per-pixel waterline are compiled in too.
+// With floating objects (OCEAN_FLOATING), a boat's wake is evaluated per pixel (wake.glsl) or,
+// with OCEAN_WAKE_MAP, read from the map wake_map.frag made per block of pixels.
 // Failure cases guarded: the far plane's pixels (kind 2) are always shaded from above, with no
 // crest term, as far.frag does; the view from below is decided per pixel exactly as in
 // surface.frag (uViewMode, the waterline); the refracted lookup is clamped to the screen;
@@ -34,7 +36,20 @@ out vec4 fragColor;
 #include "ocean/waves.glsl"
 #include "ocean/shading.glsl"
 #ifdef OCEAN_FLOATING  // a scene with floating objects: their wakes
+#ifdef OCEAN_WAKE_MAP
+// the wake's foam evaluated once per block of pixels (wake_map.frag), read back filtered
+uniform sampler2D uWakeMap;
+uniform int uWakeStride;  // screen pixels per texel side of uWakeMap
+
+float WakeMapFoam() {
+    float stride = float(uWakeStride);
+    // texel i holds the pixel i·stride + stride/2 of its block: its centre maps to i + ½
+    vec2 t = (gl_FragCoord.xy - float(uWakeStride / 2) - 0.5) / stride + 0.5;
+    return texture(uWakeMap, t / vec2(textureSize(uWakeMap, 0))).r;
+}
+#else
 #include "wake.glsl"
+#endif
 #endif
 
 void main() {
@@ -49,7 +64,11 @@ void main() {
     float foam, lost;
     OceanSurface(s.xy, s.z, n, foam, lost);
 #ifdef OCEAN_FLOATING
+#ifdef OCEAN_WAKE_MAP
+    foam = max(foam, WakeMapFoam());  // a boat's wake, evaluated per block (wake_map.frag)
+#else
     foam = max(foam, WakeFoam(s.xy));  // a boat's wake, left in world space (wake.glsl)
+#endif
 #endif
     vec3 v = normalize(-r.xyz);
     float crest = r.w / max(uSeaHs, 1e-3);

@@ -50,6 +50,38 @@ def test_json_structure(tiny_report):
     assert d[0]["speedup"] == pytest.approx(d[0]["ms_direct"] / d[0]["ms_fft"])
 
 
+def test_the_view_simulation_is_timed_against_the_full_one(tiny_report):
+    """Issue 37: ``ocean.simulation`` view against full (the thesis), timed in the same rounds,
+    with the view's sea measured against the full one at random points; the measured rms
+    slope error stays near the prediction for the worst instant (the blend's shortfall at
+    mid-interval plus the dropped modes)."""
+    c = tiny_report["sweep"]["simulation"]
+    assert c["view_size"] == list(SIZE) and c["rounds"] >= 3
+    assert len(c["grids"]) == len(c["periods_s"]) == 3
+    assert all(16 <= n <= c["fft_size"] for n in c["grids"])
+    for mode in ("full", "view"):
+        assert 0 < c[mode]["p25_ms"] <= c[mode]["median_ms"] <= c[mode]["p75_ms"]
+    assert c["ratio"]["n"] == c["rounds"]
+    assert 0 < c["rms_slope_error"] <= 1.25 * c["predicted_rms_slope_error"] + 1e-3
+    assert 0 < c["rms_height_error"] <= 1.25 * c["predicted_rms_height_error"] + 1e-3
+    assert c["max_height_error"] < 0.1
+    assert "Simulation, what the view resolves" in obench.summary(tiny_report)
+
+
+def test_the_simulation_comparison_measures_nothing_when_nothing_is_cut(gl_ctx):
+    """Every grid at ocean.fft_size (a fine view texel) and no slow cascade: the two seas are
+    the same computation, and the measured error is zero."""
+    sets = ["ocean.fft_size=64", "ocean.view_texel=0.25", "ocean.refresh_tolerance=0"]
+    session = open_session("ocean", scene_params("ocean", sets=sets), ctx=gl_ctx)
+    try:
+        c = obench.simulation_comparison(session, SIZE, warmup=0, rounds=1, frames=2)
+    finally:
+        session.release()
+    assert c["grids"] == [64, 64, 64] and c["periods_s"] == [0.0, 0.0, 0.0]
+    assert c["rms_height_error"] == 0.0 and c["rms_slope_error"] == 0.0
+    assert c["predicted_rms_slope_error"] == 0.0
+
+
 def test_forward_and_deferred_are_timed_together_and_draw_the_same_sea(tiny_report):
     c = tiny_report["sweep"]["shading"]
     assert c["view_size"] == list(SIZE) and c["rounds"] >= 3

@@ -16,6 +16,8 @@ divided by the field's max |value|):
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -245,6 +247,8 @@ def test_async_readback_lags_one_request(gpu, use_compute):
 
 
 def test_set_spectrum_reallocates_only_on_size_change(gpu):
+    """A cascade's textures are remade only when its own N changes: a new sea of the same
+    sizes, or one cascade fewer, keeps the others'."""
     a = reference(32, (60.0, 20.0))
     sim = make_sim(gpu, a, None)
     disp = list(sim.disp)
@@ -256,7 +260,107 @@ def test_set_spectrum_reallocates_only_on_size_change(gpu):
     worst = worst_errors(sim, fields_at(b, 1.0))
     assert max(worst.values()) < FIELD_TOL
     sim.set_spectrum(b.cascades[:1], 32)
-    assert len(sim.disp) == 1 and sim.disp[0] is not disp[0]
+    assert len(sim.disp) == 1 and sim.disp[0] is disp[0]
+    sim.set_spectrum([b.cascades[0], oc.crop_cascade(b.cascades[1], 16)])
+    assert sim.sizes == [32, 16] and sim.disp[0] is disp[0] and sim.disp[1] is not disp[1]
     assert {a.kind for a in gpu.owned_by("ocean-test")} >= {"texture", "program"}
     sim.release()
     assert gpu.owned_by("ocean-test") == []
+
+
+# -- what the view resolves: cascades of their own N, slow cascades (issue 37) ----------------
+
+BLEND_KEYS = ("height", "disp_x", "disp_z", "slope_x", "slope_z", "ddx_dx", "ddz_dz",
+              "jacobian")
+
+
+def _blend_errors(sim, i: int, ref_a, ref_b, w: float) -> dict[str, float]:
+    got = sim.read_fields(i)
+    return {key: relative_error(got[key], (1.0 - w) * getattr(ref_a, key)
+                                + w * getattr(ref_b, key), key) for key in BLEND_KEYS}
+
+
+@pytest.mark.parametrize("use_compute", PATHS)
+def test_cascades_of_their_own_size_match_numpy(gpu, use_compute):
+    """Each cascade on a grid of its own (the view's choice: a crop of the 32² sea) evolves,
+    transforms and finalises exactly as the numpy synthesis of the same cropped spectrum."""
+    ocean = reference(32, (60.0, 20.0, 6.0))
+    cascades = [ocean.cascades[0], oc.crop_cascade(ocean.cascades[1], 16), ocean.cascades[2]]
+    sim = GpuOceanSim(gpu, "ocean-test", use_compute=use_compute)
+    sim.set_spectrum(cascades)
+    assert sim.sizes == [32, 16, 32] and sim.n == 32
+    sim.update(2.7, 1.0, 1.0 / 30.0)
+    cropped = oc.FFTOcean.from_cascades(ocean.params, cascades)
+    worst = worst_errors(sim, fields_at(cropped, 2.7))
+    assert max(worst.values()) < FIELD_TOL, worst
+    sim.request_readback()
+    _, grids = sim.poll_readback() or sim.read_newest()
+    assert [g.shape for g in grids] == [(32, 32, 4), (16, 16, 4), (32, 32, 4)]
+    sim.release()
+    assert gpu.owned_by("ocean-test") == []
+
+
+@pytest.mark.parametrize("use_compute", PATHS)
+def test_a_slow_cascade_shows_the_blend_of_exact_snapshots(gpu, use_compute):
+    """A slow cascade (period T = 0.25 s at frames of 1/32 s, times exact in binary) shows, at
+    every frame, the linear blend of the exact seas at t_a and t_a + T with w = (t − t_a)/T —
+    its next snapshot computed step by step over the frames before — while a cascade at
+    period 0 stays exact at t; the readback for floating objects is the blend that is drawn."""
+    ocean = reference(32, (60.0, 20.0))
+    sim = make_sim(gpu, ocean, use_compute)
+    period, dt, t0 = 0.25, 1.0 / 32.0, 5.0
+    sim.set_refresh([period, 0.0])
+    assert sim.periods == [period, 0.0]
+    refs = {}
+
+    def at(t):
+        if t not in refs:
+            refs[t] = fields_at(ocean, t)
+        return refs[t]
+
+    for k in range(20):  # two swaps and a half
+        t = t0 + k * dt
+        sim.update(t, 1.0, dt)
+        assert sim.last_work == ["snapshots", "fft"]
+        t_a = t0 + period * math.floor((t - t0) / period)
+        w = (t - t_a) / period
+        worst = _blend_errors(sim, 0, at(t_a)[0], at(t_a + period)[0], w)
+        assert max(worst.values()) < FIELD_TOL, (k, worst)
+        if k in (3, 13):
+            exact = worst_errors_one(sim, 1, at(t)[1])
+            assert max(exact.values()) < FIELD_TOL, (k, exact)
+            sim.request_readback()
+            got = sim.read_newest()[1]
+            blend = (1.0 - w) * at(t_a)[0].height + w * at(t_a + period)[0].height
+            assert relative_error(got[0][..., 1], blend, "height") < FIELD_TOL
+    # back to every frame (the thesis): exact at once
+    sim.set_refresh([0.0, 0.0])
+    sim.update(9.0, 1.0, dt)
+    assert max(worst_errors(sim, at(9.0)).values()) < FIELD_TOL
+    sim.release()
+    assert gpu.owned_by("ocean-test") == []
+
+
+def worst_errors_one(sim, i: int, ref) -> dict[str, float]:
+    got = sim.read_fields(i)
+    return {key: relative_error(got[key], getattr(ref, key), key) for key in FIELDS}
+
+
+def test_a_slow_cascade_starts_over_on_a_new_sea_or_a_jump_in_time(gpu):
+    """New amplitudes or a clock that jumps back: the next frame shows the exact sea at t
+    (snapshot A computed then), never a blend of snapshots of the old sea or the old time."""
+    a = reference(32, (60.0, 20.0))
+    b = reference(32, (60.0, 20.0), seed=11)
+    sim = make_sim(gpu, a, None)
+    sim.set_refresh([0.25, 0.5])
+    for k in range(5):
+        sim.update(1.0 + k / 32.0, 1.0, 1.0 / 32.0)
+    sim.set_spectrum(b.cascades, 32)
+    sim.update(1.2, 1.0, 1.0 / 32.0)
+    new = fields_at(b, 1.2)[0]
+    assert max(_blend_errors(sim, 0, new, new, 0.0).values()) < FIELD_TOL
+    sim.update(0.3, 1.0, -0.9)  # back in time
+    for i in (0, 1):
+        assert max(_blend_errors(sim, i, fields_at(b, 0.3)[i], fields_at(b, 0.3)[i],
+                                 0.0).values()) < FIELD_TOL
+    sim.release()

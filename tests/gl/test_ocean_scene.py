@@ -63,8 +63,9 @@ def test_fft_query_lags_one_frame_and_matches_the_reference(ocean_shot):
     assert s.ocean.query_time == pytest.approx(0.0)  # then the sea of the previous frame
     s.frame(dt=0.5)
     assert s.ocean.query_time == pytest.approx(0.5)
-    ref = oc.FFTOcean(s.ocean.spectrum_params(), n=64, patch_sizes=s.ocean.patch_sizes(),
-                      choppiness=1.0, seed=s.ocean.params["ocean.seed"])
+    # the sea as simulated: each cascade on the grid the view chose (ocean.simulation=view)
+    ref = s.ocean.simulated
+    assert [c.patch_size for c in ref.cascades] == s.ocean.patch_sizes()
     ref.update(0.5)
     rng = np.random.default_rng(5)
     x, z = rng.uniform(-30, 30, 50), rng.uniform(-30, 30, 50)
@@ -283,7 +284,9 @@ def test_whitecap_foam_covers_monahans_fraction(ocean_shot, wind):
     """Beyond the thesis: in whitecap mode each cascade's foam threshold is calibrated on its own
     Jacobian so that foam covers Monahan & O'Muircheartaigh's W = 3.84e-6·U^3.41 (shared
     57/29/14 % over three cascades). Measured here per cascade on the GPU's foam texture."""
-    s = ocean_shot((f"ocean.wind={wind}", "ocean.fft_size=128"))
+    # every cascade on its 128² grid (the view's grids of a tiny shot would count foam in a
+    # few texels)
+    s = ocean_shot((f"ocean.wind={wind}", "ocean.fft_size=128", "ocean.simulation=full"))
     s.frame(dt=0.0)  # no accumulation yet: the foam is the source alone
     target = oc.whitecap_coverage(wind)
     shares = np.array([1.0, 0.5, 0.25]) / 1.75
@@ -292,7 +295,8 @@ def test_whitecap_foam_covers_monahans_fraction(ocean_shot, wind):
         assert covered == pytest.approx(target * share, rel=0.35, abs=2e-4), (i, covered,
                                                                              target * share)
     # the upstream's fixed threshold (J < 0.5) foams far less than a real sea at these winds
-    j = ocean_shot((f"ocean.wind={wind}", "ocean.fft_size=128", "ocean.foam_mode=jacobian"))
+    j = ocean_shot((f"ocean.wind={wind}", "ocean.fft_size=128", "ocean.foam_mode=jacobian",
+                    "ocean.simulation=full"))
     j.frame(dt=0.0)
     assert (max(float((j.ocean.sim.read_fields(i)["foam"] > 0.5).mean()) for i in range(3))
             < 0.5 * target * shares[0])

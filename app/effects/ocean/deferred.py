@@ -97,3 +97,71 @@ class DeferredInputs:
                 self.gpu.free(obj)
         self.fbo = self._clear_fbo = self.rel = self.surf = self.grad = None
         self._size = self._depth = None
+
+
+def screen_rect(view_proj_rel: np.ndarray, bounds: tuple[float, float, float, float],
+                heights: tuple[float, float], size: tuple[int, int]) -> tuple[int, int, int, int]:
+    """The pixels (x, y, width, height) a camera-relative box covers on a ``size`` screen: the
+    box ``bounds`` = (x min, z min, x max, z max) [m, relative to the camera] between the heights
+    ``heights`` [m, relative to the camera], clipped against the near side (w > 0: the parts of
+    the box behind the camera are cut off, not projected through it), then projected; (0, 0, 0,
+    0) when nothing of it is in front of the camera or on screen."""
+    x0, z0, x1, z1 = bounds
+    if not (x1 >= x0 and z1 >= z0):
+        return (0, 0, 0, 0)
+    corners = np.array([(x, y, z, 1.0) for x in (x0, x1) for y in heights for z in (z0, z1)])
+    clip = corners @ np.asarray(view_proj_rel, dtype=float).T
+    eps = 1e-6
+    points = [c for c in clip if c[3] > eps]
+    for i in range(8):
+        for j in range(i + 1, 8):
+            if bin(i ^ j).count("1") != 1:  # the 12 edges join corners differing in one axis
+                continue
+            a, b = clip[i], clip[j]
+            if (a[3] > eps) != (b[3] > eps):
+                f = (eps - a[3]) / (b[3] - a[3])
+                points.append(a + f * (b - a))
+    if not points:
+        return (0, 0, 0, 0)
+    pts = np.array(points)
+    ndc = pts[:, :2] / pts[:, 3:4]
+    lo = np.clip(np.min(ndc, axis=0), -1.0, 1.0)
+    hi = np.clip(np.max(ndc, axis=0), -1.0, 1.0)
+    w, h = size
+    px0, py0 = int(math.floor((lo[0] + 1.0) * 0.5 * w)), int(math.floor((lo[1] + 1.0) * 0.5 * h))
+    px1, py1 = int(math.ceil((hi[0] + 1.0) * 0.5 * w)), int(math.ceil((hi[1] + 1.0) * 0.5 * h))
+    if px1 <= px0 or py1 <= py0:
+        return (0, 0, 0, 0)
+    return (px0, py0, px1 - px0, py1 - py0)
+
+
+class WakeMap:
+    """The deferred pass's wake foam per block of ``stride`` × ``stride`` pixels
+    (``glsl/ocean/wake_map.frag``): an R32F texture of the screen's size over the stride,
+    remade when either changes."""
+
+    def __init__(self, gpu, owner: str):
+        self.gpu = gpu
+        self.owner = owner
+        self.texture: Any = None
+        self.fbo: Any = None
+        self._key: tuple | None = None
+
+    def of(self, size: tuple[int, int], stride: int) -> Any:
+        """The map's framebuffer for a screen of ``size`` at ``stride``, cleared to 0."""
+        key = (int(size[0]), int(size[1]), int(stride))
+        if self.fbo is None or key != self._key:
+            self.release()
+            shape = (-(-key[0] // key[2]), -(-key[1] // key[2]))
+            self.texture = self.gpu.texture(self.owner, "wake map", shape, 1, dtype="f4")
+            self.fbo = self.gpu.framebuffer(self.owner, "wake map", [self.texture])
+            self._key = key
+        self.fbo.clear(0.0, 0.0, 0.0, 0.0)
+        return self.fbo
+
+    def release(self) -> None:
+        for obj in (self.fbo, self.texture):
+            if obj is not None:
+                self.gpu.free(obj)
+        self.fbo = self.texture = None
+        self._key = None

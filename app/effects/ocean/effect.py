@@ -39,7 +39,8 @@ from ...params import Joint, Param
 from ...render.environment import flat_environment
 from ...sim import ocean as oc
 from ..base import Effect, Pass
-from .deferred import DeferredInputs, far_band
+from .deferred import DeferredInputs, WakeMap, far_band, screen_rect
+from .fft import BLEND, RESAMPLE
 from .foam import FoamCalibration
 from .mesh import OceanMesh
 from .params import ocean_params, wind_vector
@@ -72,6 +73,12 @@ def floating(spec: ProgramSpec) -> ProgramSpec:
 
 
 FLOATING = {s.name: floating(s) for s in (SURFACE, SURFACE_INPUTS, SHADE, SHADE_ABOVE)}
+# the deferred shading with the wake read from its map (wake_map.frag: once per block of pixels)
+WAKE_MAP = fullscreen("ocean/wake_map")
+FLOATING_WAKE_MAP = {s.name: ProgramSpec(s.name + "_floating_wake_map", vert=s.vert,
+                                         frag=s.frag, defines=s.defines + (("OCEAN_FLOATING", 1),
+                                                                           ("OCEAN_WAKE_MAP", 1)))
+                     for s in (SHADE, SHADE_ABOVE)}
 # the GPU simulation's programs (app/effects/ocean/fft.py, app/gpu/fft.py), listed so that
 # `natura shaders check` compiles them and their @param annotations are found
 SIMULATION = (
@@ -79,7 +86,7 @@ SIMULATION = (
     ProgramSpec("ocean/ocean_finalize", comp="ocean/ocean_finalize.comp", requires_compute=True),
     ProgramSpec("ocean/direct_sum", comp="ocean/direct_sum.comp", requires_compute=True),
     fullscreen("ocean/spectrum_evolve"), fullscreen("ocean/ocean_finalize"),
-    fullscreen("ocean/direct_sum"),
+    fullscreen("ocean/direct_sum"), BLEND, RESAMPLE,
 ) + gpu_fft.VARIANTS
 
 
@@ -97,7 +104,8 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     title = "Ocean"
     spec = "spec/000"
     programs = (SURFACE, FAR, UNDERWATER, SURFACE_INPUTS, FAR_INPUTS, SHADE,
-                SHADE_ABOVE) + tuple(FLOATING.values()) + SIMULATION
+                SHADE_ABOVE, WAKE_MAP) + tuple(FLOATING.values()) + tuple(
+                    FLOATING_WAKE_MAP.values()) + SIMULATION
     #: water stage seen from above; fog stage near or under the surface (see passes())
     stages = (Stage.WATER, Stage.FOG)
     produces = frozenset({"wind", "water"})
@@ -138,6 +146,7 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         self._scene_copy = ColourCopy(gpu, self.name, "scene copy")
         self._color_copy = ColourCopy(gpu, self.name, "color copy")
         self._inputs = DeferredInputs(gpu, self.name)
+        self._wake_map = WakeMap(gpu, self.name)
         #: NDC rows (bottom, top) the last deferred frame drew the far plane over (None: none)
         self.far_band: tuple[float, float] | None = None
         self._flat_env = None
@@ -150,6 +159,14 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         self.underwater = False
         self.camera_height_water = 0.0
         self._fft_hs = 0.0
+        self._sim_sizes: list[int] = []  # each cascade's grid as simulated (fit_view)
+        self._sim_cascades: list[oc.Cascade] = []
+        self._readback_groups: list = []  # the readback grouped by grid size (queries.py)
+        #: the smallest pixel footprint on the water of the last view [m] (ocean.simulation=view)
+        self.footprint = math.nan
+        self._frame_dt = 1.0 / 30.0  # the frame interval, smoothed (slow cascades)
+        self._bench_clock = 0  # frames the bench's simulate pass has advanced
+        self._bench_sim = None  # (key, GpuOceanSim): the copy the bench times
 
     # -- sea state -------------------------------------------------------------------------
 
@@ -169,6 +186,7 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         model = p["ocean.model"]
         if model == "fft":
             self._ensure_fft()
+            self.fit_view(frame)
             thresholds = self.foam_thresholds()
             self.sim.update(frame.time, p["ocean.choppiness"], dt,
                             foam_threshold=[t for t, _ in thresholds],
@@ -178,8 +196,9 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
             got = self.sim.poll_readback()  # the previous frame's request: no stall
             if got is None:  # the first frame of this sea: read it now (one stall), so floating
                 got = self.sim.read_newest()  # objects and the camera never start on flat water
-            if got is not None:
+            if got is not None and got is not self._readback:
                 self._readback = got
+                self._readback_groups = oc.group_cascade_grids(got[1], self.patch_sizes())
                 self.query_time = got[0]
         else:
             self._release_fft()
@@ -230,9 +249,16 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         lines.append(f"Hs {self.significant_height():.2f} m · slope variance "
                      f"{self.resolved_mss:.4f} (Cox–Munk {self.cox_munk_mss():.4f})")
         if model == "fft" and self.sim is not None:
-            lines.append(f"N {self.fft_size()} × {len(self.patch_sizes())} cascades "
+            sizes = "/".join(str(n) for n in self.sim.sizes)
+            lines.append(f"N {sizes} for {len(self.patch_sizes())} cascades "
                          f"({self.sim.path}); queries lag one frame (t = "
                          f"{self.query_time if self.query_time is not None else '—'})")
+            if self.params["ocean.simulation"] == "view":
+                slow = [f"{i}: every {1e3 * t:.0f} ms" for i, t in enumerate(self.sim.periods)
+                        if t > 0.0]
+                lines.append(f"view: smallest footprint {100.0 * self.footprint:.1f} cm; "
+                             + ("snapshots interpolated for cascade " + ", ".join(slow)
+                                if slow else "every cascade every frame"))
         if self.mesh.built:
             lines.append(f"mesh: {self.drawn_triangles:,} of {self.mesh_triangles:,} triangles "
                          "drawn" + ("; camera under water" if self.underwater else ""))
@@ -331,7 +357,42 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     def _render_deferred(self, frame, target) -> None:
         scene_copy = self._scene_copy.of(target) if self.may_be_underwater() else None
         self._deferred_inputs(frame, target)
-        self._deferred_shade(frame, target, scene_copy)
+        wake_map = self._render_wake_map(frame, target)
+        self._deferred_shade(frame, target, scene_copy, wake_map)
+
+    def _render_wake_map(self, frame, target):
+        """The wake's foam once per block of ``ocean.wake_stride`` pixels (``wake_map.frag``),
+        over the screen rectangle the trail's bounds cover; None without a wake or at stride 1
+        (the shading pass then evaluates it per pixel)."""
+        stride = int(self.params["ocean.wake_stride"])
+        trail = frame.wakes[0] if frame.wakes else None
+        if stride <= 1 or trail is None or len(trail) == 0:
+            return None
+        size = (int(target.size[0]), int(target.size[1]))
+        fbo = self._wake_map.of(size, stride)
+        cam = np.asarray(frame.camera.position, dtype=float)
+        reach = max(self.significant_height(), 0.5)  # crests, and the choppy displacement
+        x0, z0, x1, z1 = trail.bounds(frame.time)
+        rect = screen_rect(self.view_proj_rel(frame),
+                           (x0 - reach - cam[0], z0 - reach - cam[2], x1 + reach - cam[0],
+                            z1 + reach - cam[2]), (-reach - cam[1], reach - cam[1]), size)
+        if rect[2] == 0:
+            return self._wake_map.texture  # the trail is off screen: no foam
+        # in map texels, one of margin for the filtered lookup
+        mw, mh = self._wake_map.texture.size
+        tx0, ty0 = max(rect[0] // stride - 1, 0), max(rect[1] // stride - 1, 0)
+        tx1 = min(-(-(rect[0] + rect[2]) // stride) + 1, mw)
+        ty1 = min(-(-(rect[1] + rect[3]) // stride) + 1, mh)
+        prog = self.program(WAKE_MAP)
+        self.wake_uniforms(prog, frame)
+        prog.set("uWakeStride", stride)
+        prog.bind_textures({"uInputSurf": self._inputs.surf})
+        with self.gpu.ctx.scope(fbo, enable_only=moderngl.NOTHING):
+            fbo.scissor = (tx0, ty0, tx1 - tx0, ty1 - ty0)
+            fbo.use()
+            draw_fullscreen(prog)
+            fbo.scissor = None
+        return self._wake_map.texture
 
     def _deferred_inputs(self, frame, target) -> None:
         """The mesh, then the far plane over its band, write their shading inputs, depth-tested
@@ -356,19 +417,26 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
             far.vao().render(moderngl.TRIANGLE_STRIP, vertices=4)
         ctx.disable(moderngl.DEPTH_TEST)
 
-    def _deferred_shade(self, frame, target, scene_copy) -> None:
+    def _deferred_shade(self, frame, target, scene_copy, wake_map=None) -> None:
         """The shading where the inputs were written: a quad on the far plane, depth-tested
-        GREATER (nothing drawn = depth 1 = rejected), the depth left as the inputs wrote it."""
+        GREATER (nothing drawn = depth 1 = rejected), the depth left as the inputs wrote it;
+        the wake read from ``wake_map`` when given (:meth:`_render_wake_map`)."""
         ctx = self.gpu.ctx
         vp = self.view_proj_rel(frame)
         viewport = tuple(float(s) for s in target.size)
         env = self.environment(frame)  # may render the probe now: before the target is bound
         target.use()
         ctx.enable(moderngl.DEPTH_TEST)
-        shade = self.program(self.variant(SHADE_ABOVE if self.view_mode() == 0 else SHADE, frame))
+        spec = SHADE_ABOVE if self.view_mode() == 0 else SHADE
+        shade = self.program(FLOATING_WAKE_MAP[spec.name] if wake_map is not None
+                             else self.variant(spec, frame))
         textures = self.wave_uniforms(shade)
         textures.update(self.shading_uniforms(shade, frame, env))
-        self.wake_uniforms(shade, frame)
+        if wake_map is not None:
+            textures["uWakeMap"] = wake_map
+            shade.set("uWakeStride", int(self.params["ocean.wake_stride"]))
+        else:
+            self.wake_uniforms(shade, frame)
         textures.update({"uSceneCopy": scene_copy, "uInputRel": self._inputs.rel,
                          "uInputSurf": self._inputs.surf, "uInputGrad": self._inputs.grad})
         shade.bind_textures(textures)
@@ -411,21 +479,53 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         return out
 
     def bench_passes(self, frame, target) -> list[Pass]:
-        """The passes, after the FFT simulation's update (which the frame runs in update())."""
+        """The passes, after the FFT simulation's update (which the frame runs in update()).
+
+        ``ocean.simulate`` runs a copy of the simulation (the same cascades, grids and periods)
+        on a clock of its own that moves 1/30 s a call — the bench's frames stand still, and a
+        slow cascade does nothing while its clock does: this is what a running frame pays,
+        slow cascades included (their snapshot steps spread over the frames, and their blend).
+        A copy, so that the frame's own simulation keeps its clock."""
         out = self.passes(frame, target)
         if self.sim is not None:
             p = self.params
             thresholds = self.foam_thresholds()
-            out.insert(0, Pass("ocean.simulate", lambda: self.sim.update(
-                frame.time, p["ocean.choppiness"], frame.dt,
-                foam_threshold=[t for t, _ in thresholds], foam_decay_time=p["ocean.foam_decay"],
-                foam_width=[w for _, w in thresholds]), self.stage()))
+
+            sim = self._bench_simulation()
+
+            def simulate():
+                self._bench_clock += 1
+                sim.update(frame.time + self._bench_clock / 30.0, p["ocean.choppiness"],
+                           1.0 / 30.0, foam_threshold=[t for t, _ in thresholds],
+                           foam_decay_time=p["ocean.foam_decay"],
+                           foam_width=[w for _, w in thresholds])
+
+            out.insert(0, Pass("ocean.simulate", simulate, self.stage()))
         return out
 
+    def _bench_simulation(self):
+        """The copy of the simulation :meth:`bench_passes` times (remade when the sea, its
+        grids or its periods change)."""
+        from .fft import GpuOceanSim
+
+        key = (self._sim_key, tuple(self.sim.sizes), tuple(self.sim.periods), self.sim.path)
+        if self._bench_sim is None or self._bench_sim[0] != key:
+            if self._bench_sim is not None:
+                self._bench_sim[1].release()
+            sim = GpuOceanSim(self.gpu, self.name, use_compute=self.sim.use_compute)
+            sim.set_spectrum(self._sim_cascades)
+            sim.set_refresh(self.sim.periods)
+            self._bench_sim = (key, sim)
+        return self._bench_sim[1]
+
     def release(self) -> None:
+        if self._bench_sim is not None:
+            self._bench_sim[1].release()
+            self._bench_sim = None
         self._release_fft()
         super().release()
         self._scene_copy.release()
         self._color_copy.release()
         self._inputs.release()
+        self._wake_map.release()
         self._flat_env = None

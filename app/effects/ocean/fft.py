@@ -3,17 +3,24 @@ evolution, inverse FFT and the fields the surface samples, for 1–4 cascades.  
 reference is ``app/sim/ocean.py`` (``evolve_amplitudes``, ``synthesize``, ``foam_step``); the
 tests compare the two field by field (``tests/**/test_ocean_gpu*.py``).
 
-Per frame, :meth:`GpuOceanSim.update` runs three stages (also callable one by one for benches,
-see :meth:`GpuOceanSim.stages`):
+Per frame, :meth:`GpuOceanSim.update` runs three stages per cascade (also callable one by one,
+for every cascade at once, for benches: see :meth:`GpuOceanSim.stages`):
 
 1. **evolve** (``glsl/ocean/spectrum_evolve.*``) — spec/000 eq. 2.11 with the conjugate restored,
    h(k,t) = h₀(k)e^{iωt} + conj h₀(−k)e^{−iωt}, and the eight field spectra (η, λD_x, λD_z,
    ∂η/∂x, ∂η/∂z, λ∂D_x/∂x, λ∂D_z/∂z, λ∂D_x/∂z) packed as four complex fields in two RGBA32F
-   textures per cascade (each field's spectrum is Hermitian, so the packing is exact);
-2. **fft** — :class:`app.gpu.fft.GpuFFT` on all 2·cascades textures;
-3. **finalize** (``glsl/ocean/ocean_finalize.*``) — per cascade ``disp[i]`` = (λD_x, η, λD_z, J),
+   textures (each field's spectrum is Hermitian, so the packing is exact);
+2. **fft** — the cascade's :class:`app.gpu.fft.GpuFFT` on its two textures;
+3. **finalize** (``glsl/ocean/ocean_finalize.*``) — ``disp[i]`` = (λD_x, η, λD_z, J),
    ``deriv[i]`` = (∂η/∂x, ∂η/∂z, λ∂D_x/∂x, λ∂D_z/∂z) (RGBA32F, mipmapped, repeat: they tile
    with period L_i), and ``foam[i]`` (R32F) updated as ``foam_step``; then mipmaps.
+
+Each cascade has a grid of its own size (``sizes``; the ocean effect takes them from what the
+view resolves, :func:`app.sim.ocean.view_cascade_size`), and each may be **slow**
+(:meth:`GpuOceanSim.set_refresh`): it is then not simulated every frame but holds two snapshots
+computed ahead of time and shows their interpolation, computing the next one a few steps per
+frame (``app/effects/ocean/schedule.py``; ``glsl/ocean/cascade_blend.frag``). A slow cascade's
+snapshots are finalised and blended by fragment passes on either path.
 
 Both paths — compute shaders (GL ≥ 4.3) and full-screen fragment passes (GL 3.3) — compute
 the same numbers.  In the fragment path foam ping-pongs between two textures, so the texture
@@ -35,6 +42,7 @@ import numpy as np
 from ...errors import ParamError
 from ...gpu.fft import GpuFFT, check_fft_size, resolve_compute, twiddle_table
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from .schedule import Plan, SnapshotSchedule
 
 MAX_CASCADES = 4
 LOCAL = 8  # work group edge of the ocean compute shaders
@@ -43,6 +51,8 @@ MODE_ROW = 256  # modes per row of the direct-sum mode texture
 EVOLVE = "ocean/spectrum_evolve"
 FINALIZE = "ocean/ocean_finalize"
 DIRECT_SUM = "ocean/direct_sum"
+BLEND = fullscreen("ocean/cascade_blend")
+RESAMPLE = fullscreen("ocean/cascade_blend", defines=(("CASCADE_RESAMPLE", 1),))
 
 FIELD_KEYS = ("height", "disp_x", "disp_z", "jacobian", "slope_x", "slope_z", "ddx_dx", "ddz_dz",
               "ddx_dz", "foam")
@@ -66,12 +76,113 @@ def _rgba(*channels) -> bytes:
     return np.ascontiguousarray(np.stack(channels, axis=-1), dtype=np.float32).tobytes()
 
 
+NEAREST = (moderngl.NEAREST, moderngl.NEAREST)
+MIPMAPPED = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+
+
+class _Snapshots:
+    """A slow cascade's two snapshot texture sets (A and B: displacement, derivatives, foam,
+    unfiltered, and a framebuffer over the three) and its plan."""
+
+    def __init__(self, gpu, owner: str, i: int, n: int, schedule: SnapshotSchedule):
+        self.schedule = schedule
+        self.sets = []
+        for j in range(2):
+            disp = gpu.texture(owner, f"ocean snapshot {i}.{j} displacement", (n, n), 4,
+                               dtype="f4", filter=NEAREST)
+            deriv = gpu.texture(owner, f"ocean snapshot {i}.{j} derivatives", (n, n), 4,
+                                dtype="f4", filter=NEAREST)
+            foam = gpu.texture(owner, f"ocean snapshot {i}.{j} foam", (n, n), 1, dtype="f4",
+                               filter=NEAREST)
+            fbo = gpu.framebuffer(owner, f"ocean snapshot {i}.{j}", [disp, deriv, foam])
+            self.sets.append((disp, deriv, foam, fbo))
+        self.a = 0  # the set holding snapshot A; B is the other
+        self.weight: float | None = None  # the last blend's weight (None: the display is stale)
+
+    @property
+    def objects(self) -> list:
+        return [obj for s in self.sets for obj in s]
+
+
+class _Cascade:
+    """The GL objects of one cascade at one grid size N: its spectrum (h₀, ν, k), its FFT and
+    the textures the surface samples (``disp``, ``deriv``, ``foam``)."""
+
+    def __init__(self, sim: "GpuOceanSim", i: int, n: int):
+        gpu, owner = sim.gpu, sim.owner
+        self.n = n
+        self.objects: list = []
+        own = self.objects.append
+        size = (n, n)
+        self.fft = GpuFFT(gpu, owner, n, count=2, use_compute=sim.use_compute)
+        zeros = np.zeros(size, dtype=np.float32).tobytes()
+        self.h0 = gpu.texture(owner, f"ocean h0 {i}", size, 4, dtype="f4", filter=NEAREST)
+        self.freq = gpu.texture(owner, f"ocean frequency {i}", size, 2, dtype="f4",
+                                filter=NEAREST)
+        self.wave = gpu.texture(owner, f"ocean wave vector {i}", size, 2, dtype="f4",
+                                filter=NEAREST)
+        self.disp = gpu.texture(owner, f"ocean displacement {i}", size, 4, dtype="f4",
+                                filter=MIPMAPPED, repeat=True)
+        self.deriv = gpu.texture(owner, f"ocean derivatives {i}", size, 4, dtype="f4",
+                                 filter=MIPMAPPED, repeat=True)
+        for tex in (self.disp, self.deriv):
+            tex.build_mipmaps()  # allocate every level now: image units need a complete texture
+        self.foam_pair = [gpu.texture(owner, f"ocean foam {i}", size, 1, data=zeros, dtype="f4",
+                                      repeat=True)]
+        if sim.use_compute:
+            self.foam_pair.append(self.foam_pair[0])  # updated in place by the compute pass
+        else:
+            self.foam_pair.append(gpu.texture(owner, f"ocean foam {i} (ping-pong)", size, 1,
+                                              data=zeros, dtype="f4", repeat=True))
+        for obj in (self.h0, self.freq, self.wave, self.disp, self.deriv, self.foam_pair[0]):
+            own(obj)
+        if self.foam_pair[1] is not self.foam_pair[0]:
+            own(self.foam_pair[1])
+        # framebuffers after the textures: released before them (the list is freed backwards)
+        self.evolve_fbo = (None if sim.use_compute else
+                           gpu.framebuffer(owner, f"ocean spectrum {i}", self.fft.textures))
+        if self.evolve_fbo is not None:
+            own(self.evolve_fbo)
+        self.foam_cur = 0
+        # framebuffers over (disp, deriv, foam pair[j]): the fragment finalize, the blend and
+        # the resample write through them (made on first use on the compute path)
+        self._out: list = [None, None]
+        self.cascade = None  # the app.sim.ocean.Cascade uploaded
+        self.snap: _Snapshots | None = None
+        self.modes = None  # direct-sum mode texture, built on first use
+
+    @property
+    def foam(self):
+        return self.foam_pair[self.foam_cur]
+
+    def out_fbo(self, gpu, owner: str, j: int):
+        if self._out[j] is None:
+            self._out[j] = gpu.framebuffer(owner, "ocean cascade output",
+                                           [self.disp, self.deriv, self.foam_pair[j]])
+            self.objects.append(self._out[j])
+        return self._out[j]
+
+    def release(self, gpu) -> None:
+        self.drop_snapshots(gpu)
+        for obj in reversed(self.objects):
+            gpu.free(obj)
+        self.objects.clear()
+        self.fft.release()
+
+    def drop_snapshots(self, gpu) -> None:
+        if self.snap is not None:
+            for obj in reversed(self.snap.objects):
+                gpu.free(obj)
+            self.snap = None
+
+
 class GpuOceanSim:
     """Cascaded Tessendorf ocean on the GPU.
 
-    ``GpuOceanSim(gpu, owner="ocean", use_compute=None)``; ``set_spectrum(cascades, n)`` with
-    :class:`app.sim.ocean.Cascade` objects; ``update(t, choppiness, dt, ...)`` each frame; then
-    sample ``disp[i]``, ``deriv[i]``, ``foam[i]`` (world xz / ``patch_sizes[i]`` as texture
+    ``GpuOceanSim(gpu, owner="ocean", use_compute=None)``; ``set_spectrum(cascades)`` with
+    :class:`app.sim.ocean.Cascade` objects (each on a grid of its own size); optionally
+    ``set_refresh(periods)``; ``update(t, choppiness, dt, ...)`` each frame; then sample
+    ``disp[i]``, ``deriv[i]``, ``foam[i]`` (world xz / ``patch_sizes[i]`` as texture
     coordinates).  Every GL object is allocated through ``gpu`` under ``owner``; ``release()``
     frees them.
     """
@@ -80,139 +191,159 @@ class GpuOceanSim:
         self.gpu = gpu
         self.owner = owner
         self.use_compute = resolve_compute(gpu, use_compute, "ocean.use_compute")
-        self.n: int | None = None
         self.patch_sizes: list[float] = []
         self.time: float | None = None
-        self.disp: list[moderngl.Texture] = []
-        self.deriv: list[moderngl.Texture] = []
-        self._fft: GpuFFT | None = None
-        self._objects: list = []
-        self._programs: dict[str, object] = {}
-        self._cascades: list = []
-        self._h0: list = []
-        self._freq: list = []
-        self._wave: list = []
-        self._foam_tex: list[list[moderngl.Texture]] = []  # [cascade][0 or 1]
-        self._foam_cur = 0
-        self._evolve_fbo: list = []
-        self._finalize_fbo: list[list] = []  # [cascade][foam texture written]
-        self._modes: list | None = None  # direct-sum mode textures, built on first use
-        self._phase_table = None
+        self._c: list[_Cascade] = []
+        self._programs: dict[object, object] = {}
+        self._phase_tables: dict[int, object] = {}
         self._pbo: list[list] = []
         self._rb_next = 0
         self._rb_pending: tuple | None = None  # (time, slot) of the newest request
         self._rb_previous: tuple | None = None  # (time, slot) of the one before, not yet read
         self._rb_latest: tuple | None = None  # what poll_readback returns
+        #: per cascade: "fft" (simulated this frame), "snapshots" (a slow cascade's plan ran)
+        self.last_work: list[str] = []
 
     # -- resources -------------------------------------------------------------------------
     @property
     def cascade_count(self) -> int:
-        return len(self.disp)
+        return len(self._c)
+
+    @property
+    def n(self) -> int | None:
+        """The largest grid size of the cascades (all of them, unless the view chose less)."""
+        return max(c.n for c in self._c) if self._c else None
+
+    @property
+    def sizes(self) -> list[int]:
+        """Each cascade's grid size N."""
+        return [c.n for c in self._c]
+
+    @property
+    def disp(self) -> list[moderngl.Texture]:
+        return [c.disp for c in self._c]
+
+    @property
+    def deriv(self) -> list[moderngl.Texture]:
+        return [c.deriv for c in self._c]
 
     @property
     def foam(self) -> list[moderngl.Texture]:
         """The current foam texture of each cascade (R32F, in [0, 1])."""
-        return [pair[self._foam_cur] for pair in self._foam_tex]
+        return [c.foam for c in self._c]
+
+    @property
+    def periods(self) -> list[float]:
+        """Each cascade's snapshot period [s] (0: simulated every frame)."""
+        return [c.snap.schedule.period if c.snap is not None else 0.0 for c in self._c]
 
     @property
     def path(self) -> str:
         return "compute" if self.use_compute else "fragment"
 
-    def _own(self, obj):
-        self._objects.append(obj)
-        return obj
-
-    def _program(self, name: str):
-        prog = self._programs.get(name)
+    def _program(self, name, compute: bool | None = None):
+        """``name`` on this simulation's path (``compute`` forces one), or a ProgramSpec."""
+        use = self.use_compute if compute is None else compute
+        key = name if isinstance(name, ProgramSpec) else (name, use)
+        prog = self._programs.get(key)
         if prog is None:
-            spec = ProgramSpec(name, comp=f"{name}.comp") if self.use_compute else fullscreen(name)
+            if isinstance(name, ProgramSpec):
+                spec = name
+            else:
+                spec = ProgramSpec(name, comp=f"{name}.comp") if use else fullscreen(name)
             prog = self.gpu.program(self.owner, spec)
-            self._programs[name] = prog
+            self._programs[key] = prog
         return prog
 
     def _free_arrays(self) -> None:
-        for obj in reversed(self._objects):
-            self.gpu.free(obj)
-        self._objects.clear()
-        if self._fft is not None:
-            self._fft.release()
-            self._fft = None
-        self.disp, self.deriv = [], []
-        self._h0, self._freq, self._wave = [], [], []
-        self._foam_tex, self._evolve_fbo, self._finalize_fbo = [], [], []
-        self._modes = None
-        self._phase_table = None
+        for c in self._c:
+            c.release(self.gpu)
+        self._c = []
+        for tex in self._phase_tables.values():
+            self.gpu.free(tex)
+        self._phase_tables = {}
+        self._free_readback()
+
+    def _free_readback(self) -> None:
+        for slot in self._pbo:
+            for buf in slot:
+                self.gpu.free(buf)
         self._pbo = []
         self._rb_pending = self._rb_previous = self._rb_latest = None
-        self._foam_cur = 0
 
-    def _allocate(self, n: int, count: int) -> None:
-        gpu, owner = self.gpu, self.owner
-        nearest = (moderngl.NEAREST, moderngl.NEAREST)
-        size = (n, n)
-        self._fft = GpuFFT(gpu, owner, n, count=2 * count, use_compute=self.use_compute)
-        zeros = np.zeros((n, n), dtype=np.float32).tobytes()
-        for i in range(count):
-            self._h0.append(self._own(gpu.texture(owner, f"ocean h0 {i}", size, 4, dtype="f4",
-                                                  filter=nearest)))
-            self._freq.append(self._own(gpu.texture(owner, f"ocean frequency {i}", size, 2,
-                                                    dtype="f4", filter=nearest)))
-            self._wave.append(self._own(gpu.texture(owner, f"ocean wave vector {i}", size, 2,
-                                                    dtype="f4", filter=nearest)))
-            for lst, name in ((self.disp, "displacement"), (self.deriv, "derivatives")):
-                tex = self._own(gpu.texture(owner, f"ocean {name} {i}", size, 4, dtype="f4",
-                                            filter=(moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR),
-                                            repeat=True))
-                tex.build_mipmaps()  # allocate every level now: image units need a complete texture
-                lst.append(tex)
-            pair = [self._own(gpu.texture(owner, f"ocean foam {i}", size, 1, data=zeros,
-                                          dtype="f4", repeat=True))]
-            if not self.use_compute:
-                pair.append(self._own(gpu.texture(owner, f"ocean foam {i} (ping-pong)", size, 1,
-                                                  data=zeros, dtype="f4", repeat=True)))
-                fields = self._fft.textures[2 * i: 2 * i + 2]
-                self._evolve_fbo.append(self._own(gpu.framebuffer(owner, f"ocean spectrum {i}",
-                                                                  fields)))
-                self._finalize_fbo.append([
-                    self._own(gpu.framebuffer(owner, f"ocean finalize {i}.{j}",
-                                              [self.disp[i], self.deriv[i], pair[j]]))
-                    for j in range(2)])
-            else:
-                pair.append(pair[0])  # foam is updated in place by the compute pass
-            self._foam_tex.append(pair)
-        self.n = n
-
-    def set_spectrum(self, cascades: Sequence, n: int) -> None:
+    def set_spectrum(self, cascades: Sequence, n: int | None = None) -> None:
         """Upload h₀(k), conj h₀(−k), ω(k) and (k_x, k_z) of 1–4 :class:`app.sim.ocean.Cascade`
-        (arrays (N, N) in numpy FFT order, [iz, ix]).  GL objects are re-allocated (and foam
-        cleared) only when N or the cascade count changes."""
-        n = check_fft_size(n)
+        (arrays (N, N) in numpy FFT order, [iz, ix]; each cascade's N its own, or all ``n``).
+        A cascade's GL objects are re-allocated only when its N changes; its foam is then carried
+        into the new grid (same tile), and cleared only when its tile size changed too. A slow
+        cascade starts its snapshots over."""
         cascades = list(cascades)
         if not 1 <= len(cascades) <= MAX_CASCADES:
             raise ParamError(f"ocean.cascades: {len(cascades)} is outside the allowed range "
                              f"[1, {MAX_CASCADES}]")
+        sizes = []
         for i, c in enumerate(cascades):
+            size = n if n is not None else int(np.shape(c.h0)[-1])
+            check_fft_size(size)
             for name in ("h0", "omega", "kx", "kz"):
                 shape = np.shape(getattr(c, name))
-                if shape != (n, n):
+                if shape != (size, size):
                     raise ParamError(f"ocean.cascade {i}: {name} has shape {shape}, expected "
-                                     f"({n}, {n})")
-        if self.n != n or self.cascade_count != len(cascades):
-            self._free_arrays()
-            self._allocate(n, len(cascades))
-        for i, c in enumerate(cascades):
+                                     f"({size}, {size})")
+            sizes.append(int(size))
+        for old in self._c[len(cascades):]:
+            old.release(self.gpu)
+        del self._c[len(cascades):]
+        resized = False
+        for i, (c, size) in enumerate(zip(cascades, sizes)):
+            old = self._c[i] if i < len(self._c) else None
+            if old is None or old.n != size:
+                new = _Cascade(self, i, size)
+                if old is not None:
+                    if old.cascade is not None and old.cascade.patch_size == c.patch_size:
+                        self._resample_foam(old, new)
+                    old.release(self.gpu)
+                    self._c[i] = new
+                else:
+                    self._c.append(new)
+                resized = True
+            cg = self._c[i]
             h0 = np.asarray(c.h0, dtype=np.complex128)
             h0m = np.conj(negate_index(h0))
-            self._h0[i].write(_rgba(h0.real, h0.imag, h0m.real, h0m.imag))
+            cg.h0.write(_rgba(h0.real, h0.imag, h0m.real, h0m.imag))
             nu_hi, nu_lo = split_hi_lo(np.asarray(c.omega, dtype=np.float64) / (2.0 * np.pi))
-            self._freq[i].write(_rgba(nu_hi, nu_lo))
-            self._wave[i].write(_rgba(c.kx, c.kz))
-        self._cascades = cascades
+            cg.freq.write(_rgba(nu_hi, nu_lo))
+            cg.wave.write(_rgba(c.kx, c.kz))
+            cg.cascade = c
+            if cg.modes is not None:
+                self.gpu.free(cg.modes)
+                cg.modes = None
+            if cg.snap is not None:
+                cg.snap.schedule.t_a = None  # the snapshots are of the old sea
         self.patch_sizes = [float(c.patch_size) for c in cascades]
-        for tex in self._modes or []:
-            self.gpu.free(tex)
-            self._objects.remove(tex)
-        self._modes = None
+        if resized:
+            self._free_readback()
+
+    def set_refresh(self, periods: Sequence[float]) -> None:
+        """Each cascade's snapshot period T [s]: 0 simulates it every frame (the thesis), T > 0
+        makes it slow — two snapshots T apart, interpolated (``app/effects/ocean/schedule.py``).
+        A changed period starts that cascade's snapshots over."""
+        self._require()
+        periods = [float(p) for p in periods]
+        if len(periods) != self.cascade_count:
+            raise ParamError(f"ocean refresh periods: {len(periods)} values for "
+                             f"{self.cascade_count} cascades")
+        for i, (c, period) in enumerate(zip(self._c, periods)):
+            if not (math.isfinite(period) and period >= 0.0):
+                raise ParamError(f"ocean refresh period {period!r} s is outside the allowed "
+                                 "range [0, inf)")
+            if period == 0.0:
+                c.drop_snapshots(self.gpu)
+            elif c.snap is None:
+                steps = 1 + len(c.fft.steps())
+                c.snap = _Snapshots(self.gpu, self.owner, i, c.n, SnapshotSchedule(period, steps))
+            elif c.snap.schedule.period != period:
+                c.snap.schedule = SnapshotSchedule(period, c.snap.schedule.steps)
 
     def release(self) -> None:
         """Free every GL object this simulation allocated."""
@@ -221,14 +352,12 @@ class GpuOceanSim:
             if any(a.obj is prog and a.owner == self.owner for a in self.gpu.allocations):
                 self.gpu.free(prog)  # forgets the record; programs stay in the shared library
         self._programs.clear()
-        self.n = None
         self.patch_sizes = []
-        self._cascades = []
 
     # -- the stages ------------------------------------------------------------------------
     def _require(self) -> None:
-        if self.n is None:
-            raise RuntimeError("GpuOceanSim.set_spectrum(cascades, n) must be called first")
+        if not self._c:
+            raise RuntimeError("GpuOceanSim.set_spectrum(cascades) must be called first")
 
     @staticmethod
     def _check_choppiness(choppiness: float) -> float:
@@ -236,61 +365,57 @@ class GpuOceanSim:
             raise ParamError(f"ocean.choppiness: {choppiness} is outside the allowed range [0, 4]")
         return float(choppiness)
 
-    def _set_spectrum_uniforms(self, prog, i: int, t: float, choppiness: float) -> dict:
-        """Set the evolution uniforms of cascade i; returns its spectrum textures by sampler."""
+    @staticmethod
+    def _set_spectrum_uniforms(prog, c: _Cascade, t: float, choppiness: float) -> dict:
+        """Set the evolution uniforms of cascade ``c``; returns its spectrum textures."""
         t_hi, t_lo = split_hi_lo(float(t))
         prog.set("uTime", (float(t_hi), float(t_lo)))
         prog.set("uChoppiness", choppiness)
-        prog.set("uN", self.n)
-        return {"uH0": self._h0[i], "uFrequency": self._freq[i], "uWaveVector": self._wave[i]}
+        prog.set("uN", c.n)
+        return {"uH0": c.h0, "uFrequency": c.freq, "uWaveVector": c.wave}
 
-    def _groups(self) -> int:
-        return (self.n + LOCAL - 1) // LOCAL
-
-    def _write_fields(self, prog, i: int, extra_setup: Callable | None = None) -> None:
-        """Run ``prog`` for cascade i, writing its two field textures (the FFT's data)."""
-        fields = self._fft.textures[2 * i: 2 * i + 2]
-        prog.bind_textures(extra_setup(prog, i) if extra_setup else {})
+    def _write_fields(self, prog, c: _Cascade, textures: dict) -> None:
+        """Run ``prog`` for cascade ``c``, writing its two field textures (the FFT's data)."""
+        prog.bind_textures(textures)
         if self.use_compute:
-            fields[0].bind_to_image(0, read=False, write=True)
-            fields[1].bind_to_image(1, read=False, write=True)
-            prog.program.run(self._groups(), self._groups(), 1)
+            c.fft.textures[0].bind_to_image(0, read=False, write=True)
+            c.fft.textures[1].bind_to_image(1, read=False, write=True)
+            groups = (c.n + LOCAL - 1) // LOCAL
+            prog.program.run(groups, groups, 1)
+            self.gpu.ctx.memory_barrier()
         else:
-            self._evolve_fbo[i].use()
-            draw_fullscreen(prog)
+            with self.gpu.ctx.scope(c.evolve_fbo, enable_only=moderngl.NOTHING):
+                c.evolve_fbo.use()
+                draw_fullscreen(prog)
 
-    def _run_per_cascade(self, prog, setup: Callable) -> None:
-        ctx = self.gpu.ctx
-        if self.use_compute:
-            for i in range(self.cascade_count):
-                self._write_fields(prog, i, setup)
-            ctx.memory_barrier()
-        else:
-            with ctx.scope(self._evolve_fbo[0], enable_only=moderngl.NOTHING):
-                for i in range(self.cascade_count):
-                    self._write_fields(prog, i, setup)
+    def _evolve_one(self, c: _Cascade, t: float, lam: float) -> None:
+        prog = self._program(EVOLVE)
+        self._write_fields(prog, c, self._set_spectrum_uniforms(prog, c, t, lam))
 
     def evolve(self, t: float, choppiness: float) -> None:
         """Stage 1: h(k,t) and the packed field spectra of every cascade at time t [s]."""
         self._require()
         lam = self._check_choppiness(choppiness)
-        prog = self._program(EVOLVE)
-        self._run_per_cascade(prog, lambda p, i: self._set_spectrum_uniforms(p, i, t, lam))
+        for c in self._c:
+            self._evolve_one(c, t, lam)
+            self._stale(c)
         self.time = float(t)
 
     def fft(self) -> None:
-        """Stage 2: inverse FFT of all 2·cascades field textures."""
+        """Stage 2: inverse FFT of every cascade's two field textures."""
         self._require()
-        self._fft.inverse()
+        for c in self._c:
+            c.fft.inverse()
+            self._stale(c)
 
-    def finalize(self, dt: float = 0.0, foam_threshold=0.5, foam_decay_time: float = 2.0,
-                 update_foam: bool = True, foam_width=None) -> None:
-        """Stage 3: ``disp``, ``deriv`` (then their mipmaps) and foam from the fields.
+    @staticmethod
+    def _stale(c: _Cascade) -> None:
+        """A slow cascade's FFT textures were used for something else: its snapshot in
+        progress is lost, its plan starts over."""
+        if c.snap is not None:
+            c.snap.schedule.t_a = None
 
-        Foam: e^{−dt/τ} decay, raised to clip((threshold − J)/width, 0, 1) (width = threshold
-        unless given); threshold and width may be one number or one per cascade. dt ≤ 0 (or NaN)
-        neither decays nor grows it.  ``update_foam=False`` carries foam over unchanged."""
-        self._require()
+    def _foam_settings(self, foam_threshold, foam_width, foam_decay_time):
         thresholds = self._per_cascade(foam_threshold, "ocean.foam_threshold")
         widths = (thresholds if foam_width is None
                   else self._per_cascade(foam_width, "ocean.foam_width"))
@@ -304,49 +429,161 @@ class GpuOceanSim:
         if not (foam_decay_time > 0):  # inf is allowed: foam never decays
             raise ParamError(f"ocean.foam_decay_time: {foam_decay_time} s is outside the allowed "
                              "range (0, inf]")
+        return thresholds, widths
+
+    @staticmethod
+    def _decay(dt: float, foam_decay_time: float) -> float:
         dt = float(dt) if (dt == dt and dt > 0) else 0.0
-        decay = math.exp(-dt / foam_decay_time)
+        return math.exp(-dt / foam_decay_time)
+
+    def _finalize_display(self, c: _Cascade, decay: float, threshold: float, width: float,
+                          update_foam: bool = True) -> None:
+        """Cascade ``c``'s FFT fields into the textures the surface samples (and its foam)."""
         prog = self._program(FINALIZE)
         prog.set("uFoamDecay", decay)
         prog.set("uFoamUpdate", 1 if update_foam else 0)
-        prog.set("uN", self.n)
+        prog.set("uN", c.n)
+        prog.set("uFoamThreshold", threshold)
+        prog.set("uFoamWidth", width)
         ctx = self.gpu.ctx
         if self.use_compute:
-            for i in range(self.cascade_count):
-                prog.set("uFoamThreshold", thresholds[i])
-                prog.set("uFoamWidth", widths[i])
-                fields = self._fft.textures[2 * i: 2 * i + 2]
-                fields[0].bind_to_image(0, read=True, write=False)
-                fields[1].bind_to_image(1, read=True, write=False)
-                self.disp[i].bind_to_image(2, read=False, write=True)
-                self.deriv[i].bind_to_image(3, read=False, write=True)
-                self._foam_tex[i][0].bind_to_image(4, read=True, write=True)
-                prog.program.run(self._groups(), self._groups(), 1)
+            c.fft.textures[0].bind_to_image(0, read=True, write=False)
+            c.fft.textures[1].bind_to_image(1, read=True, write=False)
+            c.disp.bind_to_image(2, read=False, write=True)
+            c.deriv.bind_to_image(3, read=False, write=True)
+            c.foam_pair[0].bind_to_image(4, read=True, write=True)
+            groups = (c.n + LOCAL - 1) // LOCAL
+            prog.program.run(groups, groups, 1)
             ctx.memory_barrier()
         else:
-            src = self._foam_cur
-            with ctx.scope(self._finalize_fbo[0][1 - src], enable_only=moderngl.NOTHING):
-                for i in range(self.cascade_count):
-                    prog.set("uFoamThreshold", thresholds[i])
-                    prog.set("uFoamWidth", widths[i])
-                    self._finalize_fbo[i][1 - src].use()
-                    fields = self._fft.textures[2 * i: 2 * i + 2]
-                    prog.bind_textures({"uFields0": fields[0], "uFields1": fields[1],
-                                        "uFoamBefore": self._foam_tex[i][src]})
-                    draw_fullscreen(prog)
-            self._foam_cur = 1 - src
-        for tex in self.disp + self.deriv:
-            tex.build_mipmaps()
-        for tex in self.foam:  # mip-mapped too: seen from afar, foam must average, not sparkle
-            tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-            tex.build_mipmaps()
+            src = c.foam_cur
+            fbo = c.out_fbo(self.gpu, self.owner, 1 - src)
+            with ctx.scope(fbo, enable_only=moderngl.NOTHING):
+                fbo.use()
+                prog.bind_textures({"uFields0": c.fft.textures[0], "uFields1": c.fft.textures[1],
+                                    "uFoamBefore": c.foam_pair[src]})
+                draw_fullscreen(prog)
+            c.foam_cur = 1 - src
+
+    @staticmethod
+    def _mipmaps(c: _Cascade) -> None:
+        c.disp.build_mipmaps()
+        c.deriv.build_mipmaps()
+        # mip-mapped too: seen from afar, foam must average, not sparkle
+        c.foam.filter = MIPMAPPED
+        c.foam.build_mipmaps()
+
+    def finalize(self, dt: float = 0.0, foam_threshold=0.5, foam_decay_time: float = 2.0,
+                 update_foam: bool = True, foam_width=None) -> None:
+        """Stage 3: ``disp``, ``deriv`` (then their mipmaps) and foam from the fields.
+
+        Foam: e^{−dt/τ} decay, raised to clip((threshold − J)/width, 0, 1) (width = threshold
+        unless given); threshold and width may be one number or one per cascade. dt ≤ 0 (or NaN)
+        neither decays nor grows it.  ``update_foam=False`` carries foam over unchanged."""
+        self._require()
+        thresholds, widths = self._foam_settings(foam_threshold, foam_width, foam_decay_time)
+        decay = self._decay(dt, foam_decay_time)
+        for c, threshold, width in zip(self._c, thresholds, widths):
+            self._finalize_display(c, decay, threshold, width, update_foam)
+            self._stale(c)
+        for c in self._c:
+            self._mipmaps(c)
 
     def update(self, t: float, choppiness: float, dt: float, foam_threshold=0.5,
                foam_decay_time: float = 2.0, foam_width=None) -> None:
-        """One frame at time t [s]: evolve, FFT, finalize (foam advanced by dt [s])."""
-        self.evolve(t, choppiness)
-        self.fft()
-        self.finalize(dt, foam_threshold, foam_decay_time, foam_width=foam_width)
+        """One frame at time t [s]: every cascade evolved, transformed and finalised (foam
+        advanced by dt [s]) — or, for a slow cascade, its snapshot plan for this frame and the
+        blend of its two snapshots."""
+        self._require()
+        lam = self._check_choppiness(choppiness)
+        thresholds, widths = self._foam_settings(foam_threshold, foam_width, foam_decay_time)
+        decay = self._decay(dt, foam_decay_time)
+        self.last_work = []
+        for c, threshold, width in zip(self._c, thresholds, widths):
+            if c.snap is None:
+                self._evolve_one(c, t, lam)
+                c.fft.inverse()
+                self._finalize_display(c, decay, threshold, width)
+                self._mipmaps(c)
+                self.last_work.append("fft")
+            else:
+                key = (lam, threshold, width, foam_decay_time)
+                plan = c.snap.schedule.plan(float(t), float(dt), key)
+                self._run_plan(c, plan, t, dt, lam, threshold, width, foam_decay_time)
+                self.last_work.append("snapshots")
+        self.time = float(t)
+
+    def _run_plan(self, c: _Cascade, plan: Plan, t: float, dt: float, lam: float,
+                  threshold: float, width: float, tau: float) -> None:
+        snap = c.snap
+        period = snap.schedule.period
+        steps = c.fft.steps()
+        if plan.reset:
+            # A at t from the foam shown so far, B at t + T from A's: both now
+            for j, (when, foam_before, foam_dt) in enumerate(
+                    ((t, c.foam, dt), (t + period, None, period))):
+                self._evolve_one(c, when, lam)
+                c.fft.inverse()
+                before = foam_before if foam_before is not None else snap.sets[snap.a][2]
+                self._finalize_snapshot(c, snap.sets[(snap.a + j) % 2], before,
+                                        self._decay(foam_dt, tau), threshold, width)
+        for action in plan.actions:
+            if action.kind == "step":
+                if action.index == 0:
+                    self._evolve_one(c, action.time, lam)
+                else:
+                    steps[action.index - 1]()
+            else:  # swap: C into A's set, from B's foam decayed over T
+                b = snap.sets[1 - snap.a]
+                self._finalize_snapshot(c, snap.sets[snap.a], b[2], self._decay(period, tau),
+                                        threshold, width)
+                snap.a = 1 - snap.a
+        if plan.reset or plan.actions or snap.weight != plan.weight:
+            self._blend(c, plan.weight)
+            snap.weight = plan.weight
+
+    def _finalize_snapshot(self, c: _Cascade, dest, foam_before, decay: float, threshold: float,
+                           width: float) -> None:
+        """The FFT fields into a snapshot set (the fragment finalize on either path)."""
+        prog = self._program(FINALIZE, compute=False)
+        prog.set_many({"uFoamDecay": decay, "uFoamUpdate": 1, "uN": c.n,
+                       "uFoamThreshold": threshold, "uFoamWidth": width})
+        fbo = dest[3]
+        with self.gpu.ctx.scope(fbo, enable_only=moderngl.NOTHING):
+            fbo.use()
+            prog.bind_textures({"uFields0": c.fft.textures[0], "uFields1": c.fft.textures[1],
+                                "uFoamBefore": foam_before})
+            draw_fullscreen(prog)
+
+    def _blend(self, c: _Cascade, weight: float) -> None:
+        """The surface's textures of a slow cascade: A + w·(B − A), then their mipmaps."""
+        snap = c.snap
+        a, b = snap.sets[snap.a], snap.sets[1 - snap.a]
+        prog = self._program(BLEND)
+        prog.set("uWeight", float(weight))
+        prog.set("uN", c.n)
+        j = 0 if self.use_compute else 1 - c.foam_cur
+        fbo = c.out_fbo(self.gpu, self.owner, j)
+        with self.gpu.ctx.scope(fbo, enable_only=moderngl.NOTHING):
+            fbo.use()
+            prog.bind_textures({"uDispA": a[0], "uDispB": b[0], "uDerivA": a[1],
+                                "uDerivB": b[1], "uFoamA": a[2], "uFoamB": b[2]})
+            draw_fullscreen(prog)
+        c.foam_cur = j
+        self._mipmaps(c)
+
+    def _resample_foam(self, old: _Cascade, new: _Cascade) -> None:
+        """``old``'s foam (same tile, another N) into ``new``'s current foam texture."""
+        prog = self._program(RESAMPLE)
+        prog.set("uWeight", 0.0)
+        prog.set("uN", new.n)
+        fbo = new.out_fbo(self.gpu, self.owner, new.foam_cur)
+        with self.gpu.ctx.scope(fbo, enable_only=moderngl.NOTHING):
+            fbo.use()
+            prog.bind_textures({"uDispA": old.disp, "uDispB": old.disp, "uDerivA": old.deriv,
+                                "uDerivB": old.deriv, "uFoamA": old.foam, "uFoamB": old.foam})
+            draw_fullscreen(prog)
+        self._mipmaps(new)
 
     def _per_cascade(self, value, what: str) -> list[float]:
         if isinstance(value, (int, float)):
@@ -366,46 +603,46 @@ class GpuOceanSim:
         }
 
     # -- direct summation (bench reference) ------------------------------------------------
-    def _build_modes(self) -> None:
-        n = self.n
+    def _build_modes(self, i: int, c: _Cascade) -> None:
+        n = c.n
         nyquist = np.zeros((n, n), dtype=bool)
         nyquist[n // 2, :] = nyquist[:, n // 2] = True
-        self._modes = []
-        for i, c in enumerate(self._cascades):
-            h0 = np.asarray(c.h0, dtype=np.complex128)
-            h0m = np.conj(negate_index(h0))
-            iz, ix = np.nonzero(((h0 != 0) | (h0m != 0)) & ~nyquist)
-            count = len(ix)
-            width = max(1, min(count, MODE_ROW))
-            rows = max(1, -(-count // width))
-            data = np.zeros((rows * width, 3, 4), dtype=np.float32)
-            nu_hi, nu_lo = split_hi_lo(np.asarray(c.omega, dtype=np.float64)[iz, ix]
-                                       / (2.0 * np.pi))
-            data[:count, 0] = np.stack([h0.real[iz, ix], h0.imag[iz, ix],
-                                        h0m.real[iz, ix], h0m.imag[iz, ix]], -1)
-            data[:count, 1] = np.stack([np.asarray(c.kx)[iz, ix], np.asarray(c.kz)[iz, ix],
-                                        nu_hi, nu_lo], -1)
-            data[:count, 2, 0] = ix
-            data[:count, 2, 1] = iz
-            tex = self._own(self.gpu.texture(self.owner, f"ocean direct-sum modes {i}",
-                                             (3 * width, rows), 4,
-                                             data=data.reshape(rows, width * 3, 4).tobytes(),
-                                             dtype="f4",
-                                             filter=(moderngl.NEAREST, moderngl.NEAREST)))
-            tex.extra = {"modes": count, "width": width}
-            self._modes.append(tex)
-        if self._phase_table is None:
-            self._phase_table = self._own(self.gpu.texture(
-                self.owner, "ocean direct-sum phases", (n, 1), 2,
-                data=twiddle_table(n, n).tobytes(), dtype="f4",
-                filter=(moderngl.NEAREST, moderngl.NEAREST)))
+        cascade = c.cascade
+        h0 = np.asarray(cascade.h0, dtype=np.complex128)
+        h0m = np.conj(negate_index(h0))
+        iz, ix = np.nonzero(((h0 != 0) | (h0m != 0)) & ~nyquist)
+        count = len(ix)
+        width = max(1, min(count, MODE_ROW))
+        rows = max(1, -(-count // width))
+        data = np.zeros((rows * width, 3, 4), dtype=np.float32)
+        nu_hi, nu_lo = split_hi_lo(np.asarray(cascade.omega, dtype=np.float64)[iz, ix]
+                                   / (2.0 * np.pi))
+        data[:count, 0] = np.stack([h0.real[iz, ix], h0.imag[iz, ix],
+                                    h0m.real[iz, ix], h0m.imag[iz, ix]], -1)
+        data[:count, 1] = np.stack([np.asarray(cascade.kx)[iz, ix],
+                                    np.asarray(cascade.kz)[iz, ix], nu_hi, nu_lo], -1)
+        data[:count, 2, 0] = ix
+        data[:count, 2, 1] = iz
+        tex = self.gpu.texture(self.owner, f"ocean direct-sum modes {i}", (3 * width, rows), 4,
+                               data=data.reshape(rows, width * 3, 4).tobytes(), dtype="f4",
+                               filter=NEAREST)
+        tex.extra = {"modes": count, "width": width}
+        c.modes = tex
+        c.objects.append(tex)
+        if n not in self._phase_tables:
+            self._phase_tables[n] = self.gpu.texture(
+                self.owner, f"ocean direct-sum phases {n}", (n, 1), 2,
+                data=twiddle_table(n, n).tobytes(), dtype="f4", filter=NEAREST)
+
+    def _modes_of(self, i: int, c: _Cascade):
+        if c.modes is None:
+            self._build_modes(i, c)
+        return c.modes
 
     def mode_counts(self) -> list[int]:
         """Non-zero modes per cascade (what :meth:`direct_sum` sums over)."""
         self._require()
-        if self._modes is None:
-            self._build_modes()
-        return [tex.extra["modes"] for tex in self._modes]
+        return [self._modes_of(i, c).extra["modes"] for i, c in enumerate(self._c)]
 
     def direct_sum(self, t: float, choppiness: float) -> None:
         """The same fields by direct summation over every non-zero mode (no FFT), written into
@@ -414,18 +651,15 @@ class GpuOceanSim:
         Cost O(N²·modes) per cascade — a reference for benches at N ≤ 128, not a renderer."""
         self._require()
         lam = self._check_choppiness(choppiness)
-        if self._modes is None:
-            self._build_modes()
         prog = self._program(DIRECT_SUM)
-
-        def setup(p, i):
-            textures = self._set_spectrum_uniforms(p, i, t, lam)
-            tex = self._modes[i]
-            p.set("uModeCount", tex.extra["modes"])
-            p.set("uModeWidth", tex.extra["width"])
-            return {**textures, "uModes": tex, "uPhaseTable": self._phase_table}
-
-        self._run_per_cascade(prog, setup)
+        for i, c in enumerate(self._c):
+            tex = self._modes_of(i, c)
+            textures = self._set_spectrum_uniforms(prog, c, t, lam)
+            prog.set("uModeCount", tex.extra["modes"])
+            prog.set("uModeWidth", tex.extra["width"])
+            self._write_fields(prog, c, {**textures, "uModes": tex,
+                                         "uPhaseTable": self._phase_tables[c.n]})
+            self._stale(c)
         self.time = float(t)
         self.finalize(0.0, update_foam=False)
 
@@ -433,20 +667,23 @@ class GpuOceanSim:
     def read_fields(self, i: int) -> dict[str, np.ndarray]:
         """Synchronous readback of cascade i (stalls the GPU; for tests and tools): float32
         arrays [iz, ix] ``height, disp_x, disp_z, jacobian, slope_x, slope_z, ddx_dx, ddz_dz,
-        ddx_dz, foam`` (displacements and their derivatives already times λ)."""
+        ddx_dz, foam`` (displacements and their derivatives already times λ). ``ddx_dz`` is
+        read from the FFT's output, which a slow cascade uses for its next snapshot: NaN there."""
         self._require()
-        n = self.n
-        disp = np.frombuffer(self.disp[i].read(level=0), dtype=np.float32).reshape(n, n, 4)
-        deriv = np.frombuffer(self.deriv[i].read(level=0), dtype=np.float32).reshape(n, n, 4)
-        foam = np.frombuffer(self.foam[i].read(), dtype=np.float32).reshape(n, n)
-        fields1 = self._fft.read(2 * i + 1)
+        c = self._c[i]
+        n = c.n
+        disp = np.frombuffer(c.disp.read(level=0), dtype=np.float32).reshape(n, n, 4)
+        deriv = np.frombuffer(c.deriv.read(level=0), dtype=np.float32).reshape(n, n, 4)
+        foam = np.frombuffer(c.foam.read(level=0), dtype=np.float32).reshape(n, n)
+        ddx_dz = (np.full((n, n), np.nan, dtype=np.float32) if c.snap is not None
+                  else c.fft.read(1)[..., 3].copy())
         return {
             "height": disp[..., 1].copy(), "disp_x": disp[..., 0].copy(),
             "disp_z": disp[..., 2].copy(),
             "jacobian": disp[..., 3].copy(),
             "slope_x": deriv[..., 0].copy(), "slope_z": deriv[..., 1].copy(),
             "ddx_dx": deriv[..., 2].copy(), "ddz_dz": deriv[..., 3].copy(),
-            "ddx_dz": fields1[..., 3].copy(),
+            "ddx_dz": ddx_dz,
             "foam": foam.copy(),
         }
 
@@ -456,14 +693,13 @@ class GpuOceanSim:
         the water on the CPU through an asynchronous readback)."""
         self._require()
         if not self._pbo:
-            nbytes = self.n * self.n * 16
-            self._pbo = [[self._own(self.gpu.buffer(self.owner, f"ocean readback {slot}.{i}",
-                                                    bytes(nbytes)))
-                          for i in range(self.cascade_count)] for slot in range(2)]
+            self._pbo = [[self.gpu.buffer(self.owner, f"ocean readback {slot}.{i}",
+                                          bytes(c.n * c.n * 16))
+                          for i, c in enumerate(self._c)] for slot in range(2)]
         slot = self._rb_next
         self._rb_next = 1 - slot
-        for tex, buf in zip(self.disp, self._pbo[slot]):
-            tex.read_into(buf, level=0)
+        for c, buf in zip(self._c, self._pbo[slot]):
+            c.disp.read_into(buf, level=0)
         # an older unread request is dropped (its slot is reused next)
         self._rb_previous = self._rb_pending
         self._rb_pending = (self.time, slot)
@@ -478,17 +714,19 @@ class GpuOceanSim:
 
     def _map(self, t: float, slot: int):
         """Read readback ``slot`` (the request made at simulation time ``t``) as the latest."""
-        n = self.n
-        # one (C, N, N, 4) array: the height queries gather from every cascade at once
-        arrays = np.stack([np.frombuffer(buf.read(), dtype=np.float32).reshape(n, n, 4)
-                           for buf in self._pbo[slot]])
+        grids = [np.frombuffer(buf.read(), dtype=np.float32).reshape(c.n, c.n, 4)
+                 for c, buf in zip(self._c, self._pbo[slot])]
+        # one (C, N, N, 4) array when the cascades share N: the height queries gather from
+        # every cascade at once
+        arrays = np.stack(grids) if len({g.shape for g in grids}) == 1 else tuple(grids)
         self._rb_latest = (t, arrays)
         self._rb_previous = None
         return self._rb_latest
 
     def poll_readback(self):
-        """``(time, (C, N, N, 4) float32 array: an (N, N, 4) grid per cascade)`` of the most
-        recent request *before* the newest one, or None until there is one.
+        """``(time, arrays)`` of the most recent request *before* the newest one, or None until
+        there is one: arrays is one (C, N, N, 4) float32 array when every cascade has the same
+        N, else a tuple of each cascade's (N_i, N_i, 4) grid.
 
         One frame of lag, by design: the newest request's copy may still be queued behind this
         frame's work, so it is left alone; the previous request's buffers were filled a frame

@@ -17,8 +17,9 @@ class FoamCalibration:
         """(threshold, ramp width) of the foam source per cascade (FFT) or for the wave set.
 
         Whitecap mode calibrates them on the sea's own Jacobian (the FFT's λ = 1 derivative fields
-        at t = 0, rescaled for the choppiness; a grid of the Gerstner set), so that the foam covers
-        Monahan & O'Muircheartaigh's whitecap fraction for the wind."""
+        at t = 0 of the cascades as simulated, rescaled for the choppiness; a grid of the
+        Gerstner set), so that the foam covers Monahan & O'Muircheartaigh's whitecap fraction
+        for the wind."""
         p = self.params
         model = p["ocean.model"]
         if p["ocean.foam_mode"] == "jacobian":
@@ -27,8 +28,9 @@ class FoamCalibration:
                                else 1)
         if model == "gerstner":
             self.gerstner_waves()  # drawn now if the sea changed: the key names the current set
-        return self._foam.get((model, p["ocean.choppiness"], self.wind_speed(),
-                               self._sim_key if model == "fft" else self._waves.key))
+        sea = ((self._sim_key, tuple(self._sim_sizes)) if model == "fft" and self._sim_key
+               else None if model == "fft" else self._waves.key)
+        return self._foam.get((model, p["ocean.choppiness"], self.wind_speed(), sea))
 
     def _calibrate_foam(self, key) -> list[tuple[float, float]]:
         """The whitecap calibration for ``key`` = (model, choppiness, wind, sea state), made once
@@ -44,12 +46,12 @@ class FoamCalibration:
     def _whitecaps(self, key) -> tuple[tuple[float, float], ...]:
         model, lam, wind, _ = key
         coverage = oc.whitecap_coverage(wind)
-        if model == "fft" and self._fft_ref is not None:
-            if self._fft_ref.time is None:
-                self._fft_ref.update(0.0)
-            jacs = [(1 + lam * c.fields.ddx_dx) * (1 + lam * c.fields.ddz_dz)
-                    - (lam * c.fields.ddx_dz) ** 2
-                    for c in self._fft_ref.cascades]
+        if model == "fft" and self._sim_cascades:
+            # the sea as the GPU simulates it (each cascade on the grid the view chose)
+            fields = [oc.synthesize(oc.evolve_amplitudes(c.h0, c.omega, 0.0), c.kx, c.kz, 1.0)
+                      for c in self._sim_cascades]
+            jacs = [(1 + lam * f.ddx_dx) * (1 + lam * f.ddz_dz) - (lam * f.ddx_dz) ** 2
+                    for f in fields]
         elif model == "gerstner":
             waves = self.gerstner_waves()
             span = 2.0 * max(w.wavelength for w in waves)

@@ -51,6 +51,23 @@ def ocean_params() -> list[Param]:
         Param("ocean.patch_sizes", (250.0, 17.0, 5.0, 1.5), 0.1, 5000.0, "tile size L of each "
               "cascade, strictly decreasing (the upstream's 250 / 17 / 5 m)", kind="vec4",
               step=0.1, unit="m", section=s1 + "(e)"),
+        Param("ocean.simulation", "view", doc="full: the thesis — every cascade on an "
+              "ocean.fft_size grid, simulated every frame; view: what the view resolves — each "
+              "cascade's grid from the screen footprint of its wavelengths (at most "
+              "ocean.fft_size), and cascades whose waves change slowly simulated a snapshot "
+              "ahead and interpolated (ocean.refresh_tolerance) instead of every frame",
+              kind="choice", choices=("view", "full"), section=s1 + "(e)"),
+        Param("ocean.view_texel", 1.0, 0.25, 8.0, "view: the largest texel of a cascade's grid, "
+              "in smallest pixel footprints on the water (1: no texel is magnified anywhere on "
+              "screen; 2: up to twice, on the nearest rows)", step=0.25, section=s1 + "(e)"),
+        Param("ocean.view_samples", 4.0, 1.0, 16.0, "view: texels per shortest wave of a "
+              "cascade's band beyond which a finer grid adds nothing (the grid is otherwise as "
+              "fine as the smallest pixel footprint on the water)", step=0.5,
+              section=s1 + "(e)"),
+        Param("ocean.refresh_tolerance", 0.03, 0.0, 0.5, "view: rms slope error a slow "
+              "cascade's interpolation between snapshots may leave, as a fraction of the sea's "
+              "rms slope; sets how far apart its snapshots are (0: every cascade every frame)",
+              step=0.005, section=s1 + "(e)"),
         Param("ocean.fft_path", "auto", doc="GPU FFT path: compute shaders (GL 4.3), fragment "
               "passes (GL 3.3) or auto (compute on a GPU that has it; fragment on software "
               "renderers, where it is faster)", kind="choice",
@@ -91,6 +108,11 @@ def ocean_params() -> list[Param]:
               "auto (deferred on a software renderer, which shades 4×4 blocks; forward on a GPU, "
               "which then skips writing and reading three RGBA32F targets)",
               kind="choice", choices=("auto", "deferred", "forward"), section=s1),
+        Param("ocean.wake_stride", 2, 1, 4, "deferred shading: a floating object's wake foam "
+              "is evaluated once per block of this many pixels a side and read back filtered (1: "
+              "every pixel, as the forward path does; its loop over the trail's samples is most "
+              "of the shading's cost on a software renderer)", kind="int",
+              section="spec/000 §4"),
         Param("ocean.mesh_cull", True, doc="draw only the wedges of the surface mesh the camera "
               "can see", kind="bool", section=s1),
         Param("ocean.query_iterations", 3, 0, 10, "corrections of the water-height inversion (the "

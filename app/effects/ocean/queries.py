@@ -2,6 +2,7 @@
 ``water`` slot, an :class:`app.frame.WaterSurface`).
 
 Sine and Gerstner are evaluated exactly in numpy; the FFT reads back the displacement textures
+(each cascade on the grid the view chose; bilinear as the surface's texture lookups)
 asynchronously — the answer describes the sea **one frame earlier** (the frame before the last
 ``update``), never stalls the GPU, and its time is ``query_time`` — except on the first frame
 of a sea, which reads its own simulation at once (one stall) so nothing starts on flat water.
@@ -57,8 +58,7 @@ class WaterQueries:
                 out = np.zeros(x.shape + (3,))
             else:
                 # (λD_x, η, λD_z) alone: the Jacobian channel is not interpolated
-                out = oc.sample_periodic_cascades(self._readback[1], self.patch_sizes(), x, z,
-                                                  channels=3)
+                out = oc.sample_cascade_groups(self._readback_groups, x, z, channels=3)
                 if out.shape != x.shape + (3,):
                     out = np.broadcast_to(out, x.shape + (3,)).copy()
         fade = self._fade(x, z)
@@ -101,4 +101,5 @@ class WaterQueries:
             return min(0.05, self.params["ocean.sine_wavelength"] / 50.0)
         if model == "gerstner":
             return min(0.05, min(w.wavelength for w in self.gerstner_waves()) / 50.0)
-        return min(0.05, 0.5 * min(self.patch_sizes()) / self.fft_size())
+        sizes = self.sim.sizes if self.sim is not None else [self.fft_size()]
+        return min(0.05, 0.5 * min(size / n for size, n in zip(self.patch_sizes(), sizes)))

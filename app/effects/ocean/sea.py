@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 
 from ...errors import ParamError
-from ...gpu.cache import memoised
+from ...gpu.cache import MEMO, memoised
 from ...sim import ocean as oc
 from .params import wind_vector
 
@@ -114,21 +114,94 @@ class SeaState:
             use_compute = choose_compute(self.gpu.caps, path, "ocean.fft_path")
             self.sim = GpuOceanSim(self.gpu, self.name, use_compute=use_compute)
             self._sim_path = path
-        self.sim.set_spectrum(ref.cascades, key[1])
         self._fft_ref = ref
         self._sim_key = key
+        self._sim_sizes = []  # the view chooses them (fit_view), then the GPU gets the sea
+        self._fft_hs = 4.0 * math.sqrt(sum(c.moments()[0] for c in ref.cascades))
         self._readback = None
         self.query_time = None  # flat water until the new sea is read back
-        # per-cascade band and slope variance for the glitter filter; Hs of the draw
+
+    def fit_view(self, frame) -> None:
+        """The FFT sea's grid per cascade and which cascades are slow, for this frame's view
+        (``ocean.simulation``): full — every cascade at ``ocean.fft_size``, every frame; view —
+        each cascade's N from the smallest pixel footprint on the water
+        (:func:`app.sim.ocean.view_cascade_size`; the spectrum cropped, never redrawn:
+        :func:`app.sim.ocean.crop_cascade`) and, for the cascades whose interpolation between
+        snapshots a period of at least three frames apart stays within
+        ``ocean.refresh_tolerance`` of the sea's rms slope, that period
+        (:func:`app.sim.ocean.refresh_period`)."""
+        p = self.params
+        ref = self._fft_ref
+        n_max = self.fft_size()
+        full = p["ocean.simulation"] == "full"
+        if full:
+            sizes = [n_max] * len(ref.cascades)
+        else:
+            crest = 0.5 * (self._fft_hs or 0.0)
+            clearance = float(frame.camera.position[1]) - crest
+            self.footprint = oc.nearest_water_footprint(frame.camera, frame.aspect,
+                                                        int(frame.size[1]), clearance)
+            old = self._sim_sizes or [None] * len(ref.cascades)
+            texel = self.footprint * p["ocean.view_texel"]
+            sizes = [oc.view_cascade_size(c.patch_size, c.band[1], texel, n_max,
+                                          p["ocean.view_samples"], current=cur)
+                     for c, cur in zip(ref.cascades, old)]
+        if sizes != self._sim_sizes:
+            cascades = [oc.crop_cascade(c, n) for c, n in zip(ref.cascades, sizes)]
+            self.sim.set_spectrum(cascades)
+            self._set_simulated(cascades)
+            self._sim_sizes = sizes
+        if full or not p["ocean.refresh_tolerance"] > 0.0:
+            periods = [0.0] * len(sizes)
+        else:
+            if frame.dt > 0.0:  # the frame interval: up at once, down smoothly (a standing
+                dt = min(frame.dt, 1.0)  # clock keeps it)
+                self._frame_dt = dt if dt > self._frame_dt else self._frame_dt + 0.1 * (
+                    dt - self._frame_dt)
+            periods = []
+            for i, period in enumerate(self._refresh_periods()):
+                was_slow = i < len(self.sim.periods) and self.sim.periods[i] > 0.0
+                # slow from three frames per period; back to every frame under two
+                periods.append(period if period >= (2.0 if was_slow else 3.0) * self._frame_dt
+                               else 0.0)
+        if periods != self.sim.periods:
+            self.sim.set_refresh(periods)
+
+    def _refresh_periods(self) -> list[float]:
+        """Each simulated cascade's snapshot period for ``ocean.refresh_tolerance`` (shared by
+        every session of the process: the same sea, sizes and tolerance give the same)."""
+        tol = self.params["ocean.refresh_tolerance"]
+        key = (SeaState._refresh_periods, self._sim_key, tuple(self._sim_sizes), tol)
+
+        def build():
+            cascades = self._sim_cascades
+            slope = math.sqrt(sum(c.moments()[1] for c in cascades))
+            return tuple(oc.refresh_period(c, tol * slope) for c in cascades)
+
+        return list(MEMO.get(key, build))
+
+    def _set_simulated(self, cascades) -> None:
+        """The cascades the GPU holds: their bands and slope variance (the glitter's filter),
+        and Hs of what is drawn."""
+        self._sim_cascades = list(cascades)
         self.cascade_bands = []
         m0 = 0.0
-        for c in ref.cascades:
+        for c in cascades:
             var, mss = c.moments()
+            n = c.h0.shape[-1]
             lo = max(c.band[0], 2.0 * math.pi / c.patch_size)
-            self.cascade_bands.append((lo, min(c.band[1], math.pi * key[1] / c.patch_size), mss))
+            self.cascade_bands.append((lo, min(c.band[1], math.pi * n / c.patch_size), mss))
             m0 += var
         self.resolved_mss = sum(b[2] for b in self.cascade_bands)
         self._fft_hs = 4.0 * math.sqrt(m0)
+
+    @property
+    def simulated(self) -> oc.FFTOcean | None:
+        """The numpy ocean of the cascades as the GPU simulates them (each on the grid the
+        view chose: ``ocean.simulation``), or None unless the FFT runs."""
+        if self._fft_ref is None or not self._sim_cascades:
+            return None
+        return oc.FFTOcean.from_cascades(self._fft_ref.params, self._sim_cascades)
 
     @property
     def reference(self) -> oc.FFTOcean | None:
@@ -143,6 +216,8 @@ class SeaState:
             self._fft_ref = None
             self._readback = None
             self._fft_hs = 0.0
+            self._sim_sizes = []
+            self._sim_cascades = []
 
     def cox_munk_mss(self) -> float:
         """Cox & Munk 1954 clean-surface mean-square slope 0.003 + 5.12e-3·U."""

@@ -44,9 +44,9 @@ class OceanUniforms:
             prog.set_array("uGerstnerB", b_rows)
         else:
             sizes = self.patch_sizes()
-            n = self.fft_size()
+            grids = self.sim.sizes  # each cascade's N (the view's choice)
             rows = []
-            for size in sizes + [1.0] * (4 - len(sizes)):
+            for size, n in zip(sizes + [1.0] * (4 - len(sizes)), grids + [1] * (4 - len(grids))):
                 # sample j of the grid sits at j·L/N, i.e. at texel centre (j + ½)/N
                 uv = ((cam[0] / size + 0.5 / n) % 1.0, (cam[2] / size + 0.5 / n) % 1.0)
                 rows.append((uv[0], uv[1], 1.0 / size, n / size))
