@@ -42,7 +42,7 @@ from ..gpu.timing import time_interleaved
 from ..sim import lab_meshes, surface_maps
 from ..sim.camera import Camera
 from ..sim.parallax import error_grid, parallax_error, parallax_uv, view_at
-from . import write_chart
+from . import surfaces_speed, write_chart
 from .shading_outlines import outline_sweep
 from .shading_outlines import summary_lines as outline_summary
 
@@ -62,6 +62,8 @@ VISIBLE = 2.0 / 255.0
 SWEEP_SIZE = (320, 180)
 #: seconds of timed rounds per interleaved set after which no round starts (at least 3 run)
 SET_BUDGET_S = 6.0
+#: the speed section's timed rounds stop past this many seconds (at least two run)
+SPEED_BUDGET_S = 20.0
 LIGHTING_MODELS = ("Lambert", "Phong", "Blinn-Phong")
 TOON_MODES = ("none", "flat", "stepped", "ramp")
 #: the wall's front face (app.sim.lab_meshes.brick_wall): z = thickness/2, x in ±width/2,
@@ -308,6 +310,10 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None, angles=AN
         # IoU and gaps per contour method on the sphere and the table, against their cost
         out["outlines"] = (outline_sweep(session.gpu, warmup=warmup, rounds=max(3, repeat))
                            if outlines else None)
+        # the default frame against the full shadow taps (app/bench/surfaces_speed.py)
+        out["speed"] = surfaces_speed.run(session, size, surfaces_speed.SHADING,
+                                          surfaces_speed.SHADING_PASSES, warmup=warmup,
+                                          rounds=max(3, repeat), budget_s=SPEED_BUDGET_S)
     finally:
         for name, value in saved.items():
             params.set(name, value)
@@ -463,4 +469,6 @@ def summary(report: dict) -> str:
                          f"  ×{r['ratio_to_default']:.2f}")
     if s.get("outlines"):
         lines.extend(outline_summary(s["outlines"]))
+    if s.get("speed"):
+        lines.extend(surfaces_speed.summary(s["speed"], "the lab's frame, shadow taps"))
     return "\n".join(lines)

@@ -15,10 +15,14 @@ exact reference of the same analytic scene (app.sim.surfaces_scene):
    against the split-sum GGX reference; chart ``NAME-reflections.png``;
 4. **fresnel** (surfaces_fresnel.py, numpy) — Schlick against exact Fresnel for n = 1.31, 1.52
    and 2.42 (the thesis's Fig. 67 as numbers), and from inside the medium; chart
-   ``NAME-fresnel.png``.
+   ``NAME-fresnel.png``;
+5. **speed** (surfaces_speed.py) — the lab's own frame at the bench's size: the reference
+   (4× MSAA, the full shadow taps, the one generic program) against each speed knob and the
+   defaults this renderer gets, ms in interleaved rounds against the 8-bit picture error;
+   chart ``NAME-speed.png``.
 
 ``natura bench surfaces --repeat N`` with N ≤ :data:`QUICK_REPEAT` runs every section's quick
-variant (fewer sizes and samples, the same figures); the sections render at their own sizes,
+variant (fewer sizes and samples, the same figures); sections 1–4 render at their own sizes,
 which the report records. On llvmpipe absolute times mean little; ratios within one
 interleaved set hold.
 """
@@ -27,14 +31,24 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import surfaces_fresnel, surfaces_reflections, surfaces_shadows, surfaces_transparency
+from . import (
+    surfaces_fresnel,
+    surfaces_reflections,
+    surfaces_shadows,
+    surfaces_speed,
+    surfaces_transparency,
+)
 
 #: the charts beside the report, in the order of the sections (the CLI checks them all first)
-CHART_SUFFIXES = (".png", "-transparency.png", "-reflections.png", "-fresnel.png")
+CHART_SUFFIXES = (".png", "-transparency.png", "-reflections.png", "-fresnel.png",
+                  "-speed.png")
 SECTIONS = (("shadows", surfaces_shadows), ("transparency", surfaces_transparency),
-            ("reflections", surfaces_reflections), ("fresnel", surfaces_fresnel))
+            ("reflections", surfaces_reflections), ("fresnel", surfaces_fresnel),
+            ("speed", surfaces_speed))
 #: a sweep asked for this many timed rounds or fewer runs the quick variants
 QUICK_REPEAT = 5
+#: the speed section's timed rounds stop past this many seconds (at least two run)
+SPEED_BUDGET_S = 30.0
 
 
 def sweep(session, size, warmup: int = 1, repeat: int = 7, sizes=None) -> dict:
@@ -51,6 +65,9 @@ def sweep(session, size, warmup: int = 1, repeat: int = 7, sizes=None) -> dict:
             out[key] = module.run(gpu, quick=quick)
         elif key == "fresnel":
             out[key] = module.run(quick=quick)
+        elif key == "speed":  # the lab's own frame at the bench's size
+            out[key] = module.run(session, size, module.SURFACES, module.SURFACES_PASSES,
+                                  warmup=warmup, rounds=max(3, repeat), budget_s=SPEED_BUDGET_S)
         else:
             out[key] = module.run(gpu, quick=quick)
         out["seconds"][key] = round(time.perf_counter() - start, 2)
@@ -71,5 +88,8 @@ def summary(report: dict) -> str:
              + ", ".join(f"{k} {v:g}" for k, v in s["seconds"].items()) + ")"]
     for key, module in SECTIONS:
         lines.append(f"-- {key}")
-        lines.extend(module.summary(s[key]))
+        if key == "speed":
+            lines.extend(module.summary(s[key], "the lab's frame"))
+        else:
+            lines.extend(module.summary(s[key]))
     return "\n".join(lines)

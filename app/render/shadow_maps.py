@@ -24,7 +24,7 @@ import numpy as np
 
 from ..gpu.programs import ProgramSpec
 from ..sim import shadows as sh
-from .shadows import ShadowSettings, look_at
+from .shadows import SHADOW_FILTERS, SHADOW_TAPS, ShadowSettings, look_at
 
 CASTER = ProgramSpec("common/shadow_caster")
 #: toward +x −x +y −y +z −z, with each face's up vector
@@ -72,6 +72,7 @@ class _Map:
         self.depth: Any = None
         self.colour: Any = None
         self.fbo: Any = None
+        self.settings: ShadowSettings | None = None
 
     def _alloc(self, shape: tuple[int, int]) -> None:
         if self.fbo is not None and self.depth.size == shape:
@@ -86,6 +87,11 @@ class _Map:
 
     def caster(self):
         return self.gpu.program(self.owner, CASTER)
+
+    def taps_code(self) -> int:
+        """shadow.glsl's ``uShadow*Taps`` of the last settings: ``auto`` resolved from the
+        context (fast on a software renderer)."""
+        return 0 if self.settings is None else self.settings.taps_code(self.gpu.caps.software)
 
     def release(self) -> None:
         for obj in (self.fbo, self.colour, self.depth):
@@ -161,15 +167,15 @@ class DirectionalShadow(_Map):
         toward_light = toward_light / np.linalg.norm(toward_light)
         cam_key = ((tuple(camera.position), camera.yaw, camera.pitch, camera.fov, camera.near,
                     camera.far, aspect) if settings.cascades else None)
-        key = (tuple(np.round(toward_light, 9)), settings, cam_key, revision)
+        key = (tuple(np.round(toward_light, 9)), settings.map_key(), cam_key, revision)
         if not settings.sun_enabled:
             return False
         self._alloc((settings.map_size, settings.map_size))
         mats, tiles, ends, texels, ranges = self.fit(camera, aspect, toward_light, settings)
         if settings.stable_fit and settings.cascades:
             # a stable map only changes when a cascade's snapped matrix does
-            key = (key[0], settings, tuple(np.round(np.concatenate([m.ravel() for m in mats]),
-                                                    7)), revision)
+            snapped = tuple(np.round(np.concatenate([m.ravel() for m in mats]), 7))
+            key = (key[0], settings.map_key(), snapped, revision)
         if key == self.key:
             return False
         self.key = key
@@ -215,7 +221,8 @@ class DirectionalShadow(_Map):
             "uShadowSunPcssScale": tuple((pcss + [pcss[-1]] * 4)[:4]),
             "uShadowSunVsmBlur": s.vsm_blur, "uShadowSunVsmBleed": s.vsm_bleed,
             "uShadowSunStrength": s.strength,
-            "uShadowSunTexelWorld": tuple((list(self.texel_world) * 4)[:4])})
+            "uShadowSunTexelWorld": tuple((list(self.texel_world) * 4)[:4]),
+            "uShadowSunTaps": self.taps_code()})
         return {"uShadowSunMap": self.depth, "uShadowSunMoments": self.colour}
 
 
@@ -241,7 +248,7 @@ class SpotShadow(_Map):
         pos = np.asarray(position, np.float64)
         d = np.asarray(direction, np.float64)
         d = d / np.linalg.norm(d)
-        key = (tuple(pos), tuple(d), half_angle_deg, light_range, settings, revision)
+        key = (tuple(pos), tuple(d), half_angle_deg, light_range, settings.map_key(), revision)
         size = settings.map_size
         self._alloc((size, size))
         if key == self.key:
@@ -275,7 +282,8 @@ class SpotShadow(_Map):
                           "uShadowSpotVsmBlur": s.vsm_blur, "uShadowSpotVsmBleed": s.vsm_bleed,
                           "uShadowSpotStrength": s.strength,
                           "uShadowSpotTexelPerM": self.texel_per_m,
-                          "uShadowSpotPosition": self.position})
+                          "uShadowSpotPosition": self.position,
+                          "uShadowSpotTaps": self.taps_code()})
         return {"uShadowSpotMap": self.depth, "uShadowSpotMoments": self.colour}
 
 
@@ -303,7 +311,7 @@ class PointShadow(_Map):
         pos = np.asarray(position, np.float64)
         face = max(settings.map_size // 2, 16)
         self._alloc((3 * face, 2 * face))
-        key = (tuple(pos), light_range, settings, revision)
+        key = (tuple(pos), light_range, settings.map_key(), revision)
         if key == self.key:
             return False
         self.key, self.position, self.range = key, pos, float(light_range)
@@ -347,7 +355,8 @@ class PointShadow(_Map):
         program.set_many({"uShadowPointPosition": self.position, "uShadowPointRange": self.range,
                           "uShadowPointFilter": min(s.filter_index, 2),
                           "uShadowPointStrength": s.strength,
-                          "uShadowPointTexelPerM": 2.0 / (self.colour.size[1] / 2)})
+                          "uShadowPointTexelPerM": 2.0 / (self.colour.size[1] / 2),
+                          "uShadowPointTaps": self.taps_code()})
         return {"uShadowPointMap": self.colour}
 
 
@@ -358,7 +367,7 @@ def frame_entry(light: str, kind: str, m: _Map, view_proj) -> Any:
     from ..frame import ShadowMap
 
     tex = m.colour if kind == "point" else m.depth
-    bias = m.settings.linear_bias if getattr(m, "settings", None) is not None else 0.0
+    bias = m.settings.linear_bias if m.settings is not None else 0.0
     return ShadowMap(light, kind, tex, np.asarray(view_proj), bias,
                      bind=getattr(m, "bind", None))
 
@@ -382,6 +391,28 @@ def bind_published(program, shadows: dict) -> dict[str, Any]:
     return textures
 
 
+def receiver_defines(settings, software: bool) -> tuple[tuple[str, int], ...]:
+    """The defines that specialise a receiver program (glsl/common/shadow.glsl's header) to
+    ``settings`` (a :class:`ShadowSettings`, or None for the default filter and full taps):
+    ``SHADOW_FILTER`` and ``SHADOW_TAPS`` (``auto`` resolved by ``software``, as ``bind``
+    does). The filters the receiver does not use are compiled out; ``bind`` still sets every
+    uniform, so the specialised program and the generic one draw the same image. Every
+    combination is one of :func:`receiver_variants`."""
+    if settings is None:
+        settings = ShadowSettings()
+    return (("SHADOW_FILTER", settings.filter_index), ("SHADOW_TAPS", settings.taps_code(software)))
+
+
+def receiver_variants(spec: ProgramSpec) -> tuple[ProgramSpec, ...]:
+    """``spec`` with every :func:`receiver_defines` there is (5 filters × 2 tap sets): what an
+    effect that draws its receivers specialised lists in its ``programs``, so ``natura shaders
+    check`` compiles each one."""
+    return tuple(ProgramSpec(spec.name, spec.vert, spec.frag, spec.comp,
+                             spec.defines + (("SHADOW_FILTER", f), ("SHADOW_TAPS", t)),
+                             spec.requires_compute)
+                 for f in range(len(SHADOW_FILTERS)) for t in range(len(SHADOW_TAPS)))
+
+
 class ShadowSet:
     """The three lights of a scene: ``bind(program)`` sets every light's uniforms (a light never
     rendered reads as disabled) and returns all their textures by sampler name."""
@@ -396,6 +427,13 @@ class ShadowSet:
         for m in (self.sun, self.spot, self.point):
             out.update(m.bind(program))
         return out
+
+    def defines(self) -> tuple[tuple[str, int], ...]:
+        """:func:`receiver_defines` of the settings the maps were last given (one set for the
+        three lights, as every scene uses them)."""
+        settings = next((m.settings for m in (self.sun, self.spot, self.point)
+                         if m.settings is not None), None)
+        return receiver_defines(settings, self.sun.gpu.caps.software)
 
     def publish(self, frame) -> None:
         """Put every rendered map in ``frame.shadows`` ("sun", "spot", "point")."""

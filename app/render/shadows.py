@@ -129,6 +129,15 @@ def slope_bias(bias: float, n_dot_l) -> np.ndarray:
 #: receiver filters, in uniform order (uShadowSunFilter 0..4)
 SHADOW_FILTERS = ("hard", "four_tap", "pcf", "pcss", "vsm")
 SHADOW_SECTION = "spec/003 §2.8"
+#: the receivers' tap sets, in uniform order (uShadowSunTaps 0, 1): full — the 5 × 5 PCF and
+#: PCSS's 7 × 7 blocker search (the reference); fast — a 3 × 3 PCF and a 4 × 4 search over the
+#: same footprint (PCSS keeps its 5 × 5 PCF: three taps spread over a wide penumbra band it).
+#: ``auto`` (the parameter's default) is fast on a software renderer, full on a GPU
+#: (:meth:`ShadowSettings.taps_code`)
+SHADOW_TAPS = ("full", "fast")
+TAPS_CHOICES = ("auto", *SHADOW_TAPS)
+#: the PCF radius of each tap set (glsl/common/shadow.glsl ShadowPcfRadius)
+TAPS_PCF_RADIUS = {"full": PCF_RADIUS, "fast": 1}
 
 
 @dataclass(frozen=True)
@@ -158,6 +167,7 @@ class ShadowSettings:
     near_offset: float = 20.0
     fixed_centre: tuple[float, float, float] = (0.0, 1.5, 0.0)
     fixed_radius: float = 6.0
+    taps: str = "full"
 
     def __post_init__(self):
         if self.cascades not in (0, 2, 4):
@@ -166,6 +176,8 @@ class ShadowSettings:
             raise ValueError(f"shadow filter {self.filter!r}: allowed {', '.join(SHADOW_FILTERS)}")
         if not (16 <= self.map_size <= 8192):
             raise ValueError(f"shadow map size {self.map_size}: allowed 16..8192")
+        if self.taps not in TAPS_CHOICES:
+            raise ValueError(f"shadow taps {self.taps!r}: allowed {', '.join(TAPS_CHOICES)}")
         if not (self.distance > 0 and self.fixed_radius > 0):
             raise ValueError(f"shadow distance {self.distance} / fixed radius "
                              f"{self.fixed_radius}: allowed > 0")
@@ -173,6 +185,26 @@ class ShadowSettings:
     @property
     def filter_index(self) -> int:
         return SHADOW_FILTERS.index(self.filter)
+
+    def map_key(self) -> ShadowSettings:
+        """What the maps themselves depend on: these settings with the receivers' own (filter,
+        taps, PCSS light size, VSM blur and bleed, strength) at their defaults, so a change of
+        filter re-binds the maps without re-rendering them."""
+        from dataclasses import replace
+
+        return replace(self, filter="four_tap", taps="full", pcss_light_size=0.02, vsm_blur=1,
+                       vsm_bleed=0.2, strength=1.0)
+
+    def resolved_taps(self, software: bool) -> str:
+        """``full`` or ``fast``: ``auto`` is fast on a software renderer (``Caps.software``),
+        full on a GPU."""
+        if self.taps == "auto":
+            return "fast" if software else "full"
+        return self.taps
+
+    def taps_code(self, software: bool) -> int:
+        """shadow.glsl's ``uShadow*Taps`` (0 full, 1 fast)."""
+        return SHADOW_TAPS.index(self.resolved_taps(software))
 
     @classmethod
     def from_params(cls, params, group: str) -> ShadowSettings:
@@ -186,7 +218,9 @@ class ShadowSettings:
                    vsm_blur=int(p("vsm_blur")), vsm_bleed=float(p("vsm_bleed")),
                    dithered=bool(p("dithered")), sun_enabled=bool(p("sun")),
                    point_enabled=bool(p("point")), spot_enabled=bool(p("spot")),
-                   strength=float(p("strength")), distance=float(p("distance")))
+                   strength=float(p("strength")), distance=float(p("distance")),
+                   taps=str(params[f"{group}.shadow_taps"]) if f"{group}.shadow_taps" in params
+                   else "full")
 
 
 def shadow_params(group: str) -> list:
@@ -213,6 +247,10 @@ def shadow_params(group: str) -> list:
         Param(g + "filter", "four_tap", doc="receiver filter: hard (one compare), four_tap (the "
               "thesis's soft shadows), pcf (Gaussian), pcss (contact-hardening), vsm (variance)",
               kind="choice", choices=SHADOW_FILTERS, section=s),
+        Param(g + "taps", "auto", doc="the PCF and PCSS taps: full (the 5 × 5 Gaussian PCF, "
+              "PCSS's 7 × 7 blocker search: the reference), fast (a 3 × 3 PCF, a 4 × 4 blocker "
+              "search over the same footprint), auto (fast on a software renderer, full on a "
+              "GPU)", kind="choice", choices=TAPS_CHOICES, section=s),
         Param(g + "pcss_light_size", 0.02, 0.0, 0.2, "PCSS light size (the light's angular "
               "size, tangent)", section=s),
         Param(g + "vsm_blur", 1, 0, 4, "VSM moments blur radius (texels)", kind="int",

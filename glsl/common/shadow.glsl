@@ -15,10 +15,27 @@
 // penumbra w = size (d_r − d_b) / d_b, a PCF of that width), 4 VSM (moments, a box blur of
 // radius uShadow*VsmBlur texels, Chebyshev with light-bleeding reduction uShadow*VsmBleed).
 //
+//
+// Taps (uShadow*Taps, the module's `<group>.shadow_taps`): 0 full — the PCF's 5 × 5 Gaussian
+// (SHADOW_PCF_RADIUS 2) and PCSS's 7 × 7 blocker search, the reference; 1 fast — a 3 × 3
+// Gaussian for the PCF and the point light, a 4 × 4 search over the same ±6 texels for PCSS
+// (what `auto` picks on a software renderer). At its unit scale (the PCF filter, the point light) the Gaussian of bilinear
+// comparisons is summed exactly as one (2 r + 2)² block of texels with separable weights
+// (ShadowPcfBlock): each texel's weight is the sum over the taps that read it of the tap's
+// Gaussian weight times its bilinear weight, so 36 reads replace 100 for the same value.
+//
+// Specialisation (optional): a receiver compiled with SHADOW_FILTER (0..4: the sun's and the
+// spot's filter, the point light's min(filter, 2)) and SHADOW_TAPS (0 or 1) defined reads them
+// as constants instead of uShadow*Filter and uShadow*Taps, so the filters it does not use are
+// compiled out and the taps' loops have constant bounds (app.render.shadow_maps
+// .receiver_defines and receiver_variants). A software rasteriser runs both sides of a branch
+// on a uniform, so this is where it saves; the image is the same.
+//
 // Failure cases guarded: a point outside every map (or past the shadow distance) is lit; a
 // disabled light returns 1; maps are read with texelFetch on clamped indices (no wrap); the
 // VSM variance is floored (no 0/0); a zero-size cascade (all splits equal) is skipped by the
-// cascade search, the last cascade taking the point; a point exactly at a point light is lit.
+// cascade search, the last cascade taking the point; a point exactly at a point light is lit;
+// a taps value other than 1 reads as full.
 // =============================================================================================
 #include "shadow_pcf.glsl"
 
@@ -35,6 +52,7 @@ uniform int uShadowSunVsmBlur;
 uniform float uShadowSunVsmBleed;
 uniform float uShadowSunStrength;
 uniform vec4 uShadowSunTexelWorld;     // per cascade: a texel's world size (metres)
+uniform int uShadowSunTaps;            // 0 full, 1 fast
 
 uniform bool uShadowSpotEnabled;
 uniform sampler2D uShadowSpotMap;
@@ -47,6 +65,7 @@ uniform float uShadowSpotVsmBleed;
 uniform float uShadowSpotStrength;
 uniform float uShadowSpotTexelPerM;    // a texel's world size per metre from the light
 uniform vec3 uShadowSpotPosition;
+uniform int uShadowSpotTaps;
 
 uniform bool uShadowPointEnabled;
 uniform sampler2D uShadowPointMap;     // 3 × 2 faces of (|l| + bias)/range, R of RG32F
@@ -56,6 +75,31 @@ uniform float uShadowPointRange;
 uniform int uShadowPointFilter;
 uniform float uShadowPointStrength;
 uniform float uShadowPointTexelPerM;
+uniform int uShadowPointTaps;
+
+// The specialised constants, or the uniforms (see the header).
+#ifdef SHADOW_FILTER
+#define SHADOW_SUN_FILTER SHADOW_FILTER
+#define SHADOW_SPOT_FILTER SHADOW_FILTER
+#define SHADOW_POINT_FILTER min(SHADOW_FILTER, 2)
+#else
+#define SHADOW_SUN_FILTER uShadowSunFilter
+#define SHADOW_SPOT_FILTER uShadowSpotFilter
+#define SHADOW_POINT_FILTER uShadowPointFilter
+#endif
+#ifdef SHADOW_TAPS
+#define SHADOW_SUN_TAPS SHADOW_TAPS
+#define SHADOW_SPOT_TAPS SHADOW_TAPS
+#define SHADOW_POINT_TAPS SHADOW_TAPS
+#else
+#define SHADOW_SUN_TAPS uShadowSunTaps
+#define SHADOW_SPOT_TAPS uShadowSpotTaps
+#define SHADOW_POINT_TAPS uShadowPointTaps
+#endif
+
+// The PCF's radius of a taps setting: the thesis-independent 5 × 5 reference (SHADOW_PCF_RADIUS)
+// or 3 × 3.
+int ShadowPcfRadius(int taps) { return taps == 1 ? 1 : SHADOW_PCF_RADIUS; }
 
 ivec2 ShadowTexel(sampler2D map, vec2 uv, vec4 tile) {
     vec2 size = vec2(textureSize(map, 0));
@@ -80,14 +124,52 @@ float ShadowBilinearAt(sampler2D map, vec2 uv, float depth, vec4 tile) {
     return mix(mix(s00, s10, f.x), mix(s01, s11, f.x), f.y);
 }
 
-// The Gaussian PCF of shadow_pcf.glsl, its taps scaled by `scale` texels and kept in the tile.
-float ShadowPcfAt(sampler2D map, vec2 uv, float depth, vec4 tile, float scale) {
+// The Gaussian PCF of shadow_pcf.glsl of radius r, its taps scaled by `scale` texels and kept
+// in the tile: (2 r + 1)² bilinear comparisons (PCSS's, whose scale varies).
+float ShadowPcfAt(sampler2D map, vec2 uv, float depth, vec4 tile, float scale, int r) {
     vec2 t = scale / vec2(textureSize(map, 0));
     float sum = 0.0, wsum = 0.0;
-    for (int y = -SHADOW_PCF_RADIUS; y <= SHADOW_PCF_RADIUS; ++y) {
-        for (int x = -SHADOW_PCF_RADIUS; x <= SHADOW_PCF_RADIUS; ++x) {
+    for (int y = -r; y <= r; ++y) {
+        for (int x = -r; x <= r; ++x) {
             float w = ShadowPcfWeight(x, y);
             sum += w * ShadowBilinearAt(map, uv + vec2(x, y) * t, depth, tile);
+            wsum += w;
+        }
+    }
+    return sum / wsum;
+}
+
+// The weight of texel k (−r … r + 1 from the base texel) along one axis in the unit-scale PCF
+// of radius r with the bilinear fraction f: tap k reads it with weight 1 − f, tap k − 1 with
+// weight f; g and gPrev are the Gaussian's weights of k and k − 1 (0 outside −r … r).
+float ShadowPcfAxisWeight(float g, float gPrev, float f) { return g * (1.0 - f) + gPrev * f; }
+
+float ShadowPcfGauss(int k, int r) {
+    return abs(k) > r ? 0.0 : exp(-0.5 * float(k * k) / (SHADOW_PCF_SIGMA * SHADOW_PCF_SIGMA));
+}
+
+// ShadowPcfAt at scale 1, exactly, from the (2 r + 2)² texels its taps read (the header): the
+// Gaussian is separable, so each texel's weight is the product of its two axis weights.
+float ShadowPcfBlock(sampler2D map, vec2 uv, float depth, vec4 tile, int r) {
+    vec2 size = vec2(textureSize(map, 0));
+    vec2 st = uv * size - 0.5;
+    vec2 f = fract(st);
+    vec2 b = floor(st);
+    vec2 lo = tile.xy * size, hi = tile.zw * size - 1.0;
+    float sum = 0.0, wsum = 0.0;
+    float gyPrev = 0.0;
+    for (int y = -r; y <= r + 1; ++y) {
+        float gy = ShadowPcfGauss(y, r);
+        float wy = ShadowPcfAxisWeight(gy, gyPrev, f.y);
+        gyPrev = gy;
+        float ty = clamp(b.y + float(y), lo.y, hi.y);
+        float gxPrev = 0.0;
+        for (int x = -r; x <= r + 1; ++x) {
+            float gx = ShadowPcfGauss(x, r);
+            float w = wy * ShadowPcfAxisWeight(gx, gxPrev, f.x);
+            gxPrev = gx;
+            ivec2 texel = ivec2(clamp(b.x + float(x), lo.x, hi.x), ty);
+            sum += w * step(depth, texelFetch(map, texel, 0).r);
             wsum += w;
         }
     }
@@ -102,21 +184,28 @@ float ShadowFourTap(sampler2D map, vec2 uv, float depth, vec4 tile) {
                    + ShadowHardAt(map, uv + vec2(t.x, t.y), depth, tile));
 }
 
-// PCSS: the mean blocker depth over a 7 × 7 search (2-texel steps), the penumbra
-// w = pcssScale (d_r − d_b) / d_b in texels, then the PCF at that width (1..8 texels per tap).
-float ShadowPcss(sampler2D map, vec2 uv, float depth, vec4 tile, float pcssScale) {
+// PCSS: the mean blocker depth over a 7 × 7 search (2-texel steps; fast taps: 4 × 4 in 4-texel
+// steps over the same ±6 texels), the penumbra w = pcssScale (d_r − d_b) / d_b in texels, then
+// the 5 × 5 PCF at that width (1..8 texels per tap) whatever the taps: fewer taps spread that far
+// apart band the penumbra.
+float ShadowPcss(sampler2D map, vec2 uv, float depth, vec4 tile, float pcssScale, int taps) {
     vec2 t = 1.0 / vec2(textureSize(map, 0));
     float sum = 0.0, count = 0.0;
-    for (int y = -3; y <= 3; ++y) {
-        for (int x = -3; x <= 3; ++x) {
-            float d = texelFetch(map, ShadowTexel(map, uv + 2.0 * vec2(x, y) * t, tile), 0).r;
+    int n = taps == 1 ? 4 : 7;
+    float spacing = taps == 1 ? 4.0 : 2.0;
+    float first = -0.5 * float(n - 1) * spacing;
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+            vec2 o = vec2(first) + spacing * vec2(x, y);
+            float d = texelFetch(map, ShadowTexel(map, uv + o * t, tile), 0).r;
             if (d < depth) { sum += d; count += 1.0; }
         }
     }
     if (count < 0.5) return 1.0;
     float blocker = sum / count;
     float w = pcssScale * (depth - blocker) / max(blocker, 1e-4);
-    return ShadowPcfAt(map, uv, depth, tile, clamp(w / float(2 * SHADOW_PCF_RADIUS), 0.5, 8.0));
+    return ShadowPcfAt(map, uv, depth, tile, clamp(w / float(2 * SHADOW_PCF_RADIUS), 0.5, 8.0),
+                       SHADOW_PCF_RADIUS);
 }
 
 float ShadowVsm(sampler2D moments, vec2 uv, float depth, vec4 tile, int blur, float bleed) {
@@ -151,10 +240,10 @@ float ShadowFilterReach(int mode, int blur) {
 }
 
 float ShadowFiltered(sampler2D map, sampler2D moments, vec3 c, vec4 tile, int mode,
-                     float pcssScale, int blur, float bleed) {
+                     float pcssScale, int blur, float bleed, int taps) {
     if (mode == 1) return ShadowFourTap(map, c.xy, c.z, tile);
-    if (mode == 2) return ShadowPcfAt(map, c.xy, c.z, tile, 1.0);
-    if (mode == 3) return ShadowPcss(map, c.xy, c.z, tile, pcssScale);
+    if (mode == 2) return ShadowPcfBlock(map, c.xy, c.z, tile, ShadowPcfRadius(taps));
+    if (mode == 3) return ShadowPcss(map, c.xy, c.z, tile, pcssScale, taps);
     if (mode == 4) return ShadowVsm(moments, c.xy, c.z, tile, blur, bleed);
     return ShadowHardAt(map, c.xy, c.z, tile);
 }
@@ -178,27 +267,29 @@ float ShadowSun(vec3 worldPos, vec3 worldNormal, float viewDepth) {
     int c = ShadowCascade(viewDepth);
     if (c < 0) return 1.0;
     vec3 offset = worldNormal * uShadowSunTexelWorld[c]
-                * ShadowFilterReach(uShadowSunFilter, uShadowSunVsmBlur);
+                * ShadowFilterReach(SHADOW_SUN_FILTER, uShadowSunVsmBlur);
     vec4 h = uShadowSunMatrix[c] * vec4(worldPos + offset, 1.0);
     vec3 p = h.xyz / h.w;
     vec4 tile = uShadowSunTile[c];
     if (!ShadowInside(p, tile)) return 1.0;
-    float v = ShadowFiltered(uShadowSunMap, uShadowSunMoments, p, tile, uShadowSunFilter,
-                             uShadowSunPcssScale[c], uShadowSunVsmBlur, uShadowSunVsmBleed);
+    float v = ShadowFiltered(uShadowSunMap, uShadowSunMoments, p, tile, SHADOW_SUN_FILTER,
+                             uShadowSunPcssScale[c], uShadowSunVsmBlur, uShadowSunVsmBleed,
+                             SHADOW_SUN_TAPS);
     return mix(1.0, v, clamp(uShadowSunStrength, 0.0, 1.0));
 }
 
 float ShadowSpot(vec3 worldPos, vec3 worldNormal) {
     if (!uShadowSpotEnabled) return 1.0;
     vec3 offset = worldNormal * uShadowSpotTexelPerM * length(worldPos - uShadowSpotPosition)
-                * ShadowFilterReach(uShadowSpotFilter, uShadowSpotVsmBlur);
+                * ShadowFilterReach(SHADOW_SPOT_FILTER, uShadowSpotVsmBlur);
     vec4 h = uShadowSpotMatrix * vec4(worldPos + offset, 1.0);
     if (h.w <= 1e-6) return 1.0;
     vec3 p = h.xyz / h.w;
     vec4 tile = vec4(0.0, 0.0, 1.0, 1.0);
     if (!ShadowInside(p, tile)) return 1.0;
-    float v = ShadowFiltered(uShadowSpotMap, uShadowSpotMoments, p, tile, uShadowSpotFilter,
-                             uShadowSpotPcssScale, uShadowSpotVsmBlur, uShadowSpotVsmBleed);
+    float v = ShadowFiltered(uShadowSpotMap, uShadowSpotMoments, p, tile, SHADOW_SPOT_FILTER,
+                             uShadowSpotPcssScale, uShadowSpotVsmBlur, uShadowSpotVsmBleed,
+                             SHADOW_SPOT_TAPS);
     return mix(1.0, v, clamp(uShadowSpotStrength, 0.0, 1.0));
 }
 
@@ -212,7 +303,8 @@ int ShadowCubeFace(vec3 d) {
 
 float ShadowPoint(vec3 worldPos, vec3 worldNormal) {
     if (!uShadowPointEnabled || uShadowPointRange <= 0.0) return 1.0;
-    float reach = uShadowPointFilter == 0 ? 0.0 : (uShadowPointFilter == 1 ? 1.0 : 3.0);
+    int mode = SHADOW_POINT_FILTER;
+    float reach = mode == 0 ? 0.0 : (mode == 1 ? 1.0 : 3.0);
     worldPos += worldNormal * reach * uShadowPointTexelPerM * length(worldPos - uShadowPointPosition);
     vec3 l = worldPos - uShadowPointPosition;
     float dist = length(l);
@@ -224,8 +316,8 @@ float ShadowPoint(vec3 worldPos, vec3 worldNormal) {
                      float(f % 3 + 1) / 3.0, float(f / 3 + 1) / 2.0);
     float ref = dist / uShadowPointRange;
     float v;
-    if (uShadowPointFilter == 0) v = ShadowHardAt(uShadowPointMap, uv, ref, tile);
-    else if (uShadowPointFilter == 1) v = ShadowFourTap(uShadowPointMap, uv, ref, tile);
-    else v = ShadowPcfAt(uShadowPointMap, uv, ref, tile, 1.0);
+    if (mode == 0) v = ShadowHardAt(uShadowPointMap, uv, ref, tile);
+    else if (mode == 1) v = ShadowFourTap(uShadowPointMap, uv, ref, tile);
+    else v = ShadowPcfBlock(uShadowPointMap, uv, ref, tile, ShadowPcfRadius(SHADOW_POINT_TAPS));
     return mix(1.0, v, clamp(uShadowPointStrength, 0.0, 1.0));
 }

@@ -25,6 +25,15 @@
 // uFresnelSchlick, uTransparency, uDistortion, uDistortionMap, uInterfaces; uProbeOn with the
 // probe's samplers (reflection.glsl); the shadows' uniforms (common/shadow.glsl); uDebug.
 //
+// Specialisation: compiled with SURFACE_SCENE defined, the program draws the room and the solids
+// seen by the camera — the probe on, no refraction, no debug view, the specular model
+// SURFACE_SCENE_SPECULAR (0 or 1) — as constants instead of uProbeOn, uRefractive, uDebug and
+// uSpecularModel, so the glass's branch, the other specular model and the debug views are
+// compiled out (a software rasteriser runs both sides of a branch on a uniform); with
+// common/shadow.glsl's SHADOW_FILTER and SHADOW_TAPS it is one of the twenty variants
+// app.effects.surfaces lists. The glass sphere, the probe's own capture and a debug view draw
+// with the generic program; the image is the same either way.
+//
 // Failure cases guarded: normals renormalised with fallbacks; a light exactly behind a face
 // or grazing it gives 0, never a negative term; a lamp or spot beyond its range contributes 0
 // (the falloff is clamped); total internal reflection in the glass returns the reflected
@@ -94,6 +103,18 @@ uniform int uSpecularModel;    // surfaces.specular_model: 0 the thesis's, 1 spl
 
 out vec4 fragColor;
 
+#ifdef SURFACE_SCENE
+#define PROBE_ON true
+#define REFRACTIVE false
+#define DEBUG_VIEW 0
+#define SPECULAR_MODEL SURFACE_SCENE_SPECULAR
+#else
+#define PROBE_ON uProbeOn
+#define REFRACTIVE uRefractive
+#define DEBUG_VIEW uDebug
+#define SPECULAR_MODEL uSpecularModel
+#endif
+
 // Unity's distance falloff of a point light within its range: (1 − (d/range)²)², 0 beyond.
 float RangeFalloff(float d, float range) {
     float x = clamp(d / max(range, 1e-4), 0.0, 1.0);
@@ -109,14 +130,8 @@ void AddLight(vec3 l, vec3 radiance, vec3 n, vec3 v, float roughness, inout vec3
     diffuse += radiance * nl;
     vec3 h = SafeNormalize(l + v, n);
     float nh = max(dot(n, h), 0.0);
-    float spec = uSpecularModel == 0 ? SpecularIntensityFromLUT(uNhxLut, nh, roughness) : 0.0;
+    float spec = SPECULAR_MODEL == 0 ? SpecularIntensityFromLUT(uNhxLut, nh, roughness) : 0.0;
     specular += spec * nl * SpecularColorByMetallic(radiance, uAlbedo, gMetallic);
-}
-
-vec3 ProbeAt(vec3 dir, float smoothness) {
-    vec3 d = ComputeReflexDirection(uReflection == 0 ? 1 : uReflection, vWorldPos, dir,
-                                    uProbePos, uProbeBoxMin, uProbeBoxMax, uProbeSphereRadius);
-    return SampleProbe(uProbe, d, smoothness, uProbeMips);
 }
 
 void main() {
@@ -129,7 +144,7 @@ void main() {
     }
     vec3 v = SafeNormalize(uCameraPos - vWorldPos, vec3(0.0, 0.0, 1.0));
     vec3 n = SafeNormalize(vWorldNormal, v);
-    if (uRefractive && uDistortion > 0.0) {
+    if (REFRACTIVE && uDistortion > 0.0) {
         vec3 t = SafeNormalize(vWorldTangent.xyz, vec3(1.0, 0.0, 0.0));
         vec3 b = cross(n, t) * (vWorldTangent.w < 0.0 ? -1.0 : 1.0);
         vec2 xy = texture(uDistortionMap, vUV * 4.0).xy * 2.0 - 1.0;
@@ -166,7 +181,11 @@ void main() {
     if (uReflectionOptimize && dot(vReflect, vReflect) > 1e-12 && uDistortion <= 0.0) {
         r = normalize(vReflect);  // REFLECTION_OPTIMIZE: interpolated from the vertices
     }
-    if (uProbeOn && uRefractive) {
+    // the probe's lookup direction of r, once: the reflection, the GGX reference and the debug
+    // view share it (reflection none looks the glass's reflection up as cube)
+    vec3 dR = ComputeReflexDirection(max(uReflection, 1), vWorldPos, r, uProbePos, uProbeBoxMin,
+                                     uProbeBoxMax, uProbeSphereRadius);
+    if (PROBE_ON && REFRACTIVE) {
         // the glass: refraction against reflection, weighted by the reflectance (spec/003 §2.7)
         float cosI = clamp(dot(n, v), 0.0, 1.0);
         float F = uFresnelSchlick ? FresnelSchlick(cosI, uN1, uN2) : FresnelExact(cosI, uN1, uN2);
@@ -180,33 +199,29 @@ void main() {
         vec3 d = ComputeReflexDirection(uReflection == 0 ? 1 : uReflection, vWorldPos, t,
                                         uProbePos, uProbeBoxMin, uProbeBoxMax, uProbeSphereRadius);
         vec3 refracted = textureLod(uProbe, d, RefractionLod(uTransparency, uProbeMips)).rgb * uAlbedo;
-        vec3 reflected = ProbeAt(r, gSmoothness);
+        vec3 reflected = SampleProbe(uProbe, dR, gSmoothness, uProbeMips);
         colour = RefractReflectMix(refracted, reflected, F) + specular;
-    } else if (uProbeOn && uReflection != 0) {
-        if (uSpecularModel == 1) {
+    } else if (PROBE_ON && uReflection != 0) {
+        if (SPECULAR_MODEL == 1) {
             // the physically based reference: split-sum prefiltered GGX (Karis 2013)
-            vec3 d = ComputeReflexDirection(uReflection, vWorldPos, r, uProbePos,
-                                            uProbeBoxMin, uProbeBoxMax, uProbeSphereRadius);
             vec3 f0 = mix(vec3(0.04), uAlbedo, gMetallic);
-            vec3 spec = PrefilteredSpecular(uProbePrefiltered, uBrdfLut, d, max(dot(n, v), 0.0),
+            vec3 spec = PrefilteredSpecular(uProbePrefiltered, uBrdfLut, dR, max(dot(n, v), 0.0),
                                             roughness, f0, uPrefilteredMips);
             colour = diffuse * (1.0 - gMetallic) + spec;
         } else {
             float w = ReflectionWeight(gSmoothness, gMetallic);
-            colour = mix(diffuse, ProbeAt(r, gSmoothness), w) + specular;
+            colour = mix(diffuse, SampleProbe(uProbe, dR, gSmoothness, uProbeMips), w) + specular;
         }
     }
 
-    if (uDebug == 1) {
+    if (DEBUG_VIEW == 1) {
         int c = ShadowCascade(vViewDepth);
         colour = vec3(c == 0 ? 1.0 : 0.2, c == 1 ? 1.0 : 0.2, c >= 2 ? 1.0 : 0.2) * (c == 3 ? 0.6 : 1.0)
                  * (0.4 + 0.6 * sunVis);
-    } else if (uDebug == 2) {
+    } else if (DEBUG_VIEW == 2) {
         colour = vec3(sunVis);
-    } else if (uDebug == 3) {
-        colour = 0.5 + 0.5 * ComputeReflexDirection(max(uReflection, 1), vWorldPos, r,
-                                                    uProbePos, uProbeBoxMin, uProbeBoxMax,
-                                                    uProbeSphereRadius);
+    } else if (DEBUG_VIEW == 3) {
+        colour = 0.5 + 0.5 * dR;
     }
     fragColor = vec4(colour, 1.0);
 }

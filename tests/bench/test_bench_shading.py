@@ -34,6 +34,15 @@ def test_cli_bench_shading_writes_json_chart_and_summary(tmp_path_factory):
     assert "lighting × toon × Gouraud" in r.stdout and "critical angle" in r.stdout
 
     sweep = report["sweep"]
+    # the lab's frame against the full shadow taps (PCSS): timed in the same rounds; the fast
+    # taps change the picture by a few levels where the penumbra is, if at all
+    speed = {r["variant"]: r for r in sweep["speed"]["rows"]}
+    assert list(speed) == ["reference", "taps fast", "default"]
+    assert speed["reference"]["chosen"] == {"taps": "full"}
+    assert speed["taps fast"]["chosen"] == {"taps": "fast"}
+    assert all(_finite(r["ms"], r["p99_levels"]) and r["ms"] > 0 for r in speed.values())
+    assert speed["taps fast"]["p99_levels"] <= 8
+    assert "the lab's frame, shadow taps at 160x90" in r.stdout
     # the outline figures (spec/003 §2.13): every method on the sphere and the table; the
     # per-vertex hull tears open on the low-poly table, the smoothed-normal hull does not
     outlines = {(r["object"], r["method"]): r for r in sweep["outlines"]["rows"]}

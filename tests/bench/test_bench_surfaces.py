@@ -30,11 +30,13 @@ def bench(tmp_path_factory):
 def test_json_four_charts_and_summary(bench):
     r, out, report = bench
     assert {"surfaces.shadows", "surfaces.opaque", "surfaces.transparent"} <= set(report["passes"])
-    for suffix in (".png", "-transparency.png", "-reflections.png", "-fresnel.png"):
+    for suffix in (".png", "-transparency.png", "-reflections.png", "-fresnel.png",
+                   "-speed.png"):
         chart = out.with_name(out.stem + suffix)
         assert chart.stat().st_size > 20000, chart
         assert f"chart → {chart.relative_to(out.parents[1]).as_posix()}" in r.stdout
-    for section in ("-- shadows", "-- transparency", "-- reflections", "-- fresnel"):
+    for section in ("-- shadows", "-- transparency", "-- reflections", "-- fresnel",
+                    "-- speed"):
         assert section in r.stdout
     assert report["sweep"]["quick"] is True
 
@@ -91,3 +93,24 @@ def test_the_example_is_the_readmes_own():
     """The command these tests read the output of is an example the README shows, as written:
     a README edit that changes it must change this module too."""
     assert EXAMPLE in command_lines()
+
+
+def test_the_labs_frame_against_its_reference(bench):
+    """The speed section: the reference first, each knob and the defaults timed in the same
+    rounds; the specialised programs draw the reference's image; the defaults resolve
+    ``auto`` from the renderer (no MSAA and the fast taps on a software one)."""
+    sp = bench[2]["sweep"]["speed"]
+    rows = {r["variant"]: r for r in sp["rows"]}
+    assert list(rows)[0] == sp["reference"] == "reference"
+    assert set(rows) == {"reference", "specialised", "taps fast", "no MSAA", "default"}
+    assert rows["reference"]["max_levels"] == 0
+    assert rows["specialised"]["p99_levels"] <= 1
+    assert rows["taps fast"]["p99_levels"] > 0 or rows["taps fast"]["max_levels"] > 0
+    assert sp["rounds"] >= 2
+    assert all(math.isfinite(r["ms"]) and r["ms"] > 0 for r in rows.values())
+    assert rows["default"]["resolved"] == {"surfaces.msaa": "auto", "surfaces.shadow_taps": "auto",
+                                           "surfaces.specialise": True}
+    assert rows["reference"]["chosen"] == {"msaa": 4, "taps": "full"}
+    software = "llvmpipe" in bench[0].stdout or "softpipe" in bench[0].stdout
+    if software:  # what auto picks on a software renderer
+        assert rows["default"]["chosen"] == {"msaa": 0, "taps": "fast"}

@@ -145,3 +145,44 @@ def test_each_object_can_have_its_own_material(shading):
     assert cols.min() > 0.15 * width and cols.max() < 0.45 * width, (cols.min(), cols.max())
     titles = [item.title for item in effect.panel_items()]
     assert "table: CelShader" in titles and "wall: ComplexCelShader" in titles
+
+
+def _frame_at(session, t: float) -> None:
+    target = session.gpu.target("test", "image", SIZE)
+    session.scene.render(session.scene.frame(SIZE, t), target)
+
+
+def test_the_suns_map_renders_only_when_the_sun_or_a_caster_moves(shading):
+    """A still row: the second frame renders no shadow map, nor does a filter or tap change;
+    the sun's move renders it again, and so does the turntable turning the objects."""
+    s = shading("shading.turntable=0")
+    effect = s.scene.effect("shading")
+    sun = effect.sun_shadow
+    _frame_at(s, 0.0)
+    count = sun.renders
+    assert count >= 1
+    _frame_at(s, 0.5)
+    s.params.set("shading.shadow_filter", "pcf")
+    s.params.set("shading.shadow_taps", "fast")
+    _frame_at(s, 0.5)
+    assert sun.renders == count
+    s.params.set("shading.sun_elevation", s.params["shading.sun_elevation"] - 10.0)
+    _frame_at(s, 0.5)
+    assert sun.renders == count + 1
+    s.params.set("shading.turntable", 30.0)
+    _frame_at(s, 0.5)
+    _frame_at(s, 1.0)
+    assert sun.renders == count + 3
+
+
+@pytest.mark.parametrize("taps", ["full", "fast"])
+def test_the_specialised_receivers_draw_the_generic_image(shading, monkeypatch, taps):
+    """The objects and the ground drawn with the programs specialised to the shadow filter and
+    taps (``Shading.receiver``) and with the one program reading them as uniforms: one image."""
+    from app.effects.shading.effect import Shading
+
+    s = shading("shading.turntable=0", f"shading.shadow_taps={taps}")
+    special = _render(s)
+    monkeypatch.setattr(Shading, "receiver", lambda self, spec: spec)
+    generic = _render(s)
+    assert np.abs(special - generic).max() < 1e-4

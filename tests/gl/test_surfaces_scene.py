@@ -132,3 +132,59 @@ def test_a_users_mesh_stands_in_the_room_and_casts(lab, tmp_path):
     finally:
         effect.user_mesh = None
         effect._user_revision += 1
+
+
+def test_a_receivers_filter_or_taps_rebinds_the_maps_without_rendering_them(lab):
+    """The shadow maps' key is the light, the maps' own settings and the casters: a second frame
+    with nothing moved renders none, a filter or tap change renders none (the receivers read
+    the same maps), the spot's angle renders the spot's alone."""
+    s, d = lab
+    effect = s.scene.effect("surfaces")
+    maps = (effect.shadows.sun, effect.shadows.point, effect.shadows.spot)
+    _render(s, d)
+    counts = [m.renders for m in maps]
+    _render(s, d)
+    _render(s, d, shadow_filter="pcss", shadow_taps="fast")
+    assert [m.renders for m in maps] == counts
+    _render(s, d, spot_angle=20.0)
+    assert [m.renders for m in maps] == [counts[0], counts[1], counts[2] + 1]
+
+
+def test_the_probes_first_capture_equals_its_next(lab):
+    """The probe's capture binds the lights' specular LUT itself: the first frame of a session
+    and a frame after a re-capture are the same image (the capture once read whatever texture
+    its sampler's unit held)."""
+    s, d = lab
+    effect = s.scene.effect("surfaces")
+    effect.probe.release()
+    first = _render(s, d)
+    _render(s, d, ambient=0.2)
+    again = _render(s, d)
+    assert effect.probe.captures >= 2
+    assert np.array_equal(first, again)
+
+
+@pytest.mark.parametrize("values", [{}, {"shadow_filter": "pcss", "shadow_taps": "fast"},
+                                    {"shadow_filter": "vsm", "reflection": "none"}])
+def test_the_specialised_programs_draw_the_generic_image(lab, values):
+    """``surfaces.specialise`` (the lights' filter and taps and the probe's branch as constants)
+    only changes what the shader compiles: the same image as the one program with uniforms."""
+    s, d = lab
+    on = _render(s, d, specialise=True, **values)
+    off = _render(s, d, specialise=False, **values)
+    assert np.abs(on - off).max() < 1e-4
+
+
+def test_msaa_auto_follows_the_renderer_and_the_coverage(lab):
+    """``surfaces.msaa=auto``: no MSAA on a software renderer, 4× on a GPU, and 4× whenever a
+    quad is drawn with alpha-to-coverage (which needs it); 0 and 4 are pinned."""
+    s, d = lab
+    effect = s.scene.effect("surfaces")
+    _render(s, d)
+    assert effect.samples() == (0 if s.gpu.caps.software else 4)
+    quad = effect.layout.quads[0].name.split("_")[0]
+    _render(s, d, **{f"{quad}_mode": "alpha-to-coverage"})
+    assert effect.samples() == 4
+    for pinned in ("0", "4"):
+        _render(s, d, msaa=pinned)
+        assert effect.samples() == int(pinned)

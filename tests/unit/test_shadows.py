@@ -135,3 +135,34 @@ def test_settings_and_params():
     with pytest.raises(ValueError, match="filter"):
         ShadowSettings(filter="blur")
     assert hash(s) == hash(ShadowSettings.from_params(params, "surfaces"))
+
+
+def test_taps_auto_follows_the_renderer_and_the_maps_ignore_the_receivers():
+    """``shadow_taps``: auto is the fast set on a software renderer, the full (reference) set on
+    a GPU; full and fast are pinned either way; the maps' key ignores what only the receivers
+    read (filter, taps, PCSS size, VSM blur and bleed, strength) but not a map's own setting."""
+    from dataclasses import replace
+
+    from app.gpu.programs import ProgramSpec
+    from app.render.shadow_maps import receiver_defines, receiver_variants
+
+    params = ParamSet(shadow_params("surfaces"))
+    s = ShadowSettings.from_params(params, "surfaces")
+    assert s.taps == "auto"
+    assert (s.resolved_taps(True), s.resolved_taps(False)) == ("fast", "full")
+    for pinned in ("full", "fast"):
+        t = replace(s, taps=pinned)
+        assert t.resolved_taps(True) == t.resolved_taps(False) == pinned
+    with pytest.raises(ValueError, match="taps"):
+        ShadowSettings(taps="some")
+    receivers = replace(s, filter="pcss", taps="fast", pcss_light_size=0.1, vsm_blur=3,
+                        vsm_bleed=0.5, strength=0.4)
+    assert receivers.map_key() == s.map_key()
+    for changed in (replace(s, map_size=512), replace(s, normal_bias=0.1),
+                    replace(s, dithered=not s.dithered), replace(s, cascades=2)):
+        assert changed.map_key() != s.map_key()
+    assert receiver_defines(replace(s, filter="pcss"), True) == (("SHADOW_FILTER", 3),
+                                                                 ("SHADOW_TAPS", 1))
+    assert receiver_defines(None, False) == (("SHADOW_FILTER", 1), ("SHADOW_TAPS", 0))
+    variants = receiver_variants(ProgramSpec("x/y", defines=(("A", 1),)))
+    assert len(set(variants)) == 10 and all(v.defines[0] == ("A", 1) for v in variants)

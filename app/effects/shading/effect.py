@@ -24,7 +24,7 @@ import numpy as np
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec
 from ...params import Inspector, Param, ParamSet
-from ...render.shadow_maps import CASTER, DirectionalShadow
+from ...render.shadow_maps import CASTER, DirectionalShadow, receiver_defines, receiver_variants
 from ...render.shadows import ShadowSettings, shadow_params
 from ...sim import lab_meshes, surface_maps
 from ..base import Effect, Pass
@@ -33,6 +33,9 @@ from .outlines import Outlines, outline_params
 
 SURFACE = ProgramSpec("shading/surface")
 GROUND = ProgramSpec("shading/ground")
+#: the objects and the ground as they are drawn: specialised to each shadow filter and tap set
+#: (Shading.receiver)
+RECEIVERS = (*receiver_variants(SURFACE), *receiver_variants(GROUND))
 GROUNDS = ("none", "grid", "checker")
 #: the scene's clear colour (linear), where the ground fades out far from the objects
 BACKGROUND = (0.05, 0.06, 0.08)
@@ -115,7 +118,7 @@ class Shading(Effect):
     name = "shading"
     title = "Lighting and toon lab"
     spec = "spec/003"
-    programs = (SURFACE, GROUND, CASTER, *OUTLINE_PROGRAMS)
+    programs = (SURFACE, GROUND, *RECEIVERS, CASTER, *OUTLINE_PROGRAMS)
     stages = (Stage.SHADOW, Stage.OPAQUE, Stage.POST)
     consumes = {"main_light": "optional"}
 
@@ -406,7 +409,7 @@ class Shading(Effect):
 
     def draw(self, frame, target) -> None:
         ctx = self.gpu.ctx
-        prog = self.program(SURFACE)
+        prog = self.program(self.receiver(SURFACE))
         cam = frame.camera
         lights = self.light_uniforms(frame)
         p = self.params
@@ -453,6 +456,13 @@ class Shading(Effect):
                            objects)
         ctx.disable(moderngl.DEPTH_TEST)
 
+    def receiver(self, spec: ProgramSpec) -> ProgramSpec:
+        """``spec`` specialised to the sun's shadow settings (``receiver_defines``: the filter
+        and the taps as constants, the other filters compiled out — a software rasteriser runs
+        both sides of a branch on a uniform; the same image): one of :data:`RECEIVERS`."""
+        return ProgramSpec(spec.name, defines=spec.defines + receiver_defines(
+            self.shadow_settings(), self.gpu.caps.software))
+
     def _bind_shadow(self, prog, cam) -> dict:
         """The sun's shadow uniforms of ``prog`` (shadow.glsl; off without a map this frame)
         and its textures."""
@@ -488,7 +498,7 @@ class Shading(Effect):
         mode = self.params["shading.ground"]
         if mode == "none":
             return
-        prog = self.program(GROUND)
+        prog = self.program(self.receiver(GROUND))
         cam = frame.camera
         p = self.params
         prog.set_many({**self._light_set(frame, lights),
@@ -541,6 +551,7 @@ class Shading(Effect):
                      "shading.normal_unpack", "shading.normal_dxt5nm"],
         "Ground and shadows": ["shading.ground", "shading.ground_contact",
                                "shading.shadow_sun", "shading.shadow_filter",
+                               "shading.shadow_taps",
                                "shading.shadow_map_size", "shading.shadow_pcss_light_size",
                                "shading.shadow_vsm_blur", "shading.shadow_vsm_bleed",
                                "shading.shadow_linear_bias", "shading.shadow_normal_bias",

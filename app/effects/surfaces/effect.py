@@ -6,8 +6,9 @@ lit by a sun (directional, cascaded map), a lamp (point light, cube map) and a s
 
 A frame, stage by stage:
 
-1. shadow — the three lights' maps, re-rendered only when a light, the settings, the camera
-   (for the cascades) or the casters changed;
+1. shadow — the three lights' maps, re-rendered only when a light, the maps' own settings,
+   the camera (for the cascades: when a snapped cascade moves) or the casters changed — never
+   for a receiver's filter, taps or strength (``ShadowSettings.map_key``);
 2. environment — the reflection probe's cubemap of the room from its centre (the room and the
    solids, drawn without reflections), re-rendered only when what it shows changed; its mips
    and the GGX-prefiltered copy (:mod:`.reflections`);
@@ -19,6 +20,17 @@ A frame, stage by stage:
 4. transparent — the alpha quads in render-queue order (:mod:`.transparency`): cutout,
    alpha-to-coverage (on the lab's 4× MSAA target, ``surfaces.msaa``), sorted blending, weighted
    blended OIT or the depth-peeled reference; then the MSAA target resolves into the frame.
+
+What a frame costs, and what it need not (measured in ``natura bench surfaces``'s speed
+section): the opaque pass is drawn nearest solid first, the room last, so the depth test
+rejects what a solid hides before it is shaded; it is one of twenty specialised programs
+(``surface_spec``: the glass's branch, the other specular model, the debug views and the unused
+shadow filters compiled out, the taps' loops of constant length); the shadows' PCF taps follow
+``surfaces.shadow_taps`` (``auto``: 3 × 3 on a software renderer, the 5 × 5 reference on a
+GPU); and ``surfaces.msaa=auto`` draws
+without MSAA on a software renderer unless a quad uses alpha-to-coverage. Each is one switch
+from the reference: ``surfaces.specialise=false``, ``surfaces.shadow_taps=full``,
+``surfaces.msaa=4``.
 
 ``surfaces.failure`` reproduces each of the thesis's failures with one switch (the queue and
 intersection failures of Figs. 44–46, shadow acne and Peter Panning of Figs. 86–87) by setting
@@ -38,7 +50,7 @@ from ...gpu.cache import build_mipmaps, memoised
 from ...gpu.programs import ProgramSpec
 from ...params import Param
 from ...render import shadows as shadow_module
-from ...render.shadow_maps import CASTER, ShadowSet
+from ...render.shadow_maps import CASTER, ShadowSet, receiver_variants
 from ...sim import distortion, surfaces_scene
 from ..base import Effect, Pass
 from .reflections import ReflectionProbe
@@ -46,6 +58,10 @@ from .transparency import BLENDED as BLENDED_MODES
 from .transparency import Transparency
 
 SURFACE = ProgramSpec("surfaces/surface")
+#: the room and the solids as the camera sees them (the probe on, no refraction), specialised
+#: to each shadow filter and tap set (glsl/surfaces/surface.frag's header; Surfaces.surface_spec)
+SURFACE_SCENE = tuple(v for model in (0, 1) for v in receiver_variants(ProgramSpec(
+    "surfaces/surface", defines=(("SURFACE_SCENE", 1), ("SURFACE_SCENE_SPECULAR", model)))))
 FORMAT = ("3f 3f 2f 4f", "in_position", "in_normal", "in_uv", "in_tangent")
 CASTER_FORMAT = ("3f 3f 2f 16x", "in_position", "in_normal", "in_uv")
 ATTRIBUTES = ("position", "normal", "uv", "tangent")
@@ -111,7 +127,8 @@ class Surfaces(Effect):
     name = "surfaces"
     title = "Surfaces and shadows lab"
     spec = "spec/003"
-    programs = (SURFACE, CASTER, *Transparency.programs, *ReflectionProbe.programs)
+    programs = (SURFACE, *SURFACE_SCENE, CASTER, *Transparency.programs,
+                *ReflectionProbe.programs)
     stages = (Stage.SHADOW, Stage.ENVIRONMENT, Stage.OPAQUE, Stage.TRANSPARENT)
     produces = frozenset({"shadows"})
 
@@ -124,9 +141,11 @@ class Surfaces(Effect):
                   "panes (Fig. 45), the ZWrite-off workaround (Fig. 46), shadow acne without bias "
                   "(Fig. 86), Peter Panning with linear bias 0.6 (Fig. 87)", kind="choice",
                   choices=tuple(FAILURES), section="spec/003 §4"),
-            Param("surfaces.msaa", "4", doc="samples of the lab's target: 4 for alpha-to-"
+            Param("surfaces.msaa", "auto", doc="samples of the lab's target: 4 for alpha-to-"
                   "coverage (spec/003 §2.4: AlphaToMask needs MSAA), 0 draws straight into the "
-                  "frame", kind="choice", choices=("0", "4"), section="spec/003 §2.4"),
+                  "frame; auto: 4 on a GPU or while a quad uses alpha-to-coverage, else 0 on a "
+                  "software renderer (whose MSAA triples the lab's frame)", kind="choice",
+                  choices=("auto", "0", "4"), section="spec/003 §2.4"),
             Param("surfaces.sun_elevation", 55.0, -90.0, 90.0, "the sun (directional light) "
                   "above the horizon", step=0.5, unit="°", section=s1),
             Param("surfaces.sun_azimuth", 150.0, 0.0, 360.0, "the sun's compass azimuth",
@@ -184,6 +203,11 @@ class Surfaces(Effect):
             Param("surfaces.interfaces", 2, 1, 2, "refraction through the glass: 1 interface "
                   "(the thesis: refract once and look the probe up) or 2 (in and out of the "
                   "sphere)", kind="int", section=s7),
+            Param("surfaces.specialise", True, doc="compile the surface program for each draw's "
+                  "switches (lights, probe, material, reflection mode, shadow filters) instead of "
+                  "branching on uniforms: the same image; a software rasteriser runs both sides "
+                  "of every branch, so off shows what the branches cost", kind="bool",
+                  section="spec/003 §2.8"),
             Param("surfaces.debug", "none", doc="a debug view: the cascade index, the sun's "
                   "shadow alone, the reflection direction", kind="choice",
                   choices=("none", "cascades", "shadow", "reflection"), section="spec/003 §2.8"),
@@ -219,6 +243,7 @@ class Surfaces(Effect):
         self.layout = surfaces_scene.default_scene()
         self._meshes: dict[str, tuple] = {}
         self._textures: dict[str, moderngl.Texture] = {}
+        self._bounds: dict[str, tuple] = {}  # name → (its vertex buffer, lowest, highest)
         #: the sun's (cascaded), the lamp's (point) and the spot's maps: the shared module
         self.shadows = ShadowSet(gpu, self.name)
         self.probe = ReflectionProbe(gpu, self.name, params)
@@ -257,6 +282,9 @@ class Surfaces(Effect):
         if name not in self._meshes:
             mesh = (self.user_mesh if isinstance(obj, UserObject)
                     else surfaces_scene.mesh(obj))
+            if mesh is None:
+                raise ValueError(f"surfaces: no mesh for {name!r}: allowed a scene primitive "
+                                 "or a loaded user mesh")
             vbo = self.gpu.buffer(self.name, f"{name} vertices", mesh.vertex_data(ATTRIBUTES))
             ibo = self.gpu.buffer(self.name, f"{name} indices", mesh.index_data())
             self._meshes[name] = (vbo, ibo, mesh)
@@ -289,8 +317,21 @@ class Surfaces(Effect):
         for obj in (work.fbo, work.colour, work.depth):
             self.gpu.free(obj)
 
+    def samples(self) -> int:
+        """The lab's MSAA samples: ``surfaces.msaa``, with ``auto`` resolved — 4 on a GPU or
+        when a quad is drawn with alpha-to-coverage (a mode or ``surfaces.a2c`` on the cut-out
+        quads), else 0 on a software renderer (``Caps.software``)."""
+        chosen = str(self.params["surfaces.msaa"])
+        if chosen != "auto":
+            return int(chosen)
+        p = self.params
+        modes = [str(p.get(f"surfaces.{q.name.split('_')[0]}_mode", "blend"))
+                 for q in self.layout.quads]
+        coverage = "alpha-to-coverage" in modes or (bool(p["surfaces.a2c"]) and "cutout" in modes)
+        return 4 if coverage or not self.gpu.caps.software else 0
+
     def work_target(self, target) -> WorkTarget:
-        samples = int(self.params["surfaces.msaa"])
+        samples = self.samples()
         if samples > 0:
             return self._msaa.get((tuple(target.size), samples))
         return WorkTarget(target.fbo, target.color, target.depth, tuple(target.size), 0)
@@ -416,11 +457,25 @@ class Surfaces(Effect):
             "uSpotRange": p["surfaces.spot_range"],
         }
 
-    def draw_solids(self, view_proj, view, camera_pos, target_fbo, probe: bool) -> None:
-        """The room and the solids with the surface program. ``probe`` false draws them as the
-        reflection probe sees them: no reflection, no refraction (the probe has no probe)."""
-        ctx = self.gpu.ctx
-        prog = self.program(SURFACE)
+    def surface_spec(self, mat: dict, probe: bool) -> ProgramSpec:
+        """The surface program of one draw (glsl/surfaces/surface.frag's header): the room and
+        the solids the camera sees — the probe on, no refraction — with the program specialised
+        to that, to the specular model and to the shadows' filter and taps
+        (``ShadowSet.defines``), so the branches the draw does not take cost nothing (a
+        software rasteriser runs both sides of a branch on a uniform); the glass, the probe's
+        capture, a debug view and every draw with ``surfaces.specialise`` off with the one
+        generic program. The same image either way."""
+        p = self.params
+        if not (probe and not mat["uRefractive"] and p["surfaces.specialise"]
+                and p["surfaces.debug"] == "none"):
+            return SURFACE
+        model = self.probe.lighting()[1]["uSpecularModel"]
+        defines = (("SURFACE_SCENE", 1), ("SURFACE_SCENE_SPECULAR", model),
+                   *self.shadows.defines())
+        return ProgramSpec(SURFACE.name, defines=defines)
+
+    def _prepare_surface(self, prog, view_proj, view, camera_pos, probe: bool) -> None:
+        """Every uniform and texture of the surface program but the material's."""
         p = self.params
         prog.set_many({"uViewProj": view_proj, "uView": view, "uCameraPos": tuple(camera_pos),
                        **self.light_uniforms(), "uProbeOn": bool(probe),
@@ -432,21 +487,47 @@ class Surfaces(Effect):
                        "uDebug": ("none", "cascades", "shadow", "reflection").index(
                            p["surfaces.debug"])})
         self.apply_params(prog)
+        lighting, lighting_uniforms = self.probe.lighting()  # the probe's capture needs them too
+        prog.set_many(lighting_uniforms)
         textures = {"uDistortionMap": self._texture("distortion", _distortion_rgba),
                     "uMetallicMap": self._texture("metallic", metallic_map),
-                    **self.shadows.bind(prog)}
+                    **lighting, **self.shadows.bind(prog)}
         if probe:
             textures.update(self.probe.textures())
             prog.set_many(self.probe.uniforms())
-        prog.bind_textures(textures)  # once: it assigns the units
+        prog.bind_textures(textures)  # once per switch of program: it assigns the units
+
+    def draw_order(self, camera_pos) -> list:
+        """The room and the solids, nearest solid first and the room last: the depth test then
+        rejects what lies behind a solid before it is shaded (the same image, fewer fragments)."""
+        cam = np.asarray(camera_pos, np.float64)
+
+        def distance(obj) -> float:
+            vbo, _, mesh = self._mesh(obj)
+            if self._bounds.get(obj.name, (None,))[0] is not vbo:
+                self._bounds[obj.name] = (vbo, *mesh.bounds())
+            _, lo, hi = self._bounds[obj.name]
+            return float(np.linalg.norm(np.clip(cam, lo, hi) - cam))
+
+        return [*sorted(self.solids(), key=distance), self.layout.room]
+
+    def draw_solids(self, view_proj, view, camera_pos, target_fbo, probe: bool) -> None:
+        """The room and the solids with the surface program. ``probe`` false draws them as the
+        reflection probe sees them: no reflection, no refraction (the probe has no probe)."""
+        ctx = self.gpu.ctx
         target_fbo.use()
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.enable(moderngl.CULL_FACE)
-        for obj in (self.layout.room, *self.solids()):
+        current = None
+        for obj in self.draw_order(camera_pos):
             vbo, ibo, _ = self._mesh(obj)
             mat = self.material(obj)
             if not probe:
                 mat["uRefractive"] = False
+            prog = self.program(self.surface_spec(mat, probe))
+            if prog is not current:
+                self._prepare_surface(prog, view_proj, view, camera_pos, probe)
+                current = prog
             prog.set_many(mat)
             user = isinstance(obj, UserObject)
             if user:  # a user's winding may be either way
@@ -529,6 +610,7 @@ class Surfaces(Effect):
                     "surfaces.shadow_split_lambda", "surfaces.shadow_stable_fit",
                     "surfaces.shadow_distance", "surfaces.shadow_linear_bias",
                     "surfaces.shadow_normal_bias", "surfaces.shadow_filter",
+                    "surfaces.shadow_taps", "surfaces.specialise",
                     "surfaces.shadow_pcss_light_size", "surfaces.shadow_vsm_blur",
                     "surfaces.shadow_vsm_bleed", "surfaces.shadow_dithered",
                     "surfaces.shadow_strength"],

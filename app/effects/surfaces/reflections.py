@@ -175,6 +175,7 @@ class ReflectionProbe:
         full = (key, tuple(position), tuple(box_min), tuple(box_max), size)
         captured = False
         with self.gpu.keep_framebuffer():
+            self._luts()  # before the capture: its draws read the NHx LUT (``lighting``)
             if self.cube is None or full != self._key:
                 self.position, self.box_min, self.box_max = position, box_min, box_max
                 self._capture(draw_scene, size)
@@ -184,7 +185,6 @@ class ReflectionProbe:
             if captured or self._prefilter_key != samples or self.prefiltered is None:
                 self._prefilter(samples)
                 self._prefilter_key = samples
-            self._luts()
         return captured
 
     def _face_target(self, size: int):
@@ -288,6 +288,16 @@ class ReflectionProbe:
             self.brdf = self.gpu.texture(self.owner, "BRDF LUT", (BRDF_LUT_SIZE,) * 2, 2, data)
 
     # -- use -------------------------------------------------------------------------------
+    def lighting(self) -> tuple[dict[str, Any], dict[str, Any]]:
+        """(textures, uniforms) every draw of the surface program needs, the probe's own
+        capture included: the NHxRoughness LUT and the specular model the lights' specular
+        reads (a capture without them read whatever texture unit its sampler was last left
+        on: the first capture of a session differed from the next ones)."""
+        self._luts()
+        return ({"uNhxLut": self.nhx},
+                {"uSpecularModel": SPECULAR_MODELS.index(
+                    str(self._param("surfaces.specular_model", "thesis")))})
+
     def textures(self) -> dict[str, Any]:
         return {"uProbe": self.cube, "uProbePrefiltered": self.prefiltered,
                 "uBrdfLut": self.brdf, "uNhxLut": self.nhx}
