@@ -3,7 +3,13 @@
 Every pass, the whole frame and two references (a trivial full-screen pass with a constant
 shader, and a clear) are timed in the same rounds: each once per round, in a shuffled order,
 ``ctx.finish()`` on both sides (``app.gpu.timing.time_interleaved``; docs/architecture.md,
-"Measuring"). A pass's ratio to the full-screen pass is taken round by round, so machine load
+"Measuring"). The whole frame is the scene's update step and its render, as the window runs
+them. In the same rounds the frame is also run part by part (``app.gpu.timing.FrameClock``):
+the update step (:data:`CPU_PART`), each pass as it runs inside the frame — into the targets
+the frame uses, such as the village's multisampled twin — ending with its own ``ctx.finish()``,
+and the scene's own work between passes (clears, resolves); the report's ``frame_accounting``
+gives each part, their sum beside the whole frame, and the remainder between the two. A pass's
+ratio to the full-screen pass is taken round by round, so machine load
 moves both sides of it together; the report gives the median and quartiles of the times and of
 the ratios. Pipeline-statistics counts (GL_ARB_pipeline_statistics_query) of one run of each
 pass are added where the driver has them, and from them the fragment shader invocations per
@@ -22,13 +28,14 @@ import importlib.util
 import json
 import math
 import platform
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
 from ..effects.base import Pass
 from ..gpu.programs import draw_fullscreen, fullscreen
-from ..gpu.timing import time_interleaved
+from ..gpu.timing import BETWEEN_PASSES, FrameClock, time_interleaved
 from ..imageio import next_free_path, write_text_atomic
 from ..runtime import Session
 
@@ -81,6 +88,15 @@ FIELDS = {
                            "reference_draws times (enough for about 2 ms), so one scheduling "
                            "hiccup does not swamp a round",
     "pipeline": "GL_ARB_pipeline_statistics_query counts of one run (and samples_passed)",
+    "frame": "the whole frame: the scene's update step and its render, one run",
+    "frame_accounting": "the frame run part by part in the same rounds: the update step "
+                        "(CPU: simulation/uniforms), each pass as it runs inside the frame "
+                        "(into the frame's own targets) ending with its own ctx.finish(), and "
+                        "the scene's work between passes (clears, resolves); per part the "
+                        "median and quartiles over the rounds, issue_median_ms (until its work "
+                        "was queued) and alone_median_ms (the pass from a cleared bench "
+                        "target, where timed); sum_ms of the parts' medians beside frame_ms "
+                        "(the whole frame, no finish inside), remainder_ms = frame_ms − sum_ms",
     "covered_pixels": "pixels of the bench target that differ from the clear after one run "
                       "from a cleared target (0: the pass draws only into its own targets)",
     "fragments_per_covered_pixel": "fragment_shader_invocations ÷ covered_pixels: overdraw, "
@@ -179,10 +195,101 @@ def _gpu_quartiles(values: list[float]) -> tuple[float, float, float]:
     return q[0], q[1], q[2]
 
 
+#: the part of a frame that is the scene's update step: every effect's CPU work (simulation,
+#: the slots it fills, the uniforms it computes ahead of its passes)
+CPU_PART = "CPU: simulation/uniforms"
+#: the frame run part by part: timed in the rounds beside the whole frame, reported in
+#: ``frame_accounting`` (not among the passes)
+ACCOUNTED = "frame, part by part"
+
+
+@contextmanager
+def clocked_passes(scene, clock: FrameClock):
+    """While inside, every pass ``scene`` runs (``Scene.passes``, however its ``render`` calls
+    it: once per eye, or split around a resolve) is a part of ``clock``."""
+    plain = scene.passes
+
+    def passes(frame, target) -> list[Pass]:
+        return [Pass(p.name, lambda p=p: clock.part(p.name, p.run), p.stage)
+                for p in plain(frame, target)]
+
+    setattr(scene, "passes", passes)
+    try:
+        yield
+    finally:
+        delattr(scene, "passes")
+
+
+def _accounting(result, records: list[tuple[dict, dict]], passes: dict) -> dict:
+    """The frame's parts over the timed rounds (their medians and quartiles, the time until
+    each part's work was queued, its time alone from a cleared target where the bench timed
+    it), their sum beside the whole frame, and the remainder between the two."""
+    import statistics
+
+    records = records[-result.rounds:] if result.rounds else []
+    names: list[str] = []
+    for parts, _ in records:
+        names += [n for n in parts if n not in names and n != BETWEEN_PASSES]
+    if any(BETWEEN_PASSES in parts for parts, _ in records):
+        names.append(BETWEEN_PASSES)
+    table: dict = {}
+    for name in names:
+        p25, med, p75 = _gpu_quartiles([parts.get(name, 0.0) for parts, _ in records])
+        entry = {"median_ms": med, "p25_ms": p25, "p75_ms": p75,
+                 "issue_median_ms": statistics.median(issue.get(name, 0.0)
+                                                      for _, issue in records)}
+        if name in passes:
+            entry["alone_median_ms"] = passes[name]["median_ms"]
+        table[name] = entry
+    total = sum(e["median_ms"] for e in table.values())
+    frame = passes["frame"]["median_ms"]
+    remainder = frame - total
+    return {"parts": table, "sum_ms": total, "frame_ms": frame,
+            "accounted_frame_ms": result.quartiles(ACCOUNTED)[1],
+            "remainder_ms": remainder,
+            "remainder_share": remainder / frame if frame > 0 else 0.0,
+            "rounds": len(records)}
+
+
+def accounting_lines(report: dict) -> list[str]:
+    """The frame accounting as ``natura bench`` prints it: every part of the frame, their sum,
+    the whole frame and the remainder."""
+    acc = report.get("frame_accounting")
+    if not acc:
+        return []
+    lines = [f"{'frame, part by part':40s} {'in the frame ms [p25–p75]':>28s}  {'alone ms':>9s}"
+             "  share"]
+    frame = acc["frame_ms"]
+    for name, e in acc["parts"].items():
+        spread = f"{e['median_ms']:.3f} [{e['p25_ms']:.3f}–{e['p75_ms']:.3f}]"
+        alone = f"{e['alone_median_ms']:.3f}" if "alone_median_ms" in e else "—"
+        share = f"{100.0 * e['median_ms'] / frame:5.1f} %" if frame > 0 else ""
+        lines.append(f"  {name:38s} {spread:>28s}  {alone:>9s}  {share}")
+    lines.append(f"  {'sum of the parts':38s} {acc['sum_ms']:>28.3f}")
+    lines.append(f"  {'frame (timed whole)':38s} {frame:>28.3f}")
+    lines.append(f"  {'remainder (frame − sum)':38s} {acc['remainder_ms']:>28.3f}  "
+                 f"{'':9s}  {100.0 * acc['remainder_share']:5.1f} %")
+    return lines
+
+
 def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat: int = 15,
                 seed: int = 0, budget_s: float | None = None) -> dict:
     gpu = session.gpu
     target = gpu.target("bench", "scene radiance", size)
+    clock = FrameClock(gpu.ctx)
+    records: list[tuple[dict, dict]] = []
+
+    def whole_frame():
+        session.scene.render(session.scene.frame(size, 0.0), target)
+
+    def accounted_frame():
+        clock.begin()
+        made: list = []
+        clock.part(CPU_PART, lambda: made.append(session.scene.frame(size, 0.0)))
+        with clocked_passes(session.scene, clock):
+            session.scene.render(made[0], target)
+        records.append((clock.end(), dict(clock.issue)))
+
     try:
         frame = session.scene.frame(size, 0.0)
         session.scene.render(frame, target)  # first frame: lazy resources are created here
@@ -208,9 +315,11 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
         draws = reference_draws(gpu.ctx, single.run)
         passes = [trivial_pass(session, target, draws), Pass("reference.clear", target.clear)]
         passes += [cleared(p) for p in raw]
-        passes.append(Pass("frame", lambda: session.scene.render(frame, target)))
+        passes.append(Pass("frame", whole_frame))
         hardware = not gpu.caps.software
-        result = time_interleaved(gpu.ctx, {p.name: p.run for p in passes}, warmup, repeat,
+        variants = {p.name: p.run for p in passes}
+        variants[ACCOUNTED] = accounted_frame
+        result = time_interleaved(gpu.ctx, variants, warmup, repeat,
                                   seed=seed, gpu_queries=hardware, budget_s=budget_s)
         per_draw(result.timings["reference.fullscreen"], draws)
         counts, pipeline_status = _pipeline(gpu, target, [single, *passes[1:]], inner)
@@ -221,6 +330,8 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
     report_passes: dict = {}
     ref_frags = counts.get(ref, {}).get("pipeline", {}).get("fragment_shader_invocations", 0)
     for name, t in result.timings.items():
+        if name == ACCOUNTED:
+            continue
         p25, med, p75 = result.quartiles(name)
         ratio = result.ratio(name, ref)
         entry: dict = {**t.summary(), "p25_ms": p25, "p75_ms": p75,
@@ -262,6 +373,7 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
         "parameters": {k: (list(v) if isinstance(v, tuple) else v)
                        for k, v in session.params.values().items()},
         "passes": report_passes,
+        "frame_accounting": _accounting(result, records, report_passes),
     }
 
 

@@ -1,5 +1,6 @@
 """Timing GPU work: ``ctx.finish()`` around a pass, warm-up, then the median of N; several
-variants in the same shuffled rounds (:func:`time_interleaved`); pipeline-statistics counts.
+variants in the same shuffled rounds (:func:`time_interleaved`); one frame split into named
+parts that add up to it (:class:`FrameClock`); pipeline-statistics counts.
 
 GPU timer queries are used only on a hardware GPU (on llvmpipe they are unreliable) and are
 reported beside wall time, never instead of it.
@@ -145,6 +146,71 @@ def time_interleaved(ctx: moderngl.Context, variants: dict[str, Callable[[], Non
             if query is not None:
                 timings[name].gpu_ms.append(query.elapsed / 1e6)
     return Interleaved(timings, done)
+
+
+# ---- one frame, part by part ----------------------------------------------------------------
+
+#: the part of a frame that is the scene's own work between its passes: clearing the target,
+#: resolving a multisampled twin, composing eyes, and the Python between two passes
+BETWEEN_PASSES = "scene: clears, resolves, between passes"
+
+
+class FrameClock:
+    """One frame's wall time split into named parts that add up to it.
+
+    A renderer that queues its work (llvmpipe binds draws into scenes it rasterises at the next
+    flush; a GPU runs behind the CPU) bills a pass's cost to whoever synchronises next — a
+    readback, a ``copy_framebuffer``, the next pass. Here every part ends with ``ctx.finish()``
+    inside its own time, so its cost is its own: :meth:`part` first finishes what came before
+    (billed to :data:`BETWEEN_PASSES`: the scene's clears and resolves), then runs the part and
+    finishes it. The time from :meth:`begin` to :meth:`end` is exactly the sum of the parts; the
+    finishes themselves cost the frame a little overlap, which a whole frame timed without them
+    shows (``natura bench``'s remainder). ``issue`` holds, per part, the time until its work was
+    queued (uniforms, draw calls and, on a software renderer, the vertex stage), before the
+    finish waited for the rest.
+    """
+
+    def __init__(self, ctx: moderngl.Context):
+        self.ctx = ctx
+        self.parts: dict[str, float] = {}
+        self.issue: dict[str, float] = {}
+        self._mark = 0.0
+        self._depth = 0
+
+    def begin(self) -> None:
+        self.parts, self.issue = {}, {}
+        self._depth = 0
+        self.ctx.finish()
+        self._mark = time.perf_counter()
+
+    def _add(self, table: dict[str, float], name: str, seconds: float) -> None:
+        table[name] = table.get(name, 0.0) + seconds * 1e3
+
+    def part(self, name: str, fn: Callable[[], Any]) -> Any:
+        """Run ``fn`` as the part ``name`` (summed when it runs more than once in the frame,
+        e.g. once per eye); a part run inside another part is that part's."""
+        if self._depth:
+            return fn()
+        self.ctx.finish()
+        start = time.perf_counter()
+        self._add(self.parts, BETWEEN_PASSES, start - self._mark)
+        self._depth += 1
+        try:
+            out = fn()
+            queued = time.perf_counter()
+            self.ctx.finish()
+        finally:
+            self._depth -= 1
+        self._mark = time.perf_counter()
+        self._add(self.parts, name, self._mark - start)
+        self._add(self.issue, name, queued - start)
+        return out
+
+    def end(self) -> dict[str, float]:
+        """Finish the frame (what followed the last part is the scene's); the parts in ms."""
+        self.ctx.finish()
+        self._add(self.parts, BETWEEN_PASSES, time.perf_counter() - self._mark)
+        return dict(self.parts)
 
 
 # ---- pipeline-statistics queries (GL_ARB_pipeline_statistics_query, raw GL via ctypes) ------

@@ -17,7 +17,8 @@ given on the command line is a free camera.
 Anti-aliasing (``village.msaa``): the opaque stages (sky, village, grass) draw into a
 multisampled twin of the frame, resolved before the water, so the billboard grass's
 AlphaToMask (alpha to coverage, spec/003 §2.9) has samples to cover; ``0`` draws straight into
-the frame (the grass then cuts at its alpha cutoff).
+the frame (the grass then cuts at its alpha cutoff); ``auto`` (the default) is 4 on a GPU and
+0 on a software renderer, where multisampling shades the village's small triangles per sample.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from ..effects.grass import Grass
 from ..effects.sky import Sky
 from ..effects.toon_water import ToonWater
 from ..effects.village import Village
+from ..effects.village.effect import msaa_samples
 from ..effects.vr import Vr
 from ..effects.wind import Wind
 from ..frame import FrameContext, Stage
@@ -81,9 +83,13 @@ class VillageScene(Scene):
                          "camera's distance behind the hero", step=0.1, unit="m", section=s))
         params.add(Param("village.follow_height", 3.4, 0.3, 40.0, "third person: the camera's "
                          "height above the hero's feet", step=0.1, unit="m", section=s))
-        params.add(Param("village.msaa", "4", doc="samples of the opaque stages (the grass's "
-                         "AlphaToMask needs them); 0 draws straight into the frame",
-                         kind="choice", choices=("0", "4"), section="spec/003 §2.9"))
+        params.add(Param("village.msaa", "auto", doc="samples of the opaque stages (the "
+                         "billboard grass's AlphaToMask needs them); 0 draws straight into the "
+                         "frame (the billboards cut at their alpha cutoff, the thesis's clip); "
+                         "auto: 4 on a GPU, 0 on a software renderer, whose 4× MSAA shades "
+                         "the village's many small triangles per sample (four times the "
+                         "frame)", kind="choice", choices=("auto", "0", "4"),
+                         section="spec/003 §2.9"))
         return params
 
     def __init__(self, gpu, params, camera=None):
@@ -179,7 +185,7 @@ class VillageScene(Scene):
     def _render_mono(self, frame: FrameContext, target, first: Stage = Stage.SHADOW) -> None:
         """One view's passes from stage ``first`` on: up to the opaque stage into the
         multisampled twin (resolved into ``target``), the rest into ``target``."""
-        samples = int(self.params["village.msaa"])
+        samples = msaa_samples(self.params["village.msaa"], self.gpu.caps.software)
         target.use()
         target.clear((*self.background, 1.0))
         if samples <= 0:

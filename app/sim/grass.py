@@ -672,6 +672,13 @@ def frustum_planes(view_proj: ArrayLike) -> Array:
     return planes / np.linalg.norm(planes[:, :3], axis=1, keepdims=True)
 
 
+def tile_distances(tiles: Tiles, camera_pos: ArrayLike) -> Array:
+    """Per tile: the distance from ``camera_pos`` to the nearest point of its box (0 inside)."""
+    cam = np.asarray(camera_pos, np.float64)
+    nearest = np.clip(cam[None, :], tiles.lo, tiles.hi)
+    return np.linalg.norm(nearest - cam[None, :], axis=1)
+
+
 def tile_lods(tiles: Tiles, view_proj: ArrayLike, camera_pos: ArrayLike, lod_distance: float,
               draw_distance: float) -> NDArray[np.int64]:
     """Per tile: 0 near (full segments), 1 far (the LOD mesh), −1 culled — outside the frustum
@@ -683,17 +690,22 @@ def tile_lods(tiles: Tiles, view_proj: ArrayLike, camera_pos: ArrayLike, lod_dis
     pos_corner = np.where(planes[None, :, :3] >= 0.0, tiles.hi[:, None, :], tiles.lo[:, None, :])
     inside = np.all(np.sum(planes[None, :, :3] * pos_corner, axis=2) + planes[None, :, 3]
                     >= 0.0, axis=1)
-    cam = np.asarray(camera_pos, np.float64)
-    nearest = np.clip(cam[None, :], tiles.lo, tiles.hi)
-    dist = np.linalg.norm(nearest - cam[None, :], axis=1)
+    dist = tile_distances(tiles, camera_pos)
     lod = np.where(dist <= lod_distance, 0, 1)
     return np.where(inside & (dist <= draw_distance), lod, -1).astype(np.int64)
 
 
-def draw_runs(tiles: Tiles, lods: ArrayLike, lod: int) -> list[tuple[int, int]]:
-    """(first blade, count) runs of consecutive tiles with LOD ``lod`` (merged)."""
+def draw_runs(tiles: Tiles, lods: ArrayLike, lod: int,
+              distances: ArrayLike | None = None) -> list[tuple[int, int]]:
+    """(first blade, count) runs of the tiles with LOD ``lod``, consecutive ones merged; with
+    ``distances`` (:func:`tile_distances`) the runs go front to back — nearest tile first, two
+    tiles merged only when they are neighbours in that order and in the buffer — so the
+    depth test rejects what nearer blades hide before it is shaded."""
+    picked = np.flatnonzero(np.asarray(lods) == lod)
+    if distances is not None and len(picked):
+        picked = picked[np.argsort(np.asarray(distances)[picked], kind="stable")]
     runs: list[tuple[int, int]] = []
-    for k in np.flatnonzero(np.asarray(lods) == lod):
+    for k in picked:
         s, c = int(tiles.start[k]), int(tiles.count[k])
         if runs and runs[-1][0] + runs[-1][1] == s:
             runs[-1] = (runs[-1][0], runs[-1][1] + c)

@@ -49,6 +49,8 @@ FORMAT = "3f 3f 2f 4f 3f 2f"
 CASTER_FORMAT = ("3f 3f 2f 9x4", "in_position", "in_normal", "in_uv")
 #: a wall's uv: u in bays of this width, v from the floor to the eaves
 BAY = 2.5
+#: the side of the terrain's draw chunks [m] (:func:`chunked`)
+CHUNK = 16.0
 
 
 @dataclass
@@ -443,6 +445,87 @@ def person_mesh(person: Person, ground: float, facing: float | None = None
     verts = np.hstack([moved.positions, moved.normals, moved.uvs, moved.tangents, colour,
                        np.zeros((len(y), 2))]).astype(np.float32)
     return verts, moved.indices.astype(np.uint32)
+
+
+# ---- drawing the terrain by chunks -------------------------------------------------------------
+@dataclass(frozen=True)
+class Chunks:
+    """A batch's triangles sorted into square chunks of the ground plane: chunk k holds the
+    sorted triangles start[k] .. start[k] + count[k], inside the box lo[k] .. hi[k] (world
+    metres, (K, 3) each)."""
+
+    start: np.ndarray
+    count: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+    def __len__(self) -> int:
+        return int(len(self.start))
+
+
+def chunked(batch: Batch, size: float = CHUNK) -> tuple[Batch, Chunks]:
+    """``batch`` with its triangles sorted by the chunk (a ``size`` square of x, z) their
+    centroid lies in, and the chunks: the same triangles, drawable chunk by chunk (culled,
+    front to back, each with the lights that reach it)."""
+    tri = np.asarray(batch.indices, np.int64).reshape(-1, 3)
+    if len(tri) == 0:
+        z = np.zeros(0, np.int64)
+        return batch, Chunks(z, z, np.zeros((0, 3)), np.zeros((0, 3)))
+    corners = np.asarray(batch.vertices[:, :3], np.float64)[tri]  # (T, 3 corners, xyz)
+    centre = corners.mean(axis=1)
+    ij = np.floor(centre[:, [0, 2]] / size).astype(np.int64)
+    ij -= ij.min(axis=0)
+    key = ij[:, 1] * (int(ij[:, 0].max()) + 1) + ij[:, 0]
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    start = np.concatenate([[0], np.flatnonzero(np.diff(ks)) + 1]).astype(np.int64)
+    count = np.diff(np.concatenate([start, [len(ks)]])).astype(np.int64)
+    c = corners[order]
+    lo = np.minimum.reduceat(c.min(axis=1), start, axis=0)
+    hi = np.maximum.reduceat(c.max(axis=1), start, axis=0)
+    out = Batch(batch.name, batch.vertices, tri[order].astype(np.uint32))
+    return out, Chunks(start, count, lo, hi)
+
+
+def chunks_in_view(chunks: Chunks, view_proj, camera_pos) -> np.ndarray:
+    """The chunks any part of whose box lies inside the view frustum (the box not entirely
+    behind one of its planes), nearest first (the distance from the camera to the box)."""
+    from .grass import frustum_planes
+
+    if len(chunks) == 0:
+        return np.zeros(0, np.int64)
+    planes = frustum_planes(view_proj)
+    pos = np.where(planes[None, :, :3] >= 0.0, chunks.hi[:, None, :], chunks.lo[:, None, :])
+    inside = np.all(np.sum(planes[None, :, :3] * pos, axis=2) + planes[None, :, 3] >= 0.0,
+                    axis=1)
+    keep = np.flatnonzero(inside)
+    cam = np.asarray(camera_pos, np.float64)
+    dist = np.linalg.norm(np.clip(cam, chunks.lo[keep], chunks.hi[keep]) - cam, axis=1)
+    return keep[np.argsort(dist, kind="stable")]
+
+
+def lights_reaching(chunks: Chunks, positions, ranges) -> np.ndarray:
+    """(K, L) bool: whether point light l (its position and range [m]) reaches chunk k — the
+    nearest point of the chunk's box lies within its range (beyond it its attenuation is 0)."""
+    pos = np.asarray(positions, np.float64).reshape(-1, 3)
+    rng = np.asarray(ranges, np.float64).reshape(-1)
+    if len(pos) == 0 or len(chunks) == 0:
+        return np.zeros((len(chunks), len(pos)), bool)
+    near = np.clip(pos[None, :, :], chunks.lo[:, None, :], chunks.hi[:, None, :])
+    return np.linalg.norm(near - pos[None, :, :], axis=2) < rng[None, :]
+
+
+def chunk_runs(chunks: Chunks, picked) -> list[tuple[int, int]]:
+    """(first triangle, triangles) runs of the chunks ``picked``, in their order, neighbours in
+    the buffer merged."""
+    runs: list[tuple[int, int]] = []
+    for k in picked:
+        s, c = int(chunks.start[k]), int(chunks.count[k])
+        if runs and runs[-1][0] + runs[-1][1] == s:
+            runs[-1] = (runs[-1][0], runs[-1][1] + c)
+        else:
+            runs.append((s, c))
+    return runs
 
 
 # ---- the whole village -----------------------------------------------------------------------

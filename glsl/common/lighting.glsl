@@ -72,6 +72,20 @@ uniform bool uRim;                 // @param false §2.1 rim light (1 − max(0,
 uniform float uRimPower;           // @param 2 [0.1, 16] step=0.1 §2.1 rim exponent m (Fig. 22 shows 2)
 uniform vec3 uRimColor;            // @param (1, 1, 1) [0, 1] color §2.1 rim colour (added)
 uniform int uToon;                 // @param 0 [0, 3] step=1 §2.12 CelShader Toon: 0 None, 1 Flat, 2 Stepped, 3 Ramp
+// Specialisation (optional, as shadow.glsl's): a program compiled with LIGHTING_MODEL and
+// LIGHTING_TOON defined reads them as constants instead of uLightingModel and uToon, so the
+// models and toon modes it does not use are compiled out (a software rasteriser runs both sides
+// of a branch on a uniform); the image is the same.
+#ifdef LIGHTING_MODEL
+#define LIGHTING_MODEL_VALUE LIGHTING_MODEL
+#else
+#define LIGHTING_MODEL_VALUE uLightingModel
+#endif
+#ifdef LIGHTING_TOON
+#define LIGHTING_TOON_VALUE LIGHTING_TOON
+#else
+#define LIGHTING_TOON_VALUE uToon
+#endif
 uniform bool uSteppedRepository;   // @param false §2.12 Stepped with the public repository's thresholds (saturate(n·l)·atten: 0, 0.15, 0.30) instead of the document's (remapped n·l: 0.45, 0.55, 0.65)
 uniform float uSpecularity;        // @param 0.168 [0, 1] step=0.001 §2.12 Specularity: weight of the specular (Fig. 130b shows 0.168)
 uniform float uSmoothness;         // @param 0.841 [0, 1] step=0.001 §2.12 Smoothness: 1 hard Flat/Stepped edges, lower softer (Fig. 130b shows 0.841)
@@ -161,8 +175,8 @@ vec3 RampColor(float ndotl) {
 
 // The lighting model's specular term, only where the light reaches the surface (n·l > 0).
 float SpecularTerm(vec3 n, vec3 v, vec3 l) {
-    if (dot(n, l) <= 0.0 || uLightingModel == 0) return 0.0;
-    if (uLightingModel == 1) return PhongTerm(n, v, l, uPhongExponent);
+    if (dot(n, l) <= 0.0 || LIGHTING_MODEL_VALUE == 0) return 0.0;
+    if (LIGHTING_MODEL_VALUE == 1) return PhongTerm(n, v, l, uPhongExponent);
     return BlinnPhongTerm(n, HalfVector(l, v), uBlinnExponent);
 }
 
@@ -173,15 +187,15 @@ vec3 ShadeLight(vec3 n, vec3 v, vec3 l, vec3 radiance, float atten, vec3 albedo,
     float k = SpecularTerm(n, v, l);
     vec3 diffuse;
     float spec;
-    if (uToon == 1) {
+    if (LIGHTING_TOON_VALUE == 1) {
         diffuse = albedo * FlatDiffuse(ndotl, uSmoothness);
         spec = FlatEdge(k, uSmoothness);
-    } else if (uToon == 2) {
+    } else if (LIGHTING_TOON_VALUE == 2) {
         float level = uSteppedRepository ? SteppedRepository(clamp(ndotl, 0.0, 1.0) * atten)
                                          : SteppedDocument(RemappedNdotL(ndotl));
         diffuse = albedo * level;
         spec = SteppedSpecular(k, uSmoothness);
-    } else if (uToon == 3) {
+    } else if (LIGHTING_TOON_VALUE == 3) {
         diffuse = albedo * RampColor(ndotl);
         spec = k;
     } else {

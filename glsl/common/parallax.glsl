@@ -41,6 +41,15 @@
 uniform int uParallaxMode;    // @param 1 [0, 4] §2.3 Parallax: 0 off, 1 bare (the thesis's inspector default), 2 steep, 3 occlusion, 4 reference (1024 layers and bisection, beyond the thesis)
 uniform int uParallaxLayers;  // @param 12 [1, 64] §2.3 layers n of steep and occlusion parallax (the thesis shows 12 and 32; keep 10–20)
 uniform float uParallaxScale; // @param 0.05 [0, 0.2] step=0.005 §2.3 depth of the relief in UV units (height 0 lies this far below the surface)
+// Specialisation (optional, as shadow.glsl's): a program compiled with PARALLAX_MODE defined
+// reads it as a constant instead of uParallaxMode, so the methods it does not use (the
+// reference's 1024 layers among them) are compiled out — a software rasteriser runs both sides
+// of a branch on a uniform; the image is the same.
+#ifdef PARALLAX_MODE
+#define PARALLAX_MODE_VALUE PARALLAX_MODE
+#else
+#define PARALLAX_MODE_VALUE uParallaxMode
+#endif
 
 const float PARALLAX_MIN_VZ = 0.02;
 const int PARALLAX_MAX_LAYERS = 256;
@@ -125,11 +134,13 @@ vec2 ParallaxReference(sampler2D heightMap, vec2 uv, vec3 v, float scale) {
 // The parallax-corrected uv for the tangent-space view viewTS (from the surface to the eye),
 // with uParallaxMode, uParallaxLayers and uParallaxScale.
 vec2 ParallaxUV(sampler2D heightMap, vec2 uv, vec3 viewTS) {
-    if (uParallaxMode <= 0) return uv;
+    if (PARALLAX_MODE_VALUE <= 0) return uv;
     vec3 v = ParallaxView(viewTS);
-    if (uParallaxMode == 1) return ParallaxBare(heightMap, uv, v, uParallaxScale);
-    if (uParallaxMode == 2) return ParallaxSteep(heightMap, uv, v, uParallaxScale, uParallaxLayers);
-    if (uParallaxMode == 3) {
+    if (PARALLAX_MODE_VALUE == 1) return ParallaxBare(heightMap, uv, v, uParallaxScale);
+    if (PARALLAX_MODE_VALUE == 2) {
+        return ParallaxSteep(heightMap, uv, v, uParallaxScale, uParallaxLayers);
+    }
+    if (PARALLAX_MODE_VALUE == 3) {
         return ParallaxOcclusion(heightMap, uv, v, uParallaxScale, uParallaxLayers);
     }
     return ParallaxReference(heightMap, uv, v, uParallaxScale);

@@ -9,6 +9,11 @@
 // discarded (the repository's clip(tex.a − _Cutoff)); on a multisampled target the effect turns
 // GL_SAMPLE_ALPHA_TO_COVERAGE on and the alpha written here sets how many samples the fragment
 // covers (soft, anti-aliased blade edges); on a single-sample target the cutoff alone decides.
+// On a single-sample target the effect may draw it in two passes (grass.depth_prepass): defined
+// GRASS_DEPTH_ONLY, the alpha test alone writes the tufts' depth (no colour); defined
+// GRASS_SHADE_EQUAL, the same vertices drawn again with the depth test "equal" are shaded with
+// no discard, so the renderer tests depth before shading (a shader that discards is tested
+// after) and shades each visible texel once instead of every overlapping tuft's.
 // Failure cases guarded: the stray fragments of alpha ≈ 0 that blending would leave are
 // discarded (spec/003 §4); a cutoff of 0 still discards alpha 0; mipmapped tiles sample only
 // inside their third of the atlas (the tufts never reach a tile's side); the normal is turned
@@ -28,7 +33,13 @@ out vec4 fragColor;
 
 void main() {
     vec4 tex = texture(uTufts, vUV);
+#ifndef GRASS_SHADE_EQUAL
     if (tex.a < uCutoff || tex.a <= 0.0) discard;
+#endif
+#ifdef GRASS_DEPTH_ONLY
+    fragColor = vec4(0.0);
+#else
     vec3 colour = GrassShade(tex.rgb * vTint, vNormal, vWorldPos, 0.0);
     fragColor = vec4(colour, uAlphaToCoverage ? tex.a : 1.0);
+#endif
 }

@@ -24,6 +24,8 @@
 // spec/003 eq. 7.17), its _Seed and _SinSeed shared by every plane of the unit, so the planes
 // move together and the texture is not torn (the thesis's reason for per-unit seeds).
 //
+// With culling on (the effect's tiles), a unit shrinks to nothing over the last 20 % of the
+// draw distance, so the tiles beyond it vanish without a visible edge.
 // Failure cases guarded: y ∥ v (a camera straight above a unit with y = (0, 1, 0): y × v = 0)
 // falls back to the camera's right; a camera exactly at P_c uses the direction opposite the
 // camera's forward; Billboard Y = camera up seen from above turns the tufts about the view
@@ -32,6 +34,8 @@
 #include "math.glsl"
 #include "fog.glsl"
 #include "grass_wind.glsl"
+
+invariant gl_Position;  // the two-pass draw's passes must write and test equal depths
 
 in vec2 in_corner;    // (x, y) ∈ [−½, ½]²
 in float in_plane;    // k = 0 … 3
@@ -47,6 +51,8 @@ uniform int uBillboardY;      // 0 camera up, 1 world up, 2 their normalised mea
 uniform float uAngleStart;    // θ_0 [degrees]
 uniform float uAngleStep;     // 180°/n [degrees]
 uniform float uSize;          // the quad's side s [m]
+uniform bool uFade;           // culling on: the units shrink to nothing over the last 20 % of
+uniform float uDrawDistance;  // the draw distance [m] (beyond it their tile is not drawn)
 uniform float uBbBend; // @param 0.4 [0, 1] step=0.01 §2.9 billboard wind: the tip's offset per unit of intensity, in quad sides (the thesis's scale is illegible)
 uniform float uBbSteady; // @param 1 [0, 5] step=0.1 §2.9 billboard wind: the steady part of (steady + s) — 1 the document's (1 + A·sin) form, 3 the repository's (3 + movement)
 
@@ -71,12 +77,17 @@ void BillboardFrame(vec3 centre, float thetaDeg, out vec3 r, out vec3 y, out vec
 }
 
 void main() {
-    vec3 centre = in_centre + vec3(0.0, 0.5 * uSize, 0.0);
+    float size = uSize;
+    if (uFade) {
+        size *= 1.0 - smoothstep(0.8 * uDrawDistance, uDrawDistance,
+                                 length(in_centre - uCameraPos));
+    }
+    vec3 centre = in_centre + vec3(0.0, 0.5 * size, 0.0);
     vec3 r, y, n;
     BillboardFrame(centre, uAngleStart + in_plane * uAngleStep, r, y, n);
-    vec3 p = centre + uSize * in_corner.x * r + uSize * in_corner.y * y;
+    vec3 p = centre + size * in_corner.x * r + size * in_corner.y * y;
     float v = in_corner.y + 0.5;
-    p += GrassBillboardWind(v, in_unit.x, in_unit.y, uSize, uBbBend, uBbSteady);
+    p += GrassBillboardWind(v, in_unit.x, in_unit.y, size, uBbBend, uBbSteady);
     gl_Position = uViewProj * vec4(p, 1.0);
     vWorldPos = vec4(p, FogVertexFactor(gl_Position));
     vNormal = n;

@@ -14,7 +14,8 @@
 // amplitude spec/003 eq. 7.3): the base ring (h = 0) never moves, the apex moves by w(height),
 // in the xz plane only. Face normals are cross products of each emitted triangle's edges,
 // oriented away from the blade's axis (Fig. 89). uRepositoryHeight adds ω Unity units to the
-// height, the repository's (_Height + ω)/_Sections (a per-blade height variation).
+// height, the repository's (_Height + ω)/_Sections (a per-blade height variation). With culling
+// on (the effect's tiles), a blade shrinks to nothing over the last 20 % of the draw distance.
 //
 // Failure cases guarded: a degenerate face (height 0, a zero-area root triangle) gets the +y
 // normal instead of normalize(0) = NaN; a negative height is clamped to 0; the section count is
@@ -39,6 +40,9 @@ uniform mat4 uViewProj;
 uniform float uHeight;            // the blade's height [m] (Fig. 93's 4.87 Unity units = 0.487 m)
 uniform bool uShrinkBase;         // the repository's halfway shrink of the base
 uniform bool uRepositoryHeight;   // the repository's height + ω Unity units
+uniform vec3 uCameraPos;
+uniform bool uFade;               // culling on: blades shrink to nothing over the last 20 % of
+uniform float uDrawDistance;      // the draw distance [m] (beyond it their tile is not drawn)
 
 out vec4 fWorldPos;   // xyz world position, w the fog factor of the vertex
 out vec3 fNormal;
@@ -69,6 +73,9 @@ void main() {
     vec3 albedo = uBladeColor * GrassRipenessTint(GrassUnit(h), uRipeness)
                 * (0.85 + 0.3 * GrassUnit(GrassHash(h)));
     float height = max(uHeight, 0.0) + (uRepositoryHeight ? omega * UNITY_UNIT : 0.0);
+    if (uFade) {
+        height *= 1.0 - smoothstep(0.8 * uDrawDistance, uDrawDistance, length(p - uCameraPos));
+    }
     float s = float(GS_SECTIONS);
     vec3 up = vec3(0.0, height / s, 0.0);
     vec3 rest[3];   // the lower ring at rest

@@ -10,6 +10,8 @@
 // (interpolation shortens them); no model matrix, so no non-uniform scale to mistreat.
 #include "fog.glsl"
 
+invariant gl_Position;
+
 in vec3 in_position;
 in vec3 in_normal;
 in vec2 in_uv;

@@ -36,14 +36,16 @@ def test_every_method_at_every_count_with_sane_times(report):
 
 def test_triangles_follow_each_methods_budget(report):
     s = report["settings"]
+    # every method is culled per tile (grass.culling, on by default): at most every blade at
+    # full detail
     for x in report["speed"]:
         n = x["blades"]
+        assert 0 < x["drawn_blades"] <= n
         if x["method"] == "geometry":
-            assert x["triangles"] == n * gs.gs_triangles_per_blade(s["gs_sections"])
+            assert x["triangles"] <= n * gs.gs_triangles_per_blade(s["gs_sections"])
         elif x["method"] == "billboard":
-            assert x["triangles"] == gs.units_for(n) * s["bb_planes"] * 2
-        else:  # culled per tile: at most every blade with the full strip
-            assert 0 < x["drawn_blades"] <= n
+            assert x["triangles"] <= gs.units_for(n) * s["bb_planes"] * 2
+        else:
             assert x["triangles"] <= n * gs.blade_triangles(s["segments"])
 
 

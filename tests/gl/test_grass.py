@@ -396,8 +396,51 @@ def test_triangle_counts_by_query(gpu, grass, target, method):
     got = count_primitives(gpu, grass, target, frame_for(overview()))
     want = {"geometry": blades * 9, "billboard": gs.units_for(blades) * 3 * 2,
             "instanced": blades * 9}[method]
-    assert got == want == grass.last["triangles"]
+    # the billboards' two-pass draw (grass.depth_prepass, single-sample) draws them twice:
+    # depth, then shading; the picture's triangles are counted once
+    passes = grass.last.get("passes", 1)
+    assert passes == (2 if method == "billboard" else 1)
+    assert got == want * passes and want == grass.last["triangles"]
     grass.params.reset()
+
+
+@pytest.mark.parametrize("method", gs.METHODS)
+def test_culling_and_lod_draw_less_on_every_path(gpu, grass, target, method):
+    """grass.culling (on by default) culls and coarsens tiles for each of the three methods."""
+    cam = Camera(position=(10.0, 1.2, 0.0), yaw=90.0, pitch=-5.0, fov=50.0, near=0.05,
+                 far=100)
+    f = frame_for(cam, terrain=WideTerrain())
+    assert grass.params["grass.culling"] is True  # the default
+    sets(grass, method=method, blades=8000, culling=False)
+    full = count_primitives(gpu, grass, target, f)
+    full_tris = grass.last["triangles"]
+    sets(grass, method=method, blades=8000, lod_distance=6.0, draw_distance=25.0)
+    culled = count_primitives(gpu, grass, target, f)
+    assert grass.last["triangles"] < full_tris and culled < full
+    assert grass.last["culled_tiles"] > 0
+    grass.params.reset()
+
+
+def test_billboards_two_pass_draw_the_same_picture(grass, target):
+    """The depth pre-pass of the billboards (alpha-tested depth, then shading with the depth
+    test "equal") draws what the thesis's single alpha-tested pass draws."""
+    f = frame_for(overview(), time=1.0)
+    sets(grass, method="billboard", blades=6000, depth_prepass=False)
+    one = render(grass, target, f)
+    assert grass.last["passes"] == 1
+    sets(grass, method="billboard", blades=6000, depth_prepass=True)
+    two = render(grass, target, f)
+    assert grass.last["passes"] == 2
+    drawn = np.abs(one - render_empty(grass, target, f))[..., :3].max(axis=-1) > 1e-4
+    assert drawn.mean() > 0.02
+    diff = np.abs(one - two)[..., :3].max(axis=-1)
+    assert np.mean(diff > 1e-3) < 0.002 and np.percentile(diff, 99.9) < 0.05
+    grass.params.reset()
+
+
+def render_empty(grass, target, f):
+    sets(grass, blades=0)
+    return render(grass, target, f)
 
 
 def test_grid_input_counts_one_blade_per_mesh_triangle(gpu, grass, target):

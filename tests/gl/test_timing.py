@@ -66,3 +66,25 @@ def test_interleaved_gpu_queries_sit_beside_wall_time(gl_ctx):
                               rounds=3, gpu_queries=True)
     for t in result.timings.values():
         assert len(t.wall_ms) == 3 and len(t.gpu_ms) == 3
+
+
+def test_frame_clock_parts_add_up_and_each_pass_pays_its_own_work(gl_ctx):
+    """FrameClock: the parts sum to the frame's time (begin to end), and a pass's queued work is
+    finished inside its own part, not billed to the part that synchronises next."""
+    import time as _time
+
+    from app.gpu.timing import BETWEEN_PASSES, FrameClock
+
+    clock = FrameClock(gl_ctx)
+    before = _time.perf_counter()
+    clock.begin()
+    clock.part("slow", lambda: _time.sleep(0.03))
+    clock.part("quick", lambda: None)
+    clock.part("slow", lambda: _time.sleep(0.01))  # a second run of a part adds to it
+    parts = clock.end()
+    after = _time.perf_counter()
+    assert set(parts) == {"slow", "quick", BETWEEN_PASSES}
+    assert parts["slow"] >= 40.0  # both sleeps, inside the part
+    # the parts tile the frame: their sum lies within the time around begin() … end()
+    assert 40.0 <= sum(parts.values()) <= (after - before) * 1e3
+    assert clock.issue["slow"] <= parts["slow"] and clock.issue["quick"] <= parts["quick"]

@@ -175,3 +175,33 @@ def test_a_stereo_pair_in_vr(gl_ctx):
         assert s.scene.camera_mode() == "first"  # the third person becomes the first in VR
     finally:
         s.release()
+
+
+# ---- what the frame does not need: the same picture for less work -----------------------------
+def test_the_specialised_surface_shader_draws_the_same_image(village):
+    """village.specialise compiles the lighting model, toon mode and parallax method in as
+    constants: the same image as the program of uniforms, for the default look and another."""
+    for look in ({}, {"village__lighting_model": 1, "village__toon": 0,
+                      "village__parallax_mode": 3}):
+        generic, _ = _render(village, village__specialise="never", **look)
+        special, _ = _render(village, village__specialise="always", **look)
+        assert generic.std() > 0.01
+        assert np.abs(generic - special).max() < 1e-5
+    default, _ = _render(village)
+    other, _ = _render(village, village__lighting_model=1, village__toon=0,
+                       village__parallax_mode=3, village__specialise="always")
+    assert np.abs(default - other).max() > 0.02  # the constants follow the parameters
+
+
+def test_the_depth_prepass_and_the_terrain_chunks_draw_the_same_image(village):
+    """The depth pre-pass (shading each visible pixel once) and the terrain drawn by culled
+    chunks, front to back, each with the lamps that reach it: the picture of the single forward
+    pass of the whole island, at night with the lamps lit and by day."""
+    for hour in (9.0, 23.0):
+        plain, _ = _render(village, time__hour=hour, village__depth_prepass=False,
+                           village__terrain_culling=False)
+        fast, _ = _render(village, time__hour=hour)
+        drawn = village[0].scene.effect("village").last
+        assert 0 < drawn["terrain_chunks"] < drawn["chunks"]  # some of the island is culled
+        diff = np.abs(plain - fast).max(axis=-1)
+        assert np.mean(diff > 2.0 / 255.0) < 0.002, hour

@@ -58,6 +58,12 @@ PLANE = ProgramSpec("fog/plane")
 DAY_COLOUR = (0.58, 0.70, 0.84)
 
 
+def plane_anisotropy(setting: int, software: bool) -> int:
+    """The fog texture's anisotropy: ``setting``, or with 0 (auto) 1× on a software renderer
+    and 8× on a GPU."""
+    return int(setting) if setting > 0 else (1 if software else 8)
+
+
 class Fog(Effect):
     name = "fog"
     title = "Fog"
@@ -119,6 +125,11 @@ class Fog(Effect):
             Param("fog.plane_height", 0.35, 0.0, 5.0, "the plane's height above the land's "
                   "median height (the plateau): low, so it cuts the houses little (Fig. 119)",
                   step=0.01, unit="m", section=a),
+            Param("fog.plane_anisotropy", 0, 0, 16, "anisotropic filtering of the plane's fog "
+                  "texture, seen at grazing angles (0 = auto: 8× on a GPU, where it is almost "
+                  "free; 1× — trilinear, Unity's default Aniso Level — on a software renderer, "
+                  "where 8× costs the pass four times as much for wisps this soft)", kind="int",
+                  section=a),
         ]
 
     #: what each global fog mode teaches (fog.mode)
@@ -134,6 +145,13 @@ class Fog(Effect):
         "exp2": "Exponential squared fog (spec/003 §2.11(b), the thesis's choice): "
                 "f = e^(−(t·d)²) keeps the near scene clear and closes in faster beyond.",
     }
+
+    @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        aniso = int(params["fog.plane_anisotropy"])
+        chosen = plane_anisotropy(aniso, caps.software)
+        how = "set" if aniso else ("auto: software renderer" if caps.software else "auto")
+        return {"fog plane texture anisotropy": f"{chosen}× ({how})"}
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
@@ -205,7 +223,8 @@ class Fog(Effect):
         "Fog Generator": ["fog.intensity", "fog.speed", "fog.mode"],
         "Lighting › Fog": ["fog.density", "fog.start", "fog.end", "fog.scale"],
         "Colour": ["fog.color", "fog.color_from_sky", "fog.sky_tint"],
-        "Ground plane": ["fog.plane", "fog.plane_height", "fog.plane_tile"],
+        "Ground plane": ["fog.plane", "fog.plane_height", "fog.plane_tile",
+                         "fog.plane_anisotropy"],
         "Ground plane's wisps": ["fog.plane_opacity", "fog.plane_breakup", "fog.plane_hug",
                                  "fog.plane_grazing"],
         "Beyond the thesis": ["fog.per_pixel", "fog.height", "fog.height_density",
@@ -243,6 +262,10 @@ class Fog(Effect):
             self._texture = pl.upload_texture(self.gpu, self.name, "fog texture",
                                               memoised(fs.fog_texture, pl.TEXTURE_SIZE),
                                               repeat=True)
+        aniso = float(plane_anisotropy(int(self.params["fog.plane_anisotropy"]),
+                                       self.gpu.caps.software))
+        if self._texture.anisotropy != aniso:
+            self._texture.anisotropy = aniso
         return self._texture
 
     def plane_layout(self, frame):

@@ -110,7 +110,8 @@ def plane_grid(rect: tuple[float, float, float, float], cell: float = CELL) -> t
 
 
 def upload_texture(gpu, owner: str, name: str, rgba: np.ndarray, repeat: bool):
-    """An 8-bit texture of ``rgba`` (h, w, 4 or h, w) in [0, 1], mipmapped and trilinear."""
+    """An 8-bit texture of ``rgba`` (h, w, 4 or h, w) in [0, 1], mipmapped and trilinear (a
+    repeating one 8× anisotropic: the fog effect sets its anisotropy from the context)."""
     data = np.clip(np.round(np.asarray(rgba) * 255.0), 0, 255).astype("u1")
     comps = 1 if data.ndim == 2 else data.shape[2]
     h, w = data.shape[:2]

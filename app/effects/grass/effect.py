@@ -12,8 +12,14 @@ scene's G key cycles it), drawing the same number of blades, ``grass.blades``:
   coverage on a multisampled target (the village's 4× MSAA twin) and the alpha cutoff on a
   single-sample one; ⌈blades / 8⌉ units (each tuft is painted with 8 blades);
 * ``instanced`` — beyond the thesis: instanced Bézier blades (Wohllaib 2021, Ghost of
-  Tsushima), culled per tile on the CPU (frustum and distance) with a coarser strip beyond
-  ``grass.lod_distance``.
+  Tsushima).
+
+Culling and LOD (``grass.culling``, on by default for all three methods; app/effects/grass/
+methods.py): tiles of 8 m outside the frustum or beyond ``grass.draw_distance`` are not drawn
+(the blades shrink to nothing over its last 20 %), and beyond ``grass.lod_distance`` each
+method draws a coarser blade — ``grass.lod_sections`` pyramid sections, ``grass.lod_planes``
+crossed planes, ``grass.lod_segments`` strip segments. Off, every blade is drawn at full detail
+(the thesis's way).
 
 What a blade is for each method, and the units: app/sim/grass.py (its module docstring).
 
@@ -55,9 +61,12 @@ from ...sim.fog import fog_uniforms
 from ..base import Effect, Pass
 from .methods import (
     BILLBOARD,
+    BILLBOARD_DEPTH,
+    BILLBOARD_EQUAL,
     GS_PROGRAMS,
     INSTANCED,
     CrossedBillboards,
+    Cull,
     GeometryBlades,
     InstancedBlades,
     gs_program,
@@ -77,7 +86,7 @@ class Grass(Effect):
     name = "grass"
     title = "Grass"
     spec = "spec/003"
-    programs = (*GS_PROGRAMS, BILLBOARD, INSTANCED)
+    programs = (*GS_PROGRAMS, BILLBOARD, BILLBOARD_DEPTH, BILLBOARD_EQUAL, INSTANCED)
     stages = (Stage.OPAQUE,)
     consumes = {"terrain": "required", "wind": "optional", "main_light": "optional",
                 "shadows": "optional", "fog": "optional"}
@@ -152,14 +161,27 @@ class Grass(Effect):
                   "near the camera (2·segments − 1 triangles)", kind="int", section=s),
             Param("grass.lod_segments", 2, 1, 16, "instanced blades: segments beyond the LOD "
                   "distance", kind="int", section=s),
-            Param("grass.lod_distance", 15.0, 0.0, 500.0, "instanced blades: tiles nearer than "
-                  "this get the full strip", step=0.5, unit="m", section=s),
-            Param("grass.draw_distance", 90.0, 1.0, 2000.0, "instanced blades: tiles farther "
-                  "than this are culled (blades fade over its last 20 %)", step=1.0, unit="m",
+            Param("grass.lod_sections", 1, 1, 4, "geometry-shader blades: sections of each "
+                  "pyramid beyond the LOD distance (at most grass.gs_sections)", kind="int",
+                  section=a),
+            Param("grass.lod_planes", 2, 1, 4, "crossed billboards: planes of each unit beyond "
+                  "the LOD distance (at most grass.bb_planes; the first faces the camera)",
+                  kind="int", section=b),
+            Param("grass.lod_distance", 15.0, 0.0, 500.0, "every method: tiles nearer than "
+                  "this get the full blade (sections, planes, segments), farther ones the LOD's",
+                  step=0.5, unit="m", section=s),
+            Param("grass.draw_distance", 90.0, 1.0, 2000.0, "every method: tiles farther than "
+                  "this are culled (blades fade over its last 20 %)", step=1.0, unit="m",
                   section=s),
-            Param("grass.culling", True, doc="instanced blades: cull tiles of 8 m on the CPU "
-                  "(frustum and distance) and use the LOD strip (off: every blade, full strip)",
-                  kind="bool", section=s),
+            Param("grass.depth_prepass", True, doc="crossed billboards on a single-sample "
+                  "target: the alpha test alone writes the tufts' depth first, then they are "
+                  "shaded with the depth test \"equal\" and no discard — each visible texel "
+                  "once, not every overlapping tuft's (off: the thesis's one pass; with alpha "
+                  "to coverage always one pass)", kind="bool", section=b),
+            Param("grass.culling", True, doc="every method: cull tiles of 8 m on the CPU "
+                  "(frustum and draw distance) and draw the LOD beyond the LOD distance, the "
+                  "visible blades at equal counts (off: every blade at full detail, the "
+                  "thesis's way)", kind="bool", section=s),
         ]
 
     #: what each method teaches (the panel shows the current one above the parameters)
@@ -193,6 +215,7 @@ class Grass(Effect):
         self.last: dict = {}
         self._meadow: tuple | None = None  # (terrain key, area m²)
         self._terrain = None  # the last terrain drawn on (the panel's density)
+        self._bound: dict[int, dict] = {}  # each program's textures, by id (bind)
 
     def program(self, spec):
         prog = self.gpu.program(self.owner, spec)
@@ -294,6 +317,13 @@ class Grass(Effect):
         if method == "billboard":
             textures["uTufts"] = self.atlas()
         prog.bind_textures(textures)
+        self._bound[id(prog)] = textures
+
+    def bind(self, prog) -> None:
+        """Bind ``prog``'s textures again (to the units its last uniforms gave them): a draw
+        with two programs set up ahead (a depth pass, a LOD) binds each just before it draws,
+        since the other's binding may have taken its units."""
+        prog.bind_textures(self._bound.get(id(prog), {}))
 
     def draw(self, frame, target) -> None:
         terrain = frame.require("terrain", self.name)
@@ -309,32 +339,49 @@ class Grass(Effect):
         ctx.disable(moderngl.BLEND)
         seed = int(p["grass.seed"])
         blades = int(p["grass.blades"])
+        cam = frame.camera
+        cull = Cull(bool(p["grass.culling"]), cam.projection_matrix(frame.aspect)
+                    @ cam.view_matrix(), tuple(cam.position), float(p["grass.lod_distance"]),
+                    float(p["grass.draw_distance"]))
         if method == "geometry":
             sections = int(p["grass.gs_sections"])
-            prog = self.program(gs_program(sections))
-            self._uniforms(prog, frame, method)
-            prog.set_many({"uHeight": float(p["grass.gs_height"]),
-                           "uShrinkBase": bool(p["grass.gs_shrink"]),
-                           "uRepositoryHeight": bool(p["grass.gs_repository_height"])})
+            lods = {0: sections, 1: min(sections, int(p["grass.lod_sections"]))}
+            progs = {lod: self._gs_program(frame, n, cull) for lod, n in lods.items()}
+            height = float(p["grass.gs_height"])
+            reach = round(2.0 * height + 0.3, 4)  # the tallest blade (+ω) and its bend
             mode = p["grass.gs_input"]
             if mode == "grid":
                 def make():
-                    return gs.grid_triangles(terrain, blades, seed)
+                    return gs.grid_triangles(terrain, blades, seed), reach
             else:
                 def make():
-                    return gs.scatter_triangles(terrain, roots, seed)
-            self.geometry.draw(prog, (*key, mode), make, sections)
+                    return gs.scatter_triangles(terrain, roots, seed), reach
+            self.geometry.draw(progs, (*key, mode, reach), make, lods, cull, self.bind)
             self.last = dict(self.geometry.last, method=method)
         elif method == "billboard":
-            prog = self._billboard_program(frame)
+            two_pass = (bool(p["grass.depth_prepass"]) and getattr(target, "fbo", None)
+                        is not None and not int(getattr(target, "samples", 0) or 0))
+            progs = [self._billboard_program(frame, spec) for spec in
+                     ((BILLBOARD_DEPTH, BILLBOARD_EQUAL) if two_pass else (BILLBOARD,))]
+            for prog in progs:
+                prog.set_many({"uFade": cull.enabled, "uDrawDistance": cull.draw_distance})
             planes = int(p["grass.bb_planes"])
+            lods = {0: planes, 1: min(planes, int(p["grass.lod_planes"]))}
             variety, wellness = float(p["grass.variety"]), float(p["grass.wellness"])
             units = gs.units_for(len(roots))
+            size = 0.25 + float(p["grass.bb_scale"])
+            reach = round(2.0 * size + 0.1, 4)  # the quad above its root and its bend
 
             def make_units():
-                return gs.make_units(roots[:units], seed, variety, wellness)
+                return gs.make_units(roots[:units], seed, variety, wellness), reach
 
-            self.billboard.draw(prog, (*key, variety, wellness), make_units, planes, target)
+            def angles(n: int) -> None:
+                a = gs.plane_angles(n, p["grass.bb_angles"])
+                for prog in progs:
+                    prog.set_many({"uAngleStart": float(a[0]), "uAngleStep": 180.0 / n})
+
+            self.billboard.draw(progs, (*key, variety, wellness, reach), make_units, lods,
+                                target, angles, cull, self.bind)
             self.last = dict(self.billboard.last, method=method)
         else:
             prog = self.program(INSTANCED)
@@ -347,19 +394,25 @@ class Grass(Effect):
             def make_roots():
                 return roots, reach
 
-            cam = frame.camera
             self.instanced.draw(prog, (*key, round(reach, 4)), make_roots,
-                                int(p["grass.segments"]), int(p["grass.lod_segments"]),
-                                bool(p["grass.culling"]),
-                                cam.projection_matrix(frame.aspect) @ cam.view_matrix(),
-                                cam.position, float(p["grass.lod_distance"]),
-                                float(p["grass.draw_distance"]))
+                                int(p["grass.segments"]), int(p["grass.lod_segments"]), cull)
             self.last = dict(self.instanced.last, method=method)
         ctx.disable(moderngl.DEPTH_TEST)
 
-    def _billboard_program(self, frame):
+    def _gs_program(self, frame, sections: int, cull: Cull):
+        """The geometry-shader program of ``sections`` sections, its uniforms set."""
         p = self.params
-        prog = self.program(BILLBOARD)
+        prog = self.program(gs_program(sections))
+        self._uniforms(prog, frame, "geometry")
+        prog.set_many({"uHeight": float(p["grass.gs_height"]),
+                       "uShrinkBase": bool(p["grass.gs_shrink"]),
+                       "uRepositoryHeight": bool(p["grass.gs_repository_height"]),
+                       "uFade": cull.enabled, "uDrawDistance": cull.draw_distance})
+        return prog
+
+    def _billboard_program(self, frame, spec=BILLBOARD):
+        p = self.params
+        prog = self.program(spec)
         self._uniforms(prog, frame, "billboard")
         planes = int(p["grass.bb_planes"])
         angles = gs.plane_angles(planes, p["grass.bb_angles"])
@@ -373,6 +426,7 @@ class Grass(Effect):
         (the bench's side-view coverage of one unit or a row of them): drawn into ``target``
         like the billboard method, from a buffer made and freed here."""
         prog = self._billboard_program(frame)
+        prog.set("uFade", False)
         planes = int(self.params["grass.bb_planes"])
         ctx = self.gpu.ctx
         target.use()
@@ -392,11 +446,12 @@ class Grass(Effect):
         "GeometryGrass": ["grass.gs_sections", "grass.gs_height", "grass.gs_input",
                           "grass.gs_shrink", "grass.gs_repository_height", "grass.blade_color"],
         "Grass-CrossBillboard": ["grass.cutoff", "grass.bb_angles", "grass.bb_bend",
-                                 "grass.bb_steady"],
+                                 "grass.bb_steady", "grass.depth_prepass"],
         "Instanced blades": ["grass.blade_height", "grass.blade_width", "grass.segments",
-                             "grass.lod_segments", "grass.lod_distance", "grass.draw_distance",
-                             "grass.culling", "grass.gust", "grass.gust_scale",
+                             "grass.lod_segments", "grass.gust", "grass.gust_scale",
                              "grass.translucency"],
+        "Culling and LOD": ["grass.culling", "grass.lod_distance", "grass.draw_distance",
+                            "grass.lod_sections", "grass.lod_planes", "grass.lod_segments"],
     }
 
     def panel_items(self) -> list:
@@ -422,7 +477,7 @@ class Grass(Effect):
         if self._meadow is not None and self._meadow[1] > 0:
             lines.append(f"density {int(self.params['grass.blades']) / self._meadow[1]:.1f} "
                          f"blades/m² over {self._meadow[1]:.0f} m² of meadow")
-        if last["method"] == "instanced" and last.get("tiles"):
+        if last.get("tiles") and self.params["grass.culling"]:
             lines.append(f"tiles culled {last['culled_tiles']} of {last['tiles']}")
         if last["method"] == "billboard":
             lines.append(f"{last.get('units', 0):,} units; "
@@ -431,6 +486,7 @@ class Grass(Effect):
         return lines
 
     def release(self) -> None:
+        self.geometry.release()
         self.billboard.release()
         self.instanced.release()
         self._atlas = None

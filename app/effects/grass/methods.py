@@ -9,14 +9,23 @@ camera).
   ``max_vertices`` declared for that S).
 * :class:`CrossedBillboards` — the thesis's final grass: one instance per unit of n crossed
   planes, the tuft atlas, alpha to coverage on a multisampled target, else the alpha cutoff.
-* :class:`InstancedBlades` — beyond the thesis: one instanced Bézier-blade strip per blade,
-  culled on the CPU per tile of blades (frustum and distance), drawn with two levels of detail
-  through ``glMultiDrawArraysIndirect`` (each visible run of tiles one command, its first
-  blade the command's base instance), or all blades in one draw when culling is off.
+* :class:`InstancedBlades` — beyond the thesis: one instanced Bézier-blade strip per blade.
+
+Culling and level of detail, the same for all three (:class:`Cull`, on by default): each
+method's blades (root triangles, units or roots) are sorted by tile of 8 m once, when built;
+each frame the tiles are culled on the CPU (outside the frustum, or farther than the draw
+distance), those beyond the LOD distance are drawn with the coarser mesh — fewer pyramid
+sections, fewer crossed planes, fewer strip segments — and the visible tiles are drawn front
+to back, so the depth test rejects the fragments of blades that nearer ones hide before they
+are shaded (the alpha-tested tufts overlap many times toward the horizon). The visible runs
+of tiles are drawn through ``glMultiDrawArraysIndirect`` (GL 4.3: each run one command; an
+instanced method's first blade is the command's base instance), before GL 4.3 one draw per
+run. With culling off every blade is drawn at full detail in one draw (the thesis's way).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import moderngl
@@ -44,7 +53,38 @@ def gs_program(sections: int) -> ProgramSpec:
 
 GS_PROGRAMS = tuple(gs_program(s) for s in range(gs.GS_SECTIONS[0], gs.GS_SECTIONS[1] + 1))
 BILLBOARD = ProgramSpec("grass/billboard")
+#: the billboards in two passes (single-sample targets): the alpha test writing depth only,
+#: then the shading with the depth test "equal" and no discard (tested before it shades)
+BILLBOARD_DEPTH = ProgramSpec("grass/billboard", defines=(("GRASS_DEPTH_ONLY", 1),))
+BILLBOARD_EQUAL = ProgramSpec("grass/billboard", defines=(("GRASS_SHADE_EQUAL", 1),))
 INSTANCED = ProgramSpec("grass/instanced")
+
+
+@dataclass(frozen=True)
+class Cull:
+    """What the culling needs (``grass.culling``, ``grass.lod_distance``,
+    ``grass.draw_distance``) and the camera's view-projection and position."""
+
+    enabled: bool
+    view_proj: Any
+    camera_pos: Any
+    lod_distance: float
+    draw_distance: float
+
+    def runs(self, tiles: gs.Tiles, total: int) -> tuple[dict[int, list[tuple[int, int]]], int]:
+        """(first, count) runs of visible blades per LOD (0 full, 1 coarse) and the culled
+        tiles; culling off: every blade at LOD 0 in one run."""
+        if not self.enabled:
+            return {0: [(0, total)] if total else [], 1: []}, 0
+        lods = gs.tile_lods(tiles, self.view_proj, self.camera_pos, self.lod_distance,
+                            self.draw_distance)
+        near = gs.tile_distances(tiles, self.camera_pos) if len(tiles.start) else None
+        return ({lod: gs.draw_runs(tiles, lods, lod, near) for lod in (0, 1)},
+                int(np.sum(lods < 0)))
+
+
+#: no culling: every blade, full detail (the bench's side-view coverage, tests)
+NO_CULL = Cull(False, np.eye(4), (0.0, 0.0, 0.0), 0.0, 0.0)
 
 
 class _Method:
@@ -55,6 +95,45 @@ class _Method:
         self._make: Any = None  # what builds the value a keyed get is about to ask for
         #: what the last draw drew: blades, triangles (expected), draw calls
         self.last: dict[str, Any] = {}
+        self._indirect: list = []
+        #: a multi-draw per LOD needs GL 4.3 (glMultiDrawArraysIndirect, with a base instance
+        #: for the instanced methods); before it (macOS stops at 4.1) each run of visible
+        #: tiles is a draw of its own: the same blades, more draw calls
+        self.indirect_ok = gpu.ctx.version_code >= 430
+
+    def _commands(self, slot: int, rows: list[tuple[int, int, int, int]]):
+        """An indirect buffer (one per slot, grown as needed) holding ``rows`` of (count,
+        instances, first vertex, base instance)."""
+        need = max(1, len(rows)) * INDIRECT_STRIDE
+        while len(self._indirect) <= slot:
+            self._indirect.append(None)
+        buf = self._indirect[slot]
+        if buf is None or buf.size < need:
+            if buf is not None:
+                self.gpu.free(buf)
+            buf = self.gpu.buffer(self.owner, f"indirect {slot}", bytes(max(need, 4096)))
+            self._indirect[slot] = buf
+        cmd = np.zeros((len(rows), 5), np.uint32)
+        for i, row in enumerate(rows):
+            cmd[i, :4] = row
+        buf.write(cmd.tobytes())
+        return buf
+
+    def _tally(self, placed: int, tiles: gs.Tiles, culled: int) -> None:
+        self.last = {"blades": 0, "triangles": 0, "draws": 0, "placed": placed,
+                     "culled_tiles": culled, "tiles": len(tiles.start)}
+
+    def _count(self, runs: list[tuple[int, int]], per_blade: int, draws: int) -> None:
+        drawn = sum(c for _, c in runs)
+        self.last["blades"] += drawn
+        self.last["triangles"] += drawn * per_blade
+        self.last["draws"] += draws
+
+    def release(self) -> None:
+        for buf in self._indirect:
+            if buf is not None:
+                self.gpu.free(buf)
+        self._indirect = []
 
     def _held(self, keyed, key, make):
         """``keyed``'s value for ``key`` (plain values), built by ``make()`` when it changed."""
@@ -72,23 +151,46 @@ class _Method:
 
 
 class GeometryBlades(_Method):
-    """spec/003 §2.9 a: the root triangles of every blade in one vertex buffer."""
+    """spec/003 §2.9 a: the root triangles of every blade in one vertex buffer, sorted by
+    tile."""
 
     def __init__(self, gpu, owner, keyed):
         super().__init__(gpu, owner, keyed)
         self._tris = keyed(self._build, lambda v: self._free(v[0]))
 
     def _build(self, key):
-        triangles = self._make()
-        data = np.asarray(triangles, np.float32).reshape(-1, 3)
-        return (self._buffer("geometry grass roots", data), len(triangles))
+        triangles, reach = self._make()
+        tris = np.asarray(triangles, np.float32).reshape(-1, 3, 3)
+        tiles = gs.make_tiles(tris.mean(axis=1), reach)
+        data = tris[tiles.order].reshape(-1, 3)
+        return (self._buffer("geometry grass roots", data), len(tris), tiles)
 
-    def draw(self, prog, key, triangles_of, sections: int) -> None:
-        vbo, count = self._held(self._tris, key, triangles_of)
-        self.last = {"blades": count, "triangles": count * gs.gs_triangles_per_blade(sections),
-                     "draws": 1 if count else 0}
-        if count:
-            prog.vao([(vbo, "3f", "in_position")]).render(moderngl.TRIANGLES, vertices=3 * count)
+    def draw(self, progs: dict[int, Any], key, triangles_of, sections: dict[int, int],
+             cull: Cull = NO_CULL, bind=None) -> None:
+        """``progs`` and ``sections``: the program (uniforms set) and section count of each
+        LOD, 0 near and 1 beyond the LOD distance; ``bind(prog)`` binds a program's textures
+        again just before it draws."""
+        vbo, count, tiles = self._held(self._tris, key, triangles_of)
+        runs, culled = cull.runs(tiles, count)
+        self._tally(count, tiles, culled)
+        for lod in (0, 1):
+            if not runs[lod]:
+                continue
+            prog = progs[lod]
+            if bind is not None:
+                bind(prog)
+            vao = prog.vao([(vbo, "3f", "in_position")])
+            if len(runs[lod]) == 1:
+                first, n = runs[lod][0]
+                vao.render(moderngl.TRIANGLES, vertices=3 * n, first=3 * first)
+            elif self.indirect_ok:
+                buf = self._commands(lod, [(3 * n, 1, 3 * first, 0) for first, n in runs[lod]])
+                vao.render_indirect(buf, moderngl.TRIANGLES, count=len(runs[lod]))
+            else:
+                for first, n in runs[lod]:
+                    vao.render(moderngl.TRIANGLES, vertices=3 * n, first=3 * first)
+            self._count(runs[lod], gs.gs_triangles_per_blade(sections[lod]),
+                        1 if self.indirect_ok else len(runs[lod]))
 
 
 def _plane_mesh() -> np.ndarray:
@@ -97,17 +199,27 @@ def _plane_mesh() -> np.ndarray:
     return np.asarray([(x, y, k) for k in range(4) for x, y in quad], np.float32)
 
 
+#: bytes of one unit's per-instance row (centre xyz, seed, sin seed, texture, 0, tint rgb)
+UNIT_STRIDE = 40
+#: the units' per-instance attributes: (name, components, byte offset in the row)
+UNIT_ATTRIBUTES = (("in_centre", 3, 0), ("in_unit", 4, 12), ("in_tint", 3, 28))
+
+
 class CrossedBillboards(_Method):
-    """spec/003 §2.9 b: the units' instance rows and the shared four-plane mesh."""
+    """spec/003 §2.9 b: the units' instance rows, sorted by tile, and the shared four-plane
+    mesh."""
 
     def __init__(self, gpu, owner, keyed):
         super().__init__(gpu, owner, keyed)
         self._units = keyed(self._build, lambda v: self._free(v[0]))
         self._mesh = None
+        self._bind = None
 
     def _build(self, key):
-        units = self._make()
-        return (self._buffer("billboard units", units.instance_data()), len(units))
+        units, reach = self._make()
+        rows = units.instance_data()
+        tiles = gs.make_tiles(units.roots, reach)
+        return (self._buffer("billboard units", rows[tiles.order]), len(units), tiles)
 
     def mesh(self):
         if self._mesh is None:
@@ -118,41 +230,121 @@ class CrossedBillboards(_Method):
         return [(self.mesh(), "2f 1f", "in_corner", "in_plane"),
                 (vbo, "3f 4f 3f/i", "in_centre", "in_unit", "in_tint")]
 
-    def draw(self, prog, key, units_of, planes: int, target) -> None:
-        vbo, count = self._held(self._units, key, units_of)
-        self._render(prog, prog.vao(self._content(vbo)), count, planes, target)
+    def draw(self, progs: list, key, units_of, planes: dict[int, int], target, angles=None,
+             cull: Cull = NO_CULL, bind=None) -> None:
+        """``progs``: one program (uniforms set), or two — the depth-only alpha test and the
+        shading with the depth test "equal" — drawn pass after pass (single-sample targets);
+        ``planes``: the crossed planes of each LOD (0 near, 1 beyond the LOD distance);
+        ``angles(n)`` sets the programs' plane angles for n planes before that LOD's draw;
+        ``bind(prog)`` binds a program's textures again just before it draws."""
+        self._bind = bind
+        vbo, count, tiles = self._held(self._units, key, units_of)
+        runs, culled = cull.runs(tiles, count)
+        self._tally(count * gs.BLADES_PER_TUFT, tiles, culled)
+        a2c = self._a2c(target)
+        self.last.update(units=0, alpha_to_coverage=a2c, passes=len(progs))
+        for prog in progs:
+            prog.set("uAlphaToCoverage", a2c)
+        if not count:
+            return
+        ctx = self.gpu.ctx
+        fbo = getattr(target, "fbo", None)
+        with self._coverage(target):
+            for lod in (0, 1):
+                if not runs[lod]:
+                    continue
+                n = planes[lod]
+                if angles is not None:
+                    angles(n)
+                if len(progs) == 1:
+                    draws = self._draw_runs(progs[0], vbo, runs[lod], 6 * n, lod)
+                else:
+                    fbo.color_mask = (False, False, False, False)
+                    try:
+                        draws = self._draw_runs(progs[0], vbo, runs[lod], 6 * n, lod)
+                    finally:
+                        fbo.color_mask = (True, True, True, True)
+                    ctx.depth_func = "=="
+                    fbo.depth_mask = False
+                    try:
+                        draws += self._draw_runs(progs[1], vbo, runs[lod], 6 * n, lod)
+                    finally:
+                        fbo.depth_mask = True
+                        ctx.depth_func = "<"
+                drawn = sum(c for _, c in runs[lod])
+                self.last["units"] += drawn
+                self.last["blades"] += drawn * gs.BLADES_PER_TUFT
+                self.last["triangles"] += drawn * 2 * n
+                self.last["draws"] += draws
+
+    def _draw_runs(self, prog, vbo, runs: list[tuple[int, int]], vertices: int, slot: int) -> int:
+        """The units of ``runs``, ``vertices`` per unit; the draw calls it took."""
+        if self._bind is not None:
+            self._bind(prog)
+        if len(runs) == 1 and runs[0][0] == 0:
+            prog.vao(self._content(vbo)).render(moderngl.TRIANGLES, vertices=vertices,
+                                                instances=runs[0][1])
+            return 1
+        if self.indirect_ok:
+            buf = self._commands(slot, [(vertices, c, 0, first) for first, c in runs])
+            prog.vao(self._content(vbo)).render_indirect(buf, moderngl.TRIANGLES,
+                                                         count=len(runs))
+            return 1
+        vao = prog.vao([(self.mesh(), "2f 1f", "in_corner", "in_plane")])
+        for first, c in runs:  # the units' rows bound from the run's first unit
+            for name, comps, offset in UNIT_ATTRIBUTES:
+                if name not in prog.program:  # e.g. the depth pass reads no tint
+                    continue
+                vao.bind(prog.program[name].location, "f", vbo, f"{comps}f",
+                         offset=first * UNIT_STRIDE + offset, stride=UNIT_STRIDE, divisor=1)
+            vao.render(moderngl.TRIANGLES, vertices=vertices, instances=c)
+        return len(runs)
 
     def draw_once(self, prog, units: gs.Units, planes: int, target) -> None:
         """``units`` from a buffer and a vertex array made for this draw and freed after it
-        (not kept in the program's cache of vertex arrays)."""
+        (not kept in the program's cache of vertex arrays), every unit drawn."""
         vbo = self._buffer("billboard units (once)", units.instance_data())
         vao = self.gpu.ctx.vertex_array(prog.program, self._content(vbo), skip_errors=True)
+        a2c = self._a2c(target)
+        prog.set("uAlphaToCoverage", a2c)
+        self.last = {"units": len(units), "blades": len(units) * gs.BLADES_PER_TUFT,
+                     "triangles": len(units) * planes * 2, "draws": 1 if len(units) else 0,
+                     "alpha_to_coverage": a2c}
         try:
-            self._render(prog, vao, len(units), planes, target)
+            if len(units):
+                with self._coverage(target):
+                    vao.render(moderngl.TRIANGLES, vertices=6 * planes, instances=len(units))
         finally:
             vao.release()
             self.gpu.free(vbo)
 
-    def _render(self, prog, vao, count: int, planes: int, target) -> None:
+    @staticmethod
+    def _a2c(target) -> bool:
+        return int(getattr(target, "samples", 0) or 0) > 0
+
+    def _coverage(self, target):
+        """Alpha to coverage (and alpha to one) while drawing into a multisampled target."""
+        from contextlib import contextmanager
+
         ctx = self.gpu.ctx
-        a2c = int(getattr(target, "samples", 0) or 0) > 0
-        prog.set("uAlphaToCoverage", a2c)
-        self.last = {"units": count, "blades": count * gs.BLADES_PER_TUFT,
-                     "triangles": count * planes * 2, "draws": 1 if count else 0,
-                     "alpha_to_coverage": a2c}
-        if not count:
-            return
-        if a2c:
-            ctx.enable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
-            ctx.enable_direct(GL_SAMPLE_ALPHA_TO_ONE)
-        try:
-            vao.render(moderngl.TRIANGLES, vertices=6 * planes, instances=count)
-        finally:
+        a2c = self._a2c(target)
+
+        @contextmanager
+        def on():
             if a2c:
-                ctx.disable_direct(GL_SAMPLE_ALPHA_TO_ONE)
-                ctx.disable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
+                ctx.enable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
+                ctx.enable_direct(GL_SAMPLE_ALPHA_TO_ONE)
+            try:
+                yield
+            finally:
+                if a2c:
+                    ctx.disable_direct(GL_SAMPLE_ALPHA_TO_ONE)
+                    ctx.disable_direct(GL_SAMPLE_ALPHA_TO_COVERAGE)
+
+        return on()
 
     def release(self) -> None:
+        super().release()
         if self._mesh is not None:
             self.gpu.free(self._mesh)
             self._mesh = None
@@ -160,19 +352,13 @@ class CrossedBillboards(_Method):
 
 class InstancedBlades(_Method):
     """Beyond the thesis (Wohllaib 2021): the blades sorted by tile, two strip meshes (full and
-    LOD segments), culled per tile on the CPU each frame."""
+    LOD segments)."""
 
     def __init__(self, gpu, owner, keyed):
         super().__init__(gpu, owner, keyed)
         self._blades = keyed(self._build, lambda v: self._free(v[0]))
         self._strips = keyed(self._build_strip, self._free)
         self._lod_strips = keyed(self._build_strip, self._free)
-        self._indirect: list = []
-        #: one indirect draw per LOD needs GL 4.3 (glMultiDrawArraysIndirect with a base
-        #: instance); before it (macOS stops at 4.1) each run of visible tiles is one instanced
-        #: draw with the per-instance roots bound from the run's first blade: the same blades,
-        #: more draw calls
-        self.indirect_ok = gpu.ctx.version_code >= 430
 
     def _build(self, key):
         roots, reach = self._make()
@@ -186,64 +372,36 @@ class InstancedBlades(_Method):
     def _build_strip(self, segments):
         return self._buffer(f"blade strip {segments}", gs.blade_strip(segments))
 
-    def _commands(self, slot: int, runs: list[tuple[int, int]], vertices: int):
-        need = max(1, len(runs)) * INDIRECT_STRIDE
-        while len(self._indirect) <= slot:
-            self._indirect.append(None)
-        buf = self._indirect[slot]
-        if buf is None or buf.size < need:
-            if buf is not None:
-                self.gpu.free(buf)
-            buf = self.gpu.buffer(self.owner, f"indirect {slot}", bytes(max(need, 4096)))
-            self._indirect[slot] = buf
-        cmd = np.zeros((len(runs), 5), np.uint32)
-        for i, (first, count) in enumerate(runs):
-            cmd[i] = (vertices, count, 0, first, 0)
-        buf.write(cmd.tobytes())
-        return buf
-
-    def draw(self, prog, key, roots_of, segments: int, lod_segments: int, culling: bool,
-             view_proj, camera_pos, lod_distance: float, draw_distance: float) -> None:
+    def draw(self, prog, key, roots_of, segments: int, lod_segments: int,
+             cull: Cull = NO_CULL) -> None:
         vbo, tiles, count = self._held(self._blades, key, roots_of)
-        self.last = {"blades": 0, "triangles": 0, "draws": 0, "placed": count,
-                     "culled_tiles": 0, "tiles": len(tiles.start)}
+        runs, culled = cull.runs(tiles, count)
+        self._tally(count, tiles, culled)
         if not count:
             return
         strips = {0: (self._strips.get(segments), segments),
                   1: (self._lod_strips.get(lod_segments), lod_segments)}
         inst = (vbo, "4f/i", "in_root")
-        prog.set("uFade", bool(culling))
-        if not culling:
-            strip, seg = strips[0]
-            prog.vao([(strip, "2f", "in_blade"), inst]).render(
-                moderngl.TRIANGLE_STRIP, vertices=2 * seg + 1, instances=count)
-            self.last.update(blades=count, triangles=count * gs.blade_triangles(seg), draws=1)
-            return
-        lods = gs.tile_lods(tiles, view_proj, camera_pos, lod_distance, draw_distance)
-        self.last["culled_tiles"] = int(np.sum(lods < 0))
+        prog.set("uFade", bool(cull.enabled))
         for lod in (0, 1):
-            runs = gs.draw_runs(tiles, lods, lod)
-            if not runs:
+            if not runs[lod]:
                 continue
             strip, seg = strips[lod]
-            if self.indirect_ok:
-                buf = self._commands(lod, runs, 2 * seg + 1)
+            if len(runs[lod]) == 1 and runs[lod][0][0] == 0:
+                prog.vao([(strip, "2f", "in_blade"), inst]).render(
+                    moderngl.TRIANGLE_STRIP, vertices=2 * seg + 1, instances=runs[lod][0][1])
+                draws = 1
+            elif self.indirect_ok:
+                buf = self._commands(lod, [(2 * seg + 1, n, 0, first) for first, n in runs[lod]])
                 prog.vao([(strip, "2f", "in_blade"), inst]).render_indirect(
-                    buf, moderngl.TRIANGLE_STRIP, count=len(runs))
+                    buf, moderngl.TRIANGLE_STRIP, count=len(runs[lod]))
+                draws = 1
             else:
                 vao = prog.vao([(strip, "2f", "in_blade")])  # the roots bound per run
                 where = prog.program["in_root"].location
-                for first, n in runs:
+                for first, n in runs[lod]:
                     vao.bind(where, "f", vbo, "4f", offset=first * ROOT_STRIDE,
                              stride=ROOT_STRIDE, divisor=1)
                     vao.render(moderngl.TRIANGLE_STRIP, vertices=2 * seg + 1, instances=n)
-            drawn = sum(c for _, c in runs)
-            self.last["blades"] += drawn
-            self.last["triangles"] += drawn * gs.blade_triangles(seg)
-            self.last["draws"] += len(runs)
-
-    def release(self) -> None:
-        for buf in self._indirect:
-            if buf is not None:
-                self.gpu.free(buf)
-        self._indirect = []
+                draws = len(runs[lod])
+            self._count(runs[lod], gs.blade_triangles(seg), draws)

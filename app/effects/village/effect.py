@@ -34,7 +34,7 @@ from ...gpu.cache import build_mipmaps
 from ...gpu.copy import ColourCopy
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Inspector, Param
-from ...render.shadow_maps import CASTER, ShadowSet
+from ...render.shadow_maps import CASTER, ShadowSet, receiver_defines, receiver_variants
 from ...render.shadows import ShadowSettings, shadow_params
 from ...sim import lighting, surface_maps, village_meshes
 from ...sim.fog import fog_uniforms
@@ -42,6 +42,23 @@ from ...sim.village import Island, Person, default_island
 from ..base import Effect, Pass
 
 SURFACE = ProgramSpec("village/surface")
+#: the surface program specialised to each shadow filter and tap set (receiver_defines: the
+#: filter and taps as constants, the unused filters compiled out — a software rasteriser runs
+#: both sides of a branch on a uniform; the same image)
+RECEIVERS = receiver_variants(SURFACE)
+#: the village's look as constants (LIGHTING_MODEL, LIGHTING_TOON, PARALLAX_MODE: the defaults'
+#: values; lighting.glsl's and parallax.glsl's headers), on a software renderer only, where the
+#: models, toon modes and parallax methods not in use cost as much as the one in use; other
+#: values compile from the same source at their first use
+LOOK_DEFAULTS = (("LIGHTING_MODEL", 2), ("LIGHTING_TOON", 2), ("PARALLAX_MODE", 1))
+LOOK_PARAMS = {"LIGHTING_MODEL": "village.lighting_model", "LIGHTING_TOON": "village.toon",
+               "PARALLAX_MODE": "village.parallax_mode"}
+LOOK_RECEIVERS = receiver_variants(ProgramSpec(SURFACE.name, defines=LOOK_DEFAULTS))
+#: the depth pre-pass: every opaque batch's depth, no shading (surface.frag then runs once per
+#: visible pixel)
+DEPTH = ProgramSpec("village/depth")
+#: one vertex of the batches (village_meshes.FORMAT: 17 floats) seen as its position only
+POSITION_ONLY = ("3f 56x", "in_position")
 #: the toon contours (spec/003 §2.13–2.14): a depth-Laplacian outline over the village's surfaces
 CONTOURS = fullscreen("village/contours")
 MATERIALS = {"terrain": 0, "walls": 1, "solids": 2, "lanterns": 3, "flame": 3}
@@ -67,6 +84,16 @@ def lamps_lit(sun_elevation_deg: float | None, auto: bool, below_deg: float) -> 
     return sun_elevation_deg is None or sun_elevation_deg < below_deg
 
 
+def msaa_samples(setting: str, software: bool) -> int:
+    """The samples of the village's opaque stages (the scene's ``village.msaa``): the setting,
+    or with ``auto`` 4 on a GPU and 0 on a software renderer (``Caps.software``: its
+    multisampling shades the partly covered pixels of the island's many small triangles per
+    sample, four times the frame)."""
+    if str(setting) != "auto":
+        return int(setting)
+    return 0 if software else 4
+
+
 def contour_tap(width_px: float, height: int) -> int:
     """The contour detector's tap distance [px] for a line ``width_px`` wide in a 720-line
     image, in an image ``height`` lines high: at least 1."""
@@ -77,10 +104,23 @@ class Village(Effect):
     name = "village"
     title = "The Fracsland village"
     spec = "spec/003"
-    programs = (SURFACE, CASTER, CONTOURS)
+    programs = (SURFACE, *RECEIVERS, *LOOK_RECEIVERS, DEPTH, CASTER, CONTOURS)
     stages = (Stage.SHADOW, Stage.OPAQUE)
     produces = frozenset({"terrain", "npcs", "shadows"})
     consumes = {"main_light": "optional", "sun": "optional", "fog": "optional"}
+
+    @classmethod
+    def context_paths(cls, caps, params) -> dict[str, str]:
+        setting = str(params["village.msaa"]) if "village.msaa" in params else "auto"
+        samples = msaa_samples(setting, caps.software)
+        how = "set" if setting != "auto" else ("auto: software renderer" if caps.software
+                                               else "auto")
+        spec = str(params["village.specialise"]) if "village.specialise" in params else "auto"
+        look = spec == "always" or (spec == "auto" and caps.software)
+        return {"village MSAA": f"{samples}× ({how})" if samples else f"off ({how})",
+                "village surface shader": ("lighting, toon and parallax as constants"
+                                           if look else "lighting, toon and parallax uniforms")
+                + f" ({spec})"}
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -129,6 +169,20 @@ class Village(Effect):
             Param("village.contour_width", 1.0, 0.5, 4.0, "contours: the line's width in "
                   "pixels of a 720-line image (scaled with the image's height)", step=0.5,
                   unit="px", section="spec/003 §2.13"),
+            Param("village.terrain_culling", True, doc="draw the terrain by chunks of 16 m: "
+                  "those outside the view frustum are skipped, the rest go nearest first, "
+                  "each with only the point lights that reach it (off: the whole island in "
+                  "one draw with every light)", kind="bool", section=s1),
+            Param("village.depth_prepass", True, doc="draw every opaque batch's depth first, "
+                  "then shade with a depth test of ≤: the lit surfaces are shaded once per "
+                  "visible pixel (off: the thesis's single forward pass, each covering "
+                  "triangle shaded, the terrain last)", kind="bool", section=s1),
+            Param("village.specialise", "auto", doc="compile the surface shader with the "
+                  "lighting model, toon mode and parallax method as constants (the others "
+                  "compiled out; the same image): auto on a software renderer, which runs "
+                  "both sides of a branch on a uniform; never keeps the one program of "
+                  "uniforms (the lesson's, every switch live)", kind="choice",
+                  choices=("auto", "always", "never"), section=s1),
             Param("village.debug", "none", doc="debug view: the image, each draw's group as a "
                   "flat colour (terrain, walls, solids, lanterns, flame, people), or the sun's "
                   "shadow visibility", kind="choice", choices=DEBUG_VIEWS, section=s1),
@@ -147,6 +201,12 @@ class Village(Effect):
         self.point_lights: list[tuple[tuple[float, float, float], tuple[float, float, float],
                                       float]] = []
         self._depth_copy: ColourCopy | None = None
+        #: the terrain's draw chunks (set with the batches) and the indirect draw buffers
+        self.chunks = village_meshes.Chunks(*(np.zeros(0, np.int64),) * 2,
+                                            *(np.zeros((0, 3)),) * 2)
+        self._indirect: list = []
+        #: what the last draw drew: the terrain's chunks in view of all, the draw calls
+        self.last: dict = {}
 
     # -- the island and its meshes ---------------------------------------------------------
     @property
@@ -165,15 +225,70 @@ class Village(Effect):
         self._people = {}
 
     def batches(self) -> dict:
-        """The static batches on the GPU: name → (vbo, ibo, Batch)."""
+        """The static batches on the GPU: name → (vbo, ibo, Batch); the terrain's triangles
+        sorted by chunk (:attr:`chunks`)."""
         if not self._batches:
             for name, batch in village_meshes.default_batches(self.island.resolution).items():
                 if batch.triangle_count == 0:
                     continue
+                if name == "terrain":
+                    batch, self.chunks = village_meshes.chunked(batch)
                 vbo = self.gpu.buffer(self.name, f"{name} vertices", batch.vertices.tobytes())
                 ibo = self.gpu.buffer(self.name, f"{name} indices", batch.indices.tobytes())
                 self._batches[name] = (vbo, ibo, batch)
         return self._batches
+
+    def _draw_runs(self, vao, runs: list[tuple[int, int]], slot: int) -> int:
+        """Triangles ``runs`` (first, count) of an indexed vertex array: one draw, one
+        ``glMultiDrawElementsIndirect`` (GL 4.3) or a draw per run; the draw calls made."""
+        if not runs:
+            return 0
+        if len(runs) == 1:
+            vao.render(moderngl.TRIANGLES, vertices=3 * runs[0][1], first=3 * runs[0][0])
+            return 1
+        if self.gpu.ctx.version_code >= 430:
+            cmd = np.zeros((len(runs), 5), np.uint32)
+            cmd[:, 0] = [3 * c for _, c in runs]
+            cmd[:, 1] = 1
+            cmd[:, 2] = [3 * f for f, _ in runs]
+            while len(self._indirect) <= slot:
+                self._indirect.append(None)
+            buf = self._indirect[slot]
+            if buf is None or buf.size < cmd.nbytes:
+                if buf is not None:
+                    self.gpu.free(buf)
+                buf = self.gpu.buffer(self.name, f"terrain draws {slot}",
+                                      bytes(max(cmd.nbytes, 4096)))
+                self._indirect[slot] = buf
+            buf.write(cmd.tobytes())
+            vao.render_indirect(buf, moderngl.TRIANGLES, count=len(runs))
+            return 1
+        for first, count in runs:
+            vao.render(moderngl.TRIANGLES, vertices=3 * count, first=3 * first)
+        return len(runs)
+
+    def visible_chunks(self, frame) -> np.ndarray:
+        """The terrain's chunks in the camera's frustum, nearest first (all of them with
+        ``village.terrain_culling`` off, in the buffer's order)."""
+        self.batches()
+        if not self.params["village.terrain_culling"]:
+            return np.arange(len(self.chunks))
+        cam = frame.camera
+        return village_meshes.chunks_in_view(
+            self.chunks, cam.projection_matrix(frame.aspect) @ cam.view_matrix(), cam.position)
+
+    def lit_lights(self) -> list:
+        """The point lights that shine this frame (the street lamps by day give nothing)."""
+        return [light for light in self.point_lights if any(c > 0.0 for c in light[1])]
+
+    @staticmethod
+    def set_point_lights(prog, lights: list) -> None:
+        """uPointCount and the light arrays (ForwardAdd) for at most four ``lights``."""
+        padded = list(lights[:4]) + [((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 1.0)] * 4
+        prog.set("uPointCount", min(len(lights), 4))
+        prog.set_array("uPointPos", np.array([q for q, _, _ in padded[:4]], np.float32))
+        prog.set_array("uPointRadiance", np.array([r for _, r, _ in padded[:4]], np.float32))
+        prog.set_array("uPointRange", np.array([[g] for _, _, g in padded[:4]], np.float32))
 
     def _person(self, key: str, person: Person, facing: float | None = None):
         """A person's buffers, rebuilt when they move."""
@@ -285,6 +400,18 @@ class Village(Effect):
         return dataclasses.replace(s, fixed_centre=(0.0, 2.0, 0.0), fixed_radius=60.0,
                                    near_offset=40.0, point_enabled=False, spot_enabled=False)
 
+    def receiver(self) -> ProgramSpec:
+        """The surface program specialised to the sun's shadow settings (one of
+        :data:`RECEIVERS`) and, on a software renderer (or with ``village.specialise`` set to
+        always), to its lighting model, toon mode and parallax method (:data:`LOOK_PARAMS`;
+        with the defaults one of :data:`LOOK_RECEIVERS`): the same image."""
+        look: tuple = ()
+        mode = self.params["village.specialise"]
+        if mode == "always" or (mode == "auto" and self.gpu.caps.software):
+            look = tuple((name, int(self.params[param])) for name, param in LOOK_PARAMS.items())
+        return ProgramSpec(SURFACE.name, defines=SURFACE.defines + look + receiver_defines(
+            self.shadow_settings(), self.gpu.caps.software))
+
     def casters(self, prog) -> None:
         """Everything that casts the sun's shadow: the island, the houses, the props, the
         lamps, the people (the grass casts none; the flame and the lanterns' glass none)."""
@@ -321,13 +448,11 @@ class Village(Effect):
     def draw(self, frame, target) -> None:
         ctx = self.gpu.ctx
         p = self.params
-        prog = self.program(SURFACE)
+        prog = self.program(self.receiver())
         self.apply_params(prog)
         prog.set_many(self.light_uniforms(frame))
-        lights = self.point_lights + [((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 1.0)] * 4
-        prog.set_array("uPointPos", np.array([q for q, _, _ in lights[:4]], np.float32))
-        prog.set_array("uPointRadiance", np.array([r for _, r, _ in lights[:4]], np.float32))
-        prog.set_array("uPointRange", np.array([[g] for _, _, g in lights[:4]], np.float32))
+        lit = self.lit_lights()
+        self.set_point_lights(prog, lit)
         relief = p["village.terrain_relief"]
         field = self._relief(relief)
         planks = self._relief("planks")
@@ -345,16 +470,25 @@ class Village(Effect):
         use_relief = bool(p["village.relief"])
         glow = float(p["village.window_glow"]) * self.lights_on
         prog.set("uDebug", DEBUG_VIEWS.index(p["village.debug"]))
-        # near and small first, the terrain last: the depth test then rejects the ground's
-        # hidden fragments before its parallax shader runs (front to back, as Unity sorts the
-        # opaque queue)
+        batches = self.batches()
+        visible = self.visible_chunks(frame)
+        self.last = {"terrain_chunks": len(visible), "chunks": len(self.chunks), "draws": 0,
+                     "lit_lights": len(lit)}
+        prepass = bool(p["village.depth_prepass"])
+        if prepass:
+            self.draw_depth(frame, target, visible)
+            ctx.depth_func = "<="
+            target.fbo.depth_mask = False
+        # near and small first, the terrain last, its chunks front to back: the depth test then
+        # rejects the ground's hidden fragments before its parallax shader runs (as Unity
+        # sorts the opaque queue); after a depth pre-pass each pixel is shaded once anyway
         prog.set_many({"uMaterial": 2, "uUseRelief": False, "uUseMasks": False,
                        "uEmissionColor": (0.0, 0.0, 0.0), "uDebugId": GROUPS.index("people"),
                        "uFlicker": 0.0})
         prog.bind_textures({"uMasks": masks, **shadow_textures})
         for vbo, ibo, *_ in self.people():
             prog.vao([(vbo, *fmt)], ibo).render(moderngl.TRIANGLES)
-        batches = self.batches()
+            self.last["draws"] += 1
         for name in sorted(batches, key=lambda n: n == "terrain"):
             vbo, ibo, _ = batches[name]
             material = MATERIALS[name]
@@ -380,8 +514,56 @@ class Village(Effect):
                            "uReliefTile": tile, "uUseMasks": name == "walls",
                            "uFrameColour": FRAME_COLOUR, "uEmissionColor": emission,
                            "uFlicker": flicker, "uDebugId": GROUPS.index(name)})
-            prog.vao([(vbo, *fmt)], ibo).render(moderngl.TRIANGLES)
+            vao = prog.vao([(vbo, *fmt)], ibo)
+            if name == "terrain":
+                self.draw_terrain(prog, vao, visible, lit)
+            else:
+                vao.render(moderngl.TRIANGLES)
+                self.last["draws"] += 1
+        if prepass:
+            target.fbo.depth_mask = True
+            ctx.depth_func = "<"
         ctx.disable(moderngl.DEPTH_TEST)
+
+    def draw_terrain(self, prog, vao, visible, lit: list) -> None:
+        """The terrain's ``visible`` chunks, grouped by the point lights that reach them: each
+        group drawn with only its own lights (a lamp's light ends at its range), so most of
+        the ground runs no ForwardAdd loop at all."""
+        if not self.params["village.terrain_culling"]:
+            self.set_point_lights(prog, lit)
+            vao.render(moderngl.TRIANGLES)
+            self.last["draws"] += 1
+            return
+        reach = village_meshes.lights_reaching(self.chunks, [q for q, _, _ in lit],
+                                               [g for _, _, g in lit])
+        groups: dict[tuple, list[int]] = {}
+        for k in visible:
+            groups.setdefault(tuple(np.flatnonzero(reach[k])), []).append(int(k))
+        for slot, (lights, ks) in enumerate(groups.items()):
+            self.set_point_lights(prog, [lit[i] for i in lights])
+            self.last["draws"] += self._draw_runs(
+                vao, village_meshes.chunk_runs(self.chunks, ks), slot + 1)
+
+    def draw_depth(self, frame, target, visible) -> None:
+        """The depth pre-pass (glsl/village/depth.*): every batch and person — the terrain's
+        ``visible`` chunks, nearest first — drawn once with no colour, so the shaded pass that
+        follows (depth test ≤) shades each pixel once."""
+        cam = frame.camera
+        prog = self.program(DEPTH)
+        prog.set("uViewProj", cam.projection_matrix(frame.aspect) @ cam.view_matrix())
+        fbo = target.fbo
+        fbo.color_mask = (False, False, False, False)
+        try:
+            for vbo, ibo, *_ in self.people():
+                prog.vao([(vbo, *POSITION_ONLY)], ibo).render(moderngl.TRIANGLES)
+            for name, (vbo, ibo, _) in self.batches().items():
+                vao = prog.vao([(vbo, *POSITION_ONLY)], ibo)
+                if name == "terrain" and self.params["village.terrain_culling"]:
+                    self._draw_runs(vao, village_meshes.chunk_runs(self.chunks, visible), 0)
+                else:
+                    vao.render(moderngl.TRIANGLES)
+        finally:
+            fbo.color_mask = (True, True, True, True)
 
     def draw_contours(self, frame, target) -> None:
         """The toon contours (glsl/village/contours.frag) over what the village drew into
@@ -456,6 +638,10 @@ class Village(Effect):
                 f"{self.params['village.hero_z']:.1f})"]
 
     def release(self) -> None:
+        for buf in self._indirect:
+            if buf is not None:
+                self.gpu.free(buf)
+        self._indirect = []
         if self._depth_copy is not None:
             self._depth_copy.release()
             self._depth_copy = None
