@@ -307,6 +307,12 @@ def build_parser() -> argparse.ArgumentParser:
                    "from the scene's sweeps that bring the frame under it at the least error")
     b.add_argument("--force", action="store_true",
                    help="overwrite an existing report and its chart")
+    b.add_argument("--window", action="store_true",
+                   help="frames per second in a real window (needs a display; xvfb-run without "
+                   "one) at --size (default 640x360): --repeat timed frames (default 100) "
+                   "after --warmup untimed ones (default 10), with dynamic resolution as "
+                   "output.scale sets it; the median frame time, fps and the scale reached, "
+                   "into bench-results/SCENE-window-NNNN.json")
 
     c = sub.add_parser("compare", help="two parameter sets of a scene side by side: both "
                        "images, their ms, the difference and each one's error; PNG + JSON",
@@ -815,6 +821,7 @@ _SCENE_BENCH_OPTIONS = (
     ("--time", "time", None), ("--camera", "camera", None), ("--yaw", "yaw", None),
     ("--pitch", "pitch", None), ("--fov", "fov", None), ("--set", "sets", []),
     ("--preset", "preset", None), ("--shaders", "shaders", None), ("--mesh", "mesh", None),
+    ("--window", "window", False),
 )
 
 
@@ -855,8 +862,53 @@ def cmd_numpy_bench(args) -> int:
     return 0
 
 
+def cmd_window_bench(args) -> int:
+    """``natura bench SCENE --window``: fps in a real window (app/ui/window_bench.py)."""
+    import json
+
+    from .imageio import write_text_atomic
+    from .ui.window import display_problem
+    from .ui.window_bench import WINDOW_FRAMES, WINDOW_WARMUP, bench_window, summary
+
+    for option, attr in (("--sizes", "sizes"), ("--budget", "budget"), ("--quick", "quick")):
+        if getattr(args, attr):
+            raise UsageError(f"bench --window: {option} is for the timed passes, not the window: "
+                             "allowed with --window --size, --repeat N frames, --warmup N, "
+                             "--set, --camera, --time, --out")
+    params, camera, size = _session_inputs(args, args.scene)
+    mesh = _user_mesh(args, args.scene)
+    size = (640, 360) if args.size is None else size
+    problem = display_problem()
+    if problem is not None:
+        raise UsageError(f"bench --window needs a display ({problem}): allowed under X, or "
+                         f"xvfb-run -a natura bench {args.scene} --window")
+    path, _ = _bench_outputs(argparse.Namespace(**{**vars(args),
+                                                   "scene": f"{args.scene}-window"}))
+    report = bench_window(
+        args.scene, params, camera, size,
+        frames=WINDOW_FRAMES if args.repeat is None else args.repeat,
+        warmup=WINDOW_WARMUP if args.warmup is None else args.warmup,
+        shader_root=resolve_shader_root(args.shaders),
+        setup=(lambda scene: attach_mesh(scene, mesh)) if mesh is not None else None,
+        progress=lambda text: print(f"natura: bench --window {args.scene}: {text}",
+                                    file=sys.stderr, flush=True))
+    _make_results_folder(args, path)
+    path = write_text_atomic(path, json.dumps(report, indent=2) + "\n", force=args.force)
+    for line in summary(report):
+        print(line)
+    print(f"{report['renderer']} → {path}")
+    return 0
+
+
 def cmd_bench(args) -> int:
-    from .bench import NUMPY_BENCHES, ROUNDS_BUDGET_S, bench_scene, scene_sweeps, write_report
+    from .bench import (
+        NUMPY_BENCHES,
+        ROUNDS_BUDGET_S,
+        accounting_lines,
+        bench_scene,
+        scene_sweeps,
+        write_report,
+    )
     from .runtime import open_session, parse_size
     from .scenes import SCENES
 
@@ -865,6 +917,8 @@ def cmd_bench(args) -> int:
     if args.scene not in SCENES:
         raise UsageError(f"unknown scene or bench {quote(args.scene, 40)}: allowed "
                          f"{', '.join([*SCENES, *NUMPY_BENCHES])}")
+    if args.window:
+        return cmd_window_bench(args)
     if args.quick:
         raise UsageError(f"bench {args.scene}: --quick is for the numpy benches "
                          f"({', '.join(NUMPY_BENCHES)}): allowed with a scene --repeat N and "
@@ -913,6 +967,8 @@ def cmd_bench(args) -> int:
         spread = f"{t['median_ms']:.3f} [{t['p25_ms']:.3f}–{t['p75_ms']:.3f}]"
         print(f"{name:24s} {spread:>30s}   ×{t['ratio_to_fullscreen']:.2f} "
               f"[{t['ratio_to_fullscreen_p25']:.2f}–{t['ratio_to_fullscreen_p75']:.2f}]")
+    for line in accounting_lines(report):
+        print(line)
     stats = report.get("pipeline_statistics", {})
     if not stats.get("supported"):
         print(f"no pipeline statistics: {stats.get('reason')}")

@@ -26,12 +26,44 @@ from .keymaps import FLY, KeyMap
 PRESETS = RESOURCES / "presets"
 
 
+#: the window's smallest internal scale per side (dynamic resolution goes no lower)
+MIN_SCALE = 0.5
+#: ``output.scale``'s value meaning "automatic" (``--set output.scale=auto`` stores it)
+AUTO_SCALE = 0.0
+
+
+class ScaleParam(Param):
+    """``output.scale``: ``auto`` (stored as 0) or a scale in [MIN_SCALE, 1] that pins it."""
+
+    def allowed(self) -> str:
+        return f"auto (or 0) or a number in [{MIN_SCALE:g}, 1]"
+
+    def _validate(self, value):
+        if isinstance(value, str) and value.strip().lower() == "auto":
+            return AUTO_SCALE
+        number = super()._validate(value)
+        if AUTO_SCALE < number < MIN_SCALE - 1e-12:
+            raise self._bad(value, "is out of range")
+        return number
+
+
 def output_params() -> list[Param]:
     return [
         Param("output.exposure", 1.0, 0.001, 1000.0, "exposure multiplier before tone mapping",
               step=0.01),
         Param("output.tonemap", "aces", doc="tone map for PNG and the window (EXR stays linear)",
               kind="choice", choices=TONEMAPS),
+        Param("output.frame_budget_ms", 33.0, 1.0, 1000.0, "the window's frame time budget: a "
+              "slower frame lowers the 3D scene's internal scale (output.scale=auto)",
+              step=1.0, unit="ms"),
+        ScaleParam("output.scale", AUTO_SCALE, 0.0, 1.0, "the window's 3D scene resolution per "
+                   f"side: auto (dynamic, down to {MIN_SCALE:g} within the frame budget), 1 "
+                   f"pins the full scale, a value in [{MIN_SCALE:g}, 1] pins that one; the "
+                   "panel and HUD stay sharp; headless renders are always full scale",
+                   step=0.125),
+        Param("output.upscale", "bicubic", doc="the filter that enlarges a reduced scene to the "
+              "window: bicubic (Catmull-Rom, sharper) or bilinear (cheaper)", kind="choice",
+              choices=("bicubic", "bilinear")),
     ]
 
 

@@ -24,6 +24,7 @@ from imgui_bundle import imgui
 from ..colour import linear_to_srgb, srgb_to_linear
 from ..errors import ParamError, one_line
 from ..params import Param, ParamSet
+from ..scenes.base import AUTO_SCALE, MIN_SCALE, ScaleParam
 from ..teach import sections as ts
 
 ERROR_COLOUR = (1.0, 0.35, 0.3, 1.0)
@@ -108,7 +109,15 @@ def param_widget(params: ParamSet, p: Param, section: ts.Section | None = None,
     label = f"{p.short}##{p.name}"
     changed = False
     new = value
-    if p.kind == "bool":
+    if isinstance(p, ScaleParam):  # output.scale: "auto", or a slider over the pinned scales
+        changed, auto = imgui.checkbox(f"auto##{p.name}", value == AUTO_SCALE)
+        new = AUTO_SCALE if auto else (1.0 if changed else value)
+        if not auto:
+            imgui.same_line()
+            moved, pinned = imgui.slider_float(label, float(new), MIN_SCALE, 1.0, "%.3g")
+            if moved:
+                changed, new = True, pinned
+    elif p.kind == "bool":
         changed, new = imgui.checkbox(label, value)
     elif p.kind == "choice":
         idx = p.choices.index(value)

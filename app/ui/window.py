@@ -26,6 +26,12 @@ with a ``hud()`` method gets the HUD of app/ui/hud.py.
 
 Shader files are polled every 0.25 s: saving one recompiles what includes it; a broken edit
 keeps the last good program running and lists ``file:line`` errors in the panel.
+
+Dynamic resolution (app/ui/resolution.py): when frames exceed ``output.frame_budget_ms``, the
+3D scene renders at a lower internal scale (down to 0.5 per side) and the display pass enlarges
+it to the window (``output.upscale``); the panel and the HUD are drawn after it, at the
+window's resolution. ``output.scale`` pins the scale; a screenshot is always rendered at the
+window's full size.
 """
 
 from __future__ import annotations
@@ -139,7 +145,7 @@ def _one_line(exc: BaseException) -> str:
     return text or type(exc).__name__
 
 
-def _create_window(size, title):
+def _create_window(size, title, vsync: bool = True):
     import moderngl_window as mglw
 
     cls = mglw.get_local_window_cls("pyglet")
@@ -148,7 +154,7 @@ def _create_window(size, title):
     # asks); 3.3 the least Natura runs on
     for version in ((4, 3), (4, 1), (3, 3)):
         try:
-            wnd = cls(title=title, gl_version=version, size=size, resizable=True, vsync=True,
+            wnd = cls(title=title, gl_version=version, size=size, resizable=True, vsync=vsync,
                       samples=0, cursor=True, visible=True, fullscreen=False)
         except Exception as exc:  # pyglet.gl.ContextException
             last = exc
@@ -164,14 +170,14 @@ class NaturaWindow:
     def __init__(self, scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720),
                  shader_root=None, screenshot_dir: str | os.PathLike = "screenshots",
                  preset_dir: str | os.PathLike = "presets",
-                 keyframes_dir: str | os.PathLike = ".", quality=None):
+                 keyframes_dir: str | os.PathLike = ".", quality=None, vsync: bool = True):
         from imgui_bundle import imgui
 
         from ..runtime import open_session
         from .imgui_renderer import ImguiRenderer
 
         self.imgui = imgui
-        self.wnd = _create_window(size, f"Natura — {scene_name}")
+        self.wnd = _create_window(size, f"Natura — {scene_name}", vsync=vsync)
         self.wnd.exit_key = None  # Esc is ours: it must not quit while typing in a text field
         self.ctx = self.wnd.ctx
         self.session = open_session(scene_name, params, shader_root, ctx=self.ctx, camera=camera)
@@ -224,7 +230,11 @@ class NaturaWindow:
         self._printed_errors: set[str] = set()  # shader errors already printed to the terminal
         self.progress_frames = 0
         self._last_poll = 0.0
-        self.target = None
+        self.target = None  # the scene's radiance, at the internal size (dynamic resolution)
+        self.window_size: tuple[int, int] = (0, 0)  # the window's framebuffer, pixels
+        from .resolution import DynamicResolution
+
+        self.resolution = DynamicResolution()
         self._rendering = False  # inside render_scene (a resize then waits for its end)
         self._resize_pending: tuple[int, int] | None = None
         self.ui_mode = True  # toggle_ui: the HUD and panel take the mouse; False: navigation
@@ -425,11 +435,34 @@ class NaturaWindow:
             self._resize_pending = (width, height)  # target is swapped after the render
             return
         if width > 0 and height > 0:
-            if self.target is not None and tuple(self.target.size) == (width, height):
-                return  # the same size again (pyglet repeats it when the window maps)
-            if self.target is not None:
-                self.session.gpu.free(self.target)
-            self.target = self.session.gpu.target("window", "scene radiance", (width, height))
+            self.window_size = (int(width), int(height))
+            self._fit_target()
+
+    def internal_size(self) -> tuple[int, int]:
+        """The size the scene renders at: the window's, times the dynamic resolution's scale."""
+        return self.resolution.internal_size(self.window_size)
+
+    def _fit_target(self, size: tuple[int, int] | None = None) -> None:
+        """Make the scene's target ``size`` (default: the internal size), unless it is."""
+        size = self.internal_size() if size is None else size
+        if self.target is not None and tuple(self.target.size) == tuple(size):
+            return  # the same size again (pyglet repeats it when the window maps)
+        if self.target is not None:
+            self.session.gpu.free(self.target)
+            self.target = None
+        self.target = self.session.gpu.target("window", "scene radiance", size)
+        # the display pass's bicubic taps beyond the border read the edge, not the other side
+        self.target.color.repeat_x = self.target.color.repeat_y = False
+
+    def update_scale(self, frame_ms: float) -> None:
+        """Dynamic resolution: judge the last frame's time against the budget, and resize the
+        scene's target when the scale changed (app/ui/resolution.py)."""
+        p = self.params
+        budget = p["output.frame_budget_ms"] if "output.frame_budget_ms" in p else 33.0
+        setting = p["output.scale"] if "output.scale" in p else 1.0
+        self.resolution.observe(frame_ms, budget, setting)
+        if self.window_size[0] > 0:
+            self._fit_target()
 
     # -- frame -----------------------------------------------------------------------------
     def poll_shaders(self) -> None:
@@ -480,8 +513,10 @@ class NaturaWindow:
         self.wnd.use()
         ctx.viewport = (0, 0, *self.wnd.buffer_size)
         try:
+            upscale = self.params["output.upscale"] if "output.upscale" in self.params else ""
             draw_display(self.session.gpu, self.target.color, self.scene.exposure(),
-                         self.params["output.tonemap"])
+                         self.params["output.tonemap"],
+                         bicubic=upscale == "bicubic" and self.target.size != self.window_size)
         except Exception as exc:  # e.g. the display shader itself is broken
             error = error or f"display failed: {exc}"
         if error is not None and error != self.render_error:
@@ -631,8 +666,13 @@ class NaturaWindow:
                 imgui.text_wrapped(f"{what}: {how}")
             imgui.tree_pop()
         ms = np.array(self.frame_ms, dtype=np.float32)
-        imgui.text(f"frame {ms[-1]:6.2f} ms   "
-                   f"median {np.median(ms[ms > 0]) if (ms > 0).any() else 0:6.2f} ms")
+        median = float(np.median(ms[ms > 0])) if (ms > 0).any() else 0.0
+        imgui.text(f"frame {ms[-1]:6.2f} ms   median {median:6.2f} ms   "
+                   f"{1000.0 / median if median > 0 else 0.0:5.1f} fps")
+        from .resolution import scale_line
+
+        imgui.text(scale_line(self.resolution, tuple(self.target.size), self.window_size,
+                              self.params.get("output.frame_budget_ms", 33.0)))
         self.frame_plot(ms)
         try:
             errors = gpu.shaders.errors()
@@ -756,6 +796,9 @@ class NaturaWindow:
     def frame(self, dt: float) -> None:
         imgui = self.imgui
         self.frame_ms.append(dt * 1000.0)
+        self.update_scale(dt * 1000.0)
+        if self.screenshot_requested:  # a screenshot has the window's size, whatever the scale
+            self._fit_target(self.window_size)
         self.poll_shaders()
         if self.paused:
             dt = 0.0  # the world stands still behind the pause menu

@@ -1111,6 +1111,137 @@ def village_keys(work: str) -> int:
     return 0
 
 
+def _sharpness(image: np.ndarray, mask: np.ndarray) -> float:
+    """The mean absolute difference between neighbouring pixels (both axes) inside ``mask``:
+    text and edges drawn at the window's resolution keep it; an enlarged image loses it."""
+    lum = image.astype(float).mean(axis=2)
+    dx = np.abs(np.diff(lum, axis=1))[:-1, :]
+    dy = np.abs(np.diff(lum, axis=0))[:, :-1]
+    m = mask[:-1, :-1] & mask[1:, :-1] & mask[:-1, 1:]
+    return float((dx + dy)[m].mean()) if m.any() else 0.0
+
+
+def _rect_mask(shape, rect, shrink: int = 2) -> np.ndarray:
+    """A mask of the screen rectangle ``rect`` (x0, y0, x1, y1), ``shrink`` pixels inside."""
+    mask = np.zeros(shape[:2], dtype=bool)
+    x0, y0, x1, y1 = (int(round(v)) for v in rect)
+    mask[max(0, y0 + shrink):max(0, y1 - shrink), max(0, x0 + shrink):max(0, x1 - shrink)] = True
+    return mask
+
+
+def dynamic_resolution(work: str) -> int:
+    """Dynamic resolution in the maritime window (640x360; its HUD and the panel on): with a
+    1 ms budget the scale drops (the frames are fed 1/60 s, so the outcome does not depend on
+    the machine's speed), the scene's target shrinks and ImGui still draws at the window's size;
+    the scale pinned at 1 and at 0.5; the panel and the HUD as sharp at 0.5 as at 1 while the
+    scene is softer; a screenshot at 0.5 has the window's size; the panel's fps and scale
+    line."""
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+    from app.ui.resolution import LEVELS
+
+    os.chdir(work)
+    params = scene_params("maritime", sets=[*MARITIME_SMALL, "output.frame_budget_ms=1"])
+    win = W.NaturaWindow("maritime", params, get_scene("maritime").new_camera(), (640, 360),
+                         screenshot_dir="shots")
+    texts: list = []
+    undo = _spy(win.imgui, "text", texts)
+    out: dict = {"window": list(win.window_size), "levels": list(LEVELS)}
+
+    def frames(n, dt=1 / 60):
+        for _ in range(n):
+            win.wnd.clear()
+            win.frame(dt)
+            win.wnd.swap_buffers()
+
+    io = win.imgui.get_io()
+    auto = []
+    for _ in range(12):  # auto, 1 ms budget, each frame "took" 16.7 ms
+        frames(1)
+        auto.append({"scale": win.resolution.scale, "target": list(win.target.size),
+                     "imgui": [float(io.display_size.x), float(io.display_size.y)],
+                     "imgui_fb_scale": [float(io.display_framebuffer_scale.x),
+                                        float(io.display_framebuffer_scale.y)]})
+    out["auto"] = auto
+    out["auto_changes"] = [list(c) for c in win.resolution.changes]
+    out["scale_lines"] = [t["text"] for t in texts if t["text"].startswith("scale ")][-1:]
+    out["fps_lines"] = [t["text"] for t in texts if "fps" in t["text"]][-1:]
+
+    def shot(scale, panel):  # the scale pinned, time stood still: the same scene each time
+        params.set("output.scale", scale)
+        win.show_panel = panel
+        frames(3, dt=0.0)
+        return _screen(win), list(win.target.size), dict(win.hud_rects)
+
+    full_panel, size_full, _ = shot(1.0, True)
+    half_panel, size_half, _ = shot(0.5, True)
+    full_bare, _, hud_full = shot(1.0, False)
+    half_bare, _, hud_half = shot(0.5, False)
+    out["pinned_targets"] = {"1": size_full, "0.5": size_half}
+    from PIL import Image
+
+    for name, image in (("full-panel", full_panel), ("half-panel", half_panel),
+                        ("full-bare", full_bare), ("half-bare", half_bare)):
+        Image.fromarray(image.astype(np.uint8)).save(f"{name}.png")  # to look at on a failure
+    win.show_panel = True
+    texts.clear()
+    frames(8)  # pinned at 0.5 with the 1 ms budget: it stays
+    out["pinned_half_after"] = win.resolution.scale
+    out["pinned_line"] = [t["text"] for t in texts if t["text"].startswith("scale ")][-1:]
+    params.set("output.scale", 1.0)
+    frames(8)
+    out["pinned_full_after"] = {"scale": win.resolution.scale, "target": list(win.target.size)}
+    # where the panel draws: what changes when it is shown (at full scale both times)
+    panel = np.abs(full_panel - full_bare).sum(axis=2) > 30
+    hud = np.zeros(panel.shape, dtype=bool)
+    for key in ("ship", "weather"):
+        if key in hud_full:
+            hud |= _rect_mask(panel.shape, hud_full[key])
+    scene = np.ones(panel.shape, dtype=bool)  # in the shots without the panel
+    for key in ("ship", "weather"):
+        if key in hud_full:
+            scene &= ~_rect_mask(panel.shape, hud_full[key], shrink=-6)
+    out["hud_rects_same"] = hud_full == hud_half
+    out["mask_pixels"] = {"panel": int(panel.sum()), "hud": int(hud.sum()),
+                          "scene": int(scene.sum())}
+    out["sharpness"] = {
+        "panel": [_sharpness(full_panel, panel), _sharpness(half_panel, panel)],
+        "hud": [_sharpness(full_bare, hud), _sharpness(half_bare, hud)],
+        "scene": [_sharpness(full_bare, scene), _sharpness(half_bare, scene)],
+    }
+    out["panel_diff"] = float(np.abs(full_panel - half_panel)[panel].mean())
+    # a screenshot at scale 0.5 is rendered at the window's size
+    params.set("output.scale", 0.5)
+    frames(2)
+    win.screenshot_requested = True
+    frames(1)
+    out["screenshots"] = [list(Image.open(p).size) for p in win.screenshots]
+    frames(2)
+    out["after_screenshot_target"] = list(win.target.size)
+    # the panel's widget of output.scale: "auto", and a slider over [0.5, 1] once pinned
+    from app.ui import panel as P
+
+    imgui = win.imgui
+    widgets: list = []
+    spies = [_spy(imgui, "checkbox", widgets), _spy(imgui, "slider_float", widgets)]
+    for value in ("auto", "0.75"):
+        params.set("output.scale", value)
+        imgui.new_frame()
+        imgui.begin("scale widget")
+        P.param_widget(params, params.spec("output.scale"))
+        imgui.end()
+        imgui.render()
+    for u in spies:
+        u()
+    out["scale_widgets"] = [w["text"] for w in widgets]
+    out["render_error"] = str(win.render_error or "")
+    undo()
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
 def _read_lines(stream, lines: list) -> None:
     for line in iter(stream.readline, ""):
         lines.append(line)
@@ -1184,5 +1315,5 @@ if __name__ == "__main__":
             "cli-escape": cli_escape, "robustness": robustness,
             "maritime-keys": maritime_keys, "maritime-cli-escape": maritime_cli_escape,
             "shading-keys": shading_keys, "surfaces-keys": surfaces_keys,
-            "village-keys": village_keys}
+            "village-keys": village_keys, "dynamic-resolution": dynamic_resolution}
     sys.exit(runs.get(sys.argv[2] if len(sys.argv) > 2 else "", main)(sys.argv[1]))

@@ -24,7 +24,7 @@ STEPS = {  # what each tap gives, from where the driver starts
     "shadow_filter": ["pcss", "vsm", "hard", "four_tap", "pcf"],  # from the lab's pcf
     "shadow_cascades": ["0", "2", "4"],
     "failure": ["queue_order", "intersecting"],
-    "msaa": ["4", "0"],  # the driver starts it at 0
+    "msaa": ["4", "auto"],  # the driver starts it at 0; auto is 0 on llvmpipe (no A2C quad)
     "debug": ["cascades", "shadow"],
 }
 
