@@ -230,6 +230,15 @@ class Amortiser:
         self._last = self._origin = None
         self._converged = None
 
+    def panel_notes(self, params: ParamSet, group: str) -> list[str]:
+        """The panel's line on what the amortised march of ``group`` does now (none when off)."""
+        s = self.last_schedule
+        if s is None or not amortised(params, group, True):
+            return []
+        return [f"amortised march: {s.label()} — {100.0 * s.fraction:.3g} % of the pixels per "
+                f"frame, every pixel once in {s.cycle} frames; {self.resets} resets "
+                f"(last: {self.last_reset})"]
+
     def forget(self) -> None:
         """Drop every reference without freeing (the owner's resources were released)."""
         self._pair = []

@@ -10,7 +10,8 @@
 // glsl/common/layer_composite.frag lays it over whatever the scene drew: out = rgb + T · scene,
 // so a pixel the clouds miss (rgb = 0, T = 1) keeps the scene's value bit for bit. At location
 // 1 the amortised march's aux (glsl/common/amortise.glsl): the transmittance-weighted distance
-// of the cloud met, Σ (T_{i−1} − T_i) t_i / (1 − T), and the opaque scene's distance. Which
+// of the cloud met (each step's distance weighted by the light that step takes away, over
+// the whole 1 − T taken away), and the opaque scene's distance. Which
 // pixel a fragment marches is AmortisedPixel(): itself, or one pixel of each block of an
 // amortised frame (app/render/amortise.py).
 //
@@ -270,7 +271,7 @@ void main() {
 
     float T = 1.0;
     vec3 C = vec3(0.0);
-    float tSum = 0.0;  // Σ (T_{i−1} − T_i) t_i: the cloud's distance for the reprojection
+    float tSum = 0.0;  // each step's distance × the transmittance it removes: the cloud's distance for reprojection
     float t = seg.x + jitter * dt0;
     bool fine = !uAdaptiveSteps;
     int empty = 0, inCloud = 0;

@@ -20,7 +20,8 @@
 // fixed phase for the bench's reference (the thesis's march averaged over its offsets);
 // otherwise the first sample is at the entry, as the thesis has it. At location 1 the
 // amortised march's aux: the transmittance-weighted distance of the cloud met,
-// Σ (T_{i−1} − T_i) t_i / (1 − T), and the opaque scene's distance.
+// each step's distance weighted by the light that step takes away, over the whole 1 − T taken
+// away; and the opaque scene's distance.
 //
 // Aerial perspective (beyond the thesis; uHazeDistance = 0 turns it off, the thesis): light
 // scattered at distance s along the ray reaches the eye by the fraction f = exp(−s/H), the rest
@@ -79,7 +80,7 @@ void main() {
     float dstLimit = min(sceneDistance - dstToBox, dstInsideBox);
     float dstTravelled = (uAmortised || uJitterReference) ? AmortiseJitter(pixel) * stepSize : 0.0;
     float transmittance = 1.0;
-    float tSum = 0.0;  // Σ (T_{i−1} − T_i) t_i: the cloud's distance for the reprojection
+    float tSum = 0.0;  // each step's distance × the transmittance it removes: the cloud's distance for reprojection
     float lightEnergy = 0.0;
     float haze = 0.0;  // opacity handed to the air (aerial perspective)
     float invHaze = uHazeDistance > 0.0 ? 1.0 / uHazeDistance : 0.0;

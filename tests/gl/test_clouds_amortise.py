@@ -196,3 +196,15 @@ def test_scene_depth_compare_mode_is_restored(rig, mode):
     for _ in range(2):  # the second frame is an ordinary step when on
         r.render()
     assert r.target.depth.compare_func == "<="
+
+
+@pytest.mark.parametrize("model", ["a", "b"])
+def test_the_panel_names_the_schedule_while_amortised_and_nothing_when_off(rig, model):
+    r = rig(model, f"{MODELS[model][1]}.march_scale=quarter",
+            f"{MODELS[model][1]}.refresh=1/4")
+    r.render()
+    notes = r.eff.panel_notes()
+    assert len(notes) == 1 and notes[0].startswith("amortised march: ")
+    assert "every pixel once in" in notes[0] and "1 resets" in notes[0]
+    r.set("reprojection", "off")
+    assert r.eff.panel_notes() == []

@@ -353,13 +353,7 @@ class Clouds(Effect):
                 Pass("clouds.composite", lambda: self.composite(target), Stage.VOLUMES)]
 
     def panel_notes(self) -> list[str]:
-        a = self.amortiser
-        if a.last_schedule is None or not amortised(self.params, self.name, True):
-            return []
-        s = a.last_schedule
-        return [f"amortised march: {s.label()} — {100.0 * s.fraction:.3g} % of the pixels per "
-                f"frame, every pixel once in {s.cycle} frames; {a.resets} resets "
-                f"(last: {a.last_reset})"]
+        return self.amortiser.panel_notes(self.params, self.name)
 
     def release(self) -> None:
         super().release()
