@@ -49,12 +49,14 @@ def test_triangles_follow_each_methods_budget(report):
             assert x["triangles"] <= n * gs.blade_triangles(s["segments"])
 
 
-def test_the_thesis_ranking_the_pyramids_cost_most(report):
+def test_the_thesis_ranking_the_pyramids_draw_most(report):
     """The thesis: the geometry-shader grass is "muy costoso", the billboards "bastante
-    ligero" — at 30k blades the pyramids take the longest of the three."""
+    ligero" — in work drawn, at 30k blades the pyramids make the most triangles of the three.
+    (Which is fastest is the bench's figure, in its chart and summary: a test never judges
+    times, which follow the machine's load.)"""
     rows = {x["method"]: x for x in report["speed"] if x["blades"] == 30_000}
-    assert rows["geometry"]["net_ms"] > rows["billboard"]["net_ms"]
-    assert rows["geometry"]["net_ms"] > rows["instanced"]["net_ms"]
+    assert rows["geometry"]["triangles"] > rows["instanced"]["triangles"]
+    assert rows["geometry"]["triangles"] > 5 * rows["billboard"]["triangles"]
 
 
 def test_coverage_rises_to_three_planes_and_levels_off(report):
