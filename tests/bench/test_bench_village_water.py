@@ -31,7 +31,6 @@ def test_every_variant_is_timed(report):
         c = cost[name]
         assert c["rounds"] >= 5
         assert math.isfinite(c["net_ms"]) and c["net_ms"] > 0.0, name
-        assert c["raw_ms"] > cost["restore"]["raw_ms"], name  # the water costs something
         assert c["net_p25_ms"] <= c["net_ms"] <= c["net_p75_ms"]
         assert c["ratio_to_simple_fog_off"] > 0.0
     assert cost[vw.BASE]["ratio_to_simple_fog_off"] == pytest.approx(1.0)
