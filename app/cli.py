@@ -601,7 +601,7 @@ def cmd_params(args) -> int:
             rng = p.allowed() + "".join(f"; and {j.text}" for j in p.joint)
             unit = f" {p.unit}" if p.unit else ""
             where = f"  ({p.section})" if p.section else ""
-            print(f"  {p.name} = {value!r}{unit}    {rng}\n      {p.doc}{where}")
+            print(f"  {p.name} = {p.written(value)}{unit}    {rng}\n      {p.doc}{where}")
     return 0
 
 

@@ -170,6 +170,10 @@ class Param:
         """Its rules with other parameters, as shown beside the range ("" when none)."""
         return "; ".join(j.text for j in self.joint)
 
+    def written(self, value: Any) -> str:
+        """``value`` as ``natura params`` prints it (a word where the number stands for one)."""
+        return repr(value)
+
     def allowed(self) -> str:
         """What is allowed, as a phrase for error messages."""
         if self.kind == "bool":

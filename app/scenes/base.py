@@ -38,6 +38,9 @@ class ScaleParam(Param):
     def allowed(self) -> str:
         return f"auto (or 0) or a number in [{MIN_SCALE:g}, 1]"
 
+    def written(self, value) -> str:
+        return "'auto'" if value == AUTO_SCALE else repr(value)
+
     def _validate(self, value):
         if isinstance(value, str) and value.strip().lower() == "auto":
             return AUTO_SCALE

@@ -109,7 +109,8 @@ def _gl_part(say: _Writer, specs: list, strict_check: Callable | None) -> int:
         say("offers", " · ".join([
             "a software renderer" if caps.software else "a hardware GPU",
             f"compute shaders {'yes' if caps.compute else 'no (GL < 4.3: fragment twins)'}",
-            f"MSAA up to {caps.max_samples}× (the village and the surfaces lab use 4×)",
+            f"MSAA up to {caps.max_samples}× (the village and the surfaces lab, msaa=auto: 4× on a "
+            "GPU, none on a software renderer unless a quad needs alpha-to-coverage)",
             timers,
             f"pipeline statistics {'yes' if caps.pipeline_statistics else 'no'}"]))
         for i, (what, ways) in enumerate(sorted(paths_by_scene(caps).items())):

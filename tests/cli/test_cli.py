@@ -186,6 +186,9 @@ def test_params_lists_the_sky_parameters(tmp_path):
     line = next(line for line in r.stdout.splitlines() if line.strip().startswith("sky.sun_size"))
     assert "0.05" in line and "[0, 1]" in line
     assert "time.hour" in r.stdout
+    # the window's scale is automatic by default: shown as the word a user types, not as 0
+    line = next(line for line in r.stdout.splitlines() if "output.scale =" in line)
+    assert line.split("=")[1].split()[0] == "'auto'", line
     line = usage_error(run("params", "atlantis", cwd=tmp_path))
     assert "atlantis" in line and "sky" in line
 
