@@ -80,7 +80,7 @@ def sphere_segment_t(p0, p1, centre, radius) -> np.ndarray:
     oc = np.asarray(p0, float) - np.asarray(centre, float)
     a = np.einsum("...i,...i", seg, seg)
     b = 2.0 * np.einsum("...i,...i", seg, oc)
-    c = np.einsum("...i,...i", oc, oc) - float(radius) ** 2  # spec/003 eq. 5.10
+    c = np.einsum("...i,...i", oc, oc) - float(radius) ** 2  # spec/003 eq. 5.16
     disc = b * b - 4.0 * a * c
     ok = (disc >= 0.0) & (a > 0.0)
     with np.errstate(divide="ignore", invalid="ignore"):

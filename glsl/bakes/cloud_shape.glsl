@@ -13,7 +13,7 @@
 // * spec/000 §1.6 (NoiseSimulator): "Volume noise" RGBA 132³, multi-frequency Worley per
 //   channel, tileable with the 27-cell wrapped search; criteria 14 (tiles, rising
 //   frequency) and spec/001 B1-B5.
-// * Perlin-Worley after Schneider 2015 (spec/001 §1.1 [INFERENCE]); the exact remap is
+// * Perlin-Worley after Schneider 2015 (spec/001 §1.1); the exact remap is
 //   PerlinWorleyRemap in glsl/common/noise_fbm.glsl.
 //
 // Equations (uvw in [0, 1)³ is the texel centre, so the tile is one unit of uvw):

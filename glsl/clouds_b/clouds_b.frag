@@ -98,7 +98,7 @@ void main() {
             transmittance *= CloudsBBeer(density * stepSize * uLightAbsortionCloud);
             haze += (before - transmittance) * (1.0 - fade);
             tSum += (before - transmittance) * (dstToBox + dstTravelled);
-            if (transmittance < 0.01) break;  // early exit (spec/000 §A.7)
+            if (transmittance < 0.01) break;  // early exit (spec/000 §A.8)
         }
         dstTravelled += stepSize;
     }

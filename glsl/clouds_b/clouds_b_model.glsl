@@ -26,7 +26,7 @@
 //   §A.7, §A.8  main march: E += ρ·step·T·lightAtPos·phase·Powder(ρ); T *= exp(−ρ·step·LightAbsortionCloud);
 //           break when T < 0.01; output = background·T + E·SunColor
 //
-// Fixes against the thesis (spec/000 §1.6 and §5):
+// Fixes against the thesis (spec/000 §1.6 and §4):
 //  * light-direction double inversion: the thesis passes 1/L to rayBoxDistance, which divides
 //    by its argument again, so the slab distances come out as (min − p)·L; it then clamps
 //    |L.z| ≥ 0.085 (which leaves L.z = 0 at 0, sign(0) = 0). Here L itself is passed and no

@@ -3,8 +3,8 @@
 //
 // Sources: fBm, spec/001 §1.1, spec/001 eq. 3.1 and spec/001 eq. 3.2 (after Quilez);
 // turbulence, Perlin 1985 (sum of |noise|); Perlin-Worley, Schneider, "The real-time
-// volumetric cloudscapes of Horizon: Zero Dawn", SIGGRAPH 2015 (spec/001 §1.1 [INFERENCE]
-// note: remap(perlin, worley - 1, 1, 0, 1); table "Shape", channel R). The maritime thesis's
+// volumetric cloudscapes of Horizon: Zero Dawn", SIGGRAPH 2015 (spec/001 §1.1:
+// remap(perlin, worley - 1, 1, 0, 1), the shape texture's red channel). The maritime thesis's
 // weather map is a Perlin fBm (spec/000 §1.6, GradientSimulator). Numpy twin:
 // app/sim/noise/fractal.py.
 // Needs noise_perlin.glsl and noise_worley.glsl (included here).

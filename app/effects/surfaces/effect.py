@@ -235,7 +235,7 @@ class Surfaces(Effect):
                 "map's precision.",
         "peter_panning": "Peter Panning (spec/003 §2.8, Fig. 87): a linear bias of 0.6 pushes "
                          "the shadow off its caster, so objects seem to float; the thesis "
-                         "balances a linear 0.3 with a normal 0.01.",
+                         "balances a normal 0.3 with a linear 0.01.",
     }
 
     def __init__(self, gpu, params):

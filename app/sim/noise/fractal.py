@@ -2,8 +2,8 @@
 
 Sources: fBm as spec/001 eq. 3.1 and spec/001 eq. 3.2 (spec/001 §1.1, after Quilez);
 turbulence (Perlin 1985, the sum of |noise|); Perlin–Worley as in Schneider, "The real-time
-volumetric cloudscapes of Horizon: Zero Dawn", SIGGRAPH 2015 (spec/001 §1.1 [INFERENCE] note
-and table "Shape R"; spec/000 §1.6).
+volumetric cloudscapes of Horizon: Zero Dawn", SIGGRAPH 2015 (the remap
+of the cloud thesis's shape texture, red channel, spec/001 §1.1; spec/000 §1.6).
 
 Octave sums, with a_0 = 1, a_i = G·a_{i−1} (gain G) and f_0 = 1, f_i = L·f_{i−1}
 (lacunarity L); G = L^(−H) when the Hurst exponent H is given instead (spec/001 eq. 3.1 with
