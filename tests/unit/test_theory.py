@@ -93,3 +93,12 @@ def test_anchors_are_unique_on_each_page():
         ids = ANCHOR.findall(path.read_text(encoding="utf-8"))
         dup = sorted({a for a in ids if ids.count(a) > 1})
         assert not dup, f"{path.name}: anchors used twice: {dup}"
+
+
+def test_the_readme_credits_each_thesis_and_the_licence_is_there():
+    readme = (PROJECT_ROOT / "README.md").read_text(encoding="utf-8")
+    credits = readme[readme.index("## Credits and licence"):]
+    for path in pages().values():  # each thesis's page is linked from the credits
+        assert f"(docs/theory/{path.name})" in credits, path.name
+    licence = (PROJECT_ROOT / "LICENSE").read_text(encoding="utf-8")
+    assert licence.startswith("MIT License") and "Natura" in licence
