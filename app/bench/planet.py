@@ -22,7 +22,13 @@
   ground pass (``planet.ground_pass``: the analytic ground and the background shaded once into
   the G-buffer against in the scattering pass, the same image), and the LUT method's speed-up
   over brute force on the ground view at N = 30 before and after each (the thesis's 3.3–7×,
-  spec/002 §5), per frame and for the scattering pass alone.
+  spec/002 §5), per frame and for the scattering pass alone; and the reduced-resolution march
+  (``planet.march_scale``: half and quarter against full, method 3, the ground view and a
+  light-shaft view: the scattering pass's and the frame's time ratio beside the 8-bit image
+  difference, mean, p99 and max, and the share of pixels that marched their own ray).
+* The thesis's table and the accuracy sweep time and grade the thesis's per-pixel march
+  (``planet.march_scale = full``, :data:`PER_PIXEL`): every pixel its own ray, as the thesis's
+  methods; the reduced march is graded against it in "changes".
 """
 
 from __future__ import annotations
@@ -41,6 +47,11 @@ VIEWS = {
     "space": {"position": (0.0, 300000.0, 60.0), "yaw": 0.0, "pitch": -30.0, "fov": 60.0},
 }
 TABLE_METHODS = ("brute_force", "lut", "shadowed", "hillaire")
+#: the thesis's per-pixel march, which the table and the accuracy sweep measure
+PER_PIXEL = {"planet.march_scale": "full"}
+#: a low sun behind the mountains, seen past them: light shafts toward the camera
+SHAFT_VIEW = {"position": (0.0, 2.0, 60.0), "yaw": 0.0, "pitch": 4.0, "fov": 60.0}
+SHAFT_SUN = {"planet.sun_elevation": 10.0, "planet.sun_azimuth": 0.0}
 
 
 def _set_view(session, view: str) -> None:
@@ -378,11 +389,84 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None) -> dict:
     """What ``natura bench planet`` runs after the per-pass timings."""
     table_sizes = sizes or DEFAULT_SIZES
     small = at_most(size, (320, 180))
-    return {"table": thesis_table(session, table_sizes, warmup, repeat),
-            "accuracy": accuracy(session, size=at_most(size, (64, 36)), time_size=small,
-                                 warmup=max(1, warmup - 1), repeat=max(2, repeat // 2)),
-            "changes": changes(session, small, warmup=max(1, warmup - 1),
-                               rounds=max(5, repeat))}
+    p = session.params
+    saved = {k: p[k] for k in PER_PIXEL}
+    try:
+        for k, v in PER_PIXEL.items():
+            p.set(k, v)
+        table = thesis_table(session, table_sizes, warmup, repeat)
+        acc = accuracy(session, size=at_most(size, (64, 36)), time_size=small,
+                       warmup=max(1, warmup - 1), repeat=max(2, repeat // 2))
+        done = changes(session, small, warmup=max(1, warmup - 1), rounds=max(5, repeat))
+    finally:
+        for k, v in saved.items():
+            p.set(k, v)
+    done["march_scale"] = march_scale_change(session, at_most(size, (640, 360)),
+                                             warmup=max(1, warmup - 1), rounds=max(5, repeat))
+    return {"table": {**table, "march_scale": "full"}, "accuracy": acc, "changes": done}
+
+
+def march_scale_change(session, size=(640, 360), warmup: int = 1, rounds: int = 7) -> dict:
+    """``planet.march_scale`` half and quarter against full (method 3): per view (the ground
+    view, and a light-shaft view with a low sun behind the mountains), the 8-bit difference
+    of the tone-mapped images (mean, p99, max), the share of pixels that marched their own
+    ray, and, interleaved, the scattering pass's and the frame's time ratio to full."""
+    p = session.params
+    eff = session.scene.effect("planet")
+    keys = ("planet.method", "planet.march_scale", "planet.sun_elevation",
+            "planet.sun_azimuth")
+    saved = {k: p[k] for k in keys}
+    scales = ("full", "half", "quarter")
+    out: dict = {"size": list(size), "rounds": rounds, "method": "shadowed", "views": {}}
+    try:
+        p.set("planet.method", "shadowed")
+        for view, sun in (("ground", {}), ("shafts", SHAFT_SUN)):
+            for k, v in {**{k: saved[k] for k in keys[2:]}, **sun}.items():
+                p.set(k, v)
+            v = SHAFT_VIEW if view == "shafts" else VIEWS["ground"]
+            session.scene.camera.set(**v)
+            imgs, alone = {}, {}
+            for sc in scales:
+                p.set("planet.march_scale", sc)
+                imgs[sc] = _final_image_at(session, size)
+                mask = eff.marched_alone()
+                alone[sc] = float(mask.mean()) if mask is not None else 1.0
+            exposure = float(session.scene.exposure())
+            show = {sc: 1.0 - np.exp(-exposure * img) for sc, img in imgs.items()}
+            entry: dict = {"own_ray_share": alone, "error_8bit": {}}
+            for sc in scales[1:]:
+                d = np.abs(show[sc] - show["full"]).max(axis=-1) * 255.0
+                entry["error_8bit"][sc] = {"mean": float(d.mean()),
+                                           "p99": float(np.percentile(d, 99)),
+                                           "max": float(d.max())}
+            for part, only in (("frame", False), ("scattering", True)):
+                runs, done = _variants(session, size, {sc: {"planet.march_scale": sc}
+                                                       for sc in scales}, scattering_only=only)
+                try:
+                    timed = time_interleaved(session.gpu.ctx, runs,
+                                             _warmup_after_build(warmup), rounds)
+                finally:
+                    done()
+                entry[f"{part}_ratio_to_full"] = {sc: _ratio(timed, sc, "full")
+                                                  for sc in scales[1:]}
+                entry[f"{part}_ms"] = {sc: timed.quartiles(sc)[1] for sc in scales}
+            out["views"][view] = entry
+    finally:
+        for k, v in saved.items():
+            p.set(k, v)
+        _set_view(session, "ground")
+    return out
+
+
+def _final_image_at(session, size) -> np.ndarray:
+    """The final linear image (h, w, 3) of the current camera at ``size``."""
+    gpu = session.gpu
+    target = gpu.target("bench", "planet change", size)
+    try:
+        session.scene.render(session.scene.frame(size), target)
+        return target.read()[..., :3].astype(np.float64)
+    finally:
+        gpu.free(target)
 
 
 def chart(report: dict, path, force: bool = False) -> None:
@@ -494,6 +578,18 @@ def changes_summary(c: dict | None, accuracy: dict | None = None) -> list[str]:
         lines.append(f"  LUT speed-up over brute force, ground view, {part:10s}: live noise "
                      f"{_fmt(su['live'])}, baked {_fmt(su['baked'])}{after} "
                      "(the thesis: 3.3–7×)")
+    ms = c.get("march_scale")
+    if ms:
+        for view, e in ms["views"].items():
+            for sc in ("half", "quarter"):
+                err = e["error_8bit"][sc]
+                lines.append(
+                    f"  march_scale {sc:7s}/ full, {view:6s} view ({ms['size'][0]}x"
+                    f"{ms['size'][1]}, method 3): scattering pass "
+                    f"{_fmt(e['scattering_ratio_to_full'][sc])}, frame "
+                    f"{_fmt(e['frame_ratio_to_full'][sc])}; 8-bit |Δ| mean {err['mean']:.3f}, "
+                    f"p99 {err['p99']:.2f}, max {err['max']:.2f}; own rays "
+                    f"{100.0 * e['own_ray_share'][sc]:.1f} %")
     rows = {r["method"]: r for r in (accuracy or {}).get("rows", [])
             if r["knob"] == "n_steps" and r["value"] == c["n_steps"]}
     if "brute_force" in rows and "lut" in rows:

@@ -89,16 +89,18 @@ void InScatterSteps(inout InScatterSums acc, vec3 dir, float mu, float muS, floa
     }
 }
 
-// In-scattered radiance along dir over [t0, t1]; depthPC returns the camera→end density integral.
-vec3 InScatter(vec3 dir, float t0, float t1, out vec2 depthPC) {
+// In-scattered radiance along dir over [t0, t1] by an `steps`-sample midpoint sum; depthPC
+// returns the camera→end density integral. steps = 0 runs no loop at all (a pixel that need not
+// march: on a software rasteriser the loops then stop for a block where no pixel marches).
+vec3 InScatterN(vec3 dir, float t0, float t1, int steps, out vec2 depthPC) {
     depthPC = vec2(0.0);
     if (t1 <= t0) return vec3(0.0);
     vec3 up = CameraUp();
     float mu = dot(dir, up);
     float muS = dot(uSunDir, up);
     float cosTheta = dot(dir, uSunDir);
-    int n = clamp(uSteps, 0, 4096);
-    float ds = (t1 - t0) / float(n);
+    int n = clamp(steps, 0, 4096);
+    float ds = n > 0 ? (t1 - t0) / float(n) : 0.0;   // 0: no sample, no shadow range
     InScatterSums acc = InScatterSums(vec2(0.0), vec3(0.0), vec3(0.0));
 #ifdef SHADOWED_INSCATTER
     // three runs of the same sum in the same order: V read only where a caster may hide the sun
@@ -112,4 +114,9 @@ vec3 InScatter(vec3 dir, float t0, float t1, out vec2 depthPC) {
     depthPC = acc.depthPC;
     return (acc.rayleigh * uBetaRayleigh * PhaseRayleigh(cosTheta)
             + acc.mie * uBetaMieScatter * PhaseMieCornetteShanks(cosTheta, uMieG)) * uSunIntensity;
+}
+
+// In-scattered radiance along dir over [t0, t1] with N_STEPS = uSteps samples.
+vec3 InScatter(vec3 dir, float t0, float t1, out vec2 depthPC) {
+    return InScatterN(dir, t0, t1, uSteps, depthPC);
 }

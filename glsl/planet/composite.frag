@@ -47,6 +47,16 @@
 // pass reads Color_original(O) of every pixel with one texelFetch and its time is what the
 // method's integral costs; without the define (planet.ground_pass = scattering) they are shaded
 // here as before (planet/surroundings.glsl), the same image.
+// Reduced-resolution march (methods 1–3, beyond the thesis: the field's way with light shafts;
+// planet.march_scale, MARCH_PASS): 1 marches one pixel of every B × B block (AmortisedPixel of
+// common/amortise.glsl) with its own ray and G-buffer distance into a grid, storing the distance
+// beside the in-scattering; 2 (every pixel) interpolates the 4 grid points around it where their
+// interpolated inverse distance agrees with its own within 2 %, no neighbour of it lies across a
+// mesh's edge and the grid values change by less than uMarchContrast across the cell, writing
+// window depth 0 there and 1 elsewhere; 3 is this pass's full march drawn on the far plane with
+// the depth test '<=', so only the pixels 2 could not fill are shaded (a march compiled into 2
+// would cost every pixel its loops on a software rasteriser). Without MARCH_PASS (planet.
+// march_scale = full) every pixel marches: the thesis's method, the reference.
 // Failure cases: method 1 keeps the thesis's own (the unclipped segment and its dark horizon
 // band, see above; a ray into space that misses the universe sphere gets no in-scattering, the
 // sphere containing the atmosphere); methods 2–4 guard rays that miss or only
@@ -55,7 +65,8 @@
 // camera-relative and the Earth centre relative to the camera comes from the CPU in double
 // precision; the analytic ground takes no shadow-map depth bias (it cannot shadow itself, see
 // GroundColor); the baked noise's cubemap is seamless (GL_TEXTURE_CUBE_MAP_SEAMLESS), so face
-// edges do not show.
+// edges do not show; the reduced march: grid points past the image's last row or column are
+// not interpolated from (their pixels march), the sky's distance (1e30) interpolates as 1/d = 0.
 // =============================================================================================
 #include "atmosphere/model.glsl"
 #include "camera.glsl"
@@ -76,6 +87,12 @@ uniform vec3 uCameraLocal;   // camera in the local frame at the scene origin (m
 #include "surroundings.glsl"
 #endif
 #include "atmosphere/inscatter.glsl"
+#ifndef MARCH_PASS
+#define MARCH_PASS 0
+#endif
+#if MARCH_PASS != 0
+#include "amortise.glsl"
+#endif
 #if METHOD == 4
 #ifndef HILLAIRE_PART
 #define HILLAIRE_PART 0
@@ -84,7 +101,6 @@ uniform vec3 uCameraLocal;   // camera in the local frame at the scene origin (m
 #endif
 
 in vec2 vUV;
-out vec4 fragColor;
 
 uniform sampler2D uGColor;
 uniform sampler2D uGPosition;
@@ -100,6 +116,8 @@ float UniverseDistance(vec3 dir) {
 }
 
 #if METHOD == 4
+out vec4 fragColor;
+
 // Method 4's pass is lookups only (Hillaire 2020 §5.3–5.4). HILLAIRE_PART says which pixels a
 // program shades: 1 those no mesh covers (drawn on the far plane with the depth test '<='
 // against the G-buffer's depth: the sky, or the analytic ground — the sky-view LUT's rays end
@@ -144,17 +162,15 @@ void main() {
     fragColor = vec4(surface * transmittance + inscatter, 1.0);
 }
 #else
-void main() {
-    ivec2 px = ivec2(gl_FragCoord.xy);
+// What pixel px (uv its centre) sees: its ray, the distance to the surface (a mesh's, the
+// analytic ground's, or 1e30 into space) and Color_original of that surface.
+void PixelView(ivec2 px, vec2 uv, out vec3 dir, out float dist, out bool space, out vec3 surface) {
     vec4 gpos = texelFetch(uGPosition, px, 0);
-    vec3 dir = CameraRayDirection(vUV);
+    dir = CameraRayDirection(uv);
 #ifdef SURFACES_IN_GBUFFER
-    vec3 surface = texelFetch(uGColor, px, 0).rgb;   // a mesh's, or planet/ground.frag's
-#else
-    vec3 surface;
+    surface = texelFetch(uGColor, px, 0).rgb;   // a mesh's, or planet/ground.frag's
 #endif
-    float dist;
-    bool space = false;
+    space = false;
     if (gpos.w > 0.5) {
         dist = length(gpos.xyz);
         dir = gpos.xyz / dist;
@@ -168,11 +184,11 @@ void main() {
         surface = space ? Background(dir) : GroundColor(dir * dist);
 #endif
     }
-    if (uDebugView == 1) surface = vec3(0.0);
-    if (uDebugView == 2) surface = vec3(1.0);
+}
 
-    vec3 inscatter;
-    vec3 transmittance;
+// The method's integral in front of that surface with `steps` view-ray samples (0: none).
+void Atmosphere(vec3 dir, float dist, bool space, int steps, out vec3 inscatter,
+                out vec3 transmittance) {
     float t0, t1;
 #if METHOD == 1
     t0 = 0.0;
@@ -184,9 +200,108 @@ void main() {
 #endif
     vec2 depthPC = vec2(0.0);
     bool crosses = t1 > t0 && t0 >= 0.0;
-    inscatter = crosses ? InScatter(dir, t0, t1, depthPC) : vec3(0.0);
+    inscatter = crosses ? InScatterN(dir, t0, t1, steps, depthPC) : vec3(0.0);
     transmittance = crosses ? TransmittanceFromDepths(depthPC) : vec3(1.0);
+}
+
+#if MARCH_PASS == 1
+// The reduced-resolution march: grid texel t marches full-resolution pixel t·B + sub exactly as
+// the full-resolution pass would (its ray and its G-buffer distance), and stores the distance it
+// marched to (1e30 into space) beside the in-scattering for the upsampling's depth test.
+layout(location = 0) out vec4 outInscatter;
+layout(location = 1) out vec4 outTransmittance;
+void main() {
+    ivec2 px = min(AmortisedPixel(), ivec2(uAmortiseFullSize) - 1);
+    vec3 dir, surface, inscatter, transmittance;
+    float dist;
+    bool space;
+    PixelView(px, AmortisedUV(px), dir, dist, space, surface);
+    Atmosphere(dir, dist, space, uSteps, inscatter, transmittance);
+    outInscatter = vec4(inscatter, space ? 1.0e30 : dist);
+    outTransmittance = vec4(transmittance, 0.0);
+}
+#else
+out vec4 fragColor;
+#if MARCH_PASS == 2
+uniform sampler2D uMarchInscatter;      // the grid's in-scattering, a = the distance it marched to
+uniform sampler2D uMarchTransmittance;  // the grid's transmittance
+uniform float uMarchContrast;           // largest relative spread of 4 grid values interpolated
+#ifndef MARCH_DEPTH_TOLERANCE
+#define MARCH_DEPTH_TOLERANCE 0.02
+#endif
+
+// Depth-aware upsampling of the grid at px (its distance `key`, 1e30 into space): the bilinear
+// interpolation of the 4 grid points around px. It stands (true) when the interpolated inverse
+// distance of those points agrees with px's own (AmortiseDepthAgree: 1/d is affine across the
+// screen on a plane, so one surface passes and a silhouette — a mesh's edge, the horizon, the
+// limb — does not), every point lies inside the grid, and the 4 points' values are close: each
+// channel of the in-scattering within uMarchContrast of the largest, of the transmittance within
+// uMarchContrast, over the whole cell (a shaft's edge, the limb's thin glow seen from space change faster than
+// interpolation follows); else px marches its own ray (MARCH_PASS 3). So does every pixel beside
+// a mesh's edge (one of its 4 neighbours is a mesh and it is not, or the reverse): a ray that
+// grazes a ridge can run in its shadow for kilometres, a dark line one pixel wide that no grid
+// ray meets. The choice depends on neither the surface nor the debug view (the three views make one image) and is the same for
+// radiance scaled by a power of two (the sun's intensity).
+bool MarchUpsample(ivec2 px, float key, out vec3 inscatter, out vec3 transmittance) {
+    ivec2 last = textureSize(uMarchInscatter, 0) - 1;
+    ivec2 g0 = px >> uAmortiseShift;
+    vec2 f = vec2(px - (g0 << uAmortiseShift)) / float(uAmortiseBlock);
+    inscatter = vec3(0.0);
+    transmittance = vec3(0.0);
+    vec3 loL = vec3(1.0e38), hiL = vec3(0.0), loT = vec3(1.0), hiT = vec3(0.0);
+    bool agree = true;
+    float inverse = 0.0;   // Σ w / d
+    for (int dy = 0; dy <= 1; ++dy) {
+        for (int dx = 0; dx <= 1; ++dx) {
+            float w = (dx == 1 ? f.x : 1.0 - f.x) * (dy == 1 ? f.y : 1.0 - f.y);
+            ivec2 t = g0 + ivec2(dx, dy);
+            bool inside = all(lessThanEqual(t, last));   // past the last row or column: march
+            t = min(t, last);
+            vec4 v = texelFetch(uMarchInscatter, t, 0);
+            vec3 T = texelFetch(uMarchTransmittance, t, 0).rgb;
+            if (w > 0.0) agree = agree && inside;
+            inverse += w / v.a;
+            // the spread over all 4, weighted or not: a pixel on a grid row or column also
+            // sees the change across its cell (a shadow's edge the grid ray beside it missed)
+            loL = min(loL, v.rgb);
+            hiL = max(hiL, v.rgb);
+            loT = min(loT, T);
+            hiT = max(hiT, T);
+            inscatter += w * v.rgb;
+            transmittance += w * T;
+        }
+    }
+    float mesh = texelFetch(uGPosition, px, 0).w;
+    ivec2 top = ivec2(uAmortiseFullSize) - 1;
+    for (int k = 0; k < 4; ++k) {
+        ivec2 q = px + ivec2(k == 0 ? -1 : k == 1 ? 1 : 0, k == 2 ? -1 : k == 3 ? 1 : 0);
+        agree = agree && texelFetch(uGPosition, clamp(q, ivec2(0), top), 0).w == mesh;
+    }
+    float d = 1.0 / max(inverse, 1.0e-30);
+    return agree && abs(key - d) <= MARCH_DEPTH_TOLERANCE * max(key, d)
+        && all(lessThanEqual(hiL - loL, uMarchContrast * hiL))   // scale-free: 0 ≤ 0 passes
+        && all(lessThanEqual(hiT - loT, vec3(uMarchContrast)));
+}
+#endif
+
+void main() {
+    ivec2 px = ivec2(gl_FragCoord.xy);
+    vec3 dir, surface, inscatter, transmittance;
+    float dist;
+    bool space;
+    PixelView(px, vUV, dir, dist, space, surface);
+    if (uDebugView == 1) surface = vec3(0.0);
+    if (uDebugView == 2) surface = vec3(1.0);
+#if MARCH_PASS == 2
+    // interpolated, or marked for MARCH_PASS 3 (window depth 1: its far-plane draw passes '<='
+    // there only; 0 where the interpolation stands)
+    bool filled = MarchUpsample(px, space ? 1.0e30 : dist, inscatter, transmittance);
+    gl_FragDepth = filled ? 0.0 : 1.0;
+#else
+    Atmosphere(dir, dist, space, uSteps, inscatter, transmittance);
+#endif
     if (uDebugView == 2) inscatter = vec3(0.0);
     fragColor = vec4(surface * transmittance + inscatter, 1.0);
 }
+#endif
 #endif

@@ -119,6 +119,9 @@ def test_scattering_parameters_change_the_image_without_recompiling(planet, meth
 
 NOON_VIEW = dict(pos=(0.0, 2.0, 60.0), yaw=180.0, pitch=30.0, fov=60.0)   # south: no meshes
 NOON = {**sun_sets(90.0), **DARK_SPACE}
+#: the thesis's per-pixel march (every pixel its own ray), where a pixel is graded against its
+#: numpy twin; the reduced-resolution default is graded against it in test_planet_march_scale.py
+PER_PIXEL = {"planet.march_scale": "full"}
 
 
 def sky_pixels(cam, size) -> np.ndarray:
@@ -161,7 +164,7 @@ def test_in_scattering_on_black_matches_the_twin_and_the_reference(planet, noon_
     the N = 30 midpoint sum's own error of the reference (mean 2 %, max 10 % relative — the Mie
     layer, H = 1.2 km, under-sampled by 30 steps over 60–120 km), and within 1 % at N = 300."""
     cam, idx, dirs, ref = noon_rays
-    sets = {**NOON, "planet.method": method, "planet.debug_view": "in_scatter"}
+    sets = {**NOON, **PER_PIXEL, "planet.method": method, "planet.debug_view": "in_scatter"}
     shot = planet.shoot(cam, SIZE, sets)
     sky = sky_pixels(cam, SIZE)
     r, g, b = shot.rgb[sky].mean(0)
@@ -329,7 +332,7 @@ def test_clipped_lut_equals_unclipped_brute_force_with_ten_times_the_samples(pla
     t = seg.t0[:, None] + (np.arange(n) + 0.5) / n * (seg.t1 - seg.t0)[:, None]
     heights = np.linalg.norm(planet_centred(cam) + t[..., None] * d[:, None], axis=-1) - R
     assert np.all((heights >= 0.0) & (heights <= TOP))
-    sets = {**NOON, "planet.sun_azimuth": 0.0}
+    sets = {**NOON, **PER_PIXEL, "planet.sun_azimuth": 0.0}
     clipped = planet.shoot(cam, SMALL, {**sets, "planet.method": "lut", "planet.n_steps": n})
     unclipped = planet.shoot(cam, SMALL, {**sets, "planet.method": "brute_force",
                                           "planet.n_steps": 10 * n, "planet.inner_steps": 60,

@@ -25,6 +25,17 @@ method's integral costs (``planet.ground_pass = scattering`` shades them there a
 same image). ``natura bench planet``'s "changes" section times each against its earlier path in
 one interleaved run.
 
+Model no more than the view needs (beyond the thesis; the thesis's full-cost paths stay one
+switch away): methods 1–3 march one ray per 2 × 2 or 4 × 4 pixels (``planet.march_scale``:
+auto = a quarter of the resolution per side on a software renderer, half on a GPU; ``full`` the
+thesis's every-pixel march) with depth-aware upsampling, and every pixel on a silhouette or a fast
+change marches its own ray (``render_reduced``, planet/composite.frag's MARCH_PASS;
+``tests/gl/test_planet_march_scale.py`` bounds the image against the full march on the shafts and
+the silhouettes); the mountains' mesh is the coarsest whose cells span at most
+``planet.mountain_lod_px`` pixels at their nearest point (``mountain_grid``: 96² at 640×360 from
+the default view, 192² from 1280×720 up), the shadow map drawn from the same mesh; method 4's
+meshes' part is scissored to the screen bounds of the meshes' chunks (``mesh_boxes``).
+
 Slots: produces ``exposure`` (the thesis's pupil) and ``shadows``.
 
 Coordinates: the scene's local frame has its origin on the sea surface, y up, the planet centre
@@ -61,6 +72,10 @@ PC_RULES = ("by_method", "midpoint", "thesis")
 UNIVERSE_RADIUS = atm.BOTTOM_RADIUS_M + 200_000.0
 
 GROUND_NOISE = ("baked", "live")
+#: the resolution methods 1–3 march at, per side: every pixel's own ray (the thesis's), or one
+#: ray per 2 × 2 block with depth-aware upsampling and a march of its own for every silhouette
+#: pixel (planet/composite.frag's MARCH_PASS)
+MARCH_SCALES = {"full": 1, "half": 2, "quarter": 4}
 #: where the analytic ground and the space background are shaded: once into the G-buffer by the
 #: ground pass (planet/ground.frag), or in the per-method scattering pass (the earlier path)
 GROUND_PASS = ("gbuffer", "scattering")
@@ -71,14 +86,19 @@ GROUND_CAP_TAN = math.tan(math.radians(GROUND_CAP_DEG))
 
 
 def composite_spec(method: str, compare: str = "hardware", noise: str = "baked",
-                   ground: str = "gbuffer", part: int = 0, march: int = 1) -> ProgramSpec:
+                   ground: str = "gbuffer", part: int = 0, march: int = 1,
+                   march_pass: int = 0) -> ProgramSpec:
     """The scattering pass for ``method``, with the shadow comparisons ``compare`` (hardware or
     manual), the ground's noise ``noise`` (baked or live; only where the pass shades the ground
     itself) and ``ground``: ``gbuffer`` reads the analytic ground's and the background's colour
     from the G-buffer (the ground pass's, :func:`ground_spec`), ``scattering`` shades them here.
     Method 4 only: ``part`` (HILLAIRE_PART: 0 every pixel, 1 those no mesh covers, 2 the meshes;
     1 and 2 are drawn on the far plane, planet/ground.vert, against the G-buffer's depth) and
-    ``march`` (HILLAIRE_MARCH of hillaire_lookup.glsl: 0 lookups, 1 both, 2 the march)."""
+    ``march`` (HILLAIRE_MARCH of hillaire_lookup.glsl: 0 lookups, 1 both, 2 the march).
+    Methods 1–3 only: ``march_pass`` (MARCH_PASS: 0 every pixel marched, 1 the reduced-resolution
+    grid's march, 2 its depth-aware upsampling and composite, marking the pixels it cannot
+    interpolate with window depth 1, 3 the march of those pixels alone: pass 0's program drawn
+    on the far plane, planet/ground.vert, with the depth test '<=')."""
     defines: tuple = (("METHOD", METHODS.index(method) + 1),)
     if compare == "manual" and not (method == "hillaire" and ground == "gbuffer"):
         defines += (("SHADOW_COMPARE_MANUAL", 1),)  # method 4 reads no shadows from the G-buffer
@@ -90,6 +110,10 @@ def composite_spec(method: str, compare: str = "hardware", noise: str = "baked",
     if method == "hillaire":
         defines += (("HILLAIRE_PART", int(part)), ("HILLAIRE_MARCH", int(march)))
         if part:
+            vert = "planet/ground.vert"
+    elif march_pass:
+        defines += (("MARCH_PASS", int(march_pass)),)
+        if march_pass == 3:
             vert = "planet/ground.vert"
     return ProgramSpec("planet/composite", vert=vert, frag="planet/composite.frag",
                        defines=defines)
@@ -121,7 +145,12 @@ COMPOSITE_VARIANTS = tuple(dict.fromkeys(
     for c, n, g in (("hardware", "baked", "gbuffer"), ("manual", "baked", "gbuffer"),
                     ("hardware", "baked", "scattering"), ("manual", "baked", "scattering"),
                     ("hardware", "live", "scattering"))
-    for part, march in (HILLAIRE_PARTS if m == "hillaire" else ((0, 1),))))
+    for part, march in (HILLAIRE_PARTS if m == "hillaire" else ((0, 1),)))) + tuple(
+    # methods 1–3's reduced-resolution march and its upsampling
+    composite_spec(m, c, n, g, march_pass=mp) for m in METHODS[:3]
+    for c, n, g in (("hardware", "baked", "gbuffer"), ("manual", "baked", "gbuffer"),
+                    ("hardware", "baked", "scattering"))
+    for mp in (1, 2, 3))
 GROUND = ground_spec()
 GROUND_VARIANTS = (GROUND, ground_spec("manual"), ground_spec("hardware", "live"))
 SURFACE = ProgramSpec("planet/surface")
@@ -134,6 +163,11 @@ LOOKUP_REFERENCE = fullscreen("planet/lookup_reference")
 #: the meshes' depth pre-pass: the surfaces' own vertex stage (invariant gl_Position), no colour
 SURFACE_DEPTH = ProgramSpec("planet/surface_depth", vert="planet/surface.vert",
                             frag="planet/shadow_depth.frag")
+
+#: the mountains' meshes, finest first: cells per side of the 20 km heightfield (each coarser
+#: grid's vertices are every other one of the finer's, so it keeps their heights)
+MOUNTAIN_GRIDS = (192, 96)
+LOD_SECTION = "spec/002 §5"  # the test scene's mountains (their level of detail is ours)
 
 SHADOW_CENTRE = np.array([0.0, 800.0, -9000.0])
 SHADOW_HALF = 17000.0
@@ -156,7 +190,12 @@ def resolve_pc_rule(rule: str, method: str) -> str:
 
 def light_view_proj(sun_dir: np.ndarray) -> np.ndarray:
     """Orthographic projection along the sun over the mountains and the city (spec/002 §3.1)."""
-    return directional_view_proj(sun_dir, SHADOW_CENTRE, SHADOW_HALF, 30000.0, 60000.0)
+    return memoised(_light_view_proj, tuple(float(v) for v in np.asarray(sun_dir).reshape(3)))
+
+
+def _light_view_proj(sun_dir: tuple) -> np.ndarray:
+    return directional_view_proj(np.asarray(sun_dir), SHADOW_CENTRE, SHADOW_HALF, 30000.0,
+                                 60000.0)
 
 
 def caster_points(radius: float) -> np.ndarray:
@@ -170,6 +209,57 @@ def caster_points(radius: float) -> np.ndarray:
 CASTER_PAD_TEXELS = shadows.PCF_RADIUS + 2
 #: light-space depth the nearest caster's is lowered by (a 24-bit depth's rounding is 6e-8)
 CASTER_DEPTH_PAD = 1.0e-5
+
+
+def mountain_bounds(radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """The mountains' axis-aligned bounds in the local frame: (lo, hi)."""
+    pts = np.asarray(mountains(radius)[0], dtype=np.float64).reshape(-1, 11)[:, :3]
+    return pts.min(axis=0), pts.max(axis=0)
+
+
+def mountain_grid(camera_local, fov_deg: float, height_px: int, radius: float,
+                  max_cell_px: float) -> int:
+    """The coarsest of :data:`MOUNTAIN_GRIDS` whose cells, seen from ``camera_local`` at the
+    mountains' nearest point, span at most ``max_cell_px`` pixels of a ``height_px``-tall image
+    with a vertical field of view ``fov_deg`` (the finest when none does, or ``max_cell_px`` is
+    0, or the camera is within the mountains' bounds)."""
+    lo, hi = memoised(mountain_bounds, radius)
+    cam = np.asarray(camera_local, dtype=np.float64)
+    nearest = float(np.linalg.norm(cam - np.clip(cam, lo, hi)))
+    pixel = nearest * 2.0 * math.tan(math.radians(fov_deg) / 2.0) / max(int(height_px), 1)
+    if max_cell_px <= 0.0 or pixel <= 0.0:
+        return MOUNTAIN_GRIDS[0]
+    size = float(hi[0] - lo[0])
+    fits = [g for g in MOUNTAIN_GRIDS if size / g / pixel <= max_cell_px]
+    return min(fits) if fits else MOUNTAIN_GRIDS[0]
+
+
+#: the mountains' bounds are kept per chunk of this many cells per side (method 4's scissor)
+BOUNDS_CHUNK = 24
+
+
+def mesh_boxes(radius: float) -> np.ndarray:
+    """(N, 2, 3): axis-aligned (lo, hi) boxes that hold every mesh: one per chunk of
+    ``BOUNDS_CHUNK``² cells of the finest mountains (whose box holds the coarser mesh's
+    triangles too: their vertices are the finer's) and one per city box."""
+    out = []
+    verts = np.asarray(mountains(radius)[0], dtype=np.float64).reshape(-1, 11)[:, :3]
+    n = int(round(np.sqrt(len(verts))))
+    grid = verts.reshape(n, n, 3)
+    for i in range(0, n - 1, BOUNDS_CHUNK):
+        for j in range(0, n - 1, BOUNDS_CHUNK):
+            chunk = grid[i:i + BOUNDS_CHUNK + 1, j:j + BOUNDS_CHUNK + 1].reshape(-1, 3)
+            out.append((chunk.min(axis=0), chunk.max(axis=0)))
+    city = np.asarray(boxes(radius)[0], dtype=np.float64).reshape(-1, 20, 11)[:, :, :3]
+    out += [(b.min(axis=0), b.max(axis=0)) for b in city]   # 5 faces of 4 vertices per box
+    return np.array(out)
+
+
+def mesh_box_corners(radius: float) -> np.ndarray:
+    """(N, 8, 3): the corners of each box of :func:`mesh_boxes`."""
+    b = memoised(mesh_boxes, radius)
+    pick = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])
+    return np.stack([b[:, pick[:, 0], 0], b[:, pick[:, 1], 1], b[:, pick[:, 2], 2]], axis=-1)
 
 
 def caster_bounds(radius: float) -> tuple[np.ndarray, np.ndarray]:
@@ -207,8 +297,12 @@ class Planet(Effect):
     def context_paths(cls, caps, params) -> dict[str, str]:
         aniso = params["planet.anisotropy"]
         chosen = aniso or (1 if caps.software else 8)
+        scale = params["planet.march_scale"]
         return {"Hillaire aerial perspective": "a compute shader" if caps.compute
                 else "fragment passes into a 2D atlas",
+                "planet march scale (methods 1–3)": scale if scale != "auto" else
+                f"{'quarter' if caps.software else 'half'} (auto: "
+                f"{'a software renderer' if caps.software else 'a GPU'})",
                 "planet texture anisotropy": f"{chosen}× ({'set' if aniso else 'auto'}"
                 f"{'' if aniso else ': off on a software renderer'})"}
 
@@ -250,6 +344,25 @@ class Planet(Effect):
                   "ground pass, outside the per-method scattering pass, whose time is then the "
                   "atmosphere's alone) or scattering (in the scattering pass: the earlier path, "
                   "the same image)", kind="choice", choices=GROUND_PASS, section=f"{s} §5"),
+            Param("planet.march_scale", "auto", doc="resolution the per-pixel march of "
+                  "methods 1–3 runs at, per side: half (one ray per 2×2 pixels, each pixel's "
+                  "in-scattering and transmittance interpolated from the 4 around it when they "
+                  "saw its surface and change slowly, its own ray marched on silhouettes and "
+                  "fast changes: the field's way with light shafts), quarter (one per 4×4), "
+                  "auto (quarter on a software renderer, half on a GPU) or full (every pixel's "
+                  "own ray: the thesis's, the reference)",
+                  kind="choice", choices=("auto", *MARCH_SCALES),
+                  section="spec/002 §2.5"),
+            Param("planet.march_contrast", 0.1, 0.0, 1.0, "half march_scale: the largest "
+                  "spread of the 4 grid values around a pixel, relative to the largest, that it "
+                  "interpolates; beyond it the pixel marches its own ray (0: only pixels whose 4 "
+                  "values are equal are interpolated)",
+                  section="spec/002 §2.5"),
+            Param("planet.mountain_lod_px", 10.0, 0.0, 64.0, "the mountains' mesh: the "
+                  "coarsest of 192² and 96² cells whose cells span at most this many pixels at "
+                  "the mountains' nearest point (their silhouette moves by a pixel or two; the "
+                  "shadow map is drawn from the same mesh); 0: always the finest (the former "
+                  "mesh, the reference)", unit="px", section=LOD_SECTION),
             Param("planet.depth_prepass", True, doc="draw the meshes' depth first, then shade "
                   "each covered pixel once (depth test '<='): the mountains' triangles overlap "
                   "about nine deep on screen, and without it (the earlier path, the same image) "
@@ -331,10 +444,17 @@ class Planet(Effect):
         self._lut = self.keyed(self._build_lut, release=gpu.free)
         #: the baked ground-noise cubemap, rebuilt when its size changes
         self._ground_noise = self.keyed(self._bake_ground_noise, release=self._free_all)
-        self._meshes = None
+        self._meshes: dict | None = None   # (name, grid) → (vertices, indices)
+        self._rect: tuple | None = None      # (key, mesh_rect) of the last view
+        self._model: tuple | None = None   # (the atmosphere group's version, its model)
+        #: cells per side of the mountains' mesh this frame (:func:`mountain_grid`)
+        self.grid = MOUNTAIN_GRIDS[0]
         self._textures = None
         #: (colour, position, depth, framebuffer), remade when the target's size changes
         self._gbuffer = self.keyed(self._make_gbuffer, release=self._free_all)
+        #: the reduced-resolution march's targets, remade when the size or the scale changes
+        self._march_grid = self.keyed(self._make_march_grid, release=self._free_all)
+        self.last_march_scale = 1  # pixels per side per marched ray in the last scattering pass
         self._hillaire = None
         self._reference_volume = None
         self._gradient = None
@@ -343,7 +463,12 @@ class Planet(Effect):
 
     # -- model ----------------------------------------------------------------------------
     def model(self) -> "atm.AtmosphereParams":
-        return atm.from_params(self.params)
+        """The atmosphere of the ``atmosphere.*`` parameters, rebuilt when one of them changes
+        (a pass asks for it about ten times a frame)."""
+        version = self.params.version("atmosphere")
+        if self._model is None or self._model[0] != version:
+            self._model = (version, atm.from_params(self.params))
+        return self._model[1]
 
     def camera_local(self, frame) -> np.ndarray:
         return np.asarray(frame.camera.position, dtype=np.float64)
@@ -393,6 +518,9 @@ class Planet(Effect):
                 p.set("planet.sun_azimuth", (p["planet.sun_azimuth"] + 180.0) % 360.0)
             p.set("planet.sun_elevation", max(-90.0, min(90.0, e)))
         self.sun_dir = sun_direction(p["planet.sun_elevation"], p["planet.sun_azimuth"])
+        cam = frame.camera
+        self.grid = mountain_grid(self.camera_local(frame), cam.fov, frame.size[1],
+                                  self.model().bottom_radius, p["planet.mountain_lod_px"])
         if p["planet.pupil"]:
             frame.exposure *= float(pupil(float(np.dot(frame.camera.forward(), self.sun_dir))))
 
@@ -401,12 +529,13 @@ class Planet(Effect):
         if self._meshes is not None:
             return
         r = self.model().bottom_radius
-        self._meshes = []
-        for name, (verts, idx) in (("mountains", memoised(mountains, r)),
-                                   ("city", memoised(boxes, r))):  # built once per process
-            vbo = self.gpu.buffer(self.name, f"{name} vertices", verts.tobytes())
-            ibo = self.gpu.buffer(self.name, f"{name} indices", idx.tobytes())
-            self._meshes.append((name, vbo, ibo))
+        self._meshes = {}
+        builds = [(("mountains", g), memoised(mountains, r, 20000.0, g)) for g in MOUNTAIN_GRIDS]
+        for name, (verts, idx) in builds + [(("city", 0), memoised(boxes, r))]:
+            # built once per process
+            vbo = self.gpu.buffer(self.name, f"{name[0]} {name[1]} vertices", verts.tobytes())
+            ibo = self.gpu.buffer(self.name, f"{name[0]} {name[1]} indices", idx.tobytes())
+            self._meshes[name] = (vbo, ibo)
         self._textures = (
             self.gpu.texture(self.name, "albedo", (256, 256), 4,
                              memoised(albedo_texture).tobytes(),
@@ -428,7 +557,9 @@ class Planet(Effect):
     def _draw_meshes(self, prog, depth_only: bool = False) -> None:
         layout = ("3f 32x", "in_position") if depth_only else \
             ("3f 3f 3f 2f", "in_position", "in_normal", "in_tangent", "in_uv")
-        for _, vbo, ibo in self._meshes:
+        assert self._meshes is not None, "geometry first (_ensure_geometry)"
+        for key in (("mountains", self.grid), ("city", 0)):
+            vbo, ibo = self._meshes[key]
             prog.vao([(vbo, *layout)], index_buffer=ibo).render()
 
     def _free_all(self, objects) -> None:
@@ -533,10 +664,11 @@ class Planet(Effect):
 
     def shadow_map(self):
         """Depth from the sun; re-rendered only when what it shows changed: the sun's direction,
-        the map's size or the casters (their geometry follows the planet's radius)."""
+        the map's size or the casters (their geometry follows the planet's radius, and the
+        mountains' mesh the camera's distance, ``planet.mountain_lod_px``)."""
         size = self.params["planet.shadow_map_size"]
         tex, _ = self._shadow.get(size)
-        key = (tuple(np.round(self.sun_dir, 9)), size, self.model().bottom_radius)
+        key = (tuple(np.round(self.sun_dir, 9)), size, self.model().bottom_radius, self.grid)
         if key != self._shadow_rendered:
             self._render_shadow_map()
             self._shadow_rendered = key
@@ -583,7 +715,8 @@ class Planet(Effect):
             "uKd": p["planet.kd"],
         })
         textures = {"uOpticalDepthLut": self.optical_depth_lut()}
-        if self.uses_shadows():
+        # a program that reads no shadow (method 4's lookups) skips the map's bookkeeping
+        if self.uses_shadows() and "uShadowMap" in prog.samplers():
             tex = self.shadow_map()
             configure_compare(tex, p["planet.shadow_compare"])
             textures["uShadowMap"] = tex
@@ -594,10 +727,10 @@ class Planet(Effect):
     def surface_spec(self) -> ProgramSpec:
         return SURFACE_MANUAL if self.params["planet.shadow_compare"] == "manual" else SURFACE
 
-    def composite_spec(self, part: int = 0, march: int = 1) -> ProgramSpec:
+    def composite_spec(self, part: int = 0, march: int = 1, march_pass: int = 0) -> ProgramSpec:
         p = self.params
         return composite_spec(self.method(), p["planet.shadow_compare"], p["planet.ground_noise"],
-                              p["planet.ground_pass"], part, march)
+                              p["planet.ground_pass"], part, march, march_pass)
 
     def ground_spec(self) -> ProgramSpec:
         p = self.params
@@ -694,10 +827,11 @@ class Planet(Effect):
             ctx.disable(moderngl.DEPTH_TEST)
             fbo.depth_mask = True
 
-    def _composite_program(self, frame, target, spec: ProgramSpec):
-        """``spec``'s program with every uniform and texture of the scattering pass bound."""
+    def _composite_program(self, frame, target, spec: ProgramSpec, extra: dict | None = None):
+        """``spec``'s program with every uniform and texture of the scattering pass bound
+        (and the textures ``extra`` by sampler name)."""
         prog = self.program(spec)
-        textures = self._shared(prog, frame)
+        textures = {**self._shared(prog, frame), **(extra or {})}
         p = self.params
         colour, position, _, _ = self._gbuffer_for(target.size)
         textures.update({"uGColor": colour, "uGPosition": position})
@@ -718,9 +852,93 @@ class Planet(Effect):
         prog.bind_textures(textures)
         return prog
 
+    def march_scale(self, target) -> int:
+        """Full-resolution pixels per side of one marched ray of methods 1–3 on ``target``
+        (``planet.march_scale``; 1 on a multisampled target or one the G-buffer does not
+        match, whose pixels the G-buffer cannot stand in for)."""
+        colour = self._gbuffer.value[0] if self._gbuffer.value is not None else None
+        if (self.method() == "hillaire" or bool(getattr(target, "samples", False))
+                or colour is None
+                or tuple(colour.size) != tuple(target.size)):
+            return 1
+        choice = self.params["planet.march_scale"]
+        if choice == "auto":
+            choice = "quarter" if self.gpu.caps.software else "half"
+        return MARCH_SCALES[choice]
+
+    def _make_march_grid(self, key):
+        """(in-scattering, transmittance, framebuffer, mask depth) of the reduced-resolution
+        march: RGBA32F, nearest, ceil(size / scale) per side, and a full-size depth texture that
+        marks the pixels the upsampling could not fill."""
+        (w, h), scale = key
+        size = ((w + scale - 1) // scale, (h + scale - 1) // scale)
+        nearest = (moderngl.NEAREST, moderngl.NEAREST)
+        inscatter = self.gpu.texture(self.name, "march grid in-scattering", size, 4, dtype="f4",
+                                     filter=nearest)
+        transmittance = self.gpu.texture(self.name, "march grid transmittance", size, 4,
+                                         dtype="f4", filter=nearest)
+        fbo = self.gpu.framebuffer(self.name, "march grid", [inscatter, transmittance])
+        mask = self.gpu.depth_texture(self.name, "march mask", (w, h))
+        return inscatter, transmittance, fbo, mask
+
+    def render_reduced(self, frame, target, scale: int) -> None:
+        """Methods 1–3 at ``scale``: the method's march for one pixel of every ``scale``²
+        block into the grid (MARCH_PASS 1); every pixel composited with its in-scattering and
+        transmittance interpolated from the 4 grid points around it where they saw its surface
+        and change slowly (MARCH_PASS 2), which marks the others in a depth mask; then those
+        alone march their own rays (MARCH_PASS 3: the depth test rejects the rest before they
+        are shaded — a march compiled into the upsampling would cost every pixel its loops'
+        masked passes on a software rasteriser)."""
+        ctx = self.gpu.ctx
+        w, h = (int(v) for v in target.size)
+        inscatter, transmittance, fbo, mask = self._march_grid.get(((w, h), scale))
+        grid = {"uAmortiseBlock": scale, "uAmortiseShift": scale.bit_length() - 1,
+                "uAmortiseSub": (0, 0), "uAmortiseFullSize": (float(w), float(h))}
+        ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+        prog = self._composite_program(frame, target, self.composite_spec(march_pass=1))
+        prog.set_many(grid)
+        fbo.use()  # the shadow map may have been rendered just now
+        draw_fullscreen(prog)
+        prog = self._composite_program(frame, target, self.composite_spec(march_pass=2),
+                                       {"uMarchInscatter": inscatter,
+                                        "uMarchTransmittance": transmittance})
+        prog.set_many({**grid, "uMarchContrast": self.params["planet.march_contrast"]})
+        out = ctx.framebuffer(color_attachments=[target.color], depth_attachment=mask)
+        try:
+            out.use()
+            ctx.enable(moderngl.DEPTH_TEST)
+            ctx.depth_func = "1"  # every pixel writes its mark
+            draw_fullscreen(prog)
+            # bound after the upsampling's draw: texture units are shared between programs
+            march = self._composite_program(frame, target, self.composite_spec(march_pass=3))
+            out.use()
+            out.depth_mask = False
+            ctx.depth_func = "<="  # the far plane passes only where the mark is 1
+            draw_fullscreen(march)
+        finally:
+            ctx.depth_func = "<"
+            ctx.disable(moderngl.DEPTH_TEST)
+            out.depth_mask = True
+            target.use()
+            out.release()
+
+    def marched_alone(self) -> np.ndarray | None:
+        """(h, w) bool, row 0 at the top: the pixels of the last scattering pass of methods 1–3
+        at a reduced march scale that marched their own ray (a silhouette, a fast change); None
+        when that pass marched every pixel."""
+        if self.last_march_scale == 1 or self._march_grid.value is None:
+            return None
+        mask = self._march_grid.value[3]
+        w, h = mask.size
+        return np.frombuffer(mask.read(), dtype=np.float32).reshape(h, w)[::-1] > 0.5
+
     def render_composite(self, frame, target) -> None:
         if self.method() == "hillaire":
             self.render_hillaire(frame, target)
+            return
+        scale = self.last_march_scale = self.march_scale(target)
+        if scale > 1:
+            self.render_reduced(frame, target, scale)
             return
         prog = self._composite_program(frame, target, self.composite_spec())
         target.use()
@@ -743,16 +961,34 @@ class Planet(Effect):
 
     def mesh_rect(self, frame, size) -> tuple[int, int, int, int] | None:
         """The pixel rectangle (x, y, width, height) of a ``size`` image that holds every mesh
-        pixel: the screen bounds of the projected corners of the meshes' bounding box, a pixel
-        wider each side, clamped to the image (width or height 0: no mesh on screen); None when
-        a corner is not in front of the camera (the whole image may hold meshes)."""
-        lo, hi = memoised(caster_bounds, self.model().bottom_radius)
-        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
-                            for z in (lo[2], hi[2])]) - self.camera_local(frame)
-        clip = np.c_[corners, np.ones(8)] @ self.projection(frame).T
-        if not np.all(clip[:, 3] > 1.0e-3):
+        pixel: the screen bounds of the projected corners of the boxes of :func:`mesh_boxes`
+        (chunks of the mountains, the city's boxes) in front of the camera, a pixel wider each
+        side, clamped to the image (width or height 0: no mesh on screen); None when a box
+        reaches behind the camera's near plane (the whole image may hold meshes)."""
+        radius = self.model().bottom_radius
+        view_proj = self.projection(frame)
+        key = (radius, tuple(self.camera_local(frame)), view_proj.tobytes(), tuple(size))
+        if self._rect is not None and self._rect[0] == key:
+            return self._rect[1]
+        corners = memoised(mesh_box_corners, radius)                  # (N, 8, 3)
+        m = view_proj[:, :3].T
+        clip = (corners.reshape(-1, 3) - self.camera_local(frame)) @ m + view_proj[:, 3]
+        clip = clip.reshape(-1, 8, 4)
+        rect = self._screen_rect(clip, size)
+        self._rect = (key, rect)
+        return rect
+
+    @staticmethod
+    def _screen_rect(clip: np.ndarray, size) -> tuple[int, int, int, int] | None:
+        """:meth:`mesh_rect` from the boxes' corners in clip space, (N, 8, 4)."""
+        front = clip[..., 3] > 1.0e-3
+        behind = ~front.any(axis=1)            # wholly behind the camera: not on screen
+        if not np.all(front.all(axis=1) | behind):
             return None
+        clip = clip[~behind].reshape(-1, 4)
         w, h = (int(v) for v in size)
+        if not len(clip):
+            return 0, 0, 0, 0
         px = (clip[:, :2] / clip[:, 3:4] * 0.5 + 0.5) * (w, h)
         x0, y0 = (int(np.clip(np.floor(v) - 1, 0, n)) for v, n in zip(px.min(axis=0), (w, h)))
         x1, y1 = (int(np.clip(np.ceil(v) + 1, 0, n)) for v, n in zip(px.max(axis=0), (w, h)))

@@ -605,7 +605,12 @@ class HillaireLuts:
 
     def lookup_uniforms(self) -> dict:
         """Every uHillaire* uniform hillaire_lookup.glsl reads besides the samplers."""
+        r = float(self._uniforms.get("uBottomRadius", BOTTOM_RADIUS))
+        h = max(float(self._height), 0.0)
+        horizon = math.sqrt(h * (2.0 * r + h))   # hillaire_common.glsl's, in double precision
         return {"uHillaireCameraHeight": float(self._height),
+                "uHillaireGroundAngle": math.atan2(r, horizon),
+                "uHillaireHorizonCos": -horizon / (r + h),
                 "uHillaireMsScale": 1.0 if self.value("multiple_scattering") else 0.0,
                 "uHillaireApRange": float(self.value("ap_range")),
                 "uHillaireSpaceWeight": float(self._space_weight),

@@ -74,6 +74,8 @@ uniform sampler3D uHillaireApMie;               // aerial-perspective volume 1: 
 uniform float uHillaireApRange;                 // m, distance of the last slice
 uniform float uHillaireSpaceWeight;             // 0: LUTs valid; 1: per-pixel march only
 uniform int uHillaireMarchSteps;                // samples of the fallback march
+uniform float uHillaireGroundAngle;   // β = HillaireGroundAngle(camera height), from the CPU
+uniform float uHillaireHorizonCos;    // HillaireHorizonCosine(camera height), from the CPU
 // the camera's own source term per unit sun intensity, without the phases (from the CPU):
 uniform vec3 uHillaireSourceRayleigh;   // T_sun σ_R at the camera
 uniform vec3 uHillaireSourceMie;        // T_sun σ^s_M at the camera
@@ -111,7 +113,7 @@ vec4 HillaireMarch(vec3 viewDir, float maxDist, out vec3 transmittance) {
 void HillaireSkyViewLookup(vec3 viewDir, out vec3 radiance, out vec3 transmittance) {
     vec4 a = HillaireViewAngles(viewDir);
     vec2 size = vec2(textureSize(uHillaireSkyViewRayleighMs, 0));
-    vec2 uv = HillaireSkyViewUv(a.x, a.w, size, uHillaireCameraHeight);
+    vec2 uv = HillaireSkyViewUvAt(a.x, a.w, size, uHillaireGroundAngle, uHillaireHorizonCos);
     vec4 rayleighMs = texture(uHillaireSkyViewRayleighMs, uv);
     vec4 mie = texture(uHillaireSkyViewMie, uv);
     radiance = uSunIntensity * (rayleighMs.rgb + PhaseMieCornetteShanks(a.y, uMieG) * mie.rgb);

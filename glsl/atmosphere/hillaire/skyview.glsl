@@ -42,20 +42,35 @@ vec2 HillaireSkyViewAngles(ivec2 texel, ivec2 size, float h) {
 }
 
 // Texture coordinates of the direction (μ = cos θ, cos φ) for a LUT of the given size.
-vec2 HillaireSkyViewUv(float mu, float cosPhi, vec2 size, float h) {
-    float beta = HillaireGroundAngle(h);
+// acos to within 7e-5 rad (Abramowitz & Stegun 4.4.45: a cubic in |x| times sqrt(1 − |x|)), a
+// few thousandths of a sky-view texel: the lookup's two arc cosines per pixel are most of its
+// arithmetic on a software renderer, whose acos is a long polynomial.
+float HillaireAcos(float x) {
+    float a = min(abs(x), 1.0);
+    float r = sqrt(1.0 - a) * (1.5707288 + a * (-0.2121144 + a * (0.0742610 - 0.0187293 * a)));
+    return x < 0.0 ? PI - r : r;
+}
+
+// The texture coordinates of (μ, cos φ) at altitude h, with β = HillaireGroundAngle(h) and the
+// ground horizon's cosine muHorizon = HillaireHorizonCosine(h) given (per frame, from the CPU:
+// a lookup per pixel then pays for no atan, square root or division of its own).
+vec2 HillaireSkyViewUvAt(float mu, float cosPhi, vec2 size, float beta, float muHorizon) {
     float thetaH = PI - beta;
-    float theta = acos(ClampCosine(mu));
+    float theta = HillaireAcos(mu);
     float halfRows = floor(size.y * 0.5);
     float row;
-    if (!HillaireRayHitsGround(h, mu)) {
+    if (!(mu < muHorizon)) {
         float x = 1.0 - sqrt(clamp(1.0 - theta / thetaH, 0.0, 1.0));
         row = 0.5 + x * (halfRows - 1.0);
     } else {
         float y = sqrt(clamp((theta - thetaH) / max(beta, 1.0e-6), 0.0, 1.0));
         row = halfRows + 0.5 + y * (halfRows - 1.0);
     }
-    float phi = acos(ClampCosine(cosPhi));
+    float phi = HillaireAcos(cosPhi);
     float col = 0.5 + phi / PI * (size.x - 1.0);
     return vec2(col, row) / size;
+}
+
+vec2 HillaireSkyViewUv(float mu, float cosPhi, vec2 size, float h) {
+    return HillaireSkyViewUvAt(mu, cosPhi, size, HillaireGroundAngle(h), HillaireHorizonCosine(h));
 }
