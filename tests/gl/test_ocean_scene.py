@@ -316,3 +316,25 @@ def test_clouds_below_the_camera_cover_the_sea(ocean_shot):
     dirs = cam.ray_directions(64, 36)
     sea = dirs[..., 1] < -0.3
     assert np.mean(np.abs(with_clouds[sea] - without[sea])) > 0.02
+
+
+def test_a_standing_clock_simulates_nothing_and_draws_the_same_sea(ocean_shot):
+    """Issue 37, nothing recomputed that did not change: on a standing clock (dt = 0, the same
+    time: a paused window, a still render) the FFT sea is not simulated again, and the image is
+    the one a recomputed simulation draws; a moving clock or a changed parameter simulates."""
+    s = ocean_shot(("ocean.model=fft",), size=(64, 36))
+    s.frame()
+    assert s.ocean.sim_ran  # the first frame of the sea
+    still = s.frame()[0]
+    assert not s.ocean.sim_ran
+    s.ocean._sim_inputs = None  # forget what was simulated: the same frame, recomputed
+    again = s.frame()[0]
+    assert s.ocean.sim_ran
+    assert np.array_equal(still, again)
+    s.ocean.params.set("ocean.choppiness", 1.6)
+    choppier = s.frame()[0]
+    assert s.ocean.sim_ran and not np.array_equal(choppier, still)
+    s.frame()
+    assert not s.ocean.sim_ran
+    moved = s.frame(dt=0.5)[0]
+    assert s.ocean.sim_ran and not np.array_equal(moved, choppier)

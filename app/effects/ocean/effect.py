@@ -167,6 +167,10 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         self._frame_dt = 1.0 / 30.0  # the frame interval, smoothed (slow cascades)
         self._bench_clock = 0  # frames the bench's simulate pass has advanced
         self._bench_sim = None  # (key, GpuOceanSim): the copy the bench times
+        #: what the last simulated frame was computed from (update(): a standing clock with the
+        #: same inputs simulates nothing), and whether the last update ran the simulation
+        self._sim_inputs: tuple | None = None
+        self.sim_ran = False
 
     # -- sea state -------------------------------------------------------------------------
 
@@ -188,12 +192,29 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
             self._ensure_fft()
             self.fit_view(frame)
             thresholds = self.foam_thresholds()
-            self.sim.update(frame.time, p["ocean.choppiness"], dt,
-                            foam_threshold=[t for t, _ in thresholds],
-                            foam_decay_time=p["ocean.foam_decay"],
-                            foam_width=[w for _, w in thresholds])
-            self.sim.request_readback()
-            got = self.sim.poll_readback()  # the previous frame's request: no stall
+            # what the simulation's output depends on: the same on a standing clock (dt ≤ 0,
+            # the same time) leaves every texture as it is (the foam's decay is then 1 and its
+            # update idempotent), so nothing is recomputed — the window's pause menu (dt = 0), a
+            # still render, the bench's frame
+            inputs = (self.sim, self._sim_key, tuple(self.sim.sizes), tuple(self.sim.periods),
+                      float(frame.time), p["ocean.choppiness"], tuple(thresholds),
+                      p["ocean.foam_decay"])
+            still = (dt <= 0.0 and self._sim_inputs is not None
+                     and len(inputs) == len(self._sim_inputs)
+                     and all(a is b or a == b for a, b in zip(inputs, self._sim_inputs)))
+            self._sim_inputs = inputs
+            if still:
+                got = self.sim.poll_readback()
+                if self.query_time != float(frame.time):  # the newest request is this time's
+                    got = self.sim.read_newest()  # sea: no stall left, its work is long done
+            else:
+                self.sim.update(frame.time, p["ocean.choppiness"], dt,
+                                foam_threshold=[t for t, _ in thresholds],
+                                foam_decay_time=p["ocean.foam_decay"],
+                                foam_width=[w for _, w in thresholds])
+                self.sim.request_readback()
+                got = self.sim.poll_readback()  # the previous frame's request: no stall
+            self.sim_ran = not still
             if got is None:  # the first frame of this sea: read it now (one stall), so floating
                 got = self.sim.read_newest()  # objects and the camera never start on flat water
             if got is not None and got is not self._readback:
@@ -252,7 +273,8 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
             sizes = "/".join(str(n) for n in self.sim.sizes)
             lines.append(f"N {sizes} for {len(self.patch_sizes())} cascades "
                          f"({self.sim.path}); queries lag one frame (t = "
-                         f"{self.query_time if self.query_time is not None else '—'})")
+                         f"{self.query_time if self.query_time is not None else '—'})"
+                         + ("" if self.sim_ran else "; clock standing: not simulated again"))
             if self.params["ocean.simulation"] == "view":
                 slow = [f"{i}: every {1e3 * t:.0f} ms" for i, t in enumerate(self.sim.periods)
                         if t > 0.0]
@@ -522,6 +544,7 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
         if self._bench_sim is not None:
             self._bench_sim[1].release()
             self._bench_sim = None
+        self._sim_inputs = None
         self._release_fft()
         super().release()
         self._scene_copy.release()
