@@ -27,6 +27,7 @@ import argparse
 import math
 import os
 import re
+import shlex
 import signal
 import sys
 import warnings
@@ -75,7 +76,9 @@ class _Parser(argparse.ArgumentParser):
                       one_line(message, 10**9))
         if "allowed" not in text:
             if "invalid choice" in text and "choose from" in text:
-                text = re.sub(r"\(choose from (.*)\)$", r"(allowed \1)", text)
+                # unquoted, so that every choice fits the line's kept end
+                text = re.sub(r"\(choose from (.*)\)$",
+                              lambda m: f"(allowed {m.group(1).replace(chr(39), '')})", text)
             else:
                 text += f" (allowed: see {self.prog} --help)"
         raise UsageError(f"{sub}: {text}" if sub else text)
@@ -254,6 +257,15 @@ def build_parser() -> argparse.ArgumentParser:
 
     sub.add_parser("scenes", help="list the scenes")
 
+    ex = sub.add_parser("explain", help="an equation or section of the theory pages, and "
+                        "every file:line that carries its tag",
+                        description="Print the text of a tag's section of docs/theory (math as "
+                        "Unicode), then every file:line in app/, glsl/ and tests/ that carries "
+                        "the tag: GLSL, numpy twins, the rest of the Python, tests.")
+    ex.add_argument("tag", nargs="+", metavar="TAG",
+                    help='"spec/NNN eq. X" or "spec/NNN §X", e.g. "spec/003 eq. 7.18" or '
+                    '"spec/003 §2.9 a" (quoted or not)')
+
     pp = sub.add_parser("params", help="list a scene's parameters")
     pp.add_argument("scene")
     _add_common(pp)
@@ -386,7 +398,32 @@ def build_parser() -> argparse.ArgumentParser:
                     "replaced, nothing else)")
     _add_common(rp)
     rp.set_defaults(yaw=None, pitch=None, fov=None, vr=False, mesh=None)
+
+    ex = sub.add_parser("exercise", help="graded shader exercises: list, start NAME DIR, "
+                        "check DIR (docs/exercises.md)")
+    ex_sub = ex.add_subparsers(dest="exercise_command", parser_class=_Parser)
+    ex_sub.add_parser("list", help="the exercises, their functions, views and theory pages")
+    es = ex_sub.add_parser("start", help="copy the shaders to DIR/glsl with one function "
+                           "blanked, and render DIR/expected.png")
+    es.add_argument("name", metavar="NAME", help="an exercise (natura exercise list) or a "
+                    "teacher's .toml file")
+    es.add_argument("dest", metavar="DIR", help="a new folder")
+    ec = ex_sub.add_parser("check", help="render DIR's version against Natura's: PASS or FAIL "
+                           "(exit 0 or 1), the errors, DIR/difference.png")
+    ec.add_argument("dest", metavar="DIR", help="a folder made by natura exercise start")
     return parser
+
+
+def cmd_exercise(args) -> int:
+    from .teach import exercise
+
+    if args.exercise_command == "list":
+        return exercise.cmd_list()
+    if args.exercise_command == "start":
+        return exercise.cmd_start(args.name, args.dest)
+    if args.exercise_command == "check":
+        return exercise.cmd_check(args.dest)
+    raise UsageError("exercise: a subcommand is needed: allowed list, start, check")
 
 
 # ---- commands --------------------------------------------------------------------------------
@@ -572,6 +609,13 @@ def cmd_window(args) -> int:
                       else None, quality=getattr(args, "quality_picks", None))
 
 
+def cmd_explain(args) -> int:
+    from .teach.theory import explain
+
+    print(explain(" ".join(args.tag)))
+    return 0
+
+
 def cmd_scenes(args) -> int:
     from .scenes import DEFAULT_SCENE, SCENES
     from .scenes.views import views_of
@@ -617,8 +661,9 @@ def copy_shaders(dest_arg: str) -> Path:
 def cmd_shaders(args) -> int:
     if args.shaders_command == "copy":
         dest = copy_shaders(args.dest)
-        print(f"{dest}\nedit there, then: natura --shaders {dest} ... "
-              f"(or export {SHADER_ENV}={dest})")
+        where = shlex.quote(str(dest))
+        print(f"{dest}\nedit there, then: natura --shaders {where} window sky (--shaders goes "
+              f"before or after any command that reads shaders; or export {SHADER_ENV}={where})")
         return 0
     if args.shaders_command != "check":
         raise UsageError("shaders: a subcommand is needed: allowed check, copy")
@@ -1178,6 +1223,58 @@ def main(argv: list[str] | None = None) -> int:
         warnings.showwarning = show
 
 
+def _shaders_after_command(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
+    """``natura --shaders DIR COMMAND …`` (what ``shaders copy`` suggests) is ``natura COMMAND
+    --shaders DIR …``: leading ``--shaders`` options move after the (sub)command's name, so the
+    option is accepted before the command as after it. A command that reads no shaders is
+    refused in one line."""
+    moved: list[str] = []
+    i = 0
+    while i < len(argv):
+        if argv[i] == "--shaders" and i + 1 < len(argv):
+            moved += argv[i:i + 2]
+            i += 2
+        elif argv[i].startswith("--shaders="):
+            moved.append(argv[i])
+            i += 1
+        else:
+            break
+    if not moved:
+        return argv
+    rest = argv[i:]
+    p: argparse.ArgumentParser = parser
+    names: list[str] = []
+    while True:
+        subs = [a for a in p._actions if isinstance(a, argparse._SubParsersAction)]
+        if not subs:
+            break
+        choices = subs[0].choices
+        at = len(names)
+        if at < len(rest) and rest[at] in choices:
+            names.append(rest[at])
+            p = choices[rest[at]]
+        elif p is parser:  # no command named: the window's options (natura --shaders d sky)
+            rest, names, p = ["window", *rest], ["window"], choices["window"]
+        else:
+            break
+    if "--shaders" not in p._option_string_actions:
+        takers = [n for n, sp in _commands_taking(parser, "--shaders")]
+        raise UsageError(f"--shaders before `{' '.join(names)}`: it reads no shaders: allowed "
+                         f"with {', '.join(takers)}")
+    return [*names, *moved, *rest[len(names):]]
+
+
+def _commands_taking(parser: argparse.ArgumentParser, option: str, prefix: str = ""):
+    """(command words, parser) of every (sub)command that takes ``option``."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sp in action.choices.items():
+                words = f"{prefix} {name}".strip()
+                if option in sp._option_string_actions:
+                    yield words, sp
+                yield from _commands_taking(sp, option, words)
+
+
 def _main(argv: list[str] | None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     _install_sigterm()
@@ -1188,6 +1285,7 @@ def _main(argv: list[str] | None) -> int:
             if argv and argv[0] == "--version" and len(argv) > 1:
                 raise UsageError(f"--version takes nothing after it, not {quote(argv[1], 40)}: "
                                  "allowed natura --version alone")
+            argv = _shaders_after_command(parser, argv)
             if not argv or argv[0].startswith("-") and argv[0] not in ("-h", "--help",
                                                                        "--version"):
                 argv = ["window", *argv]
@@ -1200,8 +1298,9 @@ def _main(argv: list[str] | None) -> int:
             handler = {
                 "window": cmd_window, "render": cmd_render, "scenes": cmd_scenes,
                 "params": cmd_params, "shaders": cmd_shaders, "bench": cmd_bench,
-                "report": cmd_report,
+                "report": cmd_report, "explain": cmd_explain,
                 "compare": cmd_compare, "doctor": cmd_doctor,
+                "exercise": cmd_exercise,
             }[command]
             code = handler(args)
             sys.stdout.flush()  # what could not be written fails here, in one line

@@ -102,6 +102,7 @@ class SectionGroup:
     text: str
     thesis: str
     rows: list[ParamRow] = field(default_factory=list)
+    html: str = ""                        # the text as HTML, math as MathML ("": escape text)
 
 
 @dataclass
@@ -181,9 +182,10 @@ def param_groups(params, varies: str | None = None, spec: str = "") -> list[Sect
 
     out = []
     for g in sections.group_params(list(params), spec):
-        sec = g.section
+        sec, page = g.section, ""
         if sec is not None:
             text, thesis = sec.text, sections.spec_title(sec.spec)
+            page = sections.section_html(sec)
         elif not g.key:
             text, thesis = "Parameters without a thesis section.", ""
         elif g.key.startswith("spec/"):
@@ -191,7 +193,7 @@ def param_groups(params, varies: str | None = None, spec: str = "") -> list[Sect
         else:
             text, thesis = f"From a source outside the theses: {g.key}.", ""
         group = SectionGroup(sec.ref if sec is not None else (g.key or sections.OTHER),
-                             g.title, text, thesis)
+                             g.title, text, thesis, html=page)
         for p in g.params:
             group.rows.append(ParamRow(p.name, _show(params[p.name]), _show(p.default),
                                        p.allowed(), p.unit, p.doc, p.section,
@@ -431,8 +433,9 @@ def _heat_html(h: Handout, shot: Shot) -> str:
 
 def _group_html(g: SectionGroup, open_: bool) -> str:
     thesis = f' <span class="spec">— {_e(g.thesis)}</span>' if g.thesis else ""
-    text = (f'<p class="digest">{_e(g.text)}</p>' if g.text
-            else '<p class="note">The digest has no paragraph for this section.</p>')
+    text = (f'<p class="digest">{g.html}</p>' if g.html
+            else f'<p class="digest">{_e(g.text)}</p>' if g.text
+            else '<p class="note">The theory page has no text for this section.</p>')
     rows = "".join(
         f'<tr{" class=varies" if r.varies else ""}><td class="name">{_e(r.name)}</td>'
         f'<td class="value">{_e("by method" if r.varies else r.value)}'
@@ -515,8 +518,8 @@ size the sweep timed (not this page's). {_e(h.chart_note) if h.charts else ""}</
 <section id="parameters">
 <h2>Parameters by thesis section</h2>
 <p class="note">Every parameter of the scene with the value used here, grouped under the thesis
-section it comes from, with that section's digest. <code>natura params {_e(h.scene)}</code>
-lists the same.</p>
+section it comes from, with that section's text from Natura's theory pages.
+<code>natura params {_e(h.scene)}</code> lists the same.</p>
 {groups}
 </section>
 </main>

@@ -1,17 +1,17 @@
-"""The thesis digests' sections, one click from every parameter in the window's panel.
+"""The theses' sections, one click from every parameter in the window's panel.
 
 Every :class:`~app.params.Param` names the thesis section it comes from (``.section``, e.g.
-``"spec/003 §2.9 b"``: digest ``003-toon-village.md``, section 2.9, its item (b)). The digests
-live beside the repository (``shared/spec/*.md``); the installed app must not need them, so
-``tools/sections.py`` parses them (:func:`parse_digest`) into ``resources/sections.json``,
-committed, which :func:`lookup` reads. ``tests/unit/test_sections.py`` regenerates it from the
-digests when they are there, so it cannot go stale.
+``"spec/003 §2.9 b"``: the page ``docs/theory/003-toon-village.md``, its section §2.9 b, at the
+anchor ``s-2.9-b``). The installed app must not need the pages, so ``tools/sections.py`` reads
+them (:mod:`app.teach.theory`) into ``resources/sections.json``, committed, which
+:func:`lookup` reads; ``tests/unit/test_sections.py`` fails when it is stale.
 
-What a section holds: its title (the heading, without the thesis's own numbering, which goes to
-``source``) and its text — the paragraphs of that section up to its first subsection, with the
-markdown lightly stripped (bold, code spans, links, tables as ``a · b`` lines). A section whose
-heading is followed at once by subsections lists them instead. Lettered items inside a section
-(``**(b) Textured billboard grass (final).**``) are sections of their own: ``§2.9(b)``.
+What an entry holds: the section's title (its heading without its number; a note on the
+thesis's own numbering goes to ``source``), its heading level, and its own text (up to the next
+anchored section, the markdown stripped; a section whose heading is followed at once by another
+holds the whole section). Its math stays TeX (``$…$``) in the file and is shown as Unicode
+(:attr:`Section.text`, the panel) or MathML (:func:`section_html`, the handouts). Equations are
+entries too: ``spec/003 eq. 7.18``. A section's sub-letter reads ``§2.9(b)`` here.
 
 The panel's model is here too, free of ImGui so that it is tested without a window:
 :func:`build_headers` groups a scene's parameters as the theses group them (one
@@ -31,11 +31,12 @@ from typing import Any, Iterable, Sequence
 
 from .. import RESOURCES
 from ..params import Param, ParamSet
+from . import theory
 
 #: the committed section index (``tools/sections.py`` writes it)
 INDEX = RESOURCES / "sections.json"
 #: the format of :data:`INDEX` (bumped when its layout changes)
-FORMAT = 1
+FORMAT = 2
 
 OTHER = "Other"
 
@@ -44,12 +45,13 @@ OTHER = "Other"
 
 @dataclass(frozen=True)
 class Section:
-    """One section (or lettered item) of a thesis digest."""
+    """One anchored section or equation of a theory page."""
 
-    ref: str      # "spec/003 §2.9" or "spec/003 §2.9(b)"
+    ref: str      # "spec/003 §2.9", "spec/003 §2.9(b)" or "spec/003 eq. 7.18"
     title: str    # "Grass"
-    text: str     # its paragraphs, markdown lightly stripped
-    source: str = ""  # where the digest took it from: the thesis's numbering, e.g. "§7.1"
+    body: str     # its text, markdown stripped, math as $TeX$
+    source: str = ""  # the thesis's own numbering when the heading gives it: "thesis §7.1"
+    level: int = 2    # its heading's level on the page
 
     @property
     def spec(self) -> str:
@@ -58,8 +60,13 @@ class Section:
 
     @property
     def number(self) -> str:
-        """``"§2.9(b)"``."""
+        """``"§2.9(b)"``, or an equation's number (of ``"spec/003 eq. 7.18"``)."""
         return self.ref.split(" ", 1)[1]
+
+    @property
+    def text(self) -> str:
+        """The text as the panel shows it: math as Unicode."""
+        return _unicode(self.body)
 
     @property
     def short_title(self) -> str:
@@ -76,6 +83,16 @@ class Section:
     def summary(self, limit: int = 260) -> str:
         """The first sentences of the text, at most about ``limit`` characters (a tooltip)."""
         return summary(self.text, limit)
+
+
+@cache
+def _unicode(body: str) -> str:
+    return theory.math_to_unicode(body)
+
+
+def section_html(section: Section) -> str:
+    """The section's text as HTML: escaped, its math as MathML (the handouts)."""
+    return theory.math_to_html(section.body)
 
 
 def summary(text: str, limit: int = 260) -> str:
@@ -98,22 +115,20 @@ def summary(text: str, limit: int = 260) -> str:
 
 @dataclass
 class Index:
-    """The section index: thesis titles, sections by ref, and aliases (a ref in the thesis's
-    own numbering that the digest's heading names, e.g. ``spec/003 §3.1`` → ``§2.2 Bump
-    mapping (§3.1)``)."""
+    """The section index: each thesis's title and citation, and its sections by ref, in the
+    pages' order."""
 
     specs: dict[str, dict[str, str]] = field(default_factory=dict)
     sections: dict[str, Section] = field(default_factory=dict)
-    aliases: dict[str, str] = field(default_factory=dict)
 
     def to_json(self) -> str:
         data = {
             "format": FORMAT,
-            "generated_by": "tools/sections.py from the thesis digests (shared/spec/*.md)",
+            "generated_by": "tools/sections.py from Natura's theory pages (docs/theory/*.md)",
             "specs": self.specs,
-            "sections": {ref: {"title": s.title, "source": s.source, "text": s.text}
+            "sections": {ref: {"title": s.title, "source": s.source, "level": s.level,
+                               "text": s.body}
                          for ref, s in self.sections.items()},
-            "aliases": self.aliases,
         }
         return json.dumps(data, ensure_ascii=False, indent=1) + "\n"
 
@@ -122,9 +137,10 @@ class Index:
         data = json.loads(text)
         if data.get("format") != FORMAT:
             raise ValueError(f"section index format {data.get('format')!r}: allowed {FORMAT}")
-        sections = {ref: Section(ref, s["title"], s["text"], s.get("source", ""))
+        sections = {ref: Section(ref, s["title"], s["text"], s.get("source", ""),
+                                 int(s.get("level", 2)))
                     for ref, s in data["sections"].items()}
-        return cls(data["specs"], sections, data.get("aliases", {}))
+        return cls(data["specs"], sections)
 
 
 @cache
@@ -137,15 +153,19 @@ def index() -> Index:
         return Index()
 
 
-_REF = re.compile(r"^(spec/\d{3}) §(\d+(?:\.(?:\d+|[A-Z]))*)(?:\(([a-z])\))?$")
+_REF = re.compile(r"^(spec/\d{3}) §((?:\d+|[A-Z])(?:\.(?:\d+|[A-Z]))*)(?:\(([a-z])\))?$")
+_EQ = re.compile(r"^(spec/\d{3}) eq\.\s?(\S+)$")
 
 
 def lookup(ref: str) -> Section | None:
-    """The section ``ref`` names (``"spec/002 §3.1"``), or None. A lettered item falls back to
-    its section, a number the digest does not have to the digest heading that carries it as
-    the thesis's own number, then to its parent: ``§3.1.2`` → ``§3.1`` → ``§3``."""
+    """The section or equation ``ref`` names (``"spec/002 §3.1"``, ``"spec/003 eq. 7.18"``),
+    or None. A lettered item the page does not have falls back to its section, a number to its
+    parent: ``§3.1.2`` → ``§3.1`` → ``§3``."""
     ref = normalise(ref)
     idx = index()
+    e = _EQ.match(ref)
+    if e:
+        return idx.sections.get(f"{e.group(1)} eq. {e.group(2)}")
     m = _REF.match(ref)
     if not m:
         return None
@@ -153,25 +173,42 @@ def lookup(ref: str) -> Section | None:
     if letter and ref in idx.sections:
         return idx.sections[ref]
     parts = number.split(".")
-    first = True
     while parts:
         key = f"{spec} §{'.'.join(parts)}"
         if key in idx.sections:
             return idx.sections[key]
-        if first and key in idx.aliases:
-            return idx.sections.get(idx.aliases[key])
-        first = False
         parts.pop()
     return None
 
 
+def inside(section: Section) -> list[Section]:
+    """The sections and equations inside ``section`` on its page (deeper headings before the
+    next one of its level)."""
+    out: list[Section] = []
+    found = False
+    for s in index().sections.values():
+        if s is section or s.ref == section.ref:
+            found = True
+            continue
+        if not found or s.spec != section.spec:
+            if found:
+                break
+            continue
+        if s.level <= section.level:
+            break
+        out.append(s)
+    return out
+
+
 def related(section: Section) -> list[Section]:
-    """The sections next to ``section`` in the digest: its parent, then its lettered items
-    and direct subsections (what the side window links to)."""
+    """The sections next to ``section``: its parent, its lettered items and direct
+    subsections, then what its page holds inside it (its equations)."""
     idx = index()
     out: list[Section] = []
     number = section.number
-    if "(" in number:
+    if number.startswith("eq."):
+        parent = None
+    elif "(" in number:
         parent = idx.sections.get(section.ref.split("(")[0])
     elif "." in number:
         parent = idx.sections.get(f"{section.spec} {number.rsplit('.', 1)[0]}")
@@ -183,12 +220,18 @@ def related(section: Section) -> list[Section]:
         rest = ref[len(section.ref):] if ref.startswith(section.ref) else ""
         if re.fullmatch(r"\([a-z]\)|\.(?:\d+|[A-Z])", rest):
             out.append(s)
+    out += [s for s in inside(section) if s not in out]
     return out
 
 
 def spec_title(spec: str) -> str:
     """``"spec/002"`` → the thesis's title (``""`` when the index does not know it)."""
     return index().specs.get(spec.strip(), {}).get("title", "")
+
+
+def citation(spec: str) -> str:
+    """``"spec/002"`` → the thesis's full citation (``""`` when the index does not know it)."""
+    return index().specs.get(spec.strip(), {}).get("citation", "")
 
 
 # ---- refs in Param.section --------------------------------------------------------------------
@@ -203,10 +246,10 @@ def normalise(ref: str) -> str:
 
 
 def refs(section: str, default_spec: str = "") -> list[str]:
-    """The digest sections a ``Param.section`` names, normalised (``"spec/002 §1.2, §7"`` →
+    """The thesis sections a ``Param.section`` names, normalised (``"spec/002 §1.2, §7"`` →
     ``["spec/002 §1.2", "spec/002 §7"]``). A ``§`` reads in the last ``spec/NNN`` of its
     clause (clauses are separated by ``;``); a clause that starts with a bare ``§`` is the
-    effect's own digest (``default_spec``); a ``§`` after another citation ("Hillaire 2020
+    effect's own thesis (``default_spec``); a ``§`` after another citation ("Hillaire 2020
     §4") is not a thesis section and gives nothing."""
     out: list[str] = []
     for clause in section.split(";"):
@@ -252,7 +295,7 @@ class Header:
 
     group: str                  # the parameter group ("grass", "time", "output")
     title: str
-    spec: str                   # the digest of the effect that owns the group ("" none)
+    spec: str                   # the thesis of the effect that owns the group ("" none)
     groups: list[Group]
     effect: str = ""            # the effect the group belongs to ("" for output, scene...)
 
@@ -294,8 +337,8 @@ def _sort_key(key: str) -> tuple:
 
 
 def group_title(key: str, section: Section | None, spec: str = "") -> str:
-    """A sub-group's title: ``"§2.9 Grass"`` (the digest's spec named when it is not the
-    header's), the citation itself when it is not a digest's, or "Other"."""
+    """A sub-group's title: ``"§2.9 Grass"`` (the thesis's spec named when it is not the
+    header's), the citation itself when it is not a thesis's, or "Other"."""
     if not key:
         return OTHER
     if section is None:
@@ -305,7 +348,7 @@ def group_title(key: str, section: Section | None, spec: str = "") -> str:
 
 
 def group_params(params: Iterable[Param], spec: str = "") -> list[Group]:
-    """Parameters grouped by thesis section, in the digests' order (by spec, then section
+    """Parameters grouped by thesis section, in the pages' order (by spec, then section
     number), citations outside the theses next, "Other" (no section) last; each group keeps its
     parameters' declaration order."""
     groups: dict[str, Group] = {}
@@ -397,7 +440,7 @@ def count(headers: Sequence[Header]) -> int:
 
 
 def lesson_refs(text: str, default_spec: str = "") -> list[Section]:
-    """The digest sections a lesson names (its § button opens the first)."""
+    """The thesis sections a lesson names (its § button opens the first)."""
     out: list[Section] = []
     for ref in refs(text.replace(";", ","), default_spec):  # one clause: a bare § follows
         s = lookup(ref)                                        # the last spec/NNN named
@@ -414,156 +457,15 @@ def notes_without(lesson: str | None, notes: Sequence[str]) -> list[str]:
     return [n for n in notes if not (n.strip() and lesson.strip().startswith(n.strip()))]
 
 
-# ---- parsing the digests (tools/sections.py) --------------------------------------------------
+# ---- reading the theory pages (tools/sections.py) ----------------------------------------------
 
-_HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*$")
-_NUMBERED = re.compile(r"^(\d+(?:\.\d+)*|[A-Z])\.?\s+(.*)$")
-_ITEM = re.compile(r"^\*\*\(([a-z])\)\s*(.*?)\*\*\s*(.*)$")
-_PAREN = re.compile(r"\s*\(([^()]*(?:\([^()]*\)[^()]*)*)\)")
-
-
-def _inline(text: str) -> str:
-    """Bold, italics, code spans, links and escapes of one line, stripped."""
-    text = text.replace("\\*", "\0")
-    text = re.sub(r"\[([^\]]+)\]\((?:[^()]|\([^)]*\))*\)", r"\1", text)  # [text](url)
-    text = re.sub(r"`([^`]*)`", r"\1", text)
-    text = re.sub(r"\*\*(.+?)\*\*", r"\1", text)
-    text = re.sub(r"(?<![\w*])\*(?=\S)(.+?)(?<=\S)\*(?![\w*])", r"\1", text)
-    text = re.sub(r"\\([_\[\]()#<>|])", r"\1", text)
-    return text.replace("\0", "*")
-
-
-def strip_markdown(lines: Sequence[str]) -> str:
-    """Section lines as plain text: bullets as "•", tables as "a · b" rows, code blocks
-    indented, rules and runs of blank lines dropped."""
-    out: list[str] = []
-    code = False
-    for raw in lines:
-        line = raw.rstrip()
-        if line.lstrip().startswith("```"):
-            code = not code
-            continue
-        if code:
-            out.append("    " + line)
-            continue
-        stripped = line.strip()
-        if re.fullmatch(r"-{3,}|\*{3,}|_{3,}", stripped):
-            continue
-        if stripped.startswith("|"):
-            cells = [c.strip() for c in stripped.strip("|").split("|")]
-            if all(re.fullmatch(r":?-{2,}:?", c) for c in cells if c):
-                continue
-            out.append(" · ".join(_inline(c) for c in cells))
-            continue
-        m = re.match(r"^(\s*)[-*+]\s+(.*)$", line)
-        if m:
-            depth = len(m.group(1).expandtabs(4)) // 2
-            out.append("  " * depth + "• " + _inline(m.group(2)))
-            continue
-        if stripped.startswith(">"):
-            stripped = stripped.lstrip("> ")
-        out.append(_inline(stripped) if stripped else "")
-    text = "\n".join(out)
-    text = re.sub(r"\n{3,}", "\n\n", text)
-    return text.strip("\n")
-
-
-def clean_title(heading: str) -> tuple[str, str]:
-    """A heading without its markers: (title, source). Parentheticals that say where the digest
-    took it from (the thesis's § or chapter, "after Schneider …") become the source; a
-    sentence after the title ("Contours / outlines (§8.2). Not solved …") is dropped."""
-    text = _inline(heading).replace("[doc]", "").strip()
-    sources = [m.group(1).strip() for m in _PAREN.finditer(text)]
-    title = _PAREN.sub("", text).strip()
-    title = re.split(r"(?<=\w)\.\s", title, maxsplit=1)[0].rstrip(" .:,")
-    title = re.sub(r",\s*sources?\b.*$", "", title).strip()
-    tail = re.search(r",\s*(sources?\b.*)$", _PAREN.sub("", text))
-    if tail:
-        sources.append(tail.group(1).strip(" ."))
-    return title, "; ".join(sources)
-
-
-def parse_digest(text: str, spec: str) -> tuple[dict[str, str], dict[str, Section],
-                                                dict[str, str]]:
-    """One digest (markdown) → (its thesis's title and file-level facts, its sections by ref,
-    aliases: refs in the thesis's own numbering that a heading names in parentheses)."""
-    lines = text.splitlines()
-    title = ""
-    headings: list[tuple[int, str, str]] = []  # (line, number or "", heading text)
-    code = False
-    for i, line in enumerate(lines):
-        if line.lstrip().startswith("```"):
-            code = not code
-            continue
-        m = _HEADING.match(line) if not code else None
-        if not m:
-            continue
-        level, body = len(m.group(1)), m.group(2)
-        if level == 1:
-            if not title:
-                q = re.search(r"[\"“]([^\"”]+)[\"”]", body)
-                title = q.group(1) if q else body.split(":", 1)[-1].strip()
-            headings.append((i, "", body))
-            continue
-        n = _NUMBERED.match(body)
-        headings.append((i, n.group(1) if n else "", n.group(2) if n else body))
-    sections: dict[str, Section] = {}
-    alias_votes: dict[str, list[str]] = {}
-    parent = ""
-    for k, (start, number, body) in enumerate(headings):
-        end = headings[k + 1][0] if k + 1 < len(headings) else len(lines)
-        if not number:
-            continue
-        if number.isalpha():  # "### A. Maths helpers" under "## 6."
-            if not parent:
-                continue
-            number = f"{parent}.{number}"
-        elif "." not in number:
-            parent = number
-        ref = f"{spec} §{number}"
-        head_title, source = clean_title(body)
-        body_lines = lines[start + 1:end]
-        sections[ref] = Section(ref, head_title, strip_markdown(body_lines), source)
-        for m in re.finditer(r"§(\d+(?:\.\d+)*)(?![\d.–-])", source):
-            if re.fullmatch(r"§\d+(?:\.\d+)*", source.strip()):
-                alias_votes.setdefault(f"{spec} §{m.group(1)}", []).append(ref)
-        items = [(j, _ITEM.match(line)) for j, line in enumerate(body_lines)]
-        items = [(j, m) for j, m in items if m]
-        for n, (j, m) in enumerate(items):
-            stop = items[n + 1][0] if n + 1 < len(items) else len(body_lines)
-            item_title, item_source = clean_title(m.group(2))
-            after = m.group(3).strip()
-            lead = _PAREN.match(after)  # "**(c) Gerstner waves** (Gerstner, 1802; …). The …"
-            if lead:
-                item_source = "; ".join(x for x in (item_source, lead.group(1).strip()) if x)
-                after = after[lead.end():].lstrip(" .:")
-            rest = [after] if after else []
-            item_ref = f"{ref}({m.group(1)})"
-            sections[item_ref] = Section(item_ref, item_title,
-                                         strip_markdown(rest + body_lines[j + 1:stop]),
-                                         item_source)
-    # a section whose heading is followed at once by subsections: list them
-    for ref, s in list(sections.items()):
-        if s.text or "(" in s.number:
-            continue
-        children = [c for r, c in sections.items()
-                    if r.startswith(ref + ".") and "(" not in c.number
-                    and r[len(ref) + 1:].count(".") == 0]
-        if children:
-            listing = "\n".join(f"• {c.number} {c.title}" for c in children)
-            sections[ref] = replace(s, text=f"Subsections:\n{listing}")
-    aliases = {a: refs_[0] for a, refs_ in alias_votes.items()
-               if len(set(refs_)) == 1 and a not in sections}
-    return {"title": title}, sections, aliases
-
-
-def build_index(spec_dir: Path) -> Index:
-    """Parse every ``NNN-*.md`` digest of ``spec_dir`` into an :class:`Index`."""
+def build_index(root: Path = theory.THEORY) -> Index:
+    """Every anchored section and equation of the pages under ``root`` as an :class:`Index`."""
     idx = Index()
-    for path in sorted(Path(spec_dir).glob("[0-9][0-9][0-9]-*.md")):
-        spec = f"spec/{path.name[:3]}"
-        facts, sections, aliases = parse_digest(path.read_text(encoding="utf-8"), spec)
-        idx.specs[spec] = {**facts, "file": path.name}
-        idx.sections.update(sections)
-        idx.aliases.update(aliases)
+    for spec, page in theory.pages(root).items():
+        idx.specs[spec] = {"title": page.title, "heading": page.heading,
+                           "citation": page.citation, "file": page.path.name}
+        for e in page.entries.values():
+            body = e.body or theory.section_body(page, e)
+            idx.sections[e.ref] = Section(e.ref, e.title, body, e.source, e.level)
     return idx

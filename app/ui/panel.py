@@ -3,10 +3,10 @@
 :func:`scene_panel` is the window's parameter panel, one a student can navigate: a search box on
 top; one collapsing header per parameter group (an effect, its extra groups, Time, Output);
 under an effect's header first the lesson of its current method (``Effect.lesson``) and its
-live notes, then its parameters grouped by the thesis section they come from, in the digest's
-order, each group with a "§" button that opens the section's text in a side window (hovering
-it shows the title and the first sentences). The grouping and the search are the pure
-functions of :mod:`app.teach.sections`, tested without a window.
+live notes, then its parameters grouped by the thesis section they come from, in the
+theory pages' order, each group with a "§" button that opens the section's text in a side
+window (hovering it shows the title and the first sentences). The grouping and the search
+are the pure functions of :mod:`app.teach.sections`, tested without a window.
 
 Every widget writes through :meth:`ParamSet.set`, so the panel can never store a value the
 CLI would reject. Hovering a widget shows its doc, unit, range and thesis section; its context
@@ -34,6 +34,19 @@ TOOLTIP_EMS = 32.0
 SEARCH_HINT = "search: name, doc or thesis section"
 
 
+def next_event_id() -> int:
+    """The number ImGui gives the next input event: every event queued so far is below it."""
+    return int(imgui.get_current_context().input_events_next_event_id)
+
+
+def queued_before(event_id: int) -> bool:
+    """Whether ImGui still queues input events numbered below ``event_id``: keys pressed before
+    it that a slow frame has not handed out yet (ImGui trickles them over the next frames). A
+    focus change waits for them, so each key goes to the widget that had the keyboard when it
+    was pressed."""
+    return any(e.event_id < event_id for e in imgui.get_current_context().input_events_queue)
+
+
 @dataclass
 class PanelState:
     """What the panel keeps between frames (the window holds one): the search text, the thesis
@@ -42,8 +55,18 @@ class PanelState:
     search: str = ""
     section: str | None = None
     history: list[str] = field(default_factory=list)
-    #: set to focus the search box on the next frame (a key binding may set it)
+    #: set to focus the search box on the next frame (a key binding may set it); with
+    #: ``focus_after`` (an ImGui event number, Ctrl+F's) only once the keys pressed before it
+    #: have gone where they were typed: the window sets ``focus_ready`` before a frame whose
+    #: input holds none of them (:func:`queued_before`)
     focus_search: bool = False
+    focus_after: int | None = None
+    focus_ready: bool = False
+    #: characters typed while the search box takes the keyboard (ImGui activates it a frame
+    #: after the request and drops that frame's characters): held, then typed into it
+    _carry: list = field(default_factory=list, repr=False, compare=False)
+    _carry_frames: int = field(default=0, repr=False, compare=False)
+    _search_active: bool = field(default=False, repr=False, compare=False)
     #: (key, headers): the grouping, rebuilt only when the parameters change
     _headers: tuple = field(default=(), repr=False, compare=False)
 
@@ -208,7 +231,41 @@ def scene_panel(params: ParamSet, scene, state: PanelState,
             notes[e.name] = ts.notes_without(lesson, e.panel_notes())
         except Exception as exc:  # a figure that cannot be computed must not close the panel
             notes[e.name] = [f"({one_line(exc)})"]
-    draw_panel(params, headers, state, lessons, notes, idle)
+        readers = slot_readers(scene, e)
+        if readers:
+            notes[e.name] = [*notes[e.name], readers]
+    draw_panel(params, headers, state, lessons, notes, idle, main_group(scene, headers, idle))
+
+
+def slot_readers(scene, effect) -> str | None:
+    """What of ``effect``'s frame slots the scene's other drawn effects read, and who: effects
+    meet through slots and never name each other, so the scene says who follows whom
+    ("wind read here by Grass, Fog"). None when no other effect reads them."""
+    produced = set(getattr(effect, "produces", ()))
+    slots: set[str] = set()
+    titles: list[str] = []
+    for other in getattr(scene, "instances", ()):
+        if other is effect or not scene.active(other):
+            continue
+        read = produced & set(getattr(other, "consumes", {}))
+        if read:
+            slots |= read
+            titles.append(other.title or other.name)
+    if not titles:
+        return None
+    return f"{', '.join(sorted(slots))} read here by {', '.join(titles)}"
+
+
+def main_group(scene, headers: Sequence[ts.Header], idle: Mapping[str, str]) -> str | None:
+    """The header the panel opens on: the scene's own (the group named as the scene — the
+    ocean's ocean, maritime's own parameters), else its first effect's; one whose effect is not
+    drawn now gives way to the first effect that is. None: no such header (all open)."""
+    groups = [h.group for h in headers]
+    name = getattr(scene, "name", "")
+    if name in groups and name not in idle:
+        return name
+    drawn = [h.group for h in headers if h.effect and h.group == h.effect and h.effect not in idle]
+    return drawn[0] if drawn else None
 
 
 def _idle_reason(scene, effect, params: ParamSet) -> str:
@@ -221,12 +278,16 @@ def _idle_reason(scene, effect, params: ParamSet) -> str:
 def draw_panel(params: ParamSet, headers: Sequence[ts.Header], state: PanelState,
                lessons: Mapping[str, str] | None = None,
                notes: Mapping[str, Sequence[str]] | None = None,
-               idle: Mapping[str, str] | None = None) -> None:
+               idle: Mapping[str, str] | None = None, main: str | None = None) -> None:
     """The search box, then the headers that match it (:func:`scene_panel` gathers the
-    lessons, notes and idle effects by parameter group; tests call this directly)."""
+    lessons, notes and idle effects by parameter group; tests call this directly). The panel
+    opens on ``main``'s header, drawn first (and its Time), the others closed; without
+    ``main`` every effect's own header, Time and Output open, in the scene's order."""
     lessons, notes, idle = lessons or {}, notes or {}, idle or {}
     search_box(state)
     shown = ts.filter_headers(headers, state.search)
+    if main is not None:  # the main section first, the others in the scene's order
+        shown = sorted(shown, key=lambda h: h.group != main)
     searching = bool(state.search.split())
     if searching:
         n, total = ts.count(shown), ts.count(headers)
@@ -239,7 +300,10 @@ def draw_panel(params: ParamSet, headers: Sequence[ts.Header], state: PanelState
             flags = 0
         else:
             label = f"{h.title}##{h.group}"
-            own = h.group == h.effect or h.group in ("time", "output")
+            if main is None:
+                own = h.group == h.effect or h.group in ("time", "output")
+            else:
+                own = h.group == main or (h.group == "time" and h.effect == main)
             flags = imgui.TreeNodeFlags_.default_open if own else 0
         if imgui.collapsing_header(label, flags):
             imgui.push_id(h.group)
@@ -251,12 +315,23 @@ def draw_panel(params: ParamSet, headers: Sequence[ts.Header], state: PanelState
 
 def search_box(state: PanelState) -> None:
     """The search box over the whole width, with a button that clears it."""
-    if state.focus_search:
+    queue = imgui.get_io().input_queue_characters
+    if state.focus_search and (state.focus_after is None or state.focus_ready):
         imgui.set_keyboard_focus_here()
-        state.focus_search = False
+        state.focus_search, state.focus_after, state.focus_ready = False, None, False
+        state._carry_frames = 4
+    if state._carry_frames > 0 and not state._search_active:  # not taking characters yet
+        state._carry += list(queue)
+        queue.clear()
+        state._carry_frames -= 1
+    elif state._carry:  # active since the last frame: what was typed meanwhile, in order
+        for char in reversed(state._carry):
+            queue.push_front(char)
+        state._carry, state._carry_frames = [], 0
     clear = imgui.calc_text_size("clear").x + imgui.get_style().frame_padding.x * 4
     imgui.set_next_item_width(-clear if state.search else -1.0)
     _, state.search = imgui.input_text_with_hint("##natura-search", SEARCH_HINT, state.search)
+    state._search_active = imgui.is_item_active()
     if state.search:
         imgui.same_line()
         if imgui.small_button("clear##natura-search"):
@@ -320,7 +395,7 @@ def _group_hover(g: ts.Group) -> None:
     if g.section is not None:
         section_tooltip(g.section)
     elif g.key:
-        _wrapped_tooltip([g.key, "a source beyond the thesis digests"])
+        _wrapped_tooltip([g.key, "a source beyond the five theses"])
     else:
         _wrapped_tooltip(["parameters of this implementation that no thesis section names"])
 
@@ -335,7 +410,7 @@ def _group_line(g: ts.Group, state: PanelState, group: str) -> None:
 
 def section_window(state: PanelState, headers: Sequence[ts.Header] = ()) -> None:
     """The open thesis section in a window of its own beside the panel: the thesis, the
-    section's title and where the digest took it from, its text (wrapped), the lettered items
+    section's title and the thesis's own number for it, its text (wrapped), the lettered items
     and subsections it has, and the scene's parameters that cite it."""
     if not state.section:
         return
@@ -369,9 +444,15 @@ def section_text(s: ts.Section, state: PanelState, headers: Sequence[ts.Header] 
     imgui.pop_text_wrap_pos()
     related = ts.related(s)
     if related:
-        for i, r in enumerate(related):
-            if i:
+        width, used = imgui.get_content_region_avail().x, 0.0
+        pad, gap = imgui.get_style().frame_padding.x * 2.0, imgui.get_style().item_spacing.x
+        for i, r in enumerate(related):  # in rows as wide as the window (§2.9 has 20)
+            w = imgui.calc_text_size(r.number).x + pad
+            if i and used + gap + w <= width:
                 imgui.same_line()
+                used += gap + w
+            else:
+                used = w
             if imgui.small_button(f"{r.number}##rel-{r.ref}"):
                 state.open(r.ref)
             if imgui.is_item_hovered(imgui.HoveredFlags_.for_tooltip):

@@ -173,7 +173,7 @@ def test_the_handout_opens_in_chromium_every_image_decodes_no_console_error(tmp_
     assert "Procedural materials" in facts["title"]
     for m in data["methods"]:
         assert m["command"] in shown_text  # the reproduce line, as written
-    assert "materials.noise" in shown_text and "Noise design" in shown_text  # its section
+    assert "materials.noise" in shown_text and "where it bends the rings" in shown_text  # §1.5
     assert facts["sections"] >= 3
 
     # the command under the first image reproduces it

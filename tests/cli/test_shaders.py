@@ -71,6 +71,62 @@ def test_shaders_copy_never_overwrites(tmp_path):
     assert sorted(p.name for p in dest.iterdir()) == ["keep.txt"]
 
 
+
+def _suggested(stdout: str) -> list[str]:
+    """The command line ``natura shaders copy`` suggests (after "then: ", up to " (")."""
+    import shlex
+
+    line = next(line for line in stdout.splitlines() if "then: " in line)
+    words = shlex.split(line.split("then: ", 1)[1].split(" (", 1)[0])
+    assert words[0] == "natura", line
+    return words[1:]
+
+
+@pytest.mark.skipif(shutil.which("xvfb-run") is None,
+                    reason="no display: Xvfb not installed (apt-get install xvfb)")
+def test_the_command_shaders_copy_suggests_runs_on_the_copy(tmp_path):
+    """The trial's `natura --shaders g window sky` (what the copy suggests) failed with
+    `unrecognized arguments: sky`: run as suggested, it opens the window on the copy."""
+    from tests.helpers.window_driver import under_xvfb
+
+    r = natura("shaders", "copy", "g", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    words = _suggested(r.stdout)
+    assert words == ["--shaders", "g", "window", "sky"], words
+    env_free = [sys.executable, "-c", "from app.cli import main; raise SystemExit(main())"]
+    proc = under_xvfb([*env_free, *words, "--frames", "3", "--size", "160x90"], cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert "unrecognized" not in proc.stderr
+
+
+@pytest.mark.parametrize("where", ["before", "after"])
+def test_shaders_before_or_after_the_command_reads_the_copy(tmp_path, where):
+    """`--shaders g` before the command is the same option as after it: a broken line in the
+    copy fails `render` and `shaders check` with the copy's file:line either way."""
+    r = natura("shaders", "copy", "g", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    radiance = tmp_path / "g" / "sky" / "sky_radiance.glsl"
+    bad_line = len(radiance.read_text().splitlines()) + 1
+    with radiance.open("a") as f:
+        f.write("float broken() { return not_declared_anywhere; }\n")
+    option = ["--shaders", "g"]
+    for command in (["render", "sky", "--size", "16x16", "--out", "a.png"],
+                    ["shaders", "check", "sky/sky"]):
+        args = [*option, *command] if where == "before" else [*command, *option]
+        r = natura(*args, cwd=tmp_path)
+        assert r.returncode == 1, (args, r.stdout, r.stderr)
+        assert f"g/sky/sky_radiance.glsl:{bad_line}:" in r.stdout + r.stderr, (args, r.stderr)
+    assert not (tmp_path / "a.png").exists()
+
+
+def test_shaders_before_a_command_that_reads_none_is_one_line(tmp_path):
+    r = natura("--shaders", "g", "scenes", cwd=tmp_path)
+    assert r.returncode == 2 and r.stdout == ""
+    assert r.stderr.strip().splitlines() == [
+        "natura: --shaders before `scenes`: it reads no shaders: allowed with window, render, "
+        "params, shaders check, bench, compare, report"]
+
+
 # ---- the strict check: the Khronos reference compiler ----------------------------------------
 
 GLSLANG_SKIP = "glslangValidator not installed (Debian: apt-get install glslang-tools)"
