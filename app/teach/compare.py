@@ -96,6 +96,8 @@ class Comparison:
     command: str = ""
     #: the scene has a reference but it was not rendered (``reference=False``)
     reference_skipped: bool = False
+    #: the scene's reference judges another method than what A and B differ in: why none
+    reference_unrelated: str | None = None
 
     def figures(self) -> dict:
         """Every figure as plain JSON values (what ``natura compare`` writes beside the PNG)."""
@@ -110,6 +112,7 @@ class Comparison:
                 "ratio_b_to_a": self.ratio, "difference": {**self.diff_stats, "gain": self.gain,
                                                            "heat_map": HEAT_CAPTION},
                 "reference": self.reference, "reference_skipped": self.reference_skipped,
+                "reference_unrelated": self.reference_unrelated,
                 "error_metric":
                     "mean |Y_side − Y_reference| / mean Y_reference (Y: luminance of linear "
                     "radiance)",
@@ -127,6 +130,15 @@ class Reference:
     label: str
     overrides: Callable[[ParamSet], dict[str, Any] | None]
     supersample: int = 1
+    #: the parameters (names, or prefixes ending in "_") whose methods this reference judges;
+    #: empty: every parameter. A comparison of other parameters gets no error figures.
+    judges: tuple[str, ...] = ()
+
+    def judges_any(self, names: Iterable[str]) -> bool:
+        """Whether a comparison differing in ``names`` is of a method this reference judges."""
+        names = list(names)
+        return not self.judges or not names or any(
+            n == j or (j.endswith("_") and n.startswith(j)) for n in names for j in self.judges)
 
 
 def _planet(p: ParamSet) -> dict[str, Any]:
@@ -171,7 +183,9 @@ REFERENCES: dict[str, Reference] = {
     "materials": Reference("hard ring edges supersampled 8 × 8 (box filter)", _materials,
                            supersample=8),
     "shading": Reference("parallax mode 4 (1024 layers and bisection), the rest as the side "
-                         "(none without shading.maps)", _shading),
+                         "(none without shading.maps)", _shading,
+                         judges=("shading.parallax_", "shading.maps", "shading.wall_map",
+                                 "shading.normal_", "shading.bumpiness")),
     "surfaces": Reference("transparency by depth peeling with 64 layers, the rest as the side",
                           lambda p: dict(SURFACES_REFERENCE)),
 }
@@ -326,6 +340,8 @@ def caption_lines(cmp: Comparison) -> list[str]:
              f"{cmp.rounds} interleaved rounds, whole frames)"]
     if cmp.reference_skipped:
         lines.append("error: the reference was skipped (--no-reference)")
+    elif cmp.reference_unrelated:
+        lines.append(f"error: none — {cmp.reference_unrelated}")
     elif cmp.reference is None:
         lines.append(f"error: no reference for the scene {cmp.scene!r}")
     elif a.error is None and b.error is None:
@@ -426,6 +442,13 @@ def compare(scene_name: str | None, a_sets=(), b_sets=(), *, size=(320, 180), ba
     pa = side_params(base, a_list, "--a")
     pb = side_params(base, b_list, "--b")
     ref = reference_of(scene_name) if reference else None
+    differs = sorted(n for n in {s.partition("=")[0].strip() for s in (*a_list, *b_list)}
+                     if n in pa and n in pb and pa[n] != pb[n])
+    unrelated = None
+    if ref is not None and not ref.judges_any(differs):
+        unrelated = (f"no reference for {', '.join(differs)}: the scene's reference is of "
+                     f"another method ({ref.label})")
+        ref = None
     defaults = scene_params(scene_name, root)
     command = _command(scene_name, base, defaults, cam, cls.new_camera(), (w, h), a_list,
                        b_list, rounds)
@@ -497,7 +520,8 @@ def compare(scene_name: str | None, a_sets=(), b_sets=(), *, size=(320, 180), ba
                      reference=ref.label if ref is not None else None, caption=[],
                      rounds=timed.rounds, ratio=timed.ratio("B", "A"), diff_stats=stats,
                      renderer=renderer, command=command,
-                     reference_skipped=not reference and reference_of(scene_name) is not None)
+                     reference_skipped=not reference and reference_of(scene_name) is not None,
+                     reference_unrelated=unrelated)
     cmp.caption = caption_lines(cmp)
     return cmp
 

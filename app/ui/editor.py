@@ -5,7 +5,10 @@ errors in red). Right: the open file in imgui-bundle's colour text editor (GLSL 
 line numbers, undo, find), the lines the compiler blames marked, the whole message shown when the
 pointer is over the line or its number, and the file's errors listed below, wrapped. Ctrl+S (or
 Save) writes the file atomically; the library's poll recompiles what includes it within a
-quarter of a second, and a broken edit keeps the last good program running.
+quarter of a second, and a broken edit keeps the last good program running. A typed bracket gets
+its closer, and typing that closer steps over it (``type_chars``, at any frame rate: every
+character a slow frame queued); a dialog opens only once the keys pressed before it was asked
+for have gone to the text, which had the keyboard when they were pressed.
 
 Natura's own shaders are never written: the first save offers a copy (``natura shaders copy``
 semantics: a new folder, made whole or not at all), moves the running programs there and saves
@@ -33,6 +36,10 @@ TextEditor = ed.TextEditor
 DISK_CHECK_SECONDS = 0.5
 MARKER_NUMBER_COLOUR = imgui.IM_COL32(255, 90, 80, 255)
 MARKER_TEXT_COLOUR = imgui.IM_COL32(120, 30, 30, 160)
+#: brackets the editor closes as they are typed (typing the closer then steps over it)
+PAIRS = {"(": ")", "[": "]", "{": "}"}
+#: an opener is closed only before these (or at the end of the line), as editors do
+CLOSE_BEFORE = set(" \t;,.)]}")
 
 
 class ShaderEditorPane:
@@ -46,6 +53,12 @@ class ShaderEditorPane:
         self.editor.set_show_line_numbers_enabled(True)
         self.editor.set_tab_size(4)
         self.editor.set_show_whitespaces_enabled(False)
+        # brackets are paired here (type_chars): the widget's own pairing never types over its
+        # closer, so typing `x(y)` gave `x(y))`
+        self.editor.set_complete_paired_glyphs(False)
+        self._closers: list[tuple[int, int]] = []  # (line, index) of closers typed for the user
+        self._typed_state: tuple = ()  # the editor's (undo index, caret) after type_chars
+        self._child_suffix = ""  # the text child's window name ends so (known after a draw)
         self.file: logic.OpenFile | None = None
         self.baseline = ""          # the editor's text as loaded or saved
         self.marked: dict[int, str] = {}
@@ -59,6 +72,7 @@ class ShaderEditorPane:
         self._tree_key: tuple = ()
         self._tree_cache: list[logic.ProgramTree] = []
         self.modal_open = False
+        self._ask_after = 0  # a dialog opens once the keys pressed before it was asked are out
 
     # -- files ------------------------------------------------------------------------------
     def open(self, path: Path) -> bool:
@@ -92,12 +106,14 @@ class ShaderEditorPane:
         if logic.is_natura_own(library.root):
             self.copy_name = self.copy_name or logic.free_copy_name(Path.cwd())
             self._ask_copy = True
+            self._ask_after = panel.next_event_id()
             return False
         try:
             logic.save(self.file, self._text_to_save(), overwrite_disk_change=overwrite)
         except NaturaError as exc:
             if "changed on disk" in str(exc):
                 self._ask_conflict = True
+                self._ask_after = panel.next_event_id()
             self.problem = str(exc)
             self.fail(f"not saved: {exc}")
             return False
@@ -155,6 +171,60 @@ class ShaderEditorPane:
             self.editor.add_marker(line, MARKER_NUMBER_COLOUR, MARKER_TEXT_COLOUR, message,
                                    message)
         self.marked = marks
+
+    # -- typing -----------------------------------------------------------------------------
+    def _state(self) -> tuple:
+        pos = self.editor.get_current_cursor_position()
+        return self.editor.get_undo_index(), pos.line, pos.index
+
+    def _has_keyboard(self) -> bool:
+        """Whether the text child has the keyboard this frame (ImGui's focused window)."""
+        nav = imgui.get_current_context().nav_window
+        return bool(self._child_suffix) and nav is not None and nav.name.endswith(
+            self._child_suffix)
+
+    def type_chars(self) -> None:
+        """The characters ImGui queued for this frame, typed into the text here (before the
+        widget draws): an opener gets its closer after the caret, and typing that closer steps
+        over it instead of adding another — however many characters a slow frame queued."""
+        e = self.editor
+        queue = imgui.get_io().input_queue_characters
+        if queue.size() == 0 or not self._has_keyboard():
+            return
+        chars = [chr(c) for c in list(queue)]
+        if (e.is_read_only_enabled() or e.is_overwrite_enabled()
+                or e.get_number_of_cursors() != 1 or any(ord(c) < 32 or ord(c) == 127
+                                                          for c in chars)):
+            self._closers.clear()  # the widget types these itself
+            return
+        if self._state() != self._typed_state:
+            self._closers.clear()  # the text or the caret moved since: those closers are text
+        queue.clear()
+        for char in chars:
+            self._type_char(char)
+        self._typed_state = self._state()
+
+    def _type_char(self, char: str) -> None:
+        e = self.editor
+        pos = e.get_current_cursor_position()
+        line, col = pos.line, pos.index
+        if e.current_cursor_has_selection():
+            self._closers.clear()
+            e.replace_text_in_current_cursor(char)
+            return
+        after = e.get_line_text(line)[col:col + 1]
+        if (line, col) in self._closers and after == char:  # step over the closer we typed
+            self._closers.remove((line, col))
+            e.set_cursor(TextEditor.DocPos(line, col + 1))
+            return
+        close = PAIRS.get(char) if (after == "" or after in CLOSE_BEFORE) else None
+        text = char + (close or "")
+        e.replace_text_in_current_cursor(text)
+        self._closers = [(ln, c + len(text) if ln == line and c >= col else c)
+                         for ln, c in self._closers]
+        if close:
+            e.set_cursor(TextEditor.DocPos(line, col + 1))
+            self._closers.append((line, col + 1))
 
     # -- drawing ----------------------------------------------------------------------------
     def draw(self, library, errors, size: tuple[float, float]) -> None:
@@ -251,7 +321,9 @@ class ShaderEditorPane:
         below = rows * imgui.get_text_line_height_with_spacing() * 2.2 + (24 if others else 0)
         if self.font is not None:
             imgui.push_font(self.font, 0.0)
+        self.type_chars()
         self.editor.render("##glsl", (0.0, -max(below, 1.0)))
+        self._child_suffix = f"/##glsl_{imgui.get_item_id():08X}"
         self.text_rect = (*imgui.get_item_rect_min(), *imgui.get_item_rect_max())
         if self.font is not None:
             imgui.pop_font()
@@ -268,7 +340,10 @@ class ShaderEditorPane:
             imgui.text_disabled(f"{others} error(s) in other files: see the tree or the panel")
 
     def _draw_modals(self, library) -> None:
-        if self._ask_copy:
+        # keys pressed while the text had the keyboard go to the text, however slow the frames:
+        # a dialog (and its focused field) opens only once ImGui has handed them all out
+        held = panel.queued_before(self._ask_after)
+        if self._ask_copy and not held:
             imgui.open_popup("Save into a copy###natura-copy")
             self._ask_copy = False
         if imgui.begin_popup_modal("Save into a copy###natura-copy", None,
@@ -297,7 +372,7 @@ class ShaderEditorPane:
             imgui.end_popup()
         else:
             self.modal_open = False
-        if self._ask_conflict:
+        if self._ask_conflict and not held:
             imgui.open_popup("Changed on disk###natura-conflict")
             self._ask_conflict = False
         if imgui.begin_popup_modal("Changed on disk###natura-conflict", None,

@@ -35,6 +35,11 @@ MARGIN = 10.0
 WIDTH = 290.0
 LABEL_WIDTH = 74.0  # room right of the sliders for their labels
 DIAL_RADIUS = 46.0
+#: a window smaller than this (either side) gets the compact HUD: narrower, a smaller dial, the
+#: weather and time panel folded (its title bar unfolds it), so the view stays mostly visible
+COMPACT_BELOW = (1280, 720)
+COMPACT_WIDTH = 220.0
+COMPACT_DIAL_RADIUS = 28.0
 KNOTS_PER_MS = 3600.0 / 1852.0
 
 SHIP_WINDOW = "Ship###natura-hud-ship"
@@ -94,13 +99,18 @@ def _slider(params: ParamSet, name: str, label: str, fmt: str = "%.2f") -> None:
         imgui.set_tooltip(f"{name}: {spec.doc}")
 
 
-def _wind_dial(state) -> None:
+def compact(size: tuple[int, int]) -> bool:
+    """Whether a window of ``size`` pixels gets the compact HUD."""
+    return size[0] < COMPACT_BELOW[0] or size[1] < COMPACT_BELOW[1]
+
+
+def _wind_dial(state, radius: float = DIAL_RADIUS) -> None:
     """The dial: a ring, the boat with its bow up, the true wind (blue, toward
     ``state.wind_relative``) and the apparent wind (orange, from ``state.apparent_angle``)."""
     draw = imgui.get_window_draw_list()
     origin = imgui.get_cursor_screen_pos()
-    width = max(imgui.get_content_region_avail().x, 2.0 * DIAL_RADIUS + 8.0)
-    r = DIAL_RADIUS
+    width = max(imgui.get_content_region_avail().x, 2.0 * radius + 8.0)
+    r = radius
     c = (origin.x + width * 0.5, origin.y + r + 6.0)
     draw.add_circle(imgui.ImVec2(*c), r, _u32(_RING), 48, 2.0)
     for tick in range(0, 360, 45):
@@ -110,6 +120,7 @@ def _wind_dial(state) -> None:
                             dial_point(c, 0.3 * r, 160.0))
     draw.add_triangle_filled(imgui.ImVec2(*bow), imgui.ImVec2(*starboard), imgui.ImVec2(*port),
                              _u32(_BOAT))
+    head_size = 9.0 * r / DIAL_RADIUS
     arrows = [(state.wind_relative, _TRUE_WIND, 3.0)]
     if state.apparent_angle is not None:
         arrows.append((state.apparent_angle + 180.0, _APPARENT_WIND, 1.5))
@@ -117,17 +128,17 @@ def _wind_dial(state) -> None:
         tail, head = dial_arrow(c, r - 2.0, toward)
         col = _u32(colour)
         draw.add_line(imgui.ImVec2(*tail), imgui.ImVec2(*head), col, thickness)
-        left, right = (dial_point(head, 9.0, toward + 180.0 - 25.0),
-                       dial_point(head, 9.0, toward + 180.0 + 25.0))
+        left, right = (dial_point(head, head_size, toward + 180.0 - 25.0),
+                       dial_point(head, head_size, toward + 180.0 + 25.0))
         draw.add_triangle_filled(imgui.ImVec2(*head), imgui.ImVec2(*left), imgui.ImVec2(*right),
                                  col)
     imgui.dummy(imgui.ImVec2(width, 2.0 * r + 12.0))
 
 
 def _flags(interactive: bool) -> int:
+    """Fixed, auto-sized windows that fold at their title bar's arrow (the view behind)."""
     f = imgui.WindowFlags_
-    flags = (f.no_collapse | f.always_auto_resize | f.no_saved_settings | f.no_move
-             | f.no_focus_on_appearing)
+    flags = (f.always_auto_resize | f.no_saved_settings | f.no_move | f.no_focus_on_appearing)
     if not interactive:
         flags |= f.no_inputs
     return flags
@@ -136,16 +147,19 @@ def _flags(interactive: bool) -> int:
 def draw_hud(state, params: ParamSet, size: tuple[int, int], *, ui_mode: bool = True,
              paused: bool = False, keys_help=(), error: str | None = None) -> dict:
     """Draw the ship panel and the weather and time panel at the top right of a window of
-    ``size`` (pixels). ``state`` is the scene's ``HudState`` (None when it could not be
-    computed: ``error`` says why). Returns the screen rectangles (x0, y0, x1, y1) of the
-    windows drawn, by name. The panels take the mouse only in the UI mode, and not while the
-    pause menu is open."""
+    ``size`` (pixels); below :data:`COMPACT_BELOW` they are compact (narrower, a smaller dial,
+    the weather panel folded at first). ``state`` is the scene's ``HudState`` (None when it
+    could not be computed: ``error`` says why). Returns the screen rectangles (x0, y0, x1, y1)
+    of the windows drawn, by name. The panels take the mouse only in the UI mode, and not while
+    the pause menu is open; each folds at its title bar."""
     interactive = ui_mode and not paused
+    small = compact(size)
+    width = COMPACT_WIDTH if small else WIDTH
     rects: dict = {}
     alpha = 0.75 if interactive else 0.4
     imgui.set_next_window_pos(imgui.ImVec2(size[0] - MARGIN, MARGIN), imgui.Cond_.always,
                               imgui.ImVec2(1.0, 0.0))
-    imgui.set_next_window_size_constraints(imgui.ImVec2(WIDTH, 0), imgui.ImVec2(WIDTH, 10000))
+    imgui.set_next_window_size_constraints(imgui.ImVec2(width, 0), imgui.ImVec2(width, 10000))
     imgui.set_next_window_bg_alpha(alpha)
     imgui.begin(SHIP_WINDOW, None, _flags(interactive))
     imgui.push_item_width(-LABEL_WIDTH)
@@ -154,17 +168,18 @@ def draw_hud(state, params: ParamSet, size: tuple[int, int], *, ui_mode: bool = 
     if state is None:
         imgui.text_wrapped(f"HUD unavailable: {error or 'no figures'}")
     else:
-        imgui.text(f"heading {state.heading:5.1f}°   speed {state.speed:4.1f} m/s "
-                   f"({state.speed * KNOTS_PER_MS:4.1f} kn)")
+        imgui.text(f"heading {state.heading:5.1f}°" + ("\n" if small else "   ")
+                   + f"speed {state.speed:4.1f} m/s ({state.speed * KNOTS_PER_MS:4.1f} kn)")
         _slider(params, HELM, "helm##hud", "%+.2f")
         _slider(params, SAILS, "sails##hud", "%+.2f")
         _slider(params, THROTTLE, "throttle##hud", "%+.2f")
-        _wind_dial(state)
-        imgui.text(f"true wind {state.wind_speed:4.1f} m/s toward {state.wind_relative:+.0f}°"
-                   f"{_side(state.wind_relative)}")
+        if not imgui.is_window_collapsed():  # the dial draws straight into the window
+            _wind_dial(state, COMPACT_DIAL_RADIUS if small else DIAL_RADIUS)
+        imgui.text_wrapped(f"true wind {state.wind_speed:4.1f} m/s toward "
+                           f"{state.wind_relative:+.0f}°{_side(state.wind_relative)}")
         if state.apparent_angle is not None:
-            imgui.text(f"apparent wind from {abs(state.apparent_angle):.0f}°"
-                       f"{_side(state.apparent_angle)}")
+            imgui.text_wrapped(f"apparent wind from {abs(state.apparent_angle):.0f}°"
+                               f"{_side(state.apparent_angle)}")
         if keys_help and imgui.collapsing_header("Keys##hud"):
             for keys, what in keys_help:
                 imgui.text(f"{keys:14s} {what}")
@@ -175,7 +190,9 @@ def draw_hud(state, params: ParamSet, size: tuple[int, int], *, ui_mode: bool = 
 
     imgui.set_next_window_pos(imgui.ImVec2(size[0] - MARGIN, ship_bottom + MARGIN),
                               imgui.Cond_.always, imgui.ImVec2(1.0, 0.0))
-    imgui.set_next_window_size_constraints(imgui.ImVec2(WIDTH, 0), imgui.ImVec2(WIDTH, 10000))
+    imgui.set_next_window_size_constraints(imgui.ImVec2(width, 0), imgui.ImVec2(width, 10000))
+    if small:
+        imgui.set_next_window_collapsed(True, imgui.Cond_.first_use_ever)
     imgui.set_next_window_bg_alpha(alpha)
     imgui.begin(WEATHER_WINDOW, None, _flags(interactive))
     imgui.push_item_width(-LABEL_WIDTH)

@@ -166,6 +166,24 @@ def _create_window(size, title, vsync: bool = True):
     raise GpuUnavailableError(f"could not create an OpenGL 3.3+ window: {last}")
 
 
+def panel_size(window: tuple[int, int]) -> tuple[float, float]:
+    """The panel's first size in a window of ``window`` pixels: 380 x 620 from a 1520-pixel
+    wide window up, a quarter of a narrower one's width (at least 220; it scrolls, and folds at
+    its title bar), so the view stays mostly visible."""
+    return (min(380.0, max(220.0, 0.25 * window[0])), 620.0)
+
+
+def frame_line(ms: np.ndarray) -> str:
+    """The panel's frame-time line from the last frame times (0: none measured): the last
+    measured frame, the median and the rate; dashes until a frame has been measured."""
+    measured = ms[ms > 0]
+    if not measured.size:
+        return "frame — ms   median — ms   — fps (measured from the second frame)"
+    median = float(np.median(measured))
+    return (f"frame {float(measured[-1]):6.2f} ms   median {median:6.2f} ms   "
+            f"{1000.0 / median:5.1f} fps")
+
+
 class NaturaWindow:
     def __init__(self, scene_name: str, params: ParamSet, camera: Camera, size=(1280, 720),
                  shader_root=None, screenshot_dir: str | os.PathLike = "screenshots",
@@ -218,7 +236,8 @@ class NaturaWindow:
         self.looking = False
         self.mouse_look = False
         self.show_panel = True
-        self.frame_ms = collections.deque([0.0] * 240, maxlen=240)
+        self.frame_ms = collections.deque([0.0] * 240, maxlen=240)  # 0: not measured
+        self.frame_text = frame_line(np.zeros(1))  # the panel's frame-time line, as drawn
         self.messages: collections.deque[str] = collections.deque(maxlen=6)
         self.screenshot_dir = Path(screenshot_dir)
         self.preset_dir = Path(preset_dir)
@@ -242,6 +261,7 @@ class NaturaWindow:
         self._before_pause: tuple[bool | None, bool] = (None, True)  # time.playing, ui_mode
         self.hud_state = None  # the scene's last HudState (scenes with a hud() method)
         self.hud_rects: dict = {}  # screen rectangles of the HUD's windows and pause buttons
+        self.panel_rect = (0.0, 0.0, 0.0, 0.0)  # the panel's screen rectangle, as last drawn
         self.session.gpu.progress = self.show_progress
         from .editor import ShaderEditorPane
 
@@ -313,6 +333,10 @@ class NaturaWindow:
         if name == "F" and getattr(modifiers, "ctrl", False):  # Ctrl+F: the panel's search
             self.show_panel = True
             self.panel_state.focus_search = True
+            from .panel import next_event_id  # keys typed before Ctrl+F stay where they were
+
+            self.panel_state.focus_after = next_event_id()
+            self.panel_state.focus_ready = False
             return
         if self._ui_wants_keyboard() and name != "F12":
             return
@@ -656,8 +680,11 @@ class NaturaWindow:
 
         imgui = self.imgui
         imgui.set_next_window_pos((10, 10), imgui.Cond_.first_use_ever)
-        imgui.set_next_window_size((380, 620), imgui.Cond_.first_use_ever)
+        imgui.set_next_window_size(panel_size(self.wnd.size), imgui.Cond_.first_use_ever)
         imgui.begin(f"Natura — {self.scene.title}###natura-panel")
+        pos, size = imgui.get_window_pos(), imgui.get_window_size()
+        self.panel_rect = (float(pos.x), float(pos.y), float(pos.x + size.x),
+                           float(pos.y + size.y))
         gpu = self.session.gpu
         imgui.text(f"{gpu.caps.describe()}")
         paths = self.context_paths()
@@ -666,9 +693,8 @@ class NaturaWindow:
                 imgui.text_wrapped(f"{what}: {how}")
             imgui.tree_pop()
         ms = np.array(self.frame_ms, dtype=np.float32)
-        median = float(np.median(ms[ms > 0])) if (ms > 0).any() else 0.0
-        imgui.text(f"frame {ms[-1]:6.2f} ms   median {median:6.2f} ms   "
-                   f"{1000.0 / median if median > 0 else 0.0:5.1f} fps")
+        self.frame_text = frame_line(ms)
+        imgui.text(self.frame_text)
         from .resolution import scale_line
 
         imgui.text(scale_line(self.resolution, tuple(self.target.size), self.window_size,
@@ -793,10 +819,14 @@ class NaturaWindow:
                 self.wnd.close()
         self.hud_rects = rects
 
-    def frame(self, dt: float) -> None:
+    def frame(self, dt: float, measured: bool = True) -> None:
+        """One frame, ``dt`` seconds after the last. ``measured``: ``dt`` is the last frame's
+        measured time (the first frame's is not: no frame came before it), which the panel
+        shows and the dynamic resolution judges."""
         imgui = self.imgui
-        self.frame_ms.append(dt * 1000.0)
-        self.update_scale(dt * 1000.0)
+        if measured:
+            self.frame_ms.append(dt * 1000.0)
+            self.update_scale(dt * 1000.0)
         if self.screenshot_requested:  # a screenshot has the window's size, whatever the scale
             self._fit_target(self.window_size)
         self.poll_shaders()
@@ -814,6 +844,11 @@ class NaturaWindow:
             self.save_screenshot()
         io = imgui.get_io()
         io.delta_time = max(dt, 1e-5)
+        ps = self.panel_state
+        if ps.focus_search and ps.focus_after is not None and not ps.focus_ready:
+            from .panel import queued_before  # Ctrl+F waits for the keys typed before it
+
+            ps.focus_ready = not queued_before(ps.focus_after)
         imgui.new_frame()
         if self.show_panel:
             self.build_panel(dt)
@@ -833,7 +868,7 @@ class NaturaWindow:
             dt = 1.0 / 60.0 if n == 0 else now - last
             last = now
             self.wnd.clear(0.0, 0.0, 0.0, 1.0)
-            self.frame(dt)
+            self.frame(dt, measured=n > 0)
             self.wnd.swap_buffers()
             n += 1
         return n

@@ -61,7 +61,7 @@ def bench_window(scene_name: str, params, camera, size: tuple[int, int],
             dt = 1.0 / 60.0 if n == 0 else now - last
             last = now
             win.wnd.clear(0.0, 0.0, 0.0, 1.0)
-            win.frame(dt)
+            win.frame(dt, measured=n > 0)
             win.wnd.swap_buffers()
             if n >= warmup:
                 scales.append(win.resolution.scale)

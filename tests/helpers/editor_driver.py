@@ -191,6 +191,9 @@ def compare_run(work: str) -> int:
     params = scene_params("planet", sets=["planet.ground_noise_size=256"])
     picks = pick("planet", 0.02, None, None, params=params, size=SIZE)  # --quality auto
     picks.apply(params)
+    # the panel as wide as in a large window (a window this small gets a narrower one, whose
+    # wrapped lines push the chart below the panel's bottom)
+    W.panel_size = lambda window: (380.0, 620.0)
     win = W.NaturaWindow("planet", params, get_scene("planet").new_camera(), SIZE,
                          screenshot_dir="shots", quality=picks)
     keys = XKeys(win, "^Natura .* planet$")

@@ -1,5 +1,5 @@
-"""The scene's one wind (spec/000 §1.4, ``Wind.cs``): speed and direction that the sea, the
-clouds, the sails and the flag all read from the frame's ``wind`` slot."""
+"""The scene's one wind (spec/000 §1.4, ``Wind.cs``): a speed and a direction that every effect
+of the scene reading the frame's ``wind`` slot follows."""
 
 from .effect import Wind
 

@@ -2,13 +2,12 @@
 and direction for the whole scene.
 
 It draws nothing. Its ``update`` fills the frame's ``wind`` slot with the (x, z) velocity in m/s
-before any other effect runs (a scene lists it first), so everything that reads the slot follows
-one change: the ocean builds its spectrum on it (its own ``ocean.wind`` and
-``ocean.wind_direction`` are then overridden, and the panel says so), the maritime clouds drift
-with it, the boat's sails and flag fill with it.
+before any other effect runs (a scene lists it first), so every effect of the scene that reads
+the slot follows one change. It never names them: the panel lists the scene's readers of the
+slot (``app.ui.panel.slot_readers``), so each scene's text says what that scene has.
 
-Direction convention (the ocean's, ``app.effects.ocean.params.wind_vector``): the direction the
-wind blows *toward*, 0° = north (−z), 90° = east (+x).
+Direction convention (the slot's, shared by its readers): the direction the wind blows
+*toward*, 0° = north (−z), 90° = east (+x).
 """
 
 from __future__ import annotations
@@ -40,9 +39,9 @@ class Wind(Effect):
     def python_params(cls) -> list[Param]:
         s = "spec/000 §1.4"
         return [
-            Param("wind.speed", 8.0, 0.0, 40.0, "wind speed over the sea (10 m above it): the "
-                  "ocean's spectrum, the clouds' drift, the sails and the flag all take it",
-                  step=0.1, unit="m/s", section=s),
+            Param("wind.speed", 8.0, 0.0, 40.0, "wind speed 10 m above the ground or the sea: "
+                  "every effect of the scene that reads the wind takes it (the panel lists "
+                  "them)", step=0.1, unit="m/s", section=s),
             Param("wind.direction", 90.0, 0.0, 360.0, "direction the wind blows toward: 0 = "
                   "north (−z), 90 = east (+x)", step=1.0, unit="°", section=s),
         ]
@@ -60,4 +59,4 @@ class Wind(Effect):
         v = self.velocity()
         speed, direction = self.params["wind.speed"], self.params["wind.direction"]
         return [f"wind {speed:.1f} m/s toward {direction:.0f}° = ({v[0]:+.1f}, {v[1]:+.1f}) m/s "
-                "(x, z): sea, clouds, sails and flag follow it"]
+                "(x, z)"]
