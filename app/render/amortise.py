@@ -31,6 +31,7 @@ jitter). Rendering the same view again (the bench's repeated frame) runs one ord
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -56,6 +57,35 @@ from ..sim.amortise import (
 #: glsl/common/amortise_resolve.frag): an effect lists all three in its programs
 RESOLVES = tuple(fullscreen("common/amortise_resolve", defines=(("AMORTISE_PATH", path),))
                  for path in (0, 1, 2))
+#: the gather of a banded march grid (see :func:`bands`)
+GATHER = fullscreen("common/amortise_gather")
+#: every program of the amortised march: an effect lists them in its programs
+PROGRAMS = (*RESOLVES, GATHER)
+#: the tile of a tiled software rasteriser (llvmpipe: 64 × 64 pixels, one thread each)
+TILE = 64
+
+
+def rasteriser_threads() -> int:
+    """The threads llvmpipe shades with: ``LP_NUM_THREADS``, else one per CPU."""
+    try:
+        return max(1, int(os.environ.get("LP_NUM_THREADS") or 0) or os.cpu_count() or 1)
+    except ValueError:
+        return max(1, os.cpu_count() or 1)
+
+
+def bands(grid_size, threads: int, software: bool) -> int:
+    """The bands a march grid is drawn in, or 0 to draw it as it is. A tiled software
+    rasteriser shades each 64 × 64 tile on one thread, so a grid smaller than a tile per thread
+    (quarter resolution, 1/16 refreshed: 40 × 23 rays at 640 × 360) marches on one of them:
+    drawn in ``threads`` bands, one 64-row tile each, every thread marches one; band k holds
+    the grid rows k, k + K, k + 2K … (interleaved: a band of the bottom rows alone would hold
+    the sea, whose rays end at once, and another the sky). A GPU, or a grid already as many
+    tiles as threads, is drawn as it is."""
+    w, h = (int(v) for v in grid_size)
+    tiles = (-(-w // TILE)) * (-(-h // TILE))
+    if not software or threads < 2 or tiles >= threads or h < 2:
+        return 0
+    return min(threads, h, TILE)
 MODES = ("on", "window", "off")
 #: the frame budget ``auto`` plans for when the scene has no ``output.frame_budget_ms``
 DEFAULT_BUDGET_MS = 33.0
@@ -159,9 +189,20 @@ class _Grid:
         self.aux = gpu.texture(owner, f"amortised march aux 1/{block}", self.size, 2,
                                dtype="f4", filter=nearest)
         self.fbo = gpu.framebuffer(owner, f"amortised march 1/{block}", [self.layer, self.aux])
+        self.bands = bands(self.size, rasteriser_threads(), gpu.caps.software)
+        self.rows = -(-self.size[1] // self.bands) if self.bands else 0  # rows of a band
+        self.banded: tuple | None = None
+        if self.bands:  # the banded target: a band of ``rows`` rows at the bottom of each tile
+            size = (self.size[0], (self.bands - 1) * TILE + self.rows)
+            layer = gpu.texture(owner, f"amortised march 1/{block} banded", size, 4, dtype="f4",
+                                filter=nearest)
+            aux = gpu.texture(owner, f"amortised march aux 1/{block} banded", size, 2,
+                              dtype="f4", filter=nearest)
+            fbo = gpu.framebuffer(owner, f"amortised march 1/{block} banded", [layer, aux])
+            self.banded = (fbo, layer, aux, size)
 
     def free(self, gpu) -> None:
-        for obj in (self.fbo, self.layer, self.aux):
+        for obj in (self.fbo, self.layer, self.aux, *(self.banded or ())[:3]):
             gpu.free(obj)
 
 
@@ -260,7 +301,8 @@ class Amortiser:
                          {"uBlueNoise": self.blue_noise()})
 
     def _uniforms(self, size, block: int, sub, phase: float, amortised: bool) -> dict:
-        return {"uAmortiseBlock": int(block), "uAmortiseShift": int(block).bit_length() - 1,
+        return {"uAmortiseBands": 0, "uAmortiseBandRows": 0, "uAmortiseGridRows": 0,
+                "uAmortiseBlock": int(block), "uAmortiseShift": int(block).bit_length() - 1,
                 "uAmortiseSub": (int(sub[0]), int(sub[1])),
                 "uAmortiseFullSize": (float(size[0]), float(size[1])),
                 "uJitterPhase": float(phase), "uAmortised": bool(amortised)}
@@ -268,8 +310,21 @@ class Amortiser:
     def _march(self, size, block: int, sub, phase: float,
                march: Callable[[MarchGrid], None]) -> _Grid:
         g = self._grid(size, block)
-        march(MarchGrid(g.fbo, g.size, self._uniforms(size, block, sub, phase, True),
-                        {"uBlueNoise": self.blue_noise()}))
+        uniforms = self._uniforms(size, block, sub, phase, True)
+        if g.banded is None:
+            march(MarchGrid(g.fbo, g.size, uniforms, {"uBlueNoise": self.blue_noise()}))
+        else:  # drawn banded, one band per thread, then gathered into the grid
+            fbo, layer, aux, banded_size = g.banded
+            march(MarchGrid(fbo, banded_size, {**uniforms, "uAmortiseBands": g.bands,
+                                               "uAmortiseBandRows": g.rows,
+                                               "uAmortiseGridRows": g.size[1]},
+                            {"uBlueNoise": self.blue_noise()}))
+            prog = self.gpu.program(self.owner, GATHER)
+            prog.bind_textures({"uBanded": layer, "uBandedAux": aux})
+            prog.set_many({"uAmortiseBands": g.bands})
+            g.fbo.use()
+            self.gpu.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
+            draw_fullscreen(prog)
         self.steps += 1
         return g
 

@@ -248,6 +248,7 @@ float SceneDistance(vec3 dir, ivec2 pixel) {
 }
 
 void main() {
+    if (AmortisePadding()) discard;  // a banded grid's padding
     // the full-resolution pixel this fragment stands for (itself, or one pixel of each block
     // of an amortised frame)
     ivec2 pixel = AmortisedPixel();

@@ -61,6 +61,7 @@ float SceneDistance(vec3 rayDir, ivec2 pixel) {
 }
 
 void main() {
+    if (AmortisePadding()) discard;  // a banded grid's padding
     ivec2 pixel = AmortisedPixel();  // itself, or one pixel of each block (amortised)
     vec3 rayOrigin = uCameraPos;
     vec3 rayDir = CameraRayDirection(AmortisedUV(pixel));

@@ -23,11 +23,41 @@ uniform vec2 uAmortiseFullSize;    // the full-resolution size (pixels)
 uniform sampler2D uBlueNoise;      // R: blue-noise ranks in (0, 1), app.sim.amortise.blue_noise
 uniform float uJitterPhase;        // frac(refresh cycle · φ)
 
+uniform int uAmortiseBands;        // > 1: the grid is drawn banded (below); else as it is
+uniform int uAmortiseBandRows;     // rows of each band
+uniform int uAmortiseGridRows;     // the grid's rows
+
 const float AMORTISE_FAR = 1.0e7;  // the cloud distance of a ray that met nothing (metres)
+const int AMORTISE_TILE_SHIFT = 6; // a band per 64 rows: a tiled software rasteriser's tile
+const int AMORTISE_TILE = 1 << AMORTISE_TILE_SHIFT;
+
+// A small grid fits one 64 × 64 tile, and a tiled software rasteriser (llvmpipe) shades a tile
+// on one thread: there the grid is drawn in uAmortiseBands bands (app.render.amortise.bands),
+// one 64-row tile each, so that each thread marches one. Band k holds the grid rows k, k + K,
+// k + 2K … (K bands): interleaved, every band has its share of sky and of sea. The same rays
+// are marched either way; amortise_gather.frag puts them back in grid order.
+
+// Whether this fragment is a banded grid's padding (it marches nothing: discard it).
+bool AmortisePadding() {
+    if (uAmortiseBands <= 1) return false;
+    int y = int(gl_FragCoord.y);
+    int row = y & (AMORTISE_TILE - 1);
+    return row >= uAmortiseBandRows
+        || row * uAmortiseBands + (y >> AMORTISE_TILE_SHIFT) >= uAmortiseGridRows;
+}
+
+// The grid texel this fragment marches.
+ivec2 AmortiseGridTexel() {
+    ivec2 f = ivec2(gl_FragCoord.xy);
+    if (uAmortiseBands > 1) {
+        f.y = (f.y & (AMORTISE_TILE - 1)) * uAmortiseBands + (f.y >> AMORTISE_TILE_SHIFT);
+    }
+    return f;
+}
 
 // The full-resolution pixel this fragment marches.
 ivec2 AmortisedPixel() {
-    return (ivec2(gl_FragCoord.xy) << uAmortiseShift) + uAmortiseSub;
+    return (AmortiseGridTexel() << uAmortiseShift) + uAmortiseSub;
 }
 
 // Its uv in [0, 1]² (pixel centre, (0, 0) at the bottom left).

@@ -207,3 +207,36 @@ def test_a_turning_camera_reprojects_the_history(rig):
     stale = np.abs(gl_rows(rig.amortiser._pair[1].read()) - full).max(axis=-1)
     assert stale[sky].max() > 0.02
     assert np.array_equal(layer[near], np.tile([0.0, 0.0, 0.0, 1.0], (near.sum(), 1)))
+
+
+@pytest.mark.parametrize("schedule", [Schedule(4, 1), Schedule(2, 2)])
+def test_a_banded_grid_marches_the_same_rays(gpu, monkeypatch, schedule):
+    """A tiled software rasteriser marches a small grid on one thread (one 64 × 64 tile), so
+    there it is drawn in bands, one tile each, and gathered (app.render.amortise.bands): the
+    layer is the same, bit for bit, as the grid drawn as it is."""
+    import app.render.amortise as am
+
+    layers = {}
+    for threads in (1, 2):
+        monkeypatch.setattr(am, "rasteriser_threads", lambda t=threads: t)
+        rig = ProbeRig(gpu)
+        for _ in range(3):  # a reset, then amortised steps
+            layer = rig.step(schedule, interactive=True).read()
+        g = rig.amortiser._grids[schedule.block]
+        assert g.bands == (2 if threads == 2 and gpu.caps.software else 0)
+        layers[threads] = (layer, *rig.grid(schedule.block))
+        rig.amortiser.release()
+    for a, b in zip(layers[1], layers[2]):
+        assert np.array_equal(a, b)
+
+
+def test_bands_only_for_a_small_grid_on_a_software_renderer():
+    from app.render.amortise import bands
+
+    assert bands((40, 23), 2, True) == 2  # quarter, 1/16 at 640 × 360: one tile
+    assert bands((40, 23), 8, True) == 8
+    assert bands((40, 23), 2, False) == 0  # a GPU
+    assert bands((40, 23), 1, True) == 0
+    assert bands((160, 90), 2, True) == 0  # six tiles already
+    assert bands((5, 1), 4, True) == 0  # one row
+    assert bands((5, 3), 4, True) == 3  # never more bands than rows

@@ -68,7 +68,7 @@ from ...errors import ParamError
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Joint, Param, ParamSet, non_zero, show
-from ...render.amortise import RESOLVES, Amortiser, amortise_params, amortised, schedule_for
+from ...render.amortise import PROGRAMS, Amortiser, amortise_params, amortised, schedule_for
 from ...render.layers import LAYER_COMPOSITE, composite_layer
 from ...sim.amortise import LayerState
 from ...sim.clouds import density_length
@@ -95,7 +95,7 @@ class Clouds(Effect):
     name = "clouds"
     title = "Volumetric clouds (model A)"
     spec = SPEC
-    programs = (CLOUD_MARCH, LAYER_COMPOSITE, *RESOLVES)
+    programs = (CLOUD_MARCH, LAYER_COMPOSITE, *PROGRAMS)
     extra_groups = ("bake_shape", "bake_detail", "bake_weather")
     stages = (Stage.VOLUMES,)
     consumes = {"main_light": "optional", "image": "optional"}

@@ -59,7 +59,7 @@ from ...bakes.textures import BakedTextures
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Param, ParamSet
-from ...render.amortise import RESOLVES, Amortiser, amortise_params, amortised, schedule_for
+from ...render.amortise import PROGRAMS, Amortiser, amortise_params, amortised, schedule_for
 from ...render.layers import LAYER_COMPOSITE, composite_layer
 from ...sim import clouds_b as twin
 from ...sim.amortise import LayerState
@@ -76,7 +76,7 @@ class CloudsB(Effect):
     name = "clouds_b"
     title = "Volumetric clouds, model B (maritime thesis)"
     spec = "spec/000"
-    programs = (CLOUDS_B, LAYER_COMPOSITE, *RESOLVES)
+    programs = (CLOUDS_B, LAYER_COMPOSITE, *PROGRAMS)
     stages = (Stage.VOLUMES,)
     consumes = {"main_light": "optional", "sun": "optional", "wind": "optional",
                 "image": "optional", "environment": "optional"}
