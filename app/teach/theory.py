@@ -754,11 +754,16 @@ def find(text: str, root: Path = THEORY) -> tuple[Page, Entry]:
     return page, page.entries[anchor]
 
 
+#: files that hold tags as data, not as citations (the recorded test ids)
+NOT_CITATIONS = {"durations.json"}
+
+
 def scan(root: Path = PROJECT_ROOT, tops: tuple[str, ...] = SOURCES):
     """(path relative to ``root``, line, spec, anchor) of every tag in ``tops``."""
     for top in tops:
         for path in sorted((root / top).rglob("*")):
-            if path.suffix not in SUFFIXES or "__pycache__" in path.parts or not path.is_file():
+            if (path.suffix not in SUFFIXES or "__pycache__" in path.parts
+                    or path.name in NOT_CITATIONS or not path.is_file()):
                 continue
             try:
                 text = path.read_text(encoding="utf-8")
