@@ -17,7 +17,7 @@ Units and frames
 ----------------
 Lengths are metres; coefficients are per metre. Positions here are **planet-centred** (the origin
 at the Earth's centre). The scene's local frame has its origin on the sea surface with y up and the
-planet centre at (0, −R, 0) (§1.3 [inference]); :func:`local_to_planet` converts. ``sun_dir`` is
+planet centre at (0, −R, 0) (§1.3, implied); :func:`local_to_planet` converts. ``sun_dir`` is
 the unit vector **toward** the sun — the thesis's ``lightDir`` points from the sun into the scene,
 so ``sun_dir = −lightDir`` — and θ, the scattering angle of the phase functions, has
 ``cos θ = view_dir · sun_dir``: cos θ = 1 looking straight at the sun, where the Mie forward peak
@@ -221,7 +221,7 @@ class AtmosphereParams:
 
     @property
     def beta_mie_ext(self) -> np.ndarray:
-        """β^ext_M = β^scatt_M + β^abs_M = 1.1 · 2.0e-5 = 2.2e-5 /m (§1.3 [inference])."""
+        """β^ext_M = β^scatt_M + β^abs_M = 1.1 · 2.0e-5 = 2.2e-5 /m (§1.3, as we read it)."""
         return np.array(self.beta_mie_scatter) + self.beta_mie_absorption
 
     def lut_key(self) -> tuple:
@@ -610,7 +610,7 @@ def _atmosphere_exit(h, mu, params: AtmosphereParams):
 # the top 2 km, and < 6e-4 in optical depth everywhere, the grazing band included.
 #
 # Layout. One RG32F texture (the thesis used one RGBA8-packed texture per particle type; bilinear
-# filtering of packed bytes is wrong, §1.8 [inference]): R = C_R, G = C_M (dimensionless).
+# filtering of packed bytes is wrong, §1.8): R = C_R, G = C_M (dimensionless).
 # numpy ``table[row, column, channel]`` has shape (n_height, n_angle, 2) and is uploaded as a
 # (width = n_angle, height = n_height) texture: **rows = height (v), columns = cos Φ (u)**, as the
 # thesis. Row 0 (v near 0) is sea level; column 0 (u near 0) is the horizon.

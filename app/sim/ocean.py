@@ -96,7 +96,7 @@ def sine_wave_height(x, t: float, amplitude: float, wavenumber: float, omega: fl
 
 
 def sine_wave_normal(x, t: float, amplitude: float, wavenumber: float, omega: float):
-    """spec/000 eq. 2.2: unit normal (−kA·cos(kx+ωt), 1, 0)/‖·‖ = T × B normalised, with
+    """spec/000 eq. 2.2: unit normal (−kA·cos(kx+ωt), 1, 0)/‖·‖ = B × T normalised, with
     T = ∂P/∂x = (1, kA·cos(kx+ωt), 0) and B = ẑ (spec/000 §1.1(a)); shape (..., 3)."""
     x = np.asarray(x, dtype=float)
     sx = amplitude * wavenumber * np.cos(wavenumber * x + omega * t)

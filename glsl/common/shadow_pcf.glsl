@@ -2,7 +2,8 @@
 // Percentage-closer filtering of a depth shadow map — the shared filter of every shadowed
 // receiver (atmospheric-scattering thesis spec/002 §3.2, "processing the map"): a Gaussian-
 // weighted neighbourhood of (2 r + 1)² bilinear depth comparisons, r = SHADOW_PCF_RADIUS texels
-// (2: the thesis's 5×5), σ = SHADOW_PCF_SIGMA texels (1), weights w = exp(−(x² + y²) / (2 σ²)).
+// (2: a 5×5 kernel; the thesis gives no size), σ = SHADOW_PCF_SIGMA texels (1), weights
+// w = exp(−(x² + y²) / (2 σ²)).
 // Numpy twin: app/render/shadows.py (pcf_weights, compare_bilinear, pcf_visibility; the same
 // radius and σ, PCF_RADIUS and PCF_SIGMA), which the planet's shadow tests read the map with.
 //

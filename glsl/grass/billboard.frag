@@ -15,7 +15,7 @@
 // no discard, so the renderer tests depth before shading (a shader that discards is tested
 // after) and shades each visible texel once instead of every overlapping tuft's.
 // Failure cases guarded: the stray fragments of alpha ≈ 0 that blending would leave are
-// discarded (spec/003 §4); a cutoff of 0 still discards alpha 0; mipmapped tiles sample only
+// discarded (spec/003 §2.4); a cutoff of 0 still discards alpha 0; mipmapped tiles sample only
 // inside their third of the atlas (the tufts never reach a tile's side); the normal is turned
 // toward the camera (planes rotated past 90° show their back).
 #include "grass_shading.glsl"

@@ -23,9 +23,10 @@
 // blue, so the zenith ray's 30 steps must reach into the air (a sphere 10 000 km away puts the
 // first sample at 167 km: a black sky above ~15°), while the sphere contains the Earth and
 // the atmosphere — so it hugs them: centred on the Earth, a radius beyond R + 60 km. Default
-// uUniverseRadius = R + 200 km about the Earth's centre [inference]: inside that range, and it
-// contains a space camera at 3 × the atmosphere's height (§9 criterion 19), as the thesis's
-// space views are taken inside it. Then the zenith ray is 200 km long (first sample at 3.3 km)
+// uUniverseRadius = R + 200 km about the Earth's centre (ours; the thesis gives no value):
+// inside that range, and it contains a space camera at 3 × the atmosphere's height (§9
+// criterion 19), as the thesis's space views are taken inside it. Then the zenith ray is
+// 200 km long (first sample at 3.3 km)
 // and a horizontal one ~1600 km (53 km steps); with the thesis's τ(PC) rule (the whole step
 // added before use: uThesisPcRule, on for method 1 by default) such a step extinguishes its own
 // sample, so the rows just above the horizon turn dark and the bright orange line moves up to

@@ -1,6 +1,6 @@
 #version 330 core
 // Meshes of the planet scene (mountains, city block) in the local tangent frame at the scene
-// origin; positions are made camera-relative here (spec/002 §2.1: `obj` = model-space position,
+// origin; positions are made camera-relative here (spec/002 §2.1: `obj` = world-space position,
 // here relative to the camera so float32 holds up from the ground to space).
 // Equations: none (the transform of spec/002 §2.1).
 // Failure cases guarded: float32 precision at planet scale — the camera's local position
