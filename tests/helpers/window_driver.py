@@ -42,9 +42,10 @@ def xvfb_server_num() -> int:
     return 200 + 20 * int(worker[2:]) if worker.startswith("gw") and worker[2:].isdigit() else 99
 
 
-def drive(mode: str, work) -> tuple[dict, subprocess.CompletedProcess]:
-    """Run this driver's ``mode`` in ``work`` under Xvfb: its RESULT (JSON) and the process."""
-    proc = under_xvfb([sys.executable, __file__, str(work), mode], cwd=work)
+def drive(mode: str, work, driver=__file__) -> tuple[dict, subprocess.CompletedProcess]:
+    """Run ``driver``'s (this one's by default) ``mode`` in ``work`` under Xvfb: its RESULT
+    (JSON) and the process."""
+    proc = under_xvfb([sys.executable, str(driver), str(work), mode], cwd=work)
     lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
     assert proc.returncode == 0 and lines, proc.stdout[-3000:] + proc.stderr[-3000:]
     return json.loads(lines[-1][len("RESULT "):]), proc

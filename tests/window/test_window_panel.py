@@ -6,15 +6,13 @@ parallax reference."""
 
 from __future__ import annotations
 
-import json
 import re
 import shutil
-import sys
 from pathlib import Path
 
 import pytest
 
-from tests.helpers.window_driver import XDOTOOL_SKIP, XVFB_SKIP, under_xvfb
+from tests.helpers.window_driver import XDOTOOL_SKIP, XVFB_SKIP, drive
 
 DRIVER = Path(__file__).parent.parent / "helpers" / "panel_driver.py"
 
@@ -26,10 +24,7 @@ needs_xdotool = pytest.mark.skipif(shutil.which("xdotool") is None, reason=XDOTO
 
 
 def _drive(mode, work):
-    proc = under_xvfb([sys.executable, str(DRIVER), str(work), mode], cwd=work)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
-    assert proc.returncode == 0 and lines, proc.stdout[-3000:] + proc.stderr[-3000:]
-    return json.loads(lines[-1][len("RESULT "):])
+    return drive(mode, work, DRIVER)[0]
 
 
 def test_the_first_frame_shows_no_made_up_frame_time(tmp_path):

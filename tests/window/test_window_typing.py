@@ -6,14 +6,12 @@ and "wind" typed with Ctrl+F in one slow frame searched for "ind"."""
 
 from __future__ import annotations
 
-import json
 import shutil
-import sys
 from pathlib import Path
 
 import pytest
 
-from tests.helpers.window_driver import XDOTOOL_SKIP, XVFB_SKIP, under_xvfb
+from tests.helpers.window_driver import XDOTOOL_SKIP, XVFB_SKIP, drive
 
 DRIVER = Path(__file__).parent.parent / "helpers" / "typing_driver.py"
 
@@ -25,10 +23,7 @@ pytestmark = [
 
 
 def _drive(mode, work):
-    proc = under_xvfb([sys.executable, str(DRIVER), str(work), mode], cwd=work)
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("RESULT ")]
-    assert proc.returncode == 0 and lines, proc.stdout[-3000:] + proc.stderr[-3000:]
-    return json.loads(lines[-1][len("RESULT "):])
+    return drive(mode, work, DRIVER)[0]
 
 
 def test_typed_brackets_are_saved_as_typed_at_any_frame_rate(tmp_path):
