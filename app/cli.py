@@ -454,9 +454,8 @@ def _check_shader_arg(value: str | None) -> None:
 
 def _session_inputs(args, scene_name: str):
     """Validate everything the user gave (scene, parameters, camera, size) before any GL work."""
-    from .runtime import parse_size, scene_params
-    from .scenes import SCENES, get_scene
-    from .sim.camera import parse_camera
+    from .runtime import parse_size, placed_camera, scene_params
+    from .scenes import SCENES
 
     if scene_name not in SCENES:
         raise UsageError(f"unknown scene {quote(scene_name, 40)}: allowed {', '.join(SCENES)}")
@@ -464,7 +463,6 @@ def _session_inputs(args, scene_name: str):
     _nonempty("--camera", args.camera, "X,Y,Z[,YAW[,PITCH[,FOV]]]")
     _nonempty("--preset", args.preset, "a TOML preset file")
     _check_shader_arg(args.shaders)
-    cls = get_scene(scene_name)
     size = parse_size(args.size) if args.size is not None else (1280, 720)
     view = None
     if getattr(args, "view", None) is not None:
@@ -484,13 +482,7 @@ def _session_inputs(args, scene_name: str):
             raise UsageError(f"--vr: scene {scene_name!r} has no VR mode: allowed "
                              f"{', '.join(vr_scenes) or 'none'}")
         params.set("vr.enabled", True)
-    camera = cls.new_camera()
-    if view is not None and view.place(camera):
-        cls.on_user_camera(params)
-    if args.camera is not None:
-        parse_camera(args.camera, camera)
-        cls.check_camera(camera)
-        cls.on_user_camera(params)
+    camera = placed_camera(scene_name, params, view, args.camera)
     camera.set(yaw=args.yaw, pitch=args.pitch, fov=args.fov)
     _apply_quality(args, params, scene_name, size)
     args.resolved_view = view

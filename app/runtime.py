@@ -66,6 +66,24 @@ def scene_params(scene_name: str, shader_root=None, sets: Iterable[str] = (),
     return params
 
 
+def placed_camera(scene_name: str, params: ParamSet, view=None,
+                  camera_text: str | None = None) -> Camera:
+    """The scene's camera, placed by ``view`` (a ``scenes.views`` view) and then by
+    ``camera_text`` (``X,Y,Z[,YAW[,PITCH[,FOV]]]``, checked against the scene's range), either
+    of which tells the scene the user placed it (a chase camera lets go)."""
+    from .sim.camera import parse_camera
+
+    cls = get_scene(scene_name)
+    camera = cls.new_camera()
+    if view is not None and view.place(camera):
+        cls.on_user_camera(params)
+    if camera_text is not None:
+        parse_camera(camera_text, camera)
+        cls.check_camera(camera)
+        cls.on_user_camera(params)
+    return camera
+
+
 def open_session(scene_name: str, params: ParamSet | None = None, shader_root=None, ctx=None,
                  camera: Camera | None = None,
                  sizes: Iterable[tuple[int, int]] = ()) -> Session:

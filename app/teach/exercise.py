@@ -345,9 +345,8 @@ def render_view(ex: Exercise, root: Path, ctx) -> np.ndarray:
     """The exercise's view rendered with the shaders of ``root``, as displayed: (h, w, 3) in
     [0, 1] (tone-mapped sRGB). A compile error raises ShaderCompileError (file:line lines)."""
     from ..colour import to_srgb8
-    from ..runtime import open_session, render_frames, scene_params
-    from ..scenes import SCENES, get_scene
-    from ..sim.camera import parse_camera
+    from ..runtime import open_session, placed_camera, render_frames, scene_params
+    from ..scenes import SCENES
 
     if ex.scene not in SCENES:
         raise UsageError(f"exercise {ex.name}: unknown scene {quote(ex.scene, 40)}: allowed "
@@ -358,14 +357,7 @@ def render_view(ex: Exercise, root: Path, ctx) -> np.ndarray:
 
         view = get_view(ex.scene, ex.view)
     params = scene_params(ex.scene, root, ex.sets, None, view)
-    cls = get_scene(ex.scene)
-    camera = cls.new_camera()
-    if view is not None and view.place(camera):
-        cls.on_user_camera(params)
-    if ex.camera is not None:
-        parse_camera(ex.camera, camera)
-        cls.check_camera(camera)
-        cls.on_user_camera(params)
+    camera = placed_camera(ex.scene, params, view, ex.camera)
     session = open_session(ex.scene, params, root, ctx=ctx, camera=camera, sizes=[ex.size])
     try:
         frames = render_frames(session, ex.size, 1,

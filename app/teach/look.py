@@ -76,14 +76,10 @@ def render_view(view, size: tuple[int, int], ctx=None) -> tuple[np.ndarray, dict
     """A view rendered as ``natura render SCENE --view NAME`` renders it: the 8-bit sRGB image
     and its :func:`figures`, plus ``nonfinite``: NaN or Inf values in the linear radiance."""
     from ..colour import to_srgb8
-    from ..runtime import open_session, render_frames, scene_params
-    from ..scenes import get_scene
+    from ..runtime import open_session, placed_camera, render_frames, scene_params
 
-    cls = get_scene(view.scene)
     params = scene_params(view.scene, view=view)
-    camera = cls.new_camera()
-    if view.place(camera):
-        cls.on_user_camera(params)
+    camera = placed_camera(view.scene, params, view)
     session = open_session(view.scene, params, ctx=ctx, camera=camera)
     try:
         frames = render_frames(session, size, warmup=view.frames - 1)
