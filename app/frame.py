@@ -79,6 +79,10 @@ class Stage(IntEnum):
     * ``OPAQUE`` — solid geometry, depth-tested and depth-writing;
     * ``WATER`` — water surfaces seen from above: they read the opaque image (refraction) and
       are covered by the volumes in front of them;
+    * ``SKY`` — what is behind everything, drawn after the opaque and water stages only where
+      they left the far plane (depth-tested there): the image ``BACKGROUND`` would give, without
+      shading the pixels something covers. A scene with a pass here must have no pass in the
+      opaque or water stages that reads the image (the sky is not in it yet);
     * ``TRANSPARENT`` — blended surfaces, back to front;
     * ``VOLUMES`` — ray-marched media composited over the image (clouds), clipped at its depth;
     * ``FOG`` — participating media in front of everything: distance and height fog, aerial
@@ -94,6 +98,7 @@ class Stage(IntEnum):
     BACKGROUND = 30
     OPAQUE = 40
     WATER = 50
+    SKY = 55
     TRANSPARENT = 60
     VOLUMES = 70
     FOG = 80

@@ -176,3 +176,28 @@ def test_moon_texture_only_within_its_cone(render):
     cosang = cam.ray_directions(96, 96) @ moon
     assert np.abs(diff[cosang < 0.5]).max() < 1e-6
     assert diff[cosang > 0.999].mean() > 0.3  # the disc itself is bright
+
+
+def test_the_sky_shades_only_what_nothing_covers_and_keeps_the_depth(render):
+    """The sky draws in the sky stage, after the opaque and water surfaces, depth-tested on the
+    far plane: a pixel something drew into (depth < 1) keeps its colour and depth, and every
+    other pixel gets the sky a background pass would have drawn there."""
+    _, session = render("sky", (64, 36))
+    scene = session.scene
+    sky = scene.effect("sky")
+    frame = scene.frame((64, 36), 0.0)
+    target = session.gpu.target("test", "sky stage", (64, 36))
+    try:
+        target.clear((0.0, 0.0, 0.0, 1.0))
+        sky.draw(frame, target)
+        full = target.read()[..., :3].copy()
+        target.clear((1.0, 0.0, 1.0, 1.0))
+        target.fbo.clear(0.0, 1.0, 0.0, 1.0, depth=0.3, viewport=(0, 0, 32, 36))  # "an object"
+        sky.draw(frame, target)
+        image = target.read()[..., :3]
+        depth = target.read_depth()
+    finally:
+        session.gpu.free(target)
+    assert np.all(image[:, :32] == (0.0, 1.0, 0.0))
+    assert np.array_equal(image[:, 32:], full[:, 32:]) and full[:, 32:].max() > 0.0
+    assert np.allclose(depth[:, :32], 0.3, atol=1e-6) and np.all(depth[:, 32:] == 1.0)

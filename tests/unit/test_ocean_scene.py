@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from app.effects.ocean.mesh import polar_grid
+from app.effects.ocean.mesh import polar_grid, stretch_height
 from app.sim import ocean as oc
 
 # -- mesh ----------------------------------------------------------------------------------------
@@ -60,3 +60,42 @@ def test_whitecap_thresholds_are_calibrated_quantiles():
     assert t2 <= 1e-3, "a flat cascade makes no foam"
     assert oc.whitecap_coverage(0.0) == 0.0 and oc.whitecap_coverage(12.0) == pytest.approx(
         3.84e-6 * (12 / 1.075) ** 3.41)
+
+
+def test_stretched_grid_keeps_far_cells_at_the_asked_screen_aspect():
+    """Beyond aspect·h a cell's radial step grows as r/(aspect·h), so seen from height h (its
+    depression angle shrinks by h·Δr/r²) it is 1/aspect as tall as its arc is wide; the square
+    grid is untouched where the stretch has not begun, and aspect 0 is the square grid."""
+    segments, aspect, h = 256, 8.0, 4.0
+    square = polar_grid(segments, 0.25, 3000.0)
+    assert all(np.array_equal(a, b) for a, b in zip(square, polar_grid(segments, 0.25, 3000.0,
+                                                                       0.0, h)))
+    verts, idx = polar_grid(segments, 0.25, 3000.0, aspect, h)
+    radii = np.unique(verts[:, 0].astype(float))
+    knee = aspect * h
+    arc = radii * 2 * math.pi / segments
+    far = (radii > knee)[:-2]  # (the last ring is cut at the extent)
+    screen = np.diff(radii)[:-1][far] * h / radii[:-2][far] / arc[:-2][far]
+    assert np.allclose(screen, 1.0 / aspect, rtol=1e-4)
+    near = radii[radii <= knee]
+    assert np.array_equal(near, np.unique(square[0][:, 0].astype(float))[:len(near)])
+    beyond = int((radii > knee).sum())
+    assert beyond <= 1.15 * segments / (2 * math.pi)  # about segments/2π, whatever the extent
+    wider = np.unique(polar_grid(segments, 0.25, 30000.0, aspect, h)[0][:, 0].astype(float))
+    assert int((wider > knee).sum()) <= beyond + 2  # ten times the extent: hardly more rings
+    assert len(idx) < 0.75 * len(square[1])
+    assert verts[:, 0].max() == pytest.approx(3000.0)
+    tri = idx.reshape(-1, 3)  # still facing up, with no degenerate cell
+    r, th = verts[:, 0].astype(float), verts[:, 1].astype(float)
+    p = np.stack([r * np.cos(th), np.zeros_like(r), r * np.sin(th)], axis=1)
+    assert np.all(np.cross(p[tri[:, 1]] - p[tri[:, 0]], p[tri[:, 2]] - p[tri[:, 0]])[:, 1] > 0)
+
+
+def test_stretch_height_keeps_its_power_of_two_while_the_camera_bobs():
+    h = stretch_height(0.0, 6.0)
+    assert h == 4.0
+    for bob in (5.0, 7.5, 11.9, 2.7):
+        assert stretch_height(h, bob) == 4.0
+    assert stretch_height(h, 12.5) == 8.0 and stretch_height(h, 2.6) == 2.0
+    assert stretch_height(0.0, -3.0) == 2.0  # under water: the depth below the surface
+    assert stretch_height(0.0, 0.0) == 0.5

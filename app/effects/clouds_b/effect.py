@@ -132,6 +132,7 @@ class CloudsB(Effect):
         self.jitter_phase: float | None = None
         self.cloud_offset = np.zeros(3)
         self.coverage_shift = np.zeros(2)  # metres the coverage map has drifted (x, z)
+        self._specs: tuple[tuple, dict] | None = None  # (their sizes, bake_specs()) last made
 
     # -- CPU -------------------------------------------------------------------------------
     def wind_velocity(self, frame=None) -> np.ndarray:
@@ -173,7 +174,13 @@ class CloudsB(Effect):
                 "weather": bakes.WeatherBake(size=p["clouds_b.gradient_resolution"])}
 
     def texture(self, kind: str):
-        return self.bakes.get(self.bake_specs()[kind])
+        # the specs are made again only when their three sizes change (not three times a frame)
+        p = self.params
+        key = (p["clouds_b.volume_resolution"], p["clouds_b.detail_resolution"],
+               p["clouds_b.gradient_resolution"])
+        if self._specs is None or self._specs[0] != key:
+            self._specs = (key, self.bake_specs())
+        return self.bakes.get(self._specs[1][kind])
 
     def layer(self, size):
         """The full-size march target of the thesis's march (rgb in-scattered light, a

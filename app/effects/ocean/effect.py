@@ -339,7 +339,8 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
     def _mesh_draw(self, prog, frame) -> None:
         p = self.params
         self.mesh.draw(prog, frame.camera, frame.aspect, p["ocean.mesh_segments"],
-                       p["ocean.mesh_inner"], p["ocean.mesh_extent"], p["ocean.mesh_cull"])
+                       p["ocean.mesh_inner"], p["ocean.mesh_extent"], p["ocean.mesh_cull"],
+                       p["ocean.mesh_aspect"])
 
     def _far_start(self) -> float:
         return 0.88 * self.params["ocean.mesh_extent"]

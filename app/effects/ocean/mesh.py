@@ -13,21 +13,36 @@ import numpy as np
 from ...gpu.cache import memoised
 
 
-def polar_grid(segments: int, inner: float, extent: float):
+def polar_grid(segments: int, inner: float, extent: float, aspect: float = 0.0,
+               height: float = 1.0):
     """Rest-point mesh around the camera: a centre vertex, then rings r₀ = inner,
-    r_{i+1} = r_i·(1 + 2π/segments) up to ``extent`` (cells about square).
+    r_{i+1} = r_i·(1 + s_i·2π/segments) up to ``extent``, where s_i = 1 (cells about square)
+    out to ``aspect``·``height`` and s_i = r_i/(``aspect``·``height``) beyond it (``aspect`` ≤ 0:
+    square cells everywhere).
+
+    Why the stretch: seen from a height h, a ring at distance r ≫ h shrinks on screen by h/r
+    across the view (its depression angle is about h/r) while a wedge keeps its angular width
+    2π/segments, so square cells far away turn into slivers a fraction of a pixel tall — most
+    of the mesh's triangles, each costing a software rasteriser its setup. Growing the rings by
+    r/(aspect·h) keeps every far cell's on-screen height at 1/``aspect`` of its width; beyond
+    aspect·h the grid then has only about segments/2π more rings, whatever its extent. The
+    vertex spacing (column 2) stays the arc, the side the view does not foreshorten: read at the
+    coarser mip level of the stretched side, the far waves flatten, and the image strays further
+    from a fine mesh's (measured in tests/gl/test_ocean_mesh_stretch.py).
 
     Returns (vertices (V, 3) float32 = (radius, angle, spacing), indices (M,) uint32), triangles
     counter-clockwise seen from above (front faces are the top of the sea), ordered segment by
     segment (all rings of wedge j, then wedge j + 1): a run of wedges is one contiguous range of
     ``len(indices) // segments`` indices each, so the renderer draws only the wedges in view."""
-    growth = 1.0 + 2.0 * math.pi / segments
+    step = 2.0 * math.pi / segments
+    knee = aspect * height if aspect > 0.0 else math.inf  # where the cells start to stretch
     radii = [0.0, inner]
     while radii[-1] < extent:
-        radii.append(min(radii[-1] * growth, extent))
+        r = radii[-1]
+        radii.append(min(r * (1.0 + step * max(1.0, r / knee)), extent))
     radii = np.array(radii)
-    theta = np.arange(segments) * (2.0 * math.pi / segments)
-    spacing = np.maximum(radii * (2.0 * math.pi / segments), inner * 2.0 * math.pi / segments)
+    theta = np.arange(segments) * step
+    spacing = np.maximum(radii * step, inner * step)  # the arc: the mip level (see above)
     # vertices column by column (all rings at angle θ_j), so a run of wedges also reads one
     # contiguous range of vertices: software rasterisers shade every vertex in the index range
     nr = len(radii) - 1
@@ -49,6 +64,18 @@ def polar_grid(segments: int, inner: float, extent: float):
     fan = np.stack([np.zeros_like(first), after, first], axis=-1)
     # (θ grows from +x toward +z, so θ_j → θ_{j+1} → outward is counter-clockwise seen from +y)
     return vertices, np.concatenate([fan, quads], axis=1).astype("u4").ravel()
+
+
+def stretch_height(current: float, camera_height: float) -> float:
+    """The height the far rings are stretched for (:func:`polar_grid`): a power of two near the
+    camera's height above the mean water level (at least 0.5 m), kept (``current``) while the
+    camera stays within [⅔, 3]× of it, so a bobbing camera does not rebuild the grid. A camera
+    higher than the grid's height sees its far cells up to 3× taller than ``aspect`` asks, a
+    lower one flatter; ``current`` ≤ 0: none chosen yet."""
+    h = max(abs(float(camera_height)), 0.5)
+    if current > 0.0 and current / 1.5 <= h <= 3.0 * current:
+        return float(current)
+    return float(2.0 ** math.floor(math.log2(h)))
 
 
 def visible_wedges(camera, aspect: float, segments: int, margin: int = 2):
@@ -90,14 +117,22 @@ class OceanMesh:
                                      release=lambda objs: [self.gpu.free(o) for o in objs])
         self.triangles = 0  # in the whole mesh
         self.drawn = 0  # in the last draw
+        self.height = 0.0  # the camera height the far rings were stretched for (0: none yet)
 
     @property
     def built(self) -> bool:
         return self._buffers.built
 
-    def buffers(self, segments: int, inner: float, extent: float):
+    def buffers(self, segments: int, inner: float, extent: float, aspect: float = 0.0,
+                height: float = 1.0):
         """(vertex buffer, index buffer) of the grid."""
-        return self._buffers.get((segments, inner, extent))
+        return self._buffers.get((segments, inner, extent, aspect, height))
+
+    def stretch_height(self, camera_height: float) -> float:
+        """The height the far rings are stretched for (:func:`stretch_height`), kept between
+        frames."""
+        self.height = stretch_height(self.height, camera_height)
+        return self.height
 
     def _make(self, key):
         # a pure build of the key, shared by every session of the process (1–2 ms at the
@@ -108,10 +143,12 @@ class OceanMesh:
                 self.gpu.buffer(self.owner, "mesh indices", idx.tobytes()))
 
     def draw(self, prog, camera, aspect: float, segments: int, inner: float, extent: float,
-             cull: bool) -> None:
+             cull: bool, cell_aspect: float = 0.0) -> None:
         """Draw the grid with ``prog`` (attribute ``in_polar``): every wedge, or with ``cull``
-        only those :func:`visible_wedges` finds."""
-        vbo, ibo = self.buffers(segments, inner, extent)
+        only those :func:`visible_wedges` finds; far cells stretched to ``cell_aspect`` (0: none)
+        for the camera's height (:meth:`stretch_height`)."""
+        height = self.stretch_height(camera.position[1]) if cell_aspect > 0.0 else 1.0
+        vbo, ibo = self.buffers(segments, inner, extent, float(cell_aspect), height)
         vao = prog.vao([(vbo, "3f", "in_polar")], index_buffer=ibo)
         per = 3 * self.triangles // segments  # indices per wedge
         wedges = visible_wedges(camera, aspect, segments) if cull else None

@@ -115,6 +115,10 @@ def ocean_params() -> list[Param]:
               "half as much at 3 as at 2, and its foam's mean error is about 1 % of the per-pixel "
               "wake's foam: tests/gl/test_maritime.py)", kind="int",
               section="spec/000 §4"),
+        Param("ocean.mesh_aspect", 8.0, 0.0, 64.0, "far cells of the surface mesh are stretched "
+              "toward the horizon so that on screen each is 1/this as tall as it is wide (the "
+              "view foreshortens them; 0: square cells everywhere, as in the thesis, most of "
+              "them slivers far below a pixel tall)", step=0.5, section=s1),
         Param("ocean.mesh_cull", True, doc="draw only the wedges of the surface mesh the camera "
               "can see", kind="bool", section=s1),
         Param("ocean.query_iterations", 3, 0, 10, "corrections of the water-height inversion (the "

@@ -30,7 +30,8 @@ from ..base import Effect, Pass
 
 DEFAULT_KEYFRAMES = RESOURCES / "sky" / "keyframes.toml"
 
-SKY = fullscreen("sky/sky")
+#: on the far plane: the sky draws after the opaque and water stages, only where they left it
+SKY = ProgramSpec("sky/sky", vert="common/far_plane.vert", frag="sky/sky.frag")
 SKY_FACE = fullscreen("sky/sky_face")
 SKY_CUBEMAP = ProgramSpec("sky/sky_cubemap", requires_compute=True)
 
@@ -46,7 +47,7 @@ class Sky(Effect):
     spec = "spec/000"
     programs = (SKY, SKY_FACE, SKY_CUBEMAP)
     extra_groups = ("time",)
-    stages = (Stage.BACKGROUND, Stage.ENVIRONMENT)
+    stages = (Stage.SKY, Stage.ENVIRONMENT)
     produces = frozenset({"hour", "sun", "moon", "main_light", "environment"})
     joints = (non_zero("sky.ecliptic", "axis"),)
 
@@ -88,6 +89,7 @@ class Sky(Effect):
         super().__init__(gpu, params)
         self.keyframes = keyframes or Keyframes.load(DEFAULT_KEYFRAMES)
         self.state = None
+        self._state_key: tuple | None = None  # (hour, sky settings, keyframes) of self.state
         self.environment_renders = 0
         self._gradient = None
         self._gradient_version = None
@@ -120,7 +122,10 @@ class Sky(Effect):
         dn.advance(dt)
         if dn.hour != self.params["time.hour"]:
             self.params.set("time.hour", dn.hour)
-        self.state = dn.state()
+        key = (dn.hour, self.params.version("sky"), id(self.keyframes), self.keyframes.version)
+        if key != self._state_key:  # a standing clock and unchanged settings: the same state
+            self.state = dn.state()
+            self._state_key = key
         frame.hour = self.state.hour
         frame.sun, frame.moon, frame.main_light = (self.state.sun, self.state.moon,
                                                    self.state.main_light)
@@ -191,8 +196,18 @@ class Sky(Effect):
         prog.set_many(frame.camera_uniforms())
         prog.set("uEyeHeight", max(float(frame.camera.position[1]), 0.5))
         target.use()
-        self.gpu.ctx.disable(moderngl.DEPTH_TEST)
-        draw_fullscreen(prog)
+        # the sky stage: only the pixels still on the far plane (nothing drawn there) are
+        # shaded, and the depth is left as it is
+        ctx = self.gpu.ctx
+        ctx.enable(moderngl.DEPTH_TEST)
+        ctx.depth_func = "<="
+        target.fbo.depth_mask = False
+        try:
+            draw_fullscreen(prog)
+        finally:
+            target.fbo.depth_mask = True
+            ctx.depth_func = "<"
+            ctx.disable(moderngl.DEPTH_TEST)
 
     def environment_key(self) -> tuple:
         return (round(self.state.hour, 6), self.params.version("sky"), self.keyframes.version)
@@ -269,7 +284,7 @@ class Sky(Effect):
                 self.environment(sun=sun)
 
     def passes(self, frame, target) -> list[Pass]:
-        out = [Pass("sky", lambda: self.draw(frame, target), Stage.BACKGROUND)]
+        out = [Pass("sky", lambda: self.draw(frame, target), Stage.SKY)]
         if self._cubes[True].built or self._cubes[False].built:
             out.append(Pass("sky.environment", self.refresh_environment, Stage.ENVIRONMENT))
         return out
