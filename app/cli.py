@@ -567,6 +567,14 @@ def cmd_render(args) -> int:
     return 0
 
 
+def _picks_a_scene(args) -> bool:
+    """Whether the window opens on the scene picker: no scene named, and nothing given that
+    belongs to a scene (parameters, a view, a preset, a time, a camera, a mesh)."""
+    return args.scene is None and all(
+        getattr(args, name, None) in (None, [], False)
+        for name in ("sets", "view", "preset", "time", "camera", "mesh", "vr"))
+
+
 def cmd_window(args) -> int:
     from .scenes import DEFAULT_SCENE
 
@@ -576,6 +584,14 @@ def cmd_window(args) -> int:
     from .ui.window import display_problem, run_window
 
     problem = display_problem()
+    if problem is None and _picks_a_scene(args):
+        from .ui.picker import pick_scene
+
+        chosen = pick_scene(DEFAULT_SCENE, size)
+        if chosen is None:
+            return 0
+        scene_name = chosen
+        params, camera, size = _session_inputs(args, scene_name)
     if problem is not None:
         from .imageio import check_output_path, next_free_path, write_image
         from .runtime import open_session, render_frames

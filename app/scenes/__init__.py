@@ -14,7 +14,9 @@ from typing import Iterator, MutableMapping
 from ..errors import UsageError
 from .base import Scene
 
-DEFAULT_SCENE = "sky"
+#: what ``natura`` renders with no scene named and no display; with one, the scene picker
+#: (app/ui/picker.py) opens with this scene highlighted first
+DEFAULT_SCENE = "maritime"
 
 #: modules of this package that are not scenes
 _NOT_SCENES = {"base", "keymaps", "views"}

@@ -217,6 +217,7 @@ def test_no_display_renders_the_default_scene_headless(tmp_path):
     assert len(out) == 1, r.stdout
     path = tmp_path / out[0]
     assert path.is_file() and path.suffix == ".png"
+    assert path.name.startswith("natura-maritime")  # the scene the picker highlights first
     with Image.open(path) as im:
         assert im.format == "PNG"
     # a second run never overwrites the first picture
