@@ -452,8 +452,10 @@ def _check_shader_arg(value: str | None) -> None:
                          "(see natura shaders copy)")
 
 
-def _session_inputs(args, scene_name: str):
-    """Validate everything the user gave (scene, parameters, camera, size) before any GL work."""
+def _session_inputs(args, scene_name: str, opening: bool = False):
+    """Validate everything the user gave (scene, parameters, camera, size) before any GL work.
+    ``opening`` (the window and render): with no ``--view``, the scene's own opening view
+    (``Scene.default_view``) is applied; ``--view none`` applies none."""
     from .runtime import parse_size, placed_camera, scene_params
     from .scenes import SCENES
 
@@ -465,11 +467,14 @@ def _session_inputs(args, scene_name: str):
     _check_shader_arg(args.shaders)
     size = parse_size(args.size) if args.size is not None else (1280, 720)
     view = None
-    if getattr(args, "view", None) is not None:
+    name = getattr(args, "view", None)
+    if name is None and opening:
+        name = SCENES[scene_name].default_view
+    if name is not None and name != "none":
         from .scenes.views import get_view
 
-        _nonempty("--view", args.view, "a view name (natura scenes lists them)")
-        view = get_view(scene_name, args.view)
+        _nonempty("--view", name, "a view name (natura scenes lists them)")
+        view = get_view(scene_name, name)
     params = scene_params(scene_name, args.shaders, args.sets, args.preset, view)
     if args.time is not None:
         if "time.hour" not in params:
@@ -528,7 +533,7 @@ def cmd_render(args) -> int:
     from .runtime import end_progress, open_session, render_frames
 
     _nonempty("--out", args.out, "a file name ending in .png or .exr")
-    params, camera, size = _session_inputs(args, args.scene)
+    params, camera, size = _session_inputs(args, args.scene, opening=True)
     mesh = _user_mesh(args, args.scene)
     if args.out is not None:
         base = check_output_path(args.out, force=True)  # suffix and folder; per-file check below
@@ -579,7 +584,7 @@ def cmd_window(args) -> int:
     from .scenes import DEFAULT_SCENE
 
     scene_name = args.scene if args.scene is not None else DEFAULT_SCENE
-    params, camera, size = _session_inputs(args, scene_name)
+    params, camera, size = _session_inputs(args, scene_name, opening=True)
     mesh = _user_mesh(args, scene_name)
     from .ui.window import display_problem, run_window
 
@@ -591,7 +596,7 @@ def cmd_window(args) -> int:
         if chosen is None:
             return 0
         scene_name = chosen
-        params, camera, size = _session_inputs(args, scene_name)
+        params, camera, size = _session_inputs(args, scene_name, opening=True)
     if problem is not None:
         from .imageio import check_output_path, next_free_path, write_image
         from .runtime import open_session, render_frames

@@ -79,6 +79,10 @@ class Scene:
     effects: ClassVar[tuple[type[Effect], ...]] = ()
     #: Camera(...) arguments of the scene's starting view
     default_camera: ClassVar[dict] = {}
+    #: the view (resources/presets/views/<scene>/) the window and ``natura render`` open on when
+    #: none is named — the scene's best first picture; None: the defaults themselves. The
+    #: parameters' defaults stay the thesis's (the tests and ``natura bench`` start from them)
+    default_view: ClassVar[str | None] = None
     #: linear radiance behind everything
     background: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)
     keymap: ClassVar[KeyMap] = FLY  # the window's key bindings (app/scenes/keymaps.py)

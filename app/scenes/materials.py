@@ -15,5 +15,6 @@ class MaterialsScene(Scene):
     effects = (Materials,)
     #: the three objects fit with a margin at 16:9 (15 % each side) and at 4:3 (3 %), seen from
     #: 22° above so the end grain of the cube's top and the sphere's rings face the camera
+    default_view = "low-sun"
     default_camera = {"position": (-0.04, 1.75, 4.35), "yaw": 0.0, "pitch": -22.0, "fov": 40.0}
     background = (0.02, 0.02, 0.025)

@@ -40,6 +40,7 @@ class PlanetScene(Scene):
                    "optical-depth LUT, LUT + shadow-map light shafts) and Hillaire 2020 multiple "
                    "scattering (spec/002)")
     effects = (Planet,)
+    default_view = "shafts"
     default_camera = {"position": (0.0, 2.0, 60.0), "yaw": 0.0, "pitch": 4.0, "fov": 60.0,
                       "far": 5.0e7}
     keymap = ATMOSPHERE_THESIS

@@ -153,8 +153,12 @@ def _shaders_words(shaders: str | None) -> list[str]:
 def render_command(scene: str, sets: Iterable[str], size: tuple[int, int], out: str,
                    preset: str | None = None, camera: str | None = None,
                    hour: float | None = None, shaders: str | None = None) -> str:
-    """The ``natura render`` line that makes the same image (each word shell-quoted)."""
-    words = ["natura", "render", scene, *_shaders_words(shaders),
+    """The ``natura render`` line that makes the same image (each word shell-quoted): from the
+    scene's defaults, so ``--view none`` where the scene opens on a view of its own."""
+    from ..scenes import get_scene
+
+    plain = ["--view", "none"] if get_scene(scene).default_view is not None else []
+    words = ["natura", "render", scene, *_shaders_words(shaders), *plain,
              *_scene_words(preset, hour, camera, sets),
              "--size", f"{size[0]}x{size[1]}", "--out", out]
     return " ".join(shlex.quote(w) for w in words)

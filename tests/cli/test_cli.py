@@ -245,3 +245,19 @@ def test_time_on_a_scene_without_a_sky_is_refused(tmp_path):
     assert (len(proc.stderr.strip().splitlines()) == 1 and "--time" in proc.stderr
             and "planet" in proc.stderr)
     assert not (tmp_path / "p.png").exists()
+
+
+@pytest.mark.parametrize("scene,view", [("planet", "shafts"), ("materials", "low-sun")])
+def test_render_and_window_open_on_the_scenes_best_view_and_view_none_on_its_defaults(
+        tmp_path, scene, view):
+    """Issue 38: the planet opens on its light shafts (the sun in frame), the materials on the
+    cube and ball filling the frame; ``--view none`` gives the parameters' own defaults (what
+    the tests and ``natura bench`` start from)."""
+    shots = {}
+    for name, extra in (("plain", ()), ("view", ("--view", view)), ("none", ("--view", "none"))):
+        r = run("render", scene, "--size", "64x36", *extra, "--out", f"{name}.png", cwd=tmp_path)
+        assert r.returncode == 0, r.stderr
+        with Image.open(tmp_path / f"{name}.png") as im:
+            shots[name] = np.asarray(im.convert("RGB"), dtype=float)
+    assert np.array_equal(shots["plain"], shots["view"])
+    assert np.abs(shots["plain"] - shots["none"]).mean() > 5.0
