@@ -1,4 +1,4 @@
-"""Regenerate the README's pictures, rendered headless exactly as `natura render` does:
+"""Regenerate the pictures of docs/commands.md, rendered headless exactly as `natura render` does:
 docs/sky.png (the `sky` scene at four hours), docs/materials.png (wood, marble and granite
 with the thesis's value noise and with Perlin's gradient noise) and docs/planet.png (the
 atmosphere from the ground and from space), docs/clouds.png (the three cloud presets and the

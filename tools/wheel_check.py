@@ -10,8 +10,8 @@ time (so a missing wheel is named, not a resolver failure). A package only on Py
 distribution would need a compiler on the student's machine: it shows as "no wheel".
 
 For macOS the oldest release each wheel accepts is read from its file name (``macosx_14_0``).
-The README's "Wheels" table is this script's ``--markdown`` output (a maintainer runs it; it
-needs PyPI). Exit 1 when any wheel is missing.
+The "Wheels" table of docs/commands.md is this script's ``--markdown`` output (a maintainer runs
+it; it needs PyPI). Exit 1 when any wheel is missing.
 """
 
 from __future__ import annotations
@@ -85,7 +85,7 @@ def describe(wheel: str | None) -> str:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--python", default="3.11,3.12,3.13")
-    ap.add_argument("--markdown", action="store_true", help="the README's table")
+    ap.add_argument("--markdown", action="store_true", help="the table in docs/commands.md")
     args = ap.parse_args(argv)
     pythons = args.python.split(",")
     tree = dependency_tree()

@@ -10,7 +10,7 @@ look, time, screenshot…), or act on a parameter without the window knowing the
 * a named action in ``KeyMap.actions`` — an alias for one of the above, so a map can keep
   the name its thesis gives a key (``toggle_auto_sun`` → ``toggle:planet.auto_sun``).
 
-``FLY`` is Natura's default map (documented in the README); scenes define their own maps
+``FLY`` is Natura's default map (documented in docs/commands.md); scenes define their own maps
 beside them (``app/scenes/ocean.py``, ``app/scenes/planet.py``).
 """
 
@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 class KeyMap:
     name: str
     bindings: dict  # key name → action
-    help: tuple = ()  # (keys, description) rows for the panel and README
+    help: tuple = ()  # (keys, description) rows for the panel and docs/commands.md
     #: named actions → the parameter action they stand for (``set:…`` / ``toggle:…``)
     actions: dict = field(default_factory=dict)
     #: the parameter the held sun_up / sun_down actions move (degrees per second: the

@@ -1,7 +1,7 @@
 """The desktop window: moderngl-window (pyglet) + an ImGui panel mirroring the theses' inspectors.
 
-Controls come from the scene's key map (app/ui/keymap.py; the README and the panel's "Controls"
-section list them). The default map:
+Controls come from the scene's key map (app/ui/keymap.py; docs/commands.md and the panel's
+"Controls" section list them). The default map:
 
 =================  =========================================================
 W A S D            fly forward / left / back / right

@@ -1,7 +1,8 @@
-"""The README as a new user follows it: every command-line example runs as written — the benches
-each in a folder of their own, the rest in order in one folder, as many folders at a time as
-there are cores — no two examples write the same file, and every Python snippet runs both as
-a script and pasted line by line into the interactive interpreter."""
+"""The README and docs/commands.md as a new user follows them: every command-line example runs
+as written — the benches each in a folder of their own, the rest in order in one folder, as many
+folders at a time as there are cores — no two examples write the same file, and every Python
+snippet runs both as a script and pasted line by line into the interactive interpreter.
+tests/cli/test_readme_page.py checks the README itself: short, its links, pictures and facts."""
 
 from __future__ import annotations
 
@@ -17,12 +18,15 @@ from app import PROJECT_ROOT
 from app.params import parse_glsl_annotations
 from tests.helpers import readme as R
 
-README = (PROJECT_ROOT / "README.md").read_text(encoding="utf-8")
+README = R.README_PATH.read_text(encoding="utf-8")
+COMMANDS = R.COMMANDS_PATH.read_text(encoding="utf-8")
 
 
 def test_the_command_line_section_has_examples():
     lines = R.command_lines()
     assert len(lines) >= 15 and all(line.split()[0] == "natura" for line in lines), lines
+    assert len(set(lines)) == len(lines), "an example is shown twice: it would run twice"
+    assert R.readme_command_lines(), "the README shows no example of its own"
 
 
 def test_every_command_line_example_runs_in_order_as_written(tmp_path_factory, record_property):
@@ -57,8 +61,8 @@ def test_every_command_line_example_runs_in_order_as_written(tmp_path_factory, r
 
 
 def _python_snippets() -> list[str]:
-    snippets = R.blocks("python")
-    assert snippets, "the README has no Python snippet"
+    snippets = R.blocks("python", path=R.COMMANDS_PATH)
+    assert snippets, "docs/commands.md has no Python snippet"
     return snippets
 
 
@@ -79,17 +83,17 @@ def test_python_snippets_run_and_print_their_answer(tmp_path, how):
 
 
 def test_the_annotation_example_makes_the_parameter_the_readme_names():
-    (glsl,) = [b for b in R.blocks("glsl") if "@param" in b]
+    (glsl,) = [b for b in R.blocks("glsl", path=R.COMMANDS_PATH) if "@param" in b]
     params = parse_glsl_annotations(glsl, "sky", "glsl/sky/sky.frag")
     assert [p.name for p in params] == ["sky.night_tint"]
     p = params[0]
     assert (p.default, p.lo, p.hi, p.step) == (0.5, 0.0, 1.0, 0.01)
-    assert "sky.night_tint" in README and "--set sky.night_tint=0.8" in README
+    assert "sky.night_tint" in COMMANDS and "--set sky.night_tint=0.8" in COMMANDS
 
 
 def test_the_setup_commands_are_the_ones_ci_runs():
     ci = (PROJECT_ROOT / ".ci" / "run").read_text(encoding="utf-8")
-    setup = R.blocks("sh", "Set up and run")
+    setup = R.blocks("sh", R.SETUP_SECTION)
     first, second = setup[0].strip(), setup[1].strip()
     assert first == "./setup.sh && .venv/bin/natura" and first in ci
     assert second == ".venv/bin/python -m pytest" and second in ci

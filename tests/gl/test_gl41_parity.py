@@ -1,8 +1,8 @@
-"""Every scene and every method switch the README names draws the same picture on a GL 4.1 core
-context — what macOS gives: no compute shaders, no base-instance or indirect draws, GLSL 4.10 —
-as on this machine's 4.5 one. Mesa caps a context with environment variables
-(tests/helpers/parity.py, ``GL41_ENV``), so two processes render the same jobs, one capped, and
-the images are compared in 8 bits.
+"""Every scene and every method switch the docs name (README, docs/commands.md) draws the same
+picture on a GL 4.1 core context — what macOS gives: no compute shaders, no base-instance or
+indirect draws, GLSL 4.10 — as on this machine's 4.5 one. Mesa caps a context with environment
+variables (tests/helpers/parity.py, ``GL41_ENV``), so two processes render the same jobs, one
+capped, and the images are compared in 8 bits.
 
 Tolerances: mean |Δ| ≤ 1.5 / 255 and the 99th percentile ≤ 24 / 255 — room for a compute path
 and its fragment twin rounding differently in a few pixels, never for a missing object, a
@@ -30,7 +30,7 @@ MEAN_LIMIT = 1.5
 P99_LIMIT = 24.0
 
 #: name → (scene, --set values[, camera x, y, z, yaw, pitch]): the scenes' defaults and every
-#: switch the README names
+#: switch the README and docs/commands.md name
 JOBS: dict[str, tuple] = {
     **{scene: (scene, []) for scene in ("sky", "probe", "materials", "planet", "clouds",
                                           "ocean", "noise", "maritime", "shading", "surfaces",
@@ -78,7 +78,7 @@ def _cheap(scene: str) -> list[str]:
 
 
 def test_the_jobs_cover_every_scene_and_each_switch_with_every_choice():
-    """The matrix itself (no render): every scene's default, and each switch the README names
+    """The matrix itself (no render): every scene's default, and each switch the docs name
     with every value it can take that differs on the two contexts' paths."""
     from app.runtime import scene_params
     from app.scenes import SCENES

@@ -1,9 +1,13 @@
-"""The README's command-line examples, each run once per test run (issue 26): the walk-through
-(tests/cli/test_readme.py) and the dedicated tests that check an example's output (a bench's
-JSON, charts and summary) share the same run instead of running the command twice.
+"""The documentation's command-line examples, each run once per test run (issue 26): the
+walk-through (tests/cli/test_readme.py) and the dedicated tests that check an example's output (a
+bench's JSON, charts and summary) share the same run instead of running the command twice.
+
+The examples are the ```sh blocks of docs/commands.md's "Command line" section (the full
+reference), then the README's own ```sh blocks of ``natura`` commands (every section but "Set up
+and run", whose two commands .ci/run runs), in that order (``command_lines``).
 
 The examples are split into lanes (``lanes``): every ``natura bench`` example alone in a folder
-of its own, everything else in one folder in the README's order. ``lane_result(i)`` runs lane
+of its own, everything else in one folder in the pages' order. ``lane_result(i)`` runs lane
 ``i`` in the run's shared folder, or — when another test (or another pytest-xdist worker) has
 started it already — waits for its result: the lane's folder holds a ``.claimed`` marker while it
 runs and ``.result.json`` once done, whatever happened (a failure is a result too).
@@ -29,33 +33,50 @@ from app.cli import NUMPY_BENCH_NAMES
 from tests.helpers.cli import NATURA
 
 README_PATH = PROJECT_ROOT / "README.md"
+#: the full command reference: its "Command line" section holds most of the examples
+COMMANDS_PATH = PROJECT_ROOT / "docs" / "commands.md"
+#: the README's section whose ```sh blocks are the setup and test commands, not examples
+SETUP_SECTION = "Set up and run"
 #: how long one lane may take (the slowest bench on a loaded two-core runner, with margin)
 LANE_TIMEOUT_S = 900
 
 
-def blocks(language: str, section: str | None = None) -> list[str]:
-    text = README_PATH.read_text(encoding="utf-8")
-    if section is not None:
-        start = text.index(f"\n## {section}\n")
-        end = text.find("\n## ", start + 1)
-        text = text[start:end if end > 0 else None]
+def sections(path: Path = README_PATH) -> dict[str, str]:
+    """``## `` heading → that section's text (up to the next ``## ``), of the page ``path``."""
+    text = path.read_text(encoding="utf-8")
+    parts = re.split(r"^## (.+)\n", text, flags=re.M)
+    return dict(zip(parts[1::2], parts[2::2]))
+
+
+def blocks(language: str, section: str | None = None, path: Path = README_PATH) -> list[str]:
+    """The ```LANGUAGE blocks of the page ``path`` (the README by default), or of one of its
+    ``## `` sections."""
+    text = path.read_text(encoding="utf-8") if section is None else sections(path)[section]
     return re.findall(rf"^```{language}\n(.*?)^```$", text, flags=re.S | re.M)
 
 
+def _lines(block: str) -> list[str]:
+    return [c for line in block.splitlines() if (c := line.split("#", 1)[0].strip())]
+
+
+def readme_command_lines() -> list[str]:
+    """The README's own examples: its ```sh lines outside "Set up and run"."""
+    return [line for name, text in sections(README_PATH).items() if name != SETUP_SECTION
+            for block in re.findall(r"^```sh\n(.*?)^```$", text, flags=re.S | re.M)
+            for line in _lines(block)]
+
+
 def command_lines() -> list[str]:
-    lines = []
-    for block in blocks("sh", "Command line"):
-        for line in block.splitlines():
-            command = line.split("#", 1)[0].strip()
-            if command:
-                lines.append(command)
-    return lines
+    """Every example, in order: docs/commands.md's "Command line" section, then the README's."""
+    lines = [line for block in blocks("sh", "Command line", COMMANDS_PATH)
+             for line in _lines(block)]
+    return lines + readme_command_lines()
 
 
 def lanes(commands: list[str] | None = None) -> list[list[str]]:
     """The examples split into lanes that may run at the same time, each in a folder of its own:
     every ``natura bench`` example alone (a bench reads no file an example writes, and its
-    sweeps are the long part), everything else in one lane, in the README's order."""
+    sweeps are the long part), everything else in one lane, in the pages' order."""
     commands = command_lines() if commands is None else commands
     main = [c for c in commands if shlex.split(c)[1:2] != ["bench"]]
     return [main] + [[c] for c in commands if c not in main]
@@ -144,7 +165,7 @@ def lane_result(tmp_path_factory, index: int) -> tuple[Path, list[Ran]]:
         deadline = time.monotonic() + LANE_TIMEOUT_S * max(1, len(commands))
         while not result.exists():
             if time.monotonic() > deadline:
-                raise TimeoutError(f"README lane {index} ({commands[0]}) never finished") from None
+                raise TimeoutError(f"example lane {index} ({commands[0]}) never finished") from None
             time.sleep(0.5)
         rows = json.loads(result.read_text())
         return folder, [Ran(**{**row, "written": tuple(row["written"])}) for row in rows]
@@ -163,27 +184,27 @@ def lane_result(tmp_path_factory, index: int) -> tuple[Path, list[Ran]]:
 
 
 def lane_fixture(func):
-    """Flags a fixture that reads a README lane (put it under ``@pytest.fixture``): the tests
+    """Flags a fixture that reads an example lane (put it under ``@pytest.fixture``): the tests
     using it are slow whatever one run measured (tests/helpers/tiers.py)."""
     func.readme_lane = True
     return func
 
 
 def bench_lane(tmp_path_factory, command: str) -> tuple[Path, Ran]:
-    """The README's bench example ``command`` (exactly as the README has it), run once."""
+    """The bench example ``command`` (exactly as docs/commands.md has it), run once."""
     (index,) = [i for i, lane in enumerate(lanes()) if lane == [command]]
     folder, (ran,) = lane_result(tmp_path_factory, index)
     assert ran.failure is None, ran.failure
     return folder, ran
 
 
-#: the README's village bench: its five sections (app/bench/village.py) run quick once, for the
-#: walk-through and for each section's own tests
+#: docs/commands.md's village bench: its five sections (app/bench/village.py) run quick once,
+#: for the walk-through and for each section's own tests
 VILLAGE_EXAMPLE = "natura bench village --repeat 2 --size 160x90"
 
 
 def village_section(tmp_path_factory, key: str) -> dict:
-    """Section ``key`` (grass, fog, water, vr, look) of the README's village bench report."""
+    """Section ``key`` (grass, fog, water, vr, look) of docs/commands.md's village bench report."""
     folder, ran = bench_lane(tmp_path_factory, VILLAGE_EXAMPLE)
     (name,) = [n for n in ran.written if n.endswith(".json")]
     report = json.loads((folder / name).read_text())

@@ -380,9 +380,9 @@ def _escape_and_report(win, keys, out: dict, log: bool = True) -> int:
 
 
 def fly_keys(work: str) -> int:
-    """Natura's fly map (README "Window controls"), every key typed as a real X event in the sky
-    window: W A S D, Q / E, Shift, M (mouse look, then real pointer motion), Space, [ / ],
-    R, P and F12, F1, Up / Down (no planet here: they must not move the camera), Esc."""
+    """Natura's fly map (docs/commands.md "Window controls"), every key typed as a real X event
+    in the sky window: W A S D, Q / E, Shift, M (mouse look, then real pointer motion), Space,
+    [ / ], R, P and F12, F1, Up / Down (no planet here: they must not move the camera), Esc."""
     from app.runtime import scene_params
     from app.scenes import get_scene
     from app.ui import window as W

@@ -1,4 +1,4 @@
-"""Every documented window key (README "Window controls"), typed as real X key events with
+"""Every documented window key (docs/commands.md "Window controls"), typed as real X key events with
 xdotool into a window under Xvfb — never by calling the handler — each with an effect a test
 can see: the camera moved or turned by speed × frames × dt, the clock moved 15 min a press, a
 screenshot file appeared, the panel's pixels went, the process ended on Esc.
