@@ -146,3 +146,24 @@ def test_references_are_the_benches():
     assert cm.CLOUDS_REFERENCE == clouds_reference
     assert cm.SURFACES_REFERENCE == surfaces_reference
     assert cm.reference_of("sky") is None and cm.reference_of("planet") is not None
+
+
+def test_materials_reference_judges_the_ring_filter_and_not_the_noises(tmp_path, capsys,
+                                                                       monkeypatch):
+    """Issue 38: the materials handout's errors measured aliasing. The reference (hard edges
+    supersampled 8 × 8) judges the ring filter: filtered edges come nearer to it than hard
+    ones; two noises get no error figure rather than one that is mostly their shared aliasing."""
+    monkeypatch.chdir(tmp_path)
+    rc, out, err = natura(capsys, "compare", "materials", "--a", "materials.filter_rings=false",
+                          "--b", "materials.filter_rings=true", "--size", SIZE, "--rounds", "1",
+                          "--out", "rings.png")
+    assert rc == 0, err
+    fig = json.loads((tmp_path / "rings.json").read_text(encoding="utf-8"))
+    assert 0.0 < fig["b"]["error"] < fig["a"]["error"]
+    rc, out, err = natura(capsys, "compare", "materials", "--a", "materials.noise=value",
+                          "--b", "materials.noise=gradient", "--size", SIZE, "--rounds", "1",
+                          "--out", "noise.png")
+    assert rc == 0, err
+    fig = json.loads((tmp_path / "noise.json").read_text(encoding="utf-8"))
+    assert fig["a"]["error"] is None and fig["b"]["error"] is None
+    assert "error: none — no reference for materials.noise" in out

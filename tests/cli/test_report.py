@@ -153,7 +153,9 @@ def test_the_handout_opens_in_chromium_every_image_decodes_no_console_error(tmp_
     assert [m["label"] for m in data["methods"]] == ["value", "gradient"]
     for m in data["methods"]:
         assert m["ms"] > 0 and m["ms_p25"] <= m["ms"] <= m["ms_p75"]
-        assert m["error"] is not None and 0 <= m["error"] < 1  # vs 8×8 supersampled edges
+        # the reference (8×8 supersampled hard edges) judges the ring filter, not the noises:
+        # their error would be the aliasing both share (issue 38)
+        assert m["error"] is None
     assert data["methods"][1]["ratio_to_first"] > 0
     assert data["charts"], "materials has bench sweeps: the page charts them"
 

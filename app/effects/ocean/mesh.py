@@ -28,7 +28,7 @@ def polar_grid(segments: int, inner: float, extent: float, aspect: float = 0.0,
     aspect·h the grid then has only about segments/2π more rings, whatever its extent. The
     vertex spacing (column 2) stays the arc, the side the view does not foreshorten: read at the
     coarser mip level of the stretched side, the far waves flatten, and the image strays further
-    from a fine mesh's (measured in tests/gl/test_ocean_mesh_stretch.py).
+    from a fine mesh's (measured in tests/gl/test_maritime.py).
 
     Returns (vertices (V, 3) float32 = (radius, angle, spacing), indices (M,) uint32), triangles
     counter-clockwise seen from above (front faces are the top of the sea), ordered segment by
