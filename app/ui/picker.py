@@ -1,11 +1,11 @@
 """The scene picker: what ``natura`` opens when no scene is named — a window of the gallery's
-thumbnails, one tile per scene with its name and title. A click on a
-tile (or Enter, for the highlighted one; the arrow keys move it) closes the picker and returns
-that scene's name; Esc or closing the window returns None.
+thumbnails, one tile per scene with its name and title. A click on a tile (or Enter, for the
+highlighted one; the arrow keys move it) closes the picker and returns that scene's name; Esc
+or closing the window returns None.
 
-The thumbnails are each scene's first gallery view (``docs/gallery/SCENE/VIEW.jpg``, listed in
-``docs/gallery/index.json``), scaled down when the picker opens; a scene without one shows its
-name on a plain tile. The layout is a pure function (:func:`tile_rects`), which the window
+The thumbnails are each scene's first gallery view (a JPEG in the scene's folder of
+``docs/gallery/``, listed in ``docs/gallery/index.json``), scaled down when the picker opens; a
+scene without one shows its name on a plain tile. The layout is a pure function (:func:`tile_rects`), which the window
 tests use to click a tile the way a person does.
 """
 
