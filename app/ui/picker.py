@@ -5,8 +5,8 @@ or closing the window returns None.
 
 The thumbnails are each scene's first gallery view (a JPEG in the scene's folder of
 ``docs/gallery/``, listed in ``docs/gallery/index.json``), scaled down when the picker opens; a
-scene without one shows its name on a plain tile. The layout is a pure function (:func:`tile_rects`), which the window
-tests use to click a tile the way a person does.
+scene without one shows its name on a plain tile. The layout is a pure function
+(:func:`tile_rects`), which the window tests use to click a tile the way a person does.
 """
 
 from __future__ import annotations
