@@ -186,7 +186,7 @@ def method_1_at_defaults(session, size, ref) -> dict:
 def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repeat: int = 3,
              steps_list=(5, 10, 20, 30, 60, 120), lut_sizes=(16, 32, 64, 128, 256),
              shadow_sizes=(256, 512, 1024, 2048), hillaire_scales=(0.5, 1.0), ref_steps: int = 2048,
-             hillaire: bool = True) -> dict:
+             hillaire: bool = True, ozone: bool = True) -> dict:
     p = session.params
     _set_view(session, "ground")
     p.set("planet.sun_disk", False)
@@ -203,7 +203,8 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
         rows.append({"method": method, "knob": knob, "value": value, "ms": ms, **errs})
 
     saved = {k: p[k] for k in ("planet.n_steps", "planet.inner_steps", "planet.lut_height",
-                               "planet.lut_angle", "planet.shadow_map_size", "planet.pc_rule")}
+                               "planet.lut_angle", "planet.shadow_map_size", "planet.pc_rule",
+                               "atmosphere.ozone")}
     try:
         for n in steps_list:
             p.set("planet.n_steps", n)
@@ -242,6 +243,14 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
             p.set("hillaire.multiple_scattering", False)
             measure("hillaire", "single scattering only", 1.0)
             p.set("hillaire.multiple_scattering", True)
+        if ozone:
+            # every method at its defaults with the standard ozone layer, against the reference
+            # with the same layer (beyond the thesis: spec/002 §10)
+            p.set("atmosphere.ozone", 1.0)
+            ref_ozone = reference_for_view(session, size, ref_steps)
+            for method in ("brute_force", "lut", "shadowed") + (("hillaire",) if hillaire else ()):
+                measure(method, "ozone layer on", 1.0, ref_ozone)
+            p.set("atmosphere.ozone", saved["atmosphere.ozone"])
     finally:
         for k, v in saved.items():
             p.set(k, v)

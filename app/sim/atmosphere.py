@@ -102,6 +102,22 @@ OPTICAL_DEPTH_GROUND_M = 1.0e12
 
 _RGB = tuple[float, float, float]
 
+#: The ozone layer (beyond the thesis, which has none): a tent profile of relative density, 0 below
+#: OZONE_BOTTOM_M, rising linearly to 1 at OZONE_PEAK_M and back to 0 at OZONE_TOP_M — the
+#: profile Bruneton 2017 ("Precomputed Atmospheric Scattering: a New Implementation") and
+#: Hillaire 2020 use, after Bruneton's fit to the standard atmosphere's ozone number density.
+OZONE_BOTTOM_M = 10_000.0
+OZONE_PEAK_M = 25_000.0
+OZONE_TOP_M = 40_000.0
+#: the tent's vertical column ∫ ρ_O dh from the ground: ½ · 30 km · 1 = 15 km (of peak density)
+OZONE_COLUMN_M = 0.5 * (OZONE_TOP_M - OZONE_BOTTOM_M)
+#: ozone's absorption coefficient at the peak of the tent, RGB, 1/m: the values of Bruneton 2017's
+#: demo (ozone absorption cross-sections, from the IUP Bremen reference spectra, at 680, 550 and
+#: 440 nm, times the peak number density that makes the tent's column 300 Dobson units), which
+#: Hillaire 2020's demo also uses: (0.650, 1.881, 0.085)·1e-6 /m.
+#: Ozone absorbs only: it adds to the extinction and scatters nothing.
+OZONE_ABSORPTION = (0.650e-6, 1.881e-6, 0.085e-6)
+
 
 # =============================================================================================
 # Constants and parameters (spec/002 §1.3, §7, §9)
@@ -152,6 +168,9 @@ class AtmosphereParams:
     g: float = 0.76
     #: sun radiance ``lightSun`` (§7 range [30, 100]), white
     sun_intensity: float = 30.0
+    #: ozone layer scale (beyond the thesis): 0 = none (the thesis), 1 = the standard layer of
+    #: Bruneton 2017 / Hillaire 2020 (tent 10–25–40 km, :data:`OZONE_ABSORPTION` at its peak)
+    ozone: float = 0.0
 
     def __post_init__(self):
         for name in ("beta_rayleigh", "rayleigh_absorption", "beta_mie_scatter"):
@@ -189,7 +208,7 @@ class AtmosphereParams:
         for name in ("beta_rayleigh", "rayleigh_absorption", "beta_mie_scatter"):
             if min(getattr(self, name)) < 0.0:
                 raise bad(name, getattr(self, name), "coefficients >= 0 per metre")
-        for name in ("mie_absorption_ratio", "p0", "sun_intensity"):
+        for name in ("mie_absorption_ratio", "p0", "sun_intensity", "ozone"):
             if getattr(self, name) < 0.0:
                 raise bad(name, getattr(self, name), "a number >= 0")
         return self
@@ -224,6 +243,12 @@ class AtmosphereParams:
         """β^ext_M = β^scatt_M + β^abs_M = 1.1 · 2.0e-5 = 2.2e-5 /m (§1.3, as we read it)."""
         return np.array(self.beta_mie_scatter) + self.beta_mie_absorption
 
+    @property
+    def beta_ozone(self) -> np.ndarray:
+        """Ozone's absorption (= extinction) coefficient at the tent's peak, RGB, 1/m:
+        ``ozone`` × :data:`OZONE_ABSORPTION` (0 with the thesis's model)."""
+        return self.ozone * np.array(OZONE_ABSORPTION)
+
     def lut_key(self) -> tuple:
         """What the optical-depth LUT depends on: geometry and scale heights — not P0, β, g or
         the sun (they multiply the looked-up density integrals)."""
@@ -242,6 +267,7 @@ class AtmosphereParams:
             "uP0": self.p0,
             "uMieG": self.g,
             "uSunIntensity": self.sun_intensity,
+            "uOzoneAbsorption": tuple(float(v) for v in self.beta_ozone),
         }
 
     def replace(self, **changes) -> "AtmosphereParams":
@@ -289,6 +315,11 @@ def params_list() -> list[Param]:
         Param("atmosphere.mie_absorption", 0.1, 0.0, 1.0,
               "Mie absorption as a fraction of Mie scattering (β^ext_M = (1 + this) β^scatt_M)",
               step=0.01, section=f"{s} §7"),
+        Param("atmosphere.ozone", 0.0, 0.0, 3.0,
+              "ozone layer (beyond the thesis, which has none: 0): absorption only, a tent "
+              "10–25–40 km; 1 = the standard layer (Bruneton 2017, Hillaire 2020), σ_a = "
+              "(0.650, 1.881, 0.085)·1e-6 /m at its peak; every method honours it",
+              step=0.05, section=f"{s} §10.1"),
     ]
 
 
@@ -311,6 +342,7 @@ def from_params(paramset) -> AtmosphereParams:
         p0=get("atmosphere.p0"),
         g=get("atmosphere.g"),
         sun_intensity=get("atmosphere.sun_intensity"),
+        ozone=get("atmosphere.ozone"),
     )
 
 
@@ -429,6 +461,63 @@ def density(h, H, p0: float = 1.0):
     """ρ(h) = P0 · exp(−h/H) (§1.3); heights below 0 are clamped to sea level (as the GPU's
     ``DensityRM``) so rounding at the ground never adds density."""
     return p0 * np.exp(-np.maximum(np.asarray(h, dtype=np.float64), 0.0) / H)
+
+
+def ozone_density(h):
+    """The ozone layer's relative density (beyond the thesis): the tent 0 below
+    :data:`OZONE_BOTTOM_M`, 1 at :data:`OZONE_PEAK_M`, 0 from :data:`OZONE_TOP_M` up (Bruneton
+    2017's profile). Its absorption is ``params.beta_ozone`` × this (GLSL ``DensityOzone``)."""
+    h = np.asarray(h, dtype=np.float64)
+    half = OZONE_PEAK_M - OZONE_BOTTOM_M
+    return np.maximum(1.0 - np.abs(h - OZONE_PEAK_M) / half, 0.0)
+
+
+def ozone_optical_depth(h, cos_phi, params: AtmosphereParams, nodes: int = 8,
+                        ground: bool = True):
+    """Exact ozone density integral D_O = ∫ ρ_O ds (m) from height ``h`` along cos Φ to the top.
+
+    The perigee form of :func:`_density_integrals` (altitude above the perigee y = z², smooth
+    arc element) with the z interval cut where the line crosses 10, 25 and 40 km: on each piece
+    the tent is linear in y, so the integrand is smooth and Gauss–Legendre converges spectrally
+    (8 nodes per piece: ~1e-13 relative). Rays that hit the planet → +inf (``ground``) or, with
+    ground=False, the perigee put on the ground (the LUT's horizon column). Shape of the inputs.
+    """
+    R = params.bottom_radius
+    top = params.top_height
+    h = np.clip(np.asarray(h, dtype=np.float64), 0.0, top)
+    mu = np.clip(np.asarray(cos_phi, dtype=np.float64), -1.0, 1.0)
+    h, mu = np.broadcast_arrays(h, mu)
+    shape = h.shape
+    h, mu = h.reshape(-1), mu.reshape(-1)
+    r = R + h
+    k = h * (2.0 * R + h) - r * r * mu * mu
+    below = mu < 0.0
+    hits = below & (k <= 0.0)
+    k = np.where(below, np.maximum(k, 0.0), k)
+    r_p = np.sqrt(np.maximum(R * R + k, 0.0))
+    h_p = k / (r_p + R)
+    z_p = np.sqrt(np.maximum(h - h_p, 0.0))
+    z_t = np.sqrt(np.maximum(top - h_p, 0.0))
+    x, w = _gauss_legendre(nodes)
+
+    def integral(a, b):
+        """∫ from z = a to b (a ≤ b per ray), split at the tent's kinks."""
+        cuts = [a] + [np.clip(np.sqrt(np.maximum(hk - h_p, 0.0)), a, b)
+                      for hk in (OZONE_BOTTOM_M, OZONE_PEAK_M, OZONE_TOP_M)] + [b]
+        total = np.zeros(a.shape)
+        for lo, hi in zip(cuts[:-1], cuts[1:]):
+            span = (hi - lo)[:, None]
+            z = lo[:, None] + span * x
+            zz = z * z
+            fac = span * (2.0 * w) * (r_p[:, None] + zz) / np.sqrt(2.0 * r_p[:, None] + zz)
+            total += (fac * ozone_density(h_p[:, None] + zz)).sum(-1)
+        return total
+
+    zero = np.zeros(h.shape)
+    out = np.where(below, integral(zero, z_t) + integral(zero, z_p), integral(z_p, z_t))
+    if ground:
+        out = np.where(hits, np.inf, out)
+    return out.reshape(shape)
 
 
 def sun_ray_hits_ground(h, cos_phi, params: AtmosphereParams):
@@ -576,6 +665,30 @@ def optical_depth_midpoint(h, cos_phi, params: AtmosphereParams, steps: int = 10
     return out[..., 0], out[..., 1]
 
 
+def ozone_optical_depth_midpoint(h, cos_phi, params: AtmosphereParams, steps: int = 1000):
+    """The brute-force inner loop of :func:`optical_depth_midpoint` for the ozone layer (the
+    third component of the GPU's ``SunDepthBruteForce``): ∑ ρ_O ds over ``steps`` equal steps to
+    the top. Ground rays → +inf."""
+    R = params.bottom_radius
+    h = np.clip(np.asarray(h, dtype=np.float64), 0.0, params.top_height)
+    mu = np.clip(np.asarray(cos_phi, dtype=np.float64), -1.0, 1.0)
+    h, mu = np.broadcast_arrays(h, mu)
+    shape = h.shape
+    h, mu = h.reshape(-1), mu.reshape(-1)
+    ds = _atmosphere_exit(h, mu, params) / steps
+    r = R + h
+    frac = np.arange(steps) + 0.5
+    out = np.zeros(h.size)
+    chunk = max(1, 2_000_000 // steps)
+    for a in range(0, h.size, chunk):
+        b = slice(a, a + chunk)
+        s = frac * ds[b, None]
+        rb, mub = r[b, None], mu[b, None]
+        alt = np.sqrt(np.maximum(s * s + 2.0 * rb * mub * s + rb * rb, 0.0)) - R
+        out[b] = ozone_density(alt).sum(-1) * ds[b]
+    return np.where(sun_ray_hits_ground(h, mu, params), np.inf, out).reshape(shape)
+
+
 def _atmosphere_exit(h, mu, params: AtmosphereParams):
     """Distance from height h along cos Φ = mu to the top sphere (stable for both signs of mu):
     d = −rμ + √(r²μ² + k), k = R_top² − r² = (top − h)(2R + top + h) ≥ 0."""
@@ -609,9 +722,10 @@ def _atmosphere_exit(h, mu, params: AtmosphereParams):
 # Against exact integrals, a 256×256 table then errs < 0.3 % (R) and < 0.5 % (M) relative below
 # the top 2 km, and < 6e-4 in optical depth everywhere, the grazing band included.
 #
-# Layout. One RG32F texture (the thesis used one RGBA8-packed texture per particle type; bilinear
-# filtering of packed bytes is wrong, §1.8): R = C_R, G = C_M (dimensionless).
-# numpy ``table[row, column, channel]`` has shape (n_height, n_angle, 2) and is uploaded as a
+# Layout. One RGB32F texture (the thesis used one RGBA8-packed texture per particle type; bilinear
+# filtering of packed bytes is wrong, §1.8): R = C_R, G = C_M (dimensionless), B = the ozone
+# layer's density integral D_O / 15 km (beyond the thesis; read only when the layer is on).
+# numpy ``table[row, column, channel]`` has shape (n_height, n_angle, 3) and is uploaded as a
 # (width = n_angle, height = n_height) texture: **rows = height (v), columns = cos Φ (u)**, as the
 # thesis. Row 0 (v near 0) is sea level; column 0 (u near 0) is the horizon.
 #
@@ -720,10 +834,12 @@ class OpticalDepthLut:
     """The thesis's "Chapman function" table (spec/002 §1.8), built at start and when
     :meth:`AtmosphereParams.lut_key` changes (P0, β, g and the sun are applied after lookup).
 
-    ``table`` is float32 (n_height, n_angle, 2) of Chapman ratios C = D / (H exp(−h_low/H)) —
-    upload as an RG32F texture of size (n_angle, n_height) with LINEAR filtering and
-    CLAMP_TO_EDGE and read it through ``OpticalDepthToSun`` (``GLSL_LUT_UV``). ``densities`` holds
-    the texels' density integrals D (float64, m). Every texel is exact (:func:`optical_depth`,
+    ``table`` is float32 (n_height, n_angle, 3) of Chapman ratios C = D / (H exp(−h_low/H)) for
+    Rayleigh and Mie and, third, the ozone density integral D_O / :data:`OZONE_COLUMN_M` (stored
+    as is: the tent has no exponential to factor out) — upload as an RGB32F texture of size
+    (n_angle, n_height) with LINEAR filtering and CLAMP_TO_EDGE and read it through
+    ``OpticalDepthToSun`` (``GLSL_LUT_UV``). ``densities`` holds the texels' density integrals
+    D (float64, m). Every texel is exact (:func:`optical_depth`,
     ~1e-12), so the table's only error is interpolation.
     """
 
@@ -743,9 +859,13 @@ class OpticalDepthLut:
         self.heights, self.cos_phi = h, mu
         #: density integrals D at the texels (n_height, n_angle, 2), float64, m
         self.densities = _density_integrals(h, mu, params, nodes, ground=False)
-        #: the texture: Chapman ratios, float32 (n_height, n_angle, 2)
+        #: the texture: Chapman ratios and ozone, float32 (n_height, n_angle, 3)
+        #: ozone density integrals D_O at the texels (n_height, n_angle), float64, m
+        self.ozone = ozone_optical_depth(h, mu, params, ground=False)
         column = vertical_column(lowest_height(h, mu, params), params)
-        self.table = (self.densities / column).astype(np.float32)
+        self.table = np.concatenate([self.densities / column,
+                                     (self.ozone / OZONE_COLUMN_M)[..., None]],
+                                    axis=-1).astype(np.float32)
 
     @property
     def size(self) -> tuple[int, int]:
@@ -775,11 +895,14 @@ class OpticalDepthLut:
         return row0 * (1.0 - fy) + row1 * fy
 
     def optical_depth_to_sun(self, h, cos_phi, p0: float | None = None) -> np.ndarray:
-        """Twin of GLSL ``OpticalDepthToSun``: (P0·D_R, P0·D_M) in m by bilinear lookup, or
-        OPTICAL_DEPTH_GROUND_M (without P0) for rays that hit the planet. Returns (..., 2)."""
+        """Twin of GLSL ``OpticalDepthToSun``: (P0·D_R, P0·D_M, D_O) in m by bilinear lookup
+        (the ozone integral D_O has no P0), or OPTICAL_DEPTH_GROUND_M (without P0) for rays that
+        hit the planet. Returns (..., 3)."""
         p0 = self.params.p0 if p0 is None else p0
         column = vertical_column(lowest_height(h, cos_phi, self.params), self.params)
-        d = p0 * column * self.sample(self.uv(h, cos_phi))
+        texel = self.sample(self.uv(h, cos_phi))
+        d = np.concatenate([p0 * column * texel[..., :2], OZONE_COLUMN_M * texel[..., 2:3]],
+                           axis=-1)
         ground = sun_ray_hits_ground(h, cos_phi, self.params)
         return np.where(ground[..., None], OPTICAL_DEPTH_GROUND_M, d)
 
@@ -847,7 +970,12 @@ def _integrate(cam, dirs, sun_dir, params: AtmosphereParams, max_dist, surface_c
     p0 = params.p0
     b_r_ext = params.beta_rayleigh_ext
     b_m_ext = params.beta_mie_ext
-    acc = np.zeros((n, 2))          # P0-scaled density integral camera → current position
+    # with the ozone layer on, a third component: the ozone density integral (no P0), whose
+    # absorption b_o adds to the extinction only (off: two components, the thesis's sums exactly)
+    ozone = params.ozone > 0.0
+    b_o = params.beta_ozone
+    width = 3 if ozone else 2
+    acc = np.zeros((n, width))      # P0-scaled density integral camera → current position
     sum_r = np.zeros((n, 3))
     sum_m = np.zeros((n, 3))
     # the samples' geometry, densities and τ(AP) are per point, so they are computed for a
@@ -863,10 +991,12 @@ def _integrate(cam, dirs, sun_dir, params: AtmosphereParams, max_dist, surface_c
         r = np.linalg.norm(P, axis=-1)
         h = r - R
         rho = p0 * np.exp(-np.maximum(h, 0.0)[..., None] / H)          # (m, n, 2)
+        if ozone:
+            rho = np.concatenate([rho, ozone_density(h)[..., None]], axis=-1)
         step = rho * ds[:, None]
         cos_phi = np.einsum("ij,j->i", P.reshape(-1, 3), sun).reshape(m, n) \
             / np.where(r > 0.0, r, 1.0)
-        tau_ap = sun_depth(h.reshape(-1), cos_phi.reshape(-1)).reshape(m, n, 2)  # P0 included
+        tau_ap = sun_depth(h.reshape(-1), cos_phi.reshape(-1)).reshape(m, n, width)  # P0 incl.
         # acc before each sample: acc, acc + s0, (acc + s0) + s1, ... (an accumulate adds in
         # sequence, as the loop's acc += step)
         before = np.add.accumulate(np.concatenate([acc[None], step]), axis=0)
@@ -874,7 +1004,8 @@ def _integrate(cam, dirs, sun_dir, params: AtmosphereParams, max_dist, surface_c
         tau_pc = before[1:] if pc_rule == "thesis" else before[:-1] + 0.5 * step
         lit = np.isfinite(tau_ap[..., 0]) & (tau_ap[..., 0] < OPTICAL_DEPTH_GROUND_M)
         tau = np.where(lit[..., None], tau_ap, 0.0) + tau_pc
-        ext = np.exp(-(b_r_ext * tau[..., 0:1] + b_m_ext * tau[..., 1:2]))
+        ext = np.exp(-(b_r_ext * tau[..., 0:1] + b_m_ext * tau[..., 1:2]
+                       + (b_o * tau[..., 2:3] if ozone else 0.0)))
         ext = np.where(lit[..., None], ext, 0.0)
         if visibility is not None:
             ext = ext * np.stack([np.asarray(visibility(P[j]), dtype=np.float64).reshape(n, 1)
@@ -887,7 +1018,8 @@ def _integrate(cam, dirs, sun_dir, params: AtmosphereParams, max_dist, surface_c
     in_scatter = params.sun_intensity * (
         sum_r * params.beta_rayleigh_scatter * phase_rayleigh(cos_theta)[:, None]
         + sum_m * np.array(params.beta_mie_scatter) * phase_mie(cos_theta, params.g)[:, None])
-    transmittance = np.exp(-(b_r_ext * acc[:, 0:1] + b_m_ext * acc[:, 1:2]))
+    transmittance = np.exp(-(b_r_ext * acc[:, 0:1] + b_m_ext * acc[:, 1:2]
+                             + (b_o * acc[:, 2:3] if ozone else 0.0)))
     surface = np.zeros((n, 3)) if surface_colour is None else \
         np.broadcast_to(np.asarray(surface_colour, dtype=np.float64), (n, 3))
     return Scattering(in_scatter, transmittance, surface * transmittance + in_scatter)
@@ -916,15 +1048,20 @@ def single_scattering(cam, dirs, sun_dir, params: AtmosphereParams, max_dist=Non
 
     Returns :class:`Scattering` (in_scatter, transmittance, radiance), each (N, 3).
     """
+    ozone = params.ozone > 0.0
     if lut is not None:
         def sun_depth(h, cos_phi):
-            return lut.optical_depth_to_sun(h, cos_phi, params.p0)
+            d = lut.optical_depth_to_sun(h, cos_phi, params.p0)
+            return d if ozone else d[..., :2]
     else:
         inner = steps if inner_steps is None else int(inner_steps)
 
         def sun_depth(h, cos_phi):
-            d = np.stack(optical_depth_midpoint(h, cos_phi, params, inner), axis=-1)
-            return params.p0 * d
+            d = params.p0 * np.stack(optical_depth_midpoint(h, cos_phi, params, inner), axis=-1)
+            if ozone:
+                d = np.concatenate([d, ozone_optical_depth_midpoint(h, cos_phi, params, inner)
+                                    [..., None]], axis=-1)
+            return d
     return _integrate(cam, dirs, sun_dir, params, max_dist, surface_colour, steps, sun_depth,
                       visibility, pc_rule, clip_ground)
 
@@ -941,7 +1078,10 @@ def reference(cam, dirs, sun_dir, params: AtmosphereParams, max_dist=None, surfa
     rays at the defaults — use a few thousand rays (a subsampled image), not a full frame.
     """
     def sun_depth(h, cos_phi):
-        return params.p0 * _density_integrals(h, cos_phi, params, nodes)
+        d = params.p0 * _density_integrals(h, cos_phi, params, nodes)
+        if params.ozone > 0.0:
+            d = np.concatenate([d, ozone_optical_depth(h, cos_phi, params)[..., None]], axis=-1)
+        return d
 
     return _integrate(cam, dirs, sun_dir, params, max_dist, surface_colour, steps, sun_depth,
                       visibility, "midpoint", clip_ground)
@@ -962,3 +1102,104 @@ def convergence(cam, dirs, sun_dir, params: AtmosphereParams, ns=(10, 20, 30), n
                                 pc_rule=pc_rule).in_scatter
         out[int(n)] = float(np.max(np.abs(got - ref) / scale))
     return out
+
+
+# =============================================================================================
+# Sky irradiance (beyond the thesis): the sky's light on the ground and the city
+# =============================================================================================
+#
+# The thesis lights surfaces with the sun and a constant ambient k_a × texture colour (§3.3).
+# The sky's own light on a surface of normal n is the irradiance E(n) = ∫ L_sky(ω) max(n·ω, 0) dω
+# over the sphere of directions ω. The sky here is the scene's single-scattering integral seen
+# from 2 m above the scene's origin (the city and the mountains lie within a few tens of km of it,
+# under the same sky); below the horizon, the air between the eye and the dark ground (no ground
+# reflection: the thesis has none). E(n) is smooth in n, so a small table over the normal's
+# directions, filtered bilinearly, holds it: IRRADIANCE_SIZE texels of (azimuth, polar angle),
+# each the quadrature of the sky's radiance on a sphere_grid. The surfaces' direct term is
+# albedo · k_d · (n·l) · T_sun for a sun of unit strength, so the table holds E(n) / lightSun and
+# the sky's term is albedo · k_d · E(n) / lightSun.
+
+#: (width = azimuth, height = polar angle) of the irradiance table
+IRRADIANCE_SIZE = (32, 17)
+
+
+def sphere_grid(n_theta: int):
+    """Midpoint grid over the sphere: (directions (N, 3), solid angles (N,)) with n_theta rows
+    of polar angle (from +y) and 2·n_theta columns of azimuth (0 = −z, 90° = +x, as
+    :func:`direction`); the solid angles sum to 4π exactly (each row's band split evenly)."""
+    edges = np.linspace(0.0, math.pi, n_theta + 1)
+    theta = 0.5 * (edges[:-1] + edges[1:])
+    band = 2.0 * math.pi * (np.cos(edges[:-1]) - np.cos(edges[1:]))
+    n_phi = 2 * n_theta
+    phi = (np.arange(n_phi) + 0.5) * (2.0 * math.pi / n_phi)
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    dirs = np.stack([np.sin(t) * np.sin(p), np.cos(t), -np.sin(t) * np.cos(p)], axis=-1)
+    weights = np.repeat(band / n_phi, n_phi)
+    return dirs.reshape(-1, 3), weights
+
+
+def irradiance_normals(size=IRRADIANCE_SIZE) -> np.ndarray:
+    """The table's texel-centre normals, (height, width, 3): row i at polar angle
+    i·π/(height − 1) from +y (the first and last rows are the poles), column j at azimuth
+    (j + ½)·2π/width."""
+    w, h = size
+    theta = np.arange(h) * (math.pi / (h - 1))
+    phi = (np.arange(w) + 0.5) * (2.0 * math.pi / w)
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    return np.stack([np.sin(t) * np.sin(p), np.cos(t), -np.sin(t) * np.cos(p)], axis=-1)
+
+
+def sky_radiance(dirs, sun_dir, params: AtmosphereParams, steps: int = 30,
+                 lut: OpticalDepthLut | None = None, height: float = 2.0) -> np.ndarray:
+    """The single-scattering sky (in-scattered radiance, (N, 3)) seen from ``height`` above the
+    scene's origin, by the methods' midpoint sum (the LUT when given)."""
+    cam = local_to_planet((0.0, height, 0.0), params)
+    return single_scattering(cam, dirs, sun_dir, params, steps=steps, lut=lut).in_scatter
+
+
+def irradiance_from_radiance(normals, dirs, weights, radiance, sun_intensity: float):
+    """E(n) / lightSun = Σ L(ω) max(n·ω, 0) dω / lightSun for normals (..., 3)."""
+    normals = np.asarray(normals, dtype=np.float64)
+    cosines = np.maximum(normals.reshape(-1, 3) @ dirs.T, 0.0) * weights       # (M, N)
+    scale = sun_intensity if sun_intensity > 0.0 else 1.0
+    return (cosines @ radiance / scale).reshape(normals.shape[:-1] + (3,))
+
+
+def sky_irradiance_table(sun_dir, params: AtmosphereParams, n_theta: int = 48, steps: int = 30,
+                         lut: OpticalDepthLut | None = None, size=IRRADIANCE_SIZE) -> np.ndarray:
+    """The irradiance table, float32 (height, width, 3): E(n) / lightSun at
+    :func:`irradiance_normals`, from the sky's radiance on an ``n_theta`` × 2·``n_theta``
+    :func:`sphere_grid` (``steps`` samples per ray, the LUT when given). Upload as an RGB32F
+    texture (width, height), LINEAR, repeating in u only; GLSL ``SkyIrradiance`` reads it."""
+    dirs, w = sphere_grid(n_theta)
+    L = sky_radiance(dirs, sun_dir, params, steps, lut)
+    return irradiance_from_radiance(irradiance_normals(size), dirs, w, L,
+                                    params.sun_intensity).astype(np.float32)
+
+
+def irradiance_uv(normals, size=IRRADIANCE_SIZE) -> np.ndarray:
+    """(u, v) of normals in the table (twin of ``SkyIrradianceUv``): u = azimuth / 2π,
+    v on the texel centres of the rows, (½ + (polar angle / π)·(height − 1)) / height."""
+    n = np.asarray(normals, dtype=np.float64)
+    h = size[1]
+    phi = np.mod(np.arctan2(n[..., 0], -n[..., 2]), 2.0 * math.pi)
+    theta = np.arccos(np.clip(n[..., 1], -1.0, 1.0))
+    return np.stack([phi / (2.0 * math.pi), (0.5 + theta / math.pi * (h - 1)) / h], axis=-1)
+
+
+def sample_irradiance(table, normals) -> np.ndarray:
+    """GL LINEAR lookup of the table at normals (u repeats, v clamps). Returns (..., 3)."""
+    tab = np.asarray(table, dtype=np.float64)
+    h, w = tab.shape[:2]
+    uv = irradiance_uv(normals, (w, h))
+    x = uv[..., 0] * w - 0.5
+    y = np.clip(uv[..., 1] * h - 0.5, 0.0, h - 1.0)
+    x0, y0 = np.floor(x), np.floor(y)
+    fx, fy = (x - x0)[..., None], (y - y0)[..., None]
+    i0 = np.mod(x0.astype(np.int64), w)
+    i1 = np.mod(x0.astype(np.int64) + 1, w)
+    j0 = y0.astype(np.int64)
+    j1 = np.minimum(j0 + 1, h - 1)
+    row0 = tab[j0, i0] * (1.0 - fx) + tab[j0, i1] * fx
+    row1 = tab[j1, i0] * (1.0 - fx) + tab[j1, i1] * fx
+    return row0 * (1.0 - fy) + row1 * fy

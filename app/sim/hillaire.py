@@ -3,7 +3,9 @@
 Used by the method-4 tests and available to benches: the transmittance-LUT parametrisation
 (Bruneton's (x_μ, x_r), as Hillaire 2020 §4), an accurate optical depth, the transmittance of
 any texel, and the Ψ_ms integral of one multiple-scattering texel (Hillaire 2020 §5.5) with
-exact sun transmittance. Same model as glsl/atmosphere/model.glsl: ρ_x(h) = P0 exp(−h/H_x).
+exact sun transmittance. Same model as glsl/atmosphere/model.glsl: ρ_x(h) = P0 exp(−h/H_x), and
+the ozone layer when ``ozone_absorption`` (uOzoneAbsorption) is not zero: the tent ρ_O of
+:func:`app.sim.atmosphere.ozone_density`, absorbing only (it adds σ_a ρ_O to the extinction).
 """
 
 from __future__ import annotations
@@ -12,6 +14,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from .atmosphere import ozone_density
 
 
 @dataclass(frozen=True)
@@ -24,12 +28,15 @@ class Model:
     h_rayleigh: float = 7994.0
     h_mie: float = 1200.0
     p0: float = 1.0
+    #: ozone's σ_a at the tent's peak, RGB 1/m (0: no ozone, the thesis)
+    ozone_absorption: tuple = (0.0, 0.0, 0.0)
 
     @classmethod
     def from_uniforms(cls, u) -> Model:
         return cls(float(u["uBottomRadius"]), float(u["uTopRadius"]), tuple(u["uBetaRayleigh"]),
                    tuple(u["uBetaMieScatter"]), tuple(u["uBetaMieExt"]), float(u["uHRayleigh"]),
-                   float(u["uHMie"]), float(u["uP0"]))
+                   float(u["uHMie"]), float(u["uP0"]),
+                   tuple(float(v) for v in u.get("uOzoneAbsorption", (0.0, 0.0, 0.0))))
 
     @property
     def height(self) -> float:
@@ -39,10 +46,17 @@ class Model:
         h = np.maximum(np.asarray(h, dtype=float), 0.0)
         return self.p0 * np.exp(-h / self.h_rayleigh), self.p0 * np.exp(-h / self.h_mie)
 
-    def transmittance(self, depth_r, depth_m) -> np.ndarray:
+    def transmittance(self, depth_r, depth_m, depth_o=0.0) -> np.ndarray:
         d_r = np.asarray(depth_r, dtype=float)[..., None]
         d_m = np.asarray(depth_m, dtype=float)[..., None]
-        return np.exp(-(np.asarray(self.beta_rayleigh) * d_r + np.asarray(self.beta_mie_ext) * d_m))
+        d_o = np.asarray(depth_o, dtype=float)[..., None]
+        return np.exp(-(np.asarray(self.beta_rayleigh) * d_r + np.asarray(self.beta_mie_ext) * d_m
+                        + np.asarray(self.ozone_absorption) * d_o))
+
+    def ozone_extinction(self, h) -> np.ndarray:
+        """σ_a ρ_O(h), RGB (..., 3): the ozone layer's share of the extinction."""
+        rho = ozone_density(np.asarray(h, dtype=float))
+        return np.asarray(self.ozone_absorption) * rho[..., None]
 
 
 def distance_to_top(m: Model, h, mu):
@@ -76,30 +90,35 @@ def transmittance_params(m: Model, x_mu, x_r):
     return r - m.bottom, np.clip(mu, -1.0, 1.0)
 
 
-def optical_depth_to_top(m: Model, h, mu, n: int = 4000):
-    """(∫ρ_R dt, ∫ρ_M dt) to the top: midpoint in s with t = d s³ (converged at n = 4000)."""
+def optical_depth_to_top(m: Model, h, mu, n: int = 4000, ozone: bool = False):
+    """(∫ρ_R dt, ∫ρ_M dt) to the top: midpoint in s with t = d s³ (converged at n = 4000);
+    with ``ozone`` a third value, ∫ρ_O dt."""
     h = np.asarray(h, dtype=float)
     mu = np.asarray(mu, dtype=float)
     d = distance_to_top(m, h, mu)[..., None]
     s = (np.arange(n) + 0.5) / n
     t = d * s ** 3
     dt = 3.0 * d * s ** 2 / n
-    rho_r, rho_m = m.density(height_along(m, h[..., None], mu[..., None], t))
-    return (rho_r * dt).sum(-1), (rho_m * dt).sum(-1)
+    alt = height_along(m, h[..., None], mu[..., None], t)
+    rho_r, rho_m = m.density(alt)
+    out = (rho_r * dt).sum(-1), (rho_m * dt).sum(-1)
+    if ozone:
+        return out + ((ozone_density(alt) * dt).sum(-1),)
+    return out
 
 
 def transmittance_lut(m: Model, width: int, height: int, n: int = 4000) -> np.ndarray:
     """(height, width, 3) reference of the transmittance LUT (texel centres)."""
     xm, xr = np.meshgrid(np.arange(width) / (width - 1), np.arange(height) / (height - 1))
     h, mu = transmittance_params(m, xm, xr)
-    return m.transmittance(*optical_depth_to_top(m, h, mu, n))
+    return m.transmittance(*optical_depth_to_top(m, h, mu, n, ozone=True))
 
 
 def sun_transmittance(m: Model, h, mu_s, n: int = 400):
     """Exact transmittance of sunlight at altitude h, zero in the planet's shadow."""
     h = np.asarray(h, dtype=float)
     mu_s = np.asarray(mu_s, dtype=float)
-    T = m.transmittance(*optical_depth_to_top(m, h, mu_s, n))
+    T = m.transmittance(*optical_depth_to_top(m, h, mu_s, n, ozone=True))
     return np.where(hits_ground(m, h, mu_s)[..., None], 0.0, T)
 
 
@@ -139,7 +158,7 @@ def integrate_ray(m: Model, h0: float, mu: float, mu_s: float, nu: float, steps:
     rho_r, rho_m = m.density(h)
     scat_r = np.asarray(m.beta_rayleigh) * rho_r[:, None]
     scat_m = np.asarray(m.beta_mie_scatter) * rho_m[:, None]
-    ext = scat_r + np.asarray(m.beta_mie_ext) * rho_m[:, None]
+    ext = scat_r + np.asarray(m.beta_mie_ext) * rho_m[:, None] + m.ozone_extinction(h)
     tau = np.cumsum(ext * dt, axis=0) - 0.5 * ext * dt
     view_t = np.exp(-tau)
     mu_s_t = np.clip((r0 * mu_s + t * nu) / (m.bottom + h), -1, 1)

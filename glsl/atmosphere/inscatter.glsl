@@ -14,6 +14,8 @@
 // (§2.3's precedence bug); the Rayleigh scattering coefficient is β^scatt_R (§2.2's betaSR typo);
 // P0 scales the density in both loops (the printed inner loop dropped it).
 // A sample whose sun ray hits the planet gets no sunlight (the planet's shadow).
+// Beyond the thesis: the ozone layer (model.glsl, 0 there) is the third component of every
+// density integral (vec3 (R, M, O)); it absorbs and scatters nothing.
 // =============================================================================================
 
 uniform int uSteps;        // N_STEPS (30 in the thesis)
@@ -22,24 +24,24 @@ uniform int uInnerSteps;   // inner steps of the brute-force sun integral
 
 // Density integral from P (camera-relative) toward the sun to the top of the atmosphere, by a
 // midpoint sum; a huge value when the sun ray hits the planet.
-vec2 SunDepthBruteForce(vec3 P) {
+vec3 SunDepthBruteForce(vec3 P) {
     vec2 ground, top;
     if (RaySphereIntersect(P, uSunDir, uEarthCenter, uBottomRadius, ground) && ground.x > 0.0) {
-        return vec2(1.0e12);
+        return vec3(1.0e12);
     }
     RaySphereIntersect(P, uSunDir, uEarthCenter, uTopRadius, top);
     float len = top.y;
-    if (len <= 0.0) return vec2(0.0);
+    if (len <= 0.0) return vec3(0.0);
     vec3 rel = P - uEarthCenter;
     float r = length(rel);
     float mu = dot(rel, uSunDir) / r;
     float ds = len / float(uInnerSteps);
-    vec2 depth = vec2(0.0);
+    vec3 depth = vec3(0.0);
     for (int i = 0; i < 4096; ++i) {
         if (i >= uInnerSteps) break;
         float s = (float(i) + 0.5) * ds;
         float h = SafeSqrt(s * s + 2.0 * r * mu * s + r * r) - uBottomRadius;
-        depth += DensityRM(h) * ds;
+        depth += DensityRMO(h) * ds;
     }
     return depth;
 }
@@ -47,14 +49,14 @@ vec2 SunDepthBruteForce(vec3 P) {
 #ifdef SUN_DEPTH_LUT
 // τ(AP) from the LUT at height h with the sun at cos Φ to the local vertical (the position is not
 // needed: cos Φ comes from the ray's own geometry, see InScatterSteps).
-vec2 SunDepth(vec3 P, float h, float cosPhi) { return OpticalDepthToSun(h, cosPhi); }
+vec3 SunDepth(vec3 P, float h, float cosPhi) { return OpticalDepthToSun(h, cosPhi); }
 #else
-vec2 SunDepth(vec3 P, float h, float cosPhi) { return SunDepthBruteForce(P); }
+vec3 SunDepth(vec3 P, float h, float cosPhi) { return SunDepthBruteForce(P); }
 #endif
 
 // The running sums of the in-scattering integral along one view ray.
 struct InScatterSums {
-    vec2 depthPC;    // density integral camera → the current position
+    vec3 depthPC;    // density integrals (R, M, O) camera → the current position
     vec3 rayleigh;   // Σ ρ_R e^(−τ) V ds
     vec3 mie;        // Σ ρ_M e^(−τ) V ds
 };
@@ -74,11 +76,11 @@ void InScatterSteps(inout InScatterSums acc, vec3 dir, float mu, float muS, floa
         float h = HeightAlongRay(t, mu);
         // No air above the top of the atmosphere (§2.4: samples outside it have zero density);
         // only the unclipped method 1 has such samples, which otherwise add a glow beyond the limb.
-        vec2 rho = h > uTopRadius - uBottomRadius ? vec2(0.0) : DensityRM(h);
-        vec2 depthAP = SunDepth(P, h, (uCameraRadius * muS + t * nu) / (uBottomRadius + h));
+        vec3 rho = h > uTopRadius - uBottomRadius ? vec3(0.0) : DensityRMO(h);
+        vec3 depthAP = SunDepth(P, h, (uCameraRadius * muS + t * nu) / (uBottomRadius + h));
         // τ(PC) to the sample: the thesis adds the whole current step first, which overstates it by
         // half a step (≈ 50 % error on the horizon at N = 30); the midpoint rule adds half of it.
-        vec2 toSample = acc.depthPC + rho * ds * (uThesisPcRule ? 1.0 : 0.5);
+        vec3 toSample = acc.depthPC + rho * ds * (uThesisPcRule ? 1.0 : 0.5);
         acc.depthPC += rho * ds;
         vec3 ext = TransmittanceFromDepths(depthAP + toSample) * ds;
 #ifdef SHADOWED_INSCATTER
@@ -92,8 +94,8 @@ void InScatterSteps(inout InScatterSums acc, vec3 dir, float mu, float muS, floa
 // In-scattered radiance along dir over [t0, t1] by an `steps`-sample midpoint sum; depthPC
 // returns the camera→end density integral. steps = 0 runs no loop at all (a pixel that need not
 // march: on a software rasteriser the loops then stop for a block where no pixel marches).
-vec3 InScatterN(vec3 dir, float t0, float t1, int steps, out vec2 depthPC) {
-    depthPC = vec2(0.0);
+vec3 InScatterN(vec3 dir, float t0, float t1, int steps, out vec3 depthPC) {
+    depthPC = vec3(0.0);
     if (t1 <= t0) return vec3(0.0);
     vec3 up = CameraUp();
     float mu = dot(dir, up);
@@ -101,7 +103,7 @@ vec3 InScatterN(vec3 dir, float t0, float t1, int steps, out vec2 depthPC) {
     float cosTheta = dot(dir, uSunDir);
     int n = clamp(steps, 0, 4096);
     float ds = n > 0 ? (t1 - t0) / float(n) : 0.0;   // 0: no sample, no shadow range
-    InScatterSums acc = InScatterSums(vec2(0.0), vec3(0.0), vec3(0.0));
+    InScatterSums acc = InScatterSums(vec3(0.0), vec3(0.0), vec3(0.0));
 #ifdef SHADOWED_INSCATTER
     // three runs of the same sum in the same order: V read only where a caster may hide the sun
     ivec2 shadowed = ShadowSampleRange(uCameraLocal, dir, t0, ds, n);
@@ -117,6 +119,6 @@ vec3 InScatterN(vec3 dir, float t0, float t1, int steps, out vec2 depthPC) {
 }
 
 // In-scattered radiance along dir over [t0, t1] with N_STEPS = uSteps samples.
-vec3 InScatter(vec3 dir, float t0, float t1, out vec2 depthPC) {
+vec3 InScatter(vec3 dir, float t0, float t1, out vec3 depthPC) {
     return InScatterN(dir, t0, t1, uSteps, depthPC);
 }

@@ -7,6 +7,11 @@
 //                  β^ext_M = β^scatt_M + β^abs_M = 1.1 · 2·10⁻⁵ /m                           (§1.3)
 //   transmittance  T = exp(−(β^ext_R τ_R + β^ext_M τ_M))   — e^(−τ), not ×τ (erratum of §1.4)
 //   phases         Rayleigh 3/(16π)(1 + μ²); Mie: Cornette–Shanks, |G| < 1  (§1.2; common/phase.glsl)
+//   ozone          beyond the thesis (uOzoneAbsorption = 0 there): absorption only, a tent of
+//                  relative density 0 below 10 km, 1 at 25 km, 0 from 40 km (Bruneton 2017,
+//                  Hillaire 2020), σ_a = atmosphere.ozone · (0.650, 1.881, 0.085)·10⁻⁶ /m at its
+//                  peak; no P0. Density integrals are then vec3 (R, M, O):
+//                  T = exp(−(β^ext_R τ_R + β^ext_M τ_M + σ_a τ_O))
 //
 // Coordinates: metres, world axes, the camera at the origin; the planet centre is uEarthCenter
 // (= C_earth − camera, computed in double precision on the CPU). Float32 at planet scale
@@ -33,6 +38,11 @@ uniform float uP0;              // density scale at sea level (1)
 uniform float uMieG;            // Cornette–Shanks asymmetry, |G| < 1
 uniform float uSunIntensity;    // "lightSun" (30)
 uniform vec3 uSunDir;           // unit vector toward the sun
+uniform vec3 uOzoneAbsorption;  // ozone's σ_a at the tent's peak (1/m); 0: no ozone (the thesis)
+
+const float OZONE_BOTTOM = 10000.0;   // m: the tent starts (twin: app/sim/atmosphere.py)
+const float OZONE_PEAK = 25000.0;     // m: relative density 1
+const float OZONE_TOP = 40000.0;      // m: back to 0
 
 // The view segment clipped to the atmosphere (spec/002 §2.4 item 2, §9 criterion 6):
 // returns (t0, t1) with t0 ≤ t1, or (-1, -1) when it does not cross the atmosphere.
@@ -62,6 +72,20 @@ vec3 CameraUp() { return normalize(-uEarthCenter); }
 
 vec2 DensityRM(float h) { return uP0 * exp(-max(h, 0.0) / vec2(uHRayleigh, uHMie)); }
 
+// The ozone layer's relative density: a tent 10–25–40 km (0 outside).
+float DensityOzone(float h) {
+    return max(1.0 - abs(h - OZONE_PEAK) / (OZONE_PEAK - OZONE_BOTTOM), 0.0);
+}
+
+// (ρ_R, ρ_M, ρ_O): the two scattering densities with P0 and the ozone density (no P0).
+vec3 DensityRMO(float h) { return vec3(DensityRM(h), DensityOzone(h)); }
+
 vec3 TransmittanceFromDepths(vec2 depthRM) {
     return exp(-(uBetaRayleigh * depthRM.x + uBetaMieExt * depthRM.y));
+}
+
+// The same with the ozone density integral as a third component.
+vec3 TransmittanceFromDepths(vec3 depthRMO) {
+    return exp(-(uBetaRayleigh * depthRMO.x + uBetaMieExt * depthRMO.y
+                 + uOzoneAbsorption * depthRMO.z));
 }

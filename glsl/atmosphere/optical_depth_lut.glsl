@@ -1,7 +1,8 @@
 // The optical-depth lookup table, GPU side. Its numpy twin is app/sim/atmosphere.py
 // (OpticalDepthLut, lut_uv), where the parametrisation is explained; tests compile this file
 // and compare it with the twin.
-uniform sampler2D uOpticalDepthLut;   // RG32F, LINEAR, CLAMP_TO_EDGE: Chapman ratios (C_R, C_M)
+uniform sampler2D uOpticalDepthLut;   // RGB32F, LINEAR, CLAMP_TO_EDGE: Chapman ratios (C_R, C_M)
+                                      // and the ozone density integral / 15 km
 
 // ---- Optical-depth LUT ("Chapman function", spec/002 §1.8) — twin of app/sim/atmosphere.py --
 // Needs uBottomRadius, uTopRadius, uHRayleigh, uHMie, uP0 (model.glsl) and uOpticalDepthLut.
@@ -47,13 +48,14 @@ float OpticalDepthLowestHeight(float h, float cosPhi) {
     return k / (sqrt(R * R + k) + R);
 }
 
-// P0-scaled density integrals (P0·D_R, P0·D_M) in m from height h toward the sun at cos Φ to the
-// top of the atmosphere, ready for exp(−(β^ext_R x + β^ext_M y)); OPTICAL_DEPTH_GROUND (no P0)
-// when the planet hides the sun.
-vec2 OpticalDepthToSun(float h, float cosPhi) {
-    if (SunRayHitsGround(h, cosPhi)) return vec2(OPTICAL_DEPTH_GROUND);
+// Density integrals (P0·D_R, P0·D_M, D_O) in m from height h toward the sun at cos Φ to the top
+// of the atmosphere, ready for TransmittanceFromDepths (the ozone layer's D_O has no P0);
+// OPTICAL_DEPTH_GROUND (no P0) when the planet hides the sun.
+vec3 OpticalDepthToSun(float h, float cosPhi) {
+    if (SunRayHitsGround(h, cosPhi)) return vec3(OPTICAL_DEPTH_GROUND);
     vec2 H = vec2(uHRayleigh, uHMie);
     vec2 column = H * exp(-OpticalDepthLowestHeight(h, cosPhi) / H);
-    return uP0 * column * texture(uOpticalDepthLut, OpticalDepthLutUv(h, cosPhi)).rg;
+    vec3 texel = texture(uOpticalDepthLut, OpticalDepthLutUv(h, cosPhi)).rgb;
+    return vec3(uP0 * column * texel.rg, 15000.0 * texel.b);   // 15 km: the tent's column
 }
 

@@ -199,7 +199,7 @@ void Atmosphere(vec3 dir, float dist, bool space, int steps, out vec3 inscatter,
     t0 = seg.x;
     t1 = seg.y;
 #endif
-    vec2 depthPC = vec2(0.0);
+    vec3 depthPC = vec3(0.0);
     bool crosses = t1 > t0 && t0 >= 0.0;
     inscatter = crosses ? InScatterN(dir, t0, t1, steps, depthPC) : vec3(0.0);
     transmittance = crosses ? TransmittanceFromDepths(depthPC) : vec3(1.0);

@@ -3,7 +3,8 @@
 // Surfaces of the planet scene into the G-buffer: Color_original(O) and the camera-relative
 // position of O (spec/002 §1.4: the colour that the out-scattering attenuates).
 //   texture only (methods 1–2, as the thesis's first versions did)  or
-//   Phong (§3.3): ambient = k_a · texture colour (the thesis's modification), diffuse from the
+//   Phong (§3.3): ambient = k_a · texture colour (the thesis's modification; beyond the thesis,
+//   planet.ambient = sky: the sky's irradiance, planet/sky_irradiance.glsl), diffuse from the
 //   normal map, specular (N·H)^n; shadows enter as diffuse = min(shadow, diffuse) (§3.4).
 // Beyond the thesis: sunlight reaching the surface is attenuated by the transmittance toward
 // the sun (from the optical-depth LUT), so surfaces redden at sunset like the sky does.
@@ -17,6 +18,7 @@
 #include "atmosphere/optical_depth_lut.glsl"
 #include "atmosphere/sun_transmittance.glsl"
 #include "shadow.glsl"
+#include "sky_irradiance.glsl"
 
 in vec3 vRel;
 in vec3 vLocal;
@@ -60,7 +62,7 @@ void main() {
         vec3 fromCentre = vRel - uEarthCenter;
         float r = length(fromCentre);
         if (SunRayHitsGround(r - uBottomRadius, dot(fromCentre / r, uSunDir))) sunlight = vec3(0.0);
-        color = albedo * uKa + (albedo * uKd * diffuse + uKs * spec) * sunlight;
+        color = AmbientLight(albedo, n, uKa, uKd) + (albedo * uKd * diffuse + uKs * spec) * sunlight;
     }
     outColor = vec4(color, 1.0);
     outPosition = vec4(vRel, 1.0);

@@ -9,7 +9,8 @@
 // Used by planet/ground.frag (the default: shaded once into the G-buffer's colour, outside the
 // per-method pass) and by planet/composite.frag without SURFACES_IN_GBUFFER (the earlier path).
 // Needs atmosphere/model.glsl, atmosphere/optical_depth_lut.glsl, atmosphere/sun_transmittance.glsl,
-// planet/shadow.glsl and uCameraLocal.
+// planet/shadow.glsl and uCameraLocal; includes planet/sky_irradiance.glsl (the ambient: k_a, or
+// beyond the thesis the sky's irradiance).
 // Failure cases: the asin of the star lookup is clamped; the analytic ground takes no shadow-map
 // depth bias (it cannot shadow itself, see GroundColor); the baked noise's cubemap is seamless
 // (GL_TEXTURE_CUBE_MAP_SEAMLESS), so face edges do not show; the cap's gnomonic coordinates are
@@ -31,6 +32,8 @@ float GroundNoise(vec3 n) {
 #include "ground_noise.glsl"
 float GroundNoise(vec3 n) { return GroundNoiseFbm(n); }
 #endif
+
+#include "sky_irradiance.glsl"
 
 uniform sampler2D uStarTex;
 uniform float uStarIntensity;
@@ -64,7 +67,8 @@ vec3 GroundColor(vec3 rel) {
     // any bias only detaches the meshes' shadows from them (0.0004 of the 60 km depth range is 24 m
     // along the light — more than most of the city's boxes are wide).
     float diffuse = min(ShadowVisibility(local, 0.0), nl);
-    return albedo * (uKa + uKd * diffuse * SunTransmittanceAt(rel));
+    vec3 sun = uKd * diffuse * SunTransmittanceAt(rel);
+    return uSkyAmbient ? albedo * (uKd * SkyIrradiance(n) + sun) : albedo * (uKa + sun);
 }
 
 // Color_original of a pixel no mesh covers, along the unit camera ray dir: the ground at the

@@ -18,9 +18,10 @@ def test_glsl_twin_of_the_lut_lookup(gl_ctx, atmosphere_lut, atmosphere_model):
     fs = ("#version 330 core\nuniform float uBottomRadius; uniform float uTopRadius;"
           " uniform float uHRayleigh;\n"
           "uniform float uHMie; uniform float uP0; uniform sampler2D uPoints;\n" + atm.GLSL_LUT_UV +
-          "\nout vec4 fragColor;\n"
+          "\nlayout(location = 0) out vec4 fragColor;\nlayout(location = 1) out vec4 fragOzone;\n"
           "void main() { vec2 q = texelFetch(uPoints, ivec2(gl_FragCoord.xy), 0).xy;\n"
-          "  fragColor = vec4(OpticalDepthLutUv(q.x, q.y), OpticalDepthToSun(q.x, q.y)); }")
+          "  vec3 d = OpticalDepthToSun(q.x, q.y);\n"
+          "  fragColor = vec4(OpticalDepthLutUv(q.x, q.y), d.xy); fragOzone = vec4(d.z); }")
     side = 32
     rng = np.random.default_rng(5)
     h = rng.uniform(0.0, atmosphere_model.top_height, side * side).astype(np.float32)
@@ -33,12 +34,13 @@ def test_glsl_twin_of_the_lut_lookup(gl_ctx, atmosphere_lut, atmosphere_model):
         prog = ctx.program(vertex_shader=vs, fragment_shader=fs)
         src = ctx.texture((side, side), 4, points.tobytes(), dtype="f4")
         src.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        tex = ctx.texture(atmosphere_lut.size, 2, atmosphere_lut.table.tobytes(), dtype="f4")
+        tex = ctx.texture(atmosphere_lut.size, 3, atmosphere_lut.table.tobytes(), dtype="f4")
         tex.repeat_x = tex.repeat_y = False
         out = ctx.texture((side, side), 4, dtype="f4")
-        fbo = ctx.framebuffer([out])
+        out_ozone = ctx.texture((side, side), 4, dtype="f4")
+        fbo = ctx.framebuffer([out, out_ozone])
         vao = ctx.vertex_array(prog, [])
-        objs = [prog, src, tex, out, fbo, vao]
+        objs = [prog, src, tex, out, out_ozone, fbo, vao]
         src.use(0)
         tex.use(1)
         prog["uPoints"] = 0
@@ -50,6 +52,8 @@ def test_glsl_twin_of_the_lut_lookup(gl_ctx, atmosphere_lut, atmosphere_model):
         vao.render(moderngl.TRIANGLES, vertices=3)
         res = np.frombuffer(fbo.read(components=4, dtype="f4"),
                             np.float32).reshape(-1, 4).astype(np.float64)
+        ozone = np.frombuffer(fbo.read(components=4, dtype="f4", attachment=1),
+                              np.float32).reshape(-1, 4)[:, 0].astype(np.float64)
     finally:
         for o in objs:
             o.release()
@@ -59,4 +63,6 @@ def test_glsl_twin_of_the_lut_lookup(gl_ctx, atmosphere_lut, atmosphere_model):
     assert np.array_equal(res[:, 2] >= 1e11, ground)
     want = atmosphere_lut.optical_depth_to_sun(h64, mu64)
     sky = ~ground
-    assert np.allclose(res[sky, 2:], want[sky], rtol=2e-3, atol=1e-3)
+    assert np.allclose(res[sky, 2:], want[sky, :2], rtol=2e-3, atol=1e-3)
+    # the ozone layer's density integral (third channel, no P0), metres
+    assert np.allclose(ozone[sky], want[sky, 2], rtol=2e-3, atol=1.0)

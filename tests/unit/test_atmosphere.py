@@ -181,9 +181,9 @@ def test_rays_into_the_ground_have_no_sunlight(atmosphere_model, atmosphere_lut)
 # ---- criterion 4: the optical-depth LUT ("Chapman function", §1.8) -------------------------
 
 def test_lut_layout(atmosphere_lut, atmosphere_model):
-    assert atmosphere_lut.table.dtype == np.float32 and atmosphere_lut.table.shape == (256, 256, 2)
+    assert atmosphere_lut.table.dtype == np.float32 and atmosphere_lut.table.shape == (256, 256, 3)
     assert atmosphere_lut.size == (256, 256)
-    assert atm.OpticalDepthLut(atmosphere_model, n_height=16, n_angle=32).table.shape == (16, 32, 2)
+    assert atm.OpticalDepthLut(atmosphere_model, n_height=16, n_angle=32).table.shape == (16, 32, 3)
     assert atmosphere_lut.key == atmosphere_model.lut_key() + (256, 256)
     # P0 and g are applied after the lookup
     assert atmosphere_model.replace(p0=1.3, g=0.9).lut_key() == atmosphere_model.lut_key()

@@ -87,7 +87,7 @@ GROUND_CAP_TAN = math.tan(math.radians(GROUND_CAP_DEG))
 
 def composite_spec(method: str, compare: str = "hardware", noise: str = "baked",
                    ground: str = "gbuffer", part: int = 0, march: int = 1,
-                   march_pass: int = 0) -> ProgramSpec:
+                   march_pass: int = 0, ozone: bool = False) -> ProgramSpec:
     """The scattering pass for ``method``, with the shadow comparisons ``compare`` (hardware or
     manual), the ground's noise ``noise`` (baked or live; only where the pass shades the ground
     itself) and ``ground``: ``gbuffer`` reads the analytic ground's and the background's colour
@@ -98,7 +98,9 @@ def composite_spec(method: str, compare: str = "hardware", noise: str = "baked",
     Methods 1–3 only: ``march_pass`` (MARCH_PASS: 0 every pixel marched, 1 the reduced-resolution
     grid's march, 2 its depth-aware upsampling and composite, marking the pixels it cannot
     interpolate with window depth 1, 3 the march of those pixels alone: pass 0's program drawn
-    on the far plane, planet/ground.vert, with the depth test '<=')."""
+    on the far plane, planet/ground.vert, with the depth test '<=').
+    ``ozone`` (method 4 only): HILLAIRE_OZONE, the lookups' transmittance from the transmittance
+    LUT, which holds the ozone layer the sky-view LUT's and the volume's alphas do not."""
     defines: tuple = (("METHOD", METHODS.index(method) + 1),)
     if compare == "manual" and not (method == "hillaire" and ground == "gbuffer"):
         defines += (("SHADOW_COMPARE_MANUAL", 1),)  # method 4 reads no shadows from the G-buffer
@@ -109,6 +111,8 @@ def composite_spec(method: str, compare: str = "hardware", noise: str = "baked",
     vert = "common/fullscreen.vert"
     if method == "hillaire":
         defines += (("HILLAIRE_PART", int(part)), ("HILLAIRE_MARCH", int(march)))
+        if ozone:
+            defines += (("HILLAIRE_OZONE", 1),)
         if part:
             vert = "planet/ground.vert"
     elif march_pass:
@@ -177,6 +181,15 @@ SHADOW_HALF = 17000.0
 sun_direction = atm.direction
 #: the thesis's variable exposure clamp(1 − cos γ / 4, 0, 1) (spec/002 §1.6)
 pupil = atm.pupil
+
+
+#: the sun's elevation and azimuth are rounded to this for the sky's irradiance table (degrees)
+SKY_IRRADIANCE_STEP_DEG = 0.25
+
+
+def _sky_irradiance_table(model, elevation: float, azimuth: float) -> np.ndarray:
+    """The irradiance table for a sun at (elevation, azimuth) degrees (memoised per process)."""
+    return atm.sky_irradiance_table(atm.direction(elevation, azimuth), model)
 
 
 def resolve_pc_rule(rule: str, method: str) -> str:
@@ -381,6 +394,10 @@ class Planet(Effect):
                   "surface pass)", kind="int"),
             Param("planet.normal_mapping", True, doc="normal maps in Phong shading", kind="bool",
                   section=f"{s} §3.3"),
+            Param("planet.ambient", "constant", doc="the surfaces' ambient light: constant (the "
+                  "thesis: planet.ka × the texture colour) or sky (beyond the thesis: the "
+                  "single-scattering sky's irradiance on the surface's normal, × planet.kd)",
+                  kind="choice", choices=("constant", "sky"), section=f"{s} §10.3"),
             Param("planet.ka", 0.25, 0.0, 1.0, "Phong ambient factor (times the texture colour)",
                   section=f"{s} §3.3"),
             Param("planet.kd", 1.0, 0.0, 2.0, "Phong diffuse factor", section=f"{s} §3.3"),
@@ -442,6 +459,9 @@ class Planet(Effect):
         #: (depth texture, framebuffer) of the shadow map, remade when its size changes
         self._shadow = self.keyed(self._make_shadow_map, release=self._free_all)
         self._lut = self.keyed(self._build_lut, release=gpu.free)
+        #: the sky's irradiance table (planet.ambient = sky), rebuilt when the sun or the model
+        #: changes
+        self._sky_irradiance = self.keyed(self._build_sky_irradiance, release=gpu.free)
         #: the baked ground-noise cubemap, rebuilt when its size changes
         self._ground_noise = self.keyed(self._bake_ground_noise, release=self._free_all)
         self._meshes: dict | None = None   # (name, grid) → (vertices, indices)
@@ -577,10 +597,31 @@ class Planet(Effect):
         # one build per process, not per session
         data = MEMO.get((atm.OpticalDepthLut, key), lambda: atm.OpticalDepthLut(
             self.model(), n_height=size[1], n_angle=size[0]).table)
-        lut = self.gpu.texture(self.name, "optical depth LUT", size, 2, data.astype("f4").tobytes(),
+        lut = self.gpu.texture(self.name, "optical depth LUT", size, 3, data.astype("f4").tobytes(),
                                dtype="f4")
         lut.repeat_x = lut.repeat_y = False
         return lut
+
+    def sky_irradiance_sun(self) -> tuple[float, float]:
+        """The sun (elevation, azimuth) in degrees the irradiance table is built for: the
+        parameters rounded to SKY_IRRADIANCE_STEP_DEG, so a moving sun rebuilds it in steps."""
+        q = SKY_IRRADIANCE_STEP_DEG
+        p = self.params
+        return (round(float(p["planet.sun_elevation"]) / q) * q,
+                round(float(p["planet.sun_azimuth"]) / q) * q % 360.0)
+
+    def sky_irradiance(self):
+        """The sky's irradiance table (app/sim/atmosphere.py, sky_irradiance_table) as an RGB32F
+        texture, for the ground's and the meshes' ambient with planet.ambient = sky."""
+        return self._sky_irradiance.get((self.model(),) + self.sky_irradiance_sun())
+
+    def _build_sky_irradiance(self, key):
+        model, el, az = key
+        table = memoised(_sky_irradiance_table, model, el, az)
+        w, h = atm.IRRADIANCE_SIZE
+        tex = self.gpu.texture(self.name, "sky irradiance", (w, h), 3, table.tobytes(), dtype="f4")
+        tex.repeat_x, tex.repeat_y = True, False
+        return tex
 
     @property
     def lut_builds(self) -> int:
@@ -715,6 +756,10 @@ class Planet(Effect):
             "uKd": p["planet.kd"],
         })
         textures = {"uOpticalDepthLut": self.optical_depth_lut()}
+        sky = p["planet.ambient"] == "sky"
+        prog.set("uSkyAmbient", sky)
+        if sky and "uSkyIrradiance" in prog.samplers():
+            textures["uSkyIrradiance"] = self.sky_irradiance()
         # a program that reads no shadow (method 4's lookups) skips the map's bookkeeping
         if self.uses_shadows() and "uShadowMap" in prog.samplers():
             tex = self.shadow_map()
@@ -730,7 +775,8 @@ class Planet(Effect):
     def composite_spec(self, part: int = 0, march: int = 1, march_pass: int = 0) -> ProgramSpec:
         p = self.params
         return composite_spec(self.method(), p["planet.shadow_compare"], p["planet.ground_noise"],
-                              p["planet.ground_pass"], part, march, march_pass)
+                              p["planet.ground_pass"], part, march, march_pass,
+                              self.model().ozone > 0.0)
 
     def ground_spec(self) -> ProgramSpec:
         p = self.params

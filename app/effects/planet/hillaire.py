@@ -42,8 +42,11 @@ Conventions, and what differs from Hillaire's paper (all documented in the GLSL 
 * the sky-view LUT and the volume store Rayleigh (phase applied) + multiple scattering and the
   phase-free Mie integral in two textures; the Mie phase is applied per pixel, so the sun halo
   is as sharp as in methods 1–3 (Hillaire stores the phased total and squeezes u to the sun);
-* no ozone layer (the thesis has none), ground albedo 0 by default (the thesis has no ground
-  reflection in the sky), planet shadow as a hard test (the LUT transmittance is ~0 there).
+* the ozone layer off by default (the thesis has none; ``atmosphere.ozone``: model.glsl's
+  ``uOzoneAbsorption``, in the transmittance LUT and every march's extinction; the lookups then
+  take their transmittance from the transmittance LUT, HILLAIRE_OZONE), ground albedo 0 by
+  default (the thesis has no ground reflection in the sky), planet shadow as a hard test (the
+  LUT transmittance is ~0 there).
 
 The near-camera source factors (``uHillaireSource*``: sunlight × σ_R and × σ_M, and σ_s Ψ_ms at
 the camera, which the volume's lookup needs before its first slice) are computed here: the
@@ -238,6 +241,7 @@ def model_uniforms(altitude: float = 2.0, sun_elevation_deg: float = 90.0,
         "uMieG": 0.76,
         "uSunIntensity": 30.0,
         "uSunDir": tuple(float(v) for v in sun / np.linalg.norm(sun)),
+        "uOzoneAbsorption": (0.0, 0.0, 0.0),
     }
     values.update(overrides)
     return values
@@ -490,7 +494,8 @@ class HillaireLuts:
         if missing:
             raise KeyError(f"HillaireLuts.update: model uniforms missing: {', '.join(missing)}")
         v = self.value
-        return (tuple(_freeze(u[k]) for k in STATIC_UNIFORMS), self.sizes()["transmittance"],
+        return (tuple(_freeze(u[k]) for k in STATIC_UNIFORMS),
+                _freeze(u.get("uOzoneAbsorption", (0.0, 0.0, 0.0))), self.sizes()["transmittance"],
                 self.sizes()["multiscattering"], int(v("transmittance_steps")),
                 self.ms_directions(), int(v("ms_steps")), float(v("ground_albedo")),
                 bool(v("ms_infinite")))

@@ -3,7 +3,9 @@
 // S. Hillaire, "A Scalable and Production Ready Sky and Atmosphere Rendering Technique",
 // EGSR 2020 (Computer Graphics Forum 39(4)). Same physical model and constants as the thesis's
 // three methods (spec/002 §1, §7; glsl/atmosphere/model.glsl): Rayleigh + Mie with exponential
-// density ρ_x(h) = P0·exp(−h/H_x), β^ext_M = 1.1 β^scatt_M, no ozone, Cornette–Shanks phase.
+// density ρ_x(h) = P0·exp(−h/H_x), β^ext_M = 1.1 β^scatt_M, Cornette–Shanks phase, and — beyond
+// the thesis, off by default — model.glsl's ozone layer, which adds σ_a ρ_O(h) to the extinction
+// of every view ray and of the transmittance LUT (absorption only: no scattering term).
 //
 // What this file holds, used by every Hillaire pass and by hillaire_lookup.glsl:
 //
@@ -182,7 +184,7 @@ struct HillaireInScatter {
     vec3 multiple;      // ∫ T_view σ_s Ψ_ms dt               (isotropic, per unit sun intensity)
     vec3 transfer;      // ∫ T_view σ_s dt                    (f_ms integrand, Hillaire 2020 eq. 8)
     vec3 opticalDepth;  // ∫ σ_t dt from the start of the segment
-    vec2 density;       // (∫ ρ_R dt, ∫ ρ_M dt): σ_t's integral is β^ext_R x + β^ext_M y
+    vec2 density;       // (∫ ρ_R dt, ∫ ρ_M dt): σ_t's integral is β^ext_R x + β^ext_M y (+ ozone's)
 };
 
 HillaireInScatter HillaireZeroInScatter() {
@@ -198,7 +200,8 @@ void HillaireAccumulate(inout HillaireInScatter acc, float h0, float mu, float m
     vec2 density = DensityRM(h);
     vec3 scatR = uBetaRayleigh * density.x;
     vec3 scatM = uBetaMieScatter * density.y;
-    vec3 stepDepth = (uBetaRayleigh * density.x + uBetaMieExt * density.y) * dt;
+    vec3 stepDepth = (uBetaRayleigh * density.x + uBetaMieExt * density.y
+                      + uOzoneAbsorption * DensityOzone(h)) * dt;
     vec3 viewT = exp(-(acc.opticalDepth + 0.5 * stepDepth));
     float muSAt = ClampCosine((r0 * muS + t * nu) / (uBottomRadius + max(h, 0.0)));
     vec3 sunT = HillaireSunTransmittanceAt(h, muSAt);

@@ -50,6 +50,12 @@
 // the phased Rayleigh + multiple scattering integrals, and in their alphas the density
 // integrals (∫ρ_R dt, ∫ρ_M dt) of the same ray, so that the per-channel transmittance is
 // exp(−(β^ext_R x + β^ext_M y)) from the same two reads (model.glsl's TransmittanceFromDepths).
+// The ozone layer (model.glsl, beyond the thesis) adds a third density integral the alphas have
+// no room for: with HILLAIRE_OZONE defined (the scene defines it when the layer is on) the
+// per-channel transmittance of a sky-view or volume lookup whose segment rises into the layer
+// (above 10 km) comes instead from the transmittance LUT, which includes ozone (HillaireTransmittance:
+// one read to the top, or the ratio of two); a segment that stays below the layer keeps the
+// alphas' exact value (the LUT ratio errs up to ~4 % on near-horizontal rays).
 // The volume's first slice lies range/D² from the camera; nearer (a mesh within ~125 m), the
 // radiance follows the quadratic through 0 whose slope is the camera's own source term, whose
 // per-frame factors (sunlight × σ_R, sunlight × σ_M, σ_s Ψ_ms at the camera) come from the CPU
@@ -95,6 +101,8 @@ vec4 HillaireViewAngles(vec3 viewDir) {
     return vec4(mu, nu, muS, ClampCosine(cosPhi));
 }
 
+vec3 HillaireTransmittance(float t, vec3 viewDir);
+
 // The same integral as the LUTs, marched for one pixel from the camera (or the entry point).
 vec4 HillaireMarch(vec3 viewDir, float maxDist, out vec3 transmittance) {
     vec4 a = HillaireViewAngles(viewDir);
@@ -117,7 +125,15 @@ void HillaireSkyViewLookup(vec3 viewDir, out vec3 radiance, out vec3 transmittan
     vec4 rayleighMs = texture(uHillaireSkyViewRayleighMs, uv);
     vec4 mie = texture(uHillaireSkyViewMie, uv);
     radiance = uSunIntensity * (rayleighMs.rgb + PhaseMieCornetteShanks(a.y, uMieG) * mie.rgb);
+#ifdef HILLAIRE_OZONE
+    // a ray to the ground from below the layer meets no ozone (its highest point is its start)
+    bool below = HillaireRayHitsGround(uHillaireCameraHeight, a.x)
+                 && uHillaireCameraHeight <= OZONE_BOTTOM;
+    transmittance = below ? TransmittanceFromDepths(vec2(rayleighMs.a, mie.a))
+                          : HillaireTransmittance(HILLAIRE_INFINITY, viewDir);
+#else
     transmittance = TransmittanceFromDepths(vec2(rayleighMs.a, mie.a));
+#endif
 }
 
 vec3 HillaireSkyRadianceFromLut(vec3 viewDir) {
@@ -202,7 +218,15 @@ void HillaireVolumeLookup(vec2 screenUv, vec3 viewDir, float dist, out vec3 radi
                                + uHillaireSourceMie * phaseM + uHillaireSourceMultiple);
     vec3 Lnear = max(S0 * (x * d1) + (L - S0 * d1) * x * x, 0.0);
     radiance = s >= 1.0 ? L : Lnear;
+#ifdef HILLAIRE_OZONE
+    // the altitude along a line has one minimum, so a segment's highest point is one of its ends
+    float h0 = uHillaireCameraHeight;
+    float hEnd = HillaireHeightAlong(h0, ClampCosine(dot(viewDir, CameraUp())), dist);
+    transmittance = max(h0, hEnd) <= OZONE_BOTTOM ? TransmittanceFromDepths(vec2(a.a, b.a) * x)
+                                                  : HillaireTransmittance(dist, viewDir);
+#else
     transmittance = TransmittanceFromDepths(vec2(a.a, b.a) * x);
+#endif
 }
 
 vec4 HillaireAerialPerspectiveFromVolume(vec2 screenUv, vec3 viewDir, float dist) {
