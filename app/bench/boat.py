@@ -5,16 +5,27 @@ its text.  Figures (the default 8 m hull, app/sim/hull.py; methods of app/sim/bu
 
 1. **Archimedes** — the hydrostatic method settles (damped) in flat water to the exact draft
    of ``app.sim.hull.draft_for_mass`` for 1.5, 3 and 5 t; the probe methods' drafts beside it.
-2. **Heave and roll periods** — undamped small oscillations in flat water; heave against
-   T = 2π·sqrt(m/(ρ·g·A_w)), roll against 2π·sqrt(I_roll/(m·g·GM)), GM = KB + I_T/V − KG.
+2. **Periods without the water's inertia** — undamped small oscillations in flat water, the
+   body alone: the heave–pitch modes fitted (:func:`fit_modes`, two free-decay runs) against
+   the coupled hydrostatic model M·ẍ + C·x = 0 (C from the BEM tool's panels,
+   resources/boat/hydrodynamics.json: the integrator's check); roll against
+   2π·sqrt(I_roll/(m·g·GM)), GM = KB + I_T/V − KG.  (The heave figure was the zero crossings of
+   the keel point, which rides on the beat of the two modes, against the uncoupled formula.)
+2b. **Modes with added mass and radiation damping** (:func:`modes`) — the heave, pitch and roll
+   periods and damping ratios fitted to free-decay runs of each force method with the hull's
+   frequency-independent coefficients, against the BEM reference: the coupled heave–pitch model
+   with the frequency-dependent A(ω), B(ω), each mode at its own frequency
+   (``app.sim.buoyancy.reference_modes``, tools/added_mass.py).  The decay is the amplitude
+   ratio over one period, exp(−2π·ζ/√(1 − ζ²)).
 3. **Kerner's drop test** — dropped from 2 m above its rest height and pushed 2 m under it: it
    settles both times, its energy decaying.
 4. **Integrator energy error** — undamped heave (5 cm), the relative error of the total energy
    (kinetic + gravity + buoyancy potential) over 10 periods against the step: one step per
    frame (h = dt, the integrator itself) and the fixed substeps (h ≤ 1/240 s) per frame dt.
 5. **In a sea** — heave tracking a long sine (correlation with the water height at the boat,
-   amplitude ratio); a storm (Hs = 6 m, wavelengths 50–160 m) at dt = 1/60 for 10 simulated
-   minutes (one in quick mode): finite throughout.
+   amplitude ratio; the body alone); a storm (Hs = 6 m, wavelengths 50–160 m) at dt = 1/60 for
+   10 simulated minutes (one in quick mode), with the added mass and damping: finite
+   throughout.
 6. **Speed against accuracy** — 4, 8, 16 and 32 force probes, the kinematic float (4 floating
    points) and the hydrostatic method against a reference — the hydrostatic method on the hull
    subdivided 16× (k = 4) — over poses in a short sine sea: error of force and torque relative
@@ -118,18 +129,102 @@ def archimedes(mesh=None, masses=MASSES, quick: bool = False) -> dict:
 # ---------------------------------------------------------------------------------------------
 
 
+def fit_modes(t, signals, order: int = 4) -> list[dict]:
+    """Damped sinusoids fitted to uniformly sampled ``signals`` (C, N) that share their poles
+    (several channels of the same free decay): the matrix pencil method (Hua & Sarkar 1990) on
+    the channels' stacked Hankel matrices, ``order`` poles (two per mode), then each channel's
+    complex amplitudes by least squares.  → one dict per mode (Im s > 0), slowest first:
+    ``period`` [s], ``zeta`` (damping ratio), ``decay`` (amplitude ratio over one period),
+    ``amplitudes`` (|amplitude| per channel)."""
+    y = np.atleast_2d(np.asarray(signals, float))
+    n = y.shape[1]
+    dt = float(t[1] - t[0])
+    pencil = n // 3
+    hankel = np.concatenate([np.lib.stride_tricks.sliding_window_view(c, pencil + 1) for c in y])
+    _, _, vt = np.linalg.svd(hankel, full_matrices=False)
+    v = vt[:order].T
+    z = np.linalg.eigvals(np.linalg.pinv(v[:-1]) @ v[1:]).astype(complex)
+    basis = z[None, :] ** np.arange(n)[:, None]
+    amp = np.linalg.lstsq(basis, y.T.astype(complex), rcond=None)[0]
+    s = np.log(z) / dt
+    out = []
+    for k in np.argsort(s.imag):
+        if s[k].imag <= 1e-9:
+            continue
+        zeta = float(-s[k].real / abs(s[k]))
+        out.append({"period": float(2.0 * math.pi / s[k].imag), "zeta": zeta,
+                    "decay": float(math.exp(-2.0 * math.pi * zeta / math.sqrt(max(1.0 - zeta ** 2,
+                                                                                  1e-12)))),
+                    "amplitudes": [float(a) for a in np.abs(amp[k])]})
+    return sorted(out, key=lambda m: -m["period"])
+
+
+def free_decay_modes(mesh, mass: float, method, hydrodynamics: bool, seconds: float,
+                     dt: float = 1.0 / 120.0, heave: float = 0.02, trim: float = 0.01,
+                     hydro=None, substep: float = 1.0 / 240.0) -> dict:
+    """Two free-decay runs in flat water (lifted ``heave`` [m]; trimmed ``trim`` [rad] about the
+    centre of mass), heave of the centre of mass and trim × L/2 recorded every ``dt``, the two
+    modes fitted to the four channels (:func:`fit_modes`): {"heave", "pitch"} each a mode dict
+    (the heave mode: the larger share of heave in its amplitudes)."""
+    half = 0.5 * float(np.ptp(mesh.vertices[:, 2]))
+    channels = []
+    for dy, dq in ((heave, 0.0), (0.0, trim)):
+        body = bu.boat_body(mesh, mass, max_substep=substep, hydrodynamics=hydrodynamics)
+        if hydro is not None:
+            body.hydrodynamics = hydro
+        rest = body.com_world.copy()
+        body.set_orientation(quat_from_axis_angle((1, 0, 0), dq), keep="com")
+        body.com_world = body.com_world + [0.0, dy, 0.0]
+        rec = np.array(_simulate(body, method, bu.FlatWater(), seconds, dt,
+                                 lambda b, t: (t, b.com_world[1] - rest[1],
+                                               _trim_heel(b)[0] * half)))
+        channels += [rec[:, 1], rec[:, 2]]
+    fitted = fit_modes(rec[:, 0], np.array(channels), order=4)
+
+    def share(m):
+        a = m["amplitudes"]
+        return (a[0] + a[2]) / max(a[0] + a[1] + a[2] + a[3], 1e-300)
+
+    fitted = sorted(fitted, key=share)
+    return {"pitch": fitted[0], "heave": fitted[-1]}
+
+
+def roll_mode(mesh, mass: float, method, hydrodynamics: bool, seconds: float,
+              dt: float = 1.0 / 120.0, heel: float = 0.02, substep: float = 1.0 / 240.0) -> dict:
+    """The roll mode fitted to a free decay from ``heel`` [rad] (:func:`fit_modes`, one mode)."""
+    body = bu.boat_body(mesh, mass, max_substep=substep, hydrodynamics=hydrodynamics)
+    body.set_orientation(quat_from_axis_angle((0, 0, 1), -heel), keep="com")
+    rec = np.array(_simulate(body, method, bu.FlatWater(), seconds, dt,
+                             lambda b, t: (t, _trim_heel(b)[1])))
+    return fit_modes(rec[:, 0], rec[:, 1:].T, order=2)[0]
+
+
+def _dry_reference(mesh, mass: float) -> dict:
+    """The coupled heave–pitch modes of the body alone, M·ẍ + C·x = 0: M = diag(m, I_pitch)
+    of the body, C the BEM tool's hydrostatic stiffness of the panels (interpolated in mass)."""
+    lo, hi, w = bu._row_for(mesh, mass, bu.HYDRODYNAMICS_FILE)
+    k = {key: (1 - w) * lo["stiffness"][key] + w * hi["stiffness"][key]
+         for key in ("heave", "heave_pitch", "pitch")}
+    body = bu.boat_body(mesh, mass)
+    m = np.diag([mass, float(body.inertia_body[0, 0])])
+    c = np.array([[k["heave"], k["heave_pitch"]], [k["heave_pitch"], k["pitch"]]])
+    lam, vec = np.linalg.eig(np.linalg.solve(m, c))
+    half = 0.5 * float(np.ptp(mesh.vertices[:, 2]))
+    share = np.abs(vec[0]) / (np.abs(vec[0]) + np.abs(vec[1]) * half)
+    order = np.argsort(share)
+    return {"pitch": 2 * math.pi / math.sqrt(lam[order[0]].real),
+            "heave": 2 * math.pi / math.sqrt(lam[order[-1]].real)}
+
+
 def periods(mesh=None, mass: float = MASS, quick: bool = False) -> dict:
     mesh = mesh or hl.make_hull()
     draft = hl.draft_for_mass(mesh, mass)
     sub = mesh.submerged(draft)
     method = bu.HydrostaticBuoyancy.undamped(mesh)
     water = bu.FlatWater()
-    body = bu.boat_body(mesh, mass)
-    expected = 2 * math.pi * math.sqrt(mass / (hl.RHO_SEA * G * sub.waterplane_area))
-    body.position = body.position + [0.0, 0.02, 0.0]
-    rec = np.array(_simulate(body, method, water, 6.5 * expected, 1.0 / 240.0,
-                             lambda b, t: (t, b.position[1] + draft)))
-    heave = _crossing_period(rec[:, 0], rec[:, 1])
+    dry = _dry_reference(mesh, mass)
+    fitted = free_decay_modes(mesh, mass, method, False, (3.0 if quick else 5.0) * dry["pitch"])
+    heave, pitch = fitted["heave"]["period"], fitted["pitch"]["period"]
     # roll: GM = KB + BM − KG, BM = I_T/V, I_T = ∫ (2/3)·b³ dz over the waterline
     z = np.linspace(mesh.vertices[:, 2].min(), mesh.vertices[:, 2].max(), 2001)
     b = hl.waterline_half_beam(mesh, draft, z)
@@ -142,9 +237,57 @@ def periods(mesh=None, mass: float = MASS, quick: bool = False) -> dict:
     rec = np.array(_simulate(body, method, water, (2.5 if quick else 4.5) * roll_expected,
                              1.0 / 120.0, lambda b, t: (t, _trim_heel(b)[1])))
     roll = _crossing_period(rec[:, 0], rec[:, 1])
-    return {"heave": heave, "heave_expected": expected, "heave_error": heave / expected - 1,
+    return {"heave": heave, "heave_expected": dry["heave"], "heave_error": heave / dry["heave"] - 1,
+            "pitch": pitch, "pitch_expected": dry["pitch"],
+            "pitch_error": pitch / dry["pitch"] - 1,
+            "heave_uncoupled": 2 * math.pi * math.sqrt(mass / (hl.RHO_SEA * G
+                                                               * sub.waterplane_area)),
             "waterplane_area": sub.waterplane_area, "roll": roll, "roll_expected": roll_expected,
             "gm": gm, "draft": draft}
+
+
+#: the force methods :func:`modes` grades, without their own drag (the radiation damping alone)
+MODE_METHODS = ("hydrostatic", "probe_forces")
+
+
+def _mode_method(mesh, mass: float, name: str, drag: bool = False):
+    if name == "hydrostatic":
+        return bu.HydrostaticBuoyancy(mesh) if drag else bu.HydrostaticBuoyancy.undamped(mesh)
+    if drag:
+        return bu.ProbeForces.for_hull(mesh, mass, 8)
+    return bu.ProbeForces.for_hull(mesh, mass, 8, drag_up=0.0, drag_horizontal=0.0)
+
+
+def modes(mesh=None, mass: float = MASS, quick: bool = False) -> dict:
+    """Heave, pitch and roll with the added mass and radiation damping, fitted, against the BEM
+    reference; and the same fit of the body alone (the figures before the hydrodynamics)."""
+    mesh = mesh or hl.make_hull()
+    ref = bu.reference_modes(mesh, mass)
+    seconds = 3.0 * ref["pitch"]["period"] if quick else 5.0 * ref["pitch"]["period"]
+    rows = []
+    variants = [(name, True, False) for name in MODE_METHODS]
+    variants.append(("hydrostatic", True, True))  # the scene's: Kerner's drag on as well
+    if not quick:
+        variants.append(("probe_forces", True, True))
+        variants.append(("hydrostatic", False, False))  # before: the body alone (as periods)
+    substep = 1.0 / 120.0 if quick else 1.0 / 240.0
+    for name, hydro, drag in variants:
+        method = _mode_method(mesh, mass, name, drag)
+        fit = free_decay_modes(mesh, mass, method, hydro, seconds if hydro else 8.0,
+                               substep=substep)
+        roll = roll_mode(mesh, mass, method, hydro, seconds * 1.2 if hydro else 8.0,
+                         substep=substep)
+        row = {"method": name, "hydrodynamics": hydro, "drag": drag,
+               "heave": fit["heave"], "pitch": fit["pitch"], "roll": roll}
+        for k in ("heave", "pitch", "roll"):
+            row[k]["period_error"] = row[k]["period"] / ref[k]["period"] - 1.0
+            row[k]["zeta_error"] = row[k]["zeta"] / ref[k]["zeta"] - 1.0
+        rows.append(row)
+    for k in ref:
+        z = ref[k]["zeta"]
+        ref[k]["decay"] = math.exp(-2.0 * math.pi * z / math.sqrt(1.0 - z * z))
+    return {"mass": mass, "reference": ref, "rows": rows,
+            "source": bu.hydrodynamics_table()["solver"]}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -224,7 +367,8 @@ def sea(mesh=None, mass: float = MASS, quick: bool = False,
     corr = float(np.corrcoef(late[:, 1], late[:, 2])[0, 1])
     ratio = float(np.std(late[:, 1]) / np.std(late[:, 2]))
     storm = bu.storm_sea(6.0)
-    body = bu.boat_body(mesh, mass, max_substep=1.0 / 60.0)
+    # the scene's body: with the added mass and radiation damping
+    body = bu.boat_body(mesh, mass, max_substep=1.0 / 60.0, hydrodynamics=True)
     minutes = storm_minutes if storm_minutes is not None else (2.0 if quick else 10.0)
     ys = np.array(_simulate(body, method, storm, 60.0 * minutes, 1.0 / 60.0,
                             lambda b, t: b.position[1] + draft))
@@ -342,7 +486,8 @@ def run(quick: bool = False) -> dict:
     masses, dts = (QUICK_MASSES, QUICK_DTS) if quick else (MASSES, DTS)
     return {"scene": "boat", "quick": quick, "triangles": len(mesh.triangles),
             "archimedes": archimedes(mesh, masses, quick=quick),
-            "periods": periods(mesh, quick=quick), "drop": drop_test(mesh, quick=quick),
+            "periods": periods(mesh, quick=quick), "modes": modes(mesh, quick=quick),
+            "drop": drop_test(mesh, quick=quick),
             "energy": energy_error(mesh, dts=dts, quick=quick),
             "sea": sea(mesh, quick=quick, storm_minutes=QUICK_STORM_MINUTES if quick else None),
             "speed": speed_accuracy(mesh, quick=quick)}
@@ -366,8 +511,14 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.set_xticks(x, [f"{r['mass'] / 1000:g} t" for r in rows])
     ax.set_ylabel("draft [m]")
     p = report["periods"]
-    ax.set_title(f"draft; heave {p['heave']:.3f} s (expected {p['heave_expected']:.3f}), "
-                 f"roll {p['roll']:.2f} s", fontsize=9)
+    title = (f"draft; body alone: heave {p['heave']:.3f} s (model {p['heave_expected']:.3f}), "
+             f"roll {p['roll']:.2f} s")
+    if "modes" in report:
+        m, r = report["modes"]["rows"][0], report["modes"]["reference"]
+        title += (f"\nwith the water's inertia: heave {m['heave']['period']:.2f} s, pitch "
+                  f"{m['pitch']['period']:.2f} s (BEM {r['heave']['period']:.2f}, "
+                  f"{r['pitch']['period']:.2f})")
+    ax.set_title(title, fontsize=9)
     ax.legend(fontsize=8)
     ax = axes[1]
     for name, style in (("dropped", "-"), ("pushed", "--")):
@@ -416,6 +567,22 @@ def chart(report: dict, path, force: bool = False) -> None:
     write_chart(fig, path, force, title="natura bench boat")
 
 
+def modes_summary(m: dict) -> list[str]:
+    """The lines of :func:`modes`: the reference, then each variant."""
+    r = m["reference"]
+    lines = [f"modes at {m['mass']:.0f} kg, BEM reference ({m['source']}): "
+             + ", ".join(f"{k} {r[k]['period']:.3f} s ζ {r[k]['zeta']:.3f}"
+                         for k in ("heave", "pitch", "roll"))]
+    for row in m["rows"]:
+        what = (row["method"] + (", added mass + radiation damping" if row["hydrodynamics"]
+                                 else ", body alone") + (", own drag" if row["drag"] else ""))
+        lines.append(f"  {what}: " + ", ".join(
+            f"{k} {row[k]['period']:.3f} s ({100 * row[k]['period_error']:+.1f} %) "
+            f"ζ {row[k]['zeta']:.3f} decay/period {row[k]['decay']:.2f}"
+            for k in ("heave", "pitch", "roll")))
+    return lines
+
+
 def summary(report: dict) -> str:
     lines = [f"hull: {report['triangles']} triangles"]
     for r in report["archimedes"]["rows"]:
@@ -423,9 +590,14 @@ def summary(report: dict) -> str:
                      f"{r['hydrostatic']:.4f} m ({100 * r['error']:+.3f} %, trim "
                      f"{math.degrees(r['trim']):+.3f}°), 8 probes {r['probes8']:.4f} m")
     p = report["periods"]
-    lines.append(f"heave period {p['heave']:.4f} s, expected {p['heave_expected']:.4f} s "
-                 f"({100 * p['heave_error']:+.2f} %); roll {p['roll']:.3f} s, expected "
-                 f"{p['roll_expected']:.3f} s (GM {p['gm']:.2f} m)")
+    lines.append(f"heave period {p['heave']:.4f} s (fitted mode, body alone), coupled "
+                 f"hydrostatic model {p['heave_expected']:.4f} s ({100 * p['heave_error']:+.2f} %)"
+                 + (f"; pitch {p['pitch']:.4f} s, model {p['pitch_expected']:.4f} s "
+                    f"({100 * p['pitch_error']:+.2f} %)" if "pitch" in p else "")
+                 + f"; roll {p['roll']:.3f} s, expected {p['roll_expected']:.3f} s "
+                 f"(GM {p['gm']:.2f} m)")
+    if "modes" in report:
+        lines += modes_summary(report["modes"])
     for name in ("dropped", "pushed"):
         d = report["drop"][name]
         lines.append(f"drop test, {name} 2 m: energy above rest {d['start_energy']:.0f} J → "

@@ -13,6 +13,13 @@ Buoyancy methods (``method``), switchable between steps:
 * ``hydrostatic`` — Kerner 2015's pressure integration over the clipped hull triangles, with
   Kerner 2016's drag, a full rigid body.
 
+Added mass and radiation damping (``hydrodynamics``, on by default; off reproduces the body
+alone): the force methods' rigid body accelerates as (M + A)⁻¹·(f − B·ν) with the hull's
+frequency-independent coefficients (``app.sim.buoyancy.hull_hydrodynamics``, computed by a
+boundary-element solver in tools/added_mass.py).  The kinematic floating points place the boat
+without forces or inertia, so the coefficients have nothing to act on there: that method stays
+the thesis's.
+
 Who resists what (nothing counted twice): the surge is resisted by the hull resistance of
 ``app.sim.sailing.Hull`` (ITTC-1957 friction plus the residuary, wave-making part calibrated on
 the hull speed), so the buoyancy methods' own drag is computed without the surge component of
@@ -40,9 +47,16 @@ import numpy as np
 
 from ..errors import ParamError
 from . import sailing as sl
-from .buoyancy import HydrostaticBuoyancy, ProbeFloat, ProbeForces, boat_body, probe_layout
-from .hull import HullMesh, HullParams, draft_for_mass, make_hull
-from .rigid_body import RigidBody, quat_from_axis_angle
+from .buoyancy import (
+    HydrostaticBuoyancy,
+    ProbeFloat,
+    ProbeForces,
+    boat_body,
+    hull_hydrodynamics,
+    probe_layout,
+)
+from .hull import HullMesh, HullParams, draft_for_mass, make_hull, waterline_length
+from .rigid_body import Hydrodynamics, RigidBody, quat_from_axis_angle
 from .vec import cross
 from .wake import WakeParams, WakeTrail
 
@@ -80,7 +94,7 @@ class BoatSim:
                  max_substep: float = 1.0 / 120.0, navigation_mode: str = "rudder",
                  sail_mode: str = "lift", displacement_stiffness: float = 6.0,
                  rotation_stiffness: float = 3.0, probe_distance: float = 1.0,
-                 wake: WakeParams | None = None):
+                 wake: WakeParams | None = None, hydrodynamics: bool | None = None):
         if method not in METHODS:
             raise ParamError(f"boat.buoyancy: {method!r} is not a method: allowed "
                              f"{', '.join(METHODS)}")
@@ -88,6 +102,8 @@ class BoatSim:
         self.mass = float(mass)
         self.draft = draft_for_mass(self.mesh, self.mass)
         self.body: RigidBody = boat_body(self.mesh, self.mass, max_substep=max_substep)
+        self._hydrodynamics: Hydrodynamics | None = None
+        self.hydrodynamics = hydrodynamics
         self.body.set_orientation(rotation_for_heading(math.radians(heading_deg)))
         self.method = method
         self.probes = int(probes)
@@ -95,7 +111,8 @@ class BoatSim:
         self._methods: dict[tuple, Any] = {}
         p = self.mesh.params or HullParams()
         sub = self.mesh.submerged(self.draft)
-        lwl = float(np.ptp(self.mesh.vertices[:, 2])) * 0.88
+        # the waterline's length at the displacement, from the mesh (it was 0.88 × LOA)
+        lwl = waterline_length(self.mesh, self.draft)
         self.sailing = sl.Boat(
             hull=sl.Hull(lwl=lwl, displacement=self.mass, wetted_area=max(sub.wetted_area, 0.1)),
             sail=sl.Sail(mode=sail_mode),
@@ -107,6 +124,25 @@ class BoatSim:
         self.last_forces = {"buoyancy": np.zeros(3), "sail": np.zeros(3)}
 
     # -- methods ---------------------------------------------------------------------------
+    @property
+    def hydrodynamics(self) -> bool:
+        """Whether the body has the hull's added mass and radiation damping."""
+        return self.body.hydrodynamics is not None
+
+    @hydrodynamics.setter
+    def hydrodynamics(self, on: bool | None) -> None:
+        """True: on (a ParamError for a hull the committed coefficients are not for); False:
+        off; None: on when the committed coefficients are for this hull."""
+        if on is not False and self._hydrodynamics is None:
+            try:
+                self._hydrodynamics = hull_hydrodynamics(self.mesh, self.mass)
+            except ParamError:
+                if on:
+                    raise
+        on = self._hydrodynamics is not None if on is None else bool(on)
+        if on != self.hydrodynamics:
+            self.body.hydrodynamics = self._hydrodynamics if on else None
+
     def buoyancy(self):
         """The object of the current method (made once per method and probe count)."""
         key = (self.method, self.probes)
@@ -214,7 +250,7 @@ class BoatSim:
                 f, tau = self._sail_forces(b, wind)
                 return np.array([f[0], 0.0, f[2]]), np.array([0.0, tau[1], 0.0])
             try:
-                body.step(dt, horizontal)
+                body.step(dt, horizontal, hydrodynamics=False)  # kinematic: nothing to act on
             finally:
                 body.gravity = gravity
             v, yaw = body.velocity.copy(), float(body.angular_velocity[1])
@@ -236,7 +272,9 @@ class BoatSim:
 
     def reset(self, heading: float = 0.0, position=(0.0, 0.0)) -> None:
         """Upright at rest at the equilibrium draft, bow to ``heading`` [rad]."""
-        b = boat_body(self.mesh, self.mass, max_substep=self.body.max_substep)
+        b = boat_body(self.mesh, self.mass, max_substep=self.body.max_substep,
+                      hydrodynamics=False)
+        b.hydrodynamics = self.body.hydrodynamics
         b.set_orientation(rotation_for_heading(heading))
         b.position = (position[0], -self.draft, position[1])
         self.body = b

@@ -28,18 +28,23 @@ world frame, for :meth:`app.sim.rigid_body.RigidBody.step` (gravity is the body'
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .. import RESOURCES
 from ..errors import ParamError
 from .hull import (
     RHO_SEA,
     HullMesh,
     clip_below_indexed,
     draft_for_mass,
+    hull_fingerprint,
     solid_inertia,
     submerged_below_plane,
     waterline_half_beam,
@@ -47,6 +52,7 @@ from .hull import (
 from .ocean import WaterQuery, floating_points_pose
 from .rigid_body import (
     G,
+    Hydrodynamics,
     RigidBody,
     quat_between,
     quat_from_axis_angle,
@@ -272,12 +278,16 @@ class DelayedWater:
 
 
 def boat_body(mesh: HullMesh, mass: float, com_height: float | None = None,
-              rho: float = RHO_SEA, inertia_scale: float = 1.0, **kwargs) -> RigidBody:
+              rho: float = RHO_SEA, inertia_scale: float = 1.0, hydrodynamics: bool = False,
+              **kwargs) -> RigidBody:
     """A rigid body for the hull: the centre of mass on the centreline at ``com_height`` above
     the keel (default 0.35 × depth: ballast low) and straight above the centre of buoyancy of
     the upright hull at its draft for ``mass`` (so that pose is the equilibrium); inertia of the
     hull as a uniform solid of that mass about it (× ``inertia_scale``); placed at that draft
-    (origin at y = −draft), at rest.  ``kwargs`` go to :class:`RigidBody`."""
+    (origin at y = −draft), at rest.  ``hydrodynamics``: with the hull's added mass and
+    radiation damping (:func:`hull_hydrodynamics`).  ``kwargs`` go to :class:`RigidBody`."""
+    if hydrodynamics:
+        kwargs.setdefault("hydrodynamics", hull_hydrodynamics(mesh, mass))
     draft = draft_for_mass(mesh, mass, rho)
     b = mesh.submerged(draft)
     depth = float(mesh.vertices[:, 1].max())
@@ -287,6 +297,64 @@ def boat_body(mesh: HullMesh, mass: float, com_height: float | None = None,
     inertia = solid_inertia(mesh, mass, about=com) * inertia_scale
     kwargs.setdefault("position", (0.0, -draft, 0.0))
     return RigidBody(mass, inertia, com=com, **kwargs)
+
+
+# ---------------------------------------------------------------------------------------------
+# Added mass and radiation damping (docs/theory/000-maritime.md#added-mass)
+# ---------------------------------------------------------------------------------------------
+
+#: the committed coefficients, written by ``tools/added_mass.py`` (capytaine)
+HYDRODYNAMICS_FILE = RESOURCES / "boat" / "hydrodynamics.json"
+
+
+@lru_cache(maxsize=4)
+def hydrodynamics_table(path: str | Path = HYDRODYNAMICS_FILE) -> dict:
+    """The committed table (see tools/added_mass.py): per tabulated mass the frequency-dependent
+    coefficients, the coupled reference modes and the constant matrices the runtime applies."""
+    try:
+        return json.loads(Path(path).read_text())
+    except (OSError, ValueError) as e:
+        raise ParamError(f"boat hydrodynamics: {path} cannot be read ({e}): allowed the file "
+                         "tools/added_mass.py writes") from None
+
+
+def _row_for(mesh: HullMesh, mass: float, path) -> tuple[dict, dict, float]:
+    """The two table rows around ``mass`` and the weight of the upper (clamped at the ends)."""
+    table = hydrodynamics_table(str(path))
+    if table["hull_fingerprint"] != hull_fingerprint(mesh):
+        raise ParamError("boat hydrodynamics: resources/boat/hydrodynamics.json is for another "
+                         "hull: allowed the default hull (regenerate with tools/added_mass.py "
+                         "after changing app/sim/hull.py)")
+    rows = table["masses"]
+    masses = [r["mass"] for r in rows]
+    k = int(np.clip(np.searchsorted(masses, mass), 1, len(rows) - 1))
+    lo, hi = rows[k - 1], rows[k]
+    w = float(np.clip((mass - lo["mass"]) / (hi["mass"] - lo["mass"]), 0.0, 1.0))
+    return lo, hi, w
+
+
+def hull_hydrodynamics(mesh: HullMesh, mass: float, path: str | Path = HYDRODYNAMICS_FILE
+                       ) -> Hydrodynamics:
+    """The frequency-independent added mass and radiation damping of the hull floating
+    ``mass`` (heave, pitch, their coupling, roll; 6×6, body axes, about the centre of mass):
+    the committed coefficients per unit mass, interpolated linearly between the tabulated
+    masses (held at the ends).  Only for the mesh they were computed for (its fingerprint)."""
+    lo, hi, w = _row_for(mesh, mass, path)
+    out = []
+    for key in ("added_mass", "damping"):
+        a = np.asarray(lo["constant"][key]) / lo["mass"]
+        b = np.asarray(hi["constant"][key]) / hi["mass"]
+        out.append(mass * ((1.0 - w) * a + w * b))
+    return Hydrodynamics(out[0], out[1], source="capytaine BEM, resources/boat/hydrodynamics.json")
+
+
+def reference_modes(mesh: HullMesh, mass: float, path: str | Path = HYDRODYNAMICS_FILE) -> dict:
+    """The BEM reference: the coupled heave–pitch modes and the roll mode with the
+    frequency-dependent added mass and damping, each at its own frequency (tools/added_mass.py),
+    {"heave" | "pitch" | "roll": {"period" [s], "zeta"}} interpolated between tabulated masses."""
+    lo, hi, w = _row_for(mesh, mass, path)
+    return {k: {q: (1.0 - w) * lo["reference"][k][q] + w * hi["reference"][k][q]
+                for q in ("period", "zeta")} for k in ("heave", "pitch", "roll")}
 
 
 def probe_layout(mesh: HullMesh, n: int, draft: float) -> tuple[np.ndarray, np.ndarray]:

@@ -452,3 +452,30 @@ def waterline_half_beam(mesh: HullMesh, draft: float, z) -> np.ndarray:
     f = np.clip((z[:, None] - z0[None]) / np.where(z1 - z0 == 0, 1.0, z1 - z0)[None], 0, 1)
     x = np.where(span, x0[None] + f * (x1 - x0)[None], 0.0)
     return x.max(axis=1)
+
+
+def waterline_length(mesh: HullMesh, draft: float) -> float:
+    """Length [m] of the upright hull's waterline at height ``draft``: the mesh cut by the plane
+    y = draft, from the aftmost to the foremost point of the cut (exact for the polyhedron; the
+    sailing model's LWL)."""
+    p = mesh.corners()
+    d = draft - p[..., 1]
+    a, b = p[:, [0, 1, 2]], p[:, [1, 2, 0]]
+    da, db = d[:, [0, 1, 2]], d[:, [1, 2, 0]]
+    cut = (da > 0) != (db > 0)
+    if not np.any(cut):
+        return 0.0
+    t = da[cut] / (da[cut] - db[cut])
+    z = a[cut][:, 2] + t * (b[cut][:, 2] - a[cut][:, 2])
+    return float(z.max() - z.min())
+
+
+def hull_fingerprint(mesh: HullMesh) -> str:
+    """A short hash of the mesh (vertices rounded to 1e-9 m, triangles): the committed
+    hydrodynamic coefficients (resources/boat/hydrodynamics.json) are for this mesh only."""
+    import hashlib
+
+    h = hashlib.sha256()
+    h.update(np.round(np.asarray(mesh.vertices, np.float64), 9).tobytes())
+    h.update(np.asarray(mesh.triangles, np.int64).tobytes())
+    return h.hexdigest()[:16]

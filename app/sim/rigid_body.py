@@ -16,6 +16,15 @@ with the force and torque evaluated at the start of it:
   I_w = R·I_body·Rᵀ taken at the midpoint orientation exp(½·h·ω₀)·q; q ← exp(h·ω)·q,
   renormalised.
 
+Added mass and radiation damping (optional, :class:`Hydrodynamics`): the water a body shakes
+moves with it, so a generalised force f = (F, τ) (body axes, about the centre of mass, gravity
+included) accelerates (M + A) and not M alone, and the radiated waves take −B·ν, ν = (v, ω) in
+body axes.  The step hands the rigid integrator the force M·(M + A)⁻¹·(f − B·ν) in place of f:
+its accelerations are then (M + A)⁻¹·(f − B·ν), the linear seakeeping equation of motion
+(Newman 1977, "Marine Hydrodynamics", §6.14) with A and B held at one frequency (see
+``docs/theory/000-maritime.md#added-mass``).  The velocity-dependent gyroscopic terms of A
+(Munk's moment) are left out: they are second order in the small motions A is computed for.
+
 This is symplectic Euler (Hairer, Lubich & Wanner 2006, "Geometric Numerical Integration", §VI.3):
 for a spring it keeps the energy error bounded (no secular drift) while ω·h < 2.  Integrating the
 angular *momentum* rather than ω is how the gyroscopic term ω × Iω is handled stably: it never
@@ -39,6 +48,20 @@ G = 9.81  # [m/s²]
 MAX_SUBSTEP = 1.0 / 240.0
 
 ForceFn = Callable[["RigidBody", float], tuple[np.ndarray, np.ndarray]]
+
+
+class Hydrodynamics:
+    """Frequency-independent added mass ``added_mass`` [kg, kg·m, kg·m²] and radiation damping
+    ``damping`` [kg/s, kg·m/s, kg·m²/s], 6×6 each, in body axes about the centre of mass, over
+    the generalised velocity ν = (vx, vy, vz, ωx, ωy, ωz); ``source`` says where they came from."""
+
+    def __init__(self, added_mass, damping, source: str = ""):
+        self.added_mass = np.asarray(added_mass, float).reshape(6, 6).copy()
+        self.damping = np.asarray(damping, float).reshape(6, 6).copy()
+        self.source = source
+        for name, m in (("added_mass", self.added_mass), ("damping", self.damping)):
+            if not np.all(np.isfinite(m)):
+                raise ParamError(f"hydrodynamics.{name}: not finite: allowed finite numbers")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -176,7 +199,8 @@ class RigidBody:
 
     def __init__(self, mass: float, inertia_body, position=(0.0, 0.0, 0.0), orientation=None,
                  velocity=(0.0, 0.0, 0.0), angular_velocity=(0.0, 0.0, 0.0),
-                 com=(0.0, 0.0, 0.0), gravity=(0.0, -G, 0.0), max_substep: float = MAX_SUBSTEP):
+                 com=(0.0, 0.0, 0.0), gravity=(0.0, -G, 0.0), max_substep: float = MAX_SUBSTEP,
+                 hydrodynamics: Hydrodynamics | None = None):
         if not (math.isfinite(mass) and mass > 0):
             raise ParamError(f"boat.mass: {mass!r} is not allowed: allowed a positive mass [kg]")
         if not max_substep > 0:
@@ -198,6 +222,39 @@ class RigidBody:
         self.velocity = np.asarray(velocity, float).copy()
         self.momentum = self.inertia_world() @ np.asarray(angular_velocity, float)
         self.time = 0.0
+        self.hydrodynamics = hydrodynamics
+
+    @property
+    def hydrodynamics(self) -> Hydrodynamics | None:
+        """Added mass and radiation damping (None: none, the body alone)."""
+        return self._hydrodynamics
+
+    @hydrodynamics.setter
+    def hydrodynamics(self, value: Hydrodynamics | None) -> None:
+        self._hydrodynamics = value
+        self._filter = None
+        if value is not None:
+            rigid = np.zeros((6, 6))
+            rigid[:3, :3] = self.mass * np.eye(3)
+            rigid[3:, 3:] = self.inertia_body
+            total = rigid + value.added_mass
+            if np.any(np.linalg.eigvalsh(0.5 * (total + total.T)) <= 0):
+                raise ParamError("hydrodynamics.added_mass: M + A is not positive definite: "
+                                 "allowed an added mass that leaves the body a positive mass")
+            # M·(M + A)⁻¹, the force the rigid integrator needs for (M + A)⁻¹·f
+            self._filter = rigid @ np.linalg.inv(total)
+
+    def _hydrodynamic(self, force: np.ndarray, torque: np.ndarray) -> tuple[np.ndarray,
+                                                                            np.ndarray]:
+        """The force and torque (world, gravity included) the rigid step must apply so that the
+        body accelerates as (M + A)⁻¹·(f − B·ν) (the module docstring)."""
+        rot = self.rotation
+        omega = rot @ (self.inertia_body_inv @ (rot.T @ self.momentum))
+        f = np.concatenate([rot.T @ force, rot.T @ torque])
+        nu = np.concatenate([rot.T @ self.velocity, rot.T @ omega])
+        assert self._filter is not None and self._hydrodynamics is not None
+        g = self._filter @ (f - self._hydrodynamics.damping @ nu)
+        return rot @ g[:3], rot @ g[3:]
 
     # -- state -------------------------------------------------------------------------------
 
@@ -273,23 +330,32 @@ class RigidBody:
         """How many equal substeps a frame of ``dt`` is cut into: ceil(dt / max_substep)."""
         return max(1, math.ceil(dt / self.max_substep - 1e-9))
 
-    def step(self, dt: float, force_fn: ForceFn | None = None, substeps: int | None = None
-             ) -> None:
+    def step(self, dt: float, force_fn: ForceFn | None = None, substeps: int | None = None,
+             hydrodynamics: bool = True) -> None:
         """Advance by ``dt`` [s] in ``substeps`` (default :meth:`substeps`) symplectic Euler
         substeps.  ``force_fn(body, t)`` → (force (3,) [N], torque about the centre of mass
-        (3,) [N·m]), world frame, at the body's state and time t; gravity is added here."""
+        (3,) [N·m]), world frame, at the body's state and time t; gravity is added here.
+        ``hydrodynamics=False``: this step without the added mass and damping."""
         if dt <= 0:
             return
         n = self.substeps(dt) if substeps is None else max(1, int(substeps))
         h = dt / n
         zero = np.zeros(3)
+        hydro = self._filter is not None and hydrodynamics
         for _ in range(n):
             if force_fn is None:
                 force, torque = zero, zero
             else:
                 force, torque = force_fn(self, self.time)
-            self.velocity = self.velocity + h * (np.asarray(force) / self.mass + self.gravity)
-            self.momentum = self.momentum + h * np.asarray(torque)
+            if not hydro:
+                self.velocity = self.velocity + h * (np.asarray(force) / self.mass
+                                                     + self.gravity)
+                self.momentum = self.momentum + h * np.asarray(torque)
+            else:
+                force, torque = self._hydrodynamic(
+                    np.asarray(force) + self.mass * self.gravity, np.asarray(torque, float))
+                self.velocity = self.velocity + h * force / self.mass
+                self.momentum = self.momentum + h * torque
             self.com_world = self.com_world + h * self.velocity
             # ω at the half-step orientation (midpoint): second order in h, so the energy of
             # a torque-free tumbling body drifts far less than with ω at the start.  (The

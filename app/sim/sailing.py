@@ -142,7 +142,9 @@ _TABLE: dict[str, tuple[float, float, float, str, str, str]] = {
     "sailing.c_plate": (1.3, 0.1, 3.0, "", "normal-force coefficient of the stalled sail", ""),
     "sailing.windage": (3.5, 0.0, 1e3, "m²", "C_D·A of the hull and rig above water", ""),
     # Hull
-    "sailing.lwl": (7.0, 0.1, 500.0, "m", "waterline length", ""),
+    # the default hull's (app/sim/hull.py) waterline at 2.5 t, cut from the mesh
+    # (hull.waterline_length: 7.269 m; it was 7.0, and app/sim/boat.py took 0.88 × LOA = 7.04)
+    "sailing.lwl": (7.27, 0.1, 500.0, "m", "waterline length", ""),
     "sailing.displacement": (2500.0, 1.0, 1e8, "kg", "displacement (mass)", ""),
     "sailing.wetted_area": (13.0, 1e-2, 1e5, "m²", "wetted area of hull and appendages", ""),
     "sailing.keel_area": (1.0, 1e-3, 1e4, "m²", "keel lateral area", ""),
@@ -506,7 +508,7 @@ class Navigation:
 
 @dataclass(frozen=True)
 class Hull:
-    """Hull and keel of a displacement boat (defaults: an 8 m cruiser, LWL 7 m, 2.5 t)."""
+    """Hull and keel of a displacement boat (defaults: an 8 m cruiser, LWL 7.27 m, 2.5 t)."""
 
     lwl: float = _TABLE["sailing.lwl"][0]
     displacement: float = _TABLE["sailing.displacement"][0]

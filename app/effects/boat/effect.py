@@ -83,6 +83,12 @@ class Boat(Effect):
                   unit="m", section=s3),
             Param("boat.mass", 2500.0, 300.0, 6000.0, "mass of the boat", step=10.0,
                   unit="kg"),
+            Param("boat.hydrodynamics", True, doc="added mass and radiation damping of the hull "
+                  "(a boundary-element solver's, tools/added_mass.py) in the force methods: "
+                  "the water the hull moves makes it heave and pitch about 1.8× slower and "
+                  "radiated waves damp it; off: the rigid body alone (before; the kinematic "
+                  "floating points have no mass either way)", kind="bool",
+                  section=s3),
             Param("boat.heading", 0.0, 0.0, 360.0, "heading the boat starts on (compass: 0 = "
                   "north, 90 = east)", step=1.0, unit="°"),
             Param("boat.navigation", "rudder", doc="thesis: NavigableObject's turn rate, the "
@@ -161,6 +167,7 @@ class Boat(Effect):
         sim = self._ensure_sim()
         sim.method = p["boat.buoyancy"]
         sim.probes = p["boat.probes"]
+        sim.hydrodynamics = p["boat.hydrodynamics"]
         sim.set_thesis_parameters(p["boat.displacement_stiffness"], p["boat.rotation_stiffness"],
                                   p["boat.probe_distance"])
         sim.controls.helm, sim.controls.throttle, sim.controls.sails = (
