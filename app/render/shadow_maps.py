@@ -111,10 +111,17 @@ class _Map:
 
 class DirectionalShadow(_Map):
     """The sun's orthographic map: one over ``settings.fixed_centre``/``fixed_radius`` (0
-    cascades) or 2 / 4 cascades over the camera frustum up to ``settings.distance``."""
+    cascades) or 2 / 4 cascades over the camera frustum up to ``settings.distance``.
+
+    PCSS's penumbra (:meth:`pcss_scales`): a light of angular radius θ (``pcss_light_size`` =
+    tan θ) at infinity casts, from a blocker D metres above the receiver, a penumbra
+    2 D tan θ wide, whatever the map's fit. With ``pcss_world`` false the former width,
+    ∝ (d_r − d_b)/d_b of the map's normalised depths (a perspective light's formula), which
+    changes with the fit radius and the near-plane offset: kept for the bench's before/after."""
 
     def __init__(self, gpu, owner: str):
         super().__init__(gpu, owner, "sun shadow")
+        self.pcss_world = True
         self.matrices: list[np.ndarray] = []
         self.tiles: list[tuple[float, float, float, float]] = []
         self.splits = np.zeros(4)
@@ -203,6 +210,15 @@ class DirectionalShadow(_Map):
         self.renders += 1
         return True
 
+    def pcss_scales(self, light_size: float) -> list[float]:
+        """shadow.glsl's ``uShadowSunPcssScale`` per cascade: texels of penumbra per unit of
+        normalised depth between blocker and receiver — 2 tan θ × the depth range (m) / the
+        texel's size (m) (:func:`app.sim.shadows.pcss_penumbra_parallel` in texels); the former
+        scale (``pcss_world`` false) is tan θ × range / texel, divided by d_b in the shader."""
+        k = 2.0 if self.pcss_world else 1.0
+        return [k * light_size * dr / max(tw, 1e-9)
+                for dr, tw in zip(self.depth_range, self.texel_world)]
+
     def bind(self, program) -> dict[str, Any]:
         s = self.settings
         on = bool(s is not None and s.sun_enabled and self.fbo is not None)
@@ -213,12 +229,12 @@ class DirectionalShadow(_Map):
         tiles = list(self.tiles) + [self.tiles[-1]] * (4 - len(self.tiles))
         program.set("uShadowSunMatrix", np.hstack(mats))  # column-major mat4 array
         program.set_array("uShadowSunTile", tiles)
-        pcss = [s.pcss_light_size * dr / max(tw, 1e-9)
-                for dr, tw in zip(self.depth_range, self.texel_world)]
+        pcss = self.pcss_scales(s.pcss_light_size)
         program.set_many({
             "uShadowSunSplits": tuple(float(v) for v in self.splits),
             "uShadowSunCascades": len(self.matrices), "uShadowSunFilter": s.filter_index,
             "uShadowSunPcssScale": tuple((pcss + [pcss[-1]] * 4)[:4]),
+            "uShadowSunPcssFit": not self.pcss_world,
             "uShadowSunVsmBlur": s.vsm_blur, "uShadowSunVsmBleed": s.vsm_bleed,
             "uShadowSunStrength": s.strength,
             "uShadowSunTexelWorld": tuple((list(self.texel_world) * 4)[:4]),

@@ -185,6 +185,26 @@ def pcss_penumbra(receiver, blocker, light_size: float) -> np.ndarray:
     return np.where(ok, light_size * (r - b) / np.where(ok, b, 1.0), 0.0)
 
 
+def pcss_penumbra_parallel(receiver_m, blocker_m, tan_radius: float) -> np.ndarray:
+    """PCSS's penumbra width (m) under a directional light of angular radius θ (``tan_radius``
+    = tan θ): the light's disc seen from the receiver spans 2 tan θ, so a blocker edge D =
+    d_r − d_b metres above it (along the light) blurs over w = 2 D tan θ — the similar
+    triangles of :func:`pcss_penumbra` with the light at infinity (Fernando 2005), in world
+    units: independent of how the orthographic map is fitted. No blocker (d_b ≥ d_r) → 0."""
+    d = np.asarray(receiver_m, np.float64) - np.asarray(blocker_m, np.float64)
+    return 2.0 * tan_radius * np.maximum(d, 0.0)
+
+
+def disc_taps(n: int = 32) -> np.ndarray:
+    """(n, 2) offsets, in units of the disc's radius, of shadow.glsl's ``ShadowDiscAt``: tap k
+    at radius √((k + ½)/n), angle k × the golden angle (a Fibonacci spiral: each tap stands for
+    an equal area of the disc)."""
+    k = np.arange(n) + 0.5
+    r = np.sqrt(k / n)
+    a = (k - 0.5) * np.pi * (3.0 - np.sqrt(5.0))
+    return np.stack([r * np.cos(a), r * np.sin(a)], -1)
+
+
 def blocker_search(depths: np.ndarray, uv, depth, radius_texels: int) -> float:
     """Mean depth of the texels nearer than ``depth`` in a (2r+1)² window (−1 if none)."""
     n = depths.shape[0]

@@ -3,7 +3,8 @@
 // cascades, soft shadows; PCSS and VSM beside them). The maps are made by
 // app.render.shadow_maps with common/shadow_caster (which applies the normal and linear biases,
 // as Unity's caster does); this file only compares. Numpy twin: app/sim/shadows.py (hard,
-// four_tap, pcss_penumbra, chebyshev, point_encode) and app/render/shadows.py (pcf_visibility).
+// four_tap, pcss_penumbra, pcss_penumbra_parallel, disc_taps, chebyshev, point_encode) and
+// app/render/shadows.py (pcf_visibility).
 //
 // Layout: the sun's cascades share one depth atlas (uShadowSunMap; 1 tile for 0 cascades, a
 // 2 × 2 grid for 2 or 4): uShadowSunMatrix[c] maps a world point to atlas (u, v, depth) and
@@ -12,8 +13,13 @@
 // (|l| + bias)/range (colour, uShadowPointMap), face f's matrix uShadowPointFace[f].
 // uShadowSunFilter / uShadowSpotFilter: 0 hard (one compare), 1 the thesis's four-tap (the mean
 // of the four diagonal neighbours), 2 PCF (shadow_pcf.glsl's Gaussian), 3 PCSS (blocker search,
-// penumbra w = size (d_r − d_b) / d_b, a PCF of that width), 4 VSM (moments, a box blur of
-// radius uShadow*VsmBlur texels, Chebyshev with light-bleeding reduction uShadow*VsmBleed).
+// a PCF as wide as the penumbra: Fernando 2005's w = w_light (d_r − d_b) / d_b for the spot,
+// the Gaussian PCF at that width; for the sun, a light of angular radius θ at infinity, the
+// disc the light's cone cuts from the blocker's depth, radius (d_r − d_b) tan θ in world
+// units, averaged over SHADOW_PCSS_DISC taps: so the penumbra does not depend on how the
+// orthographic map is fitted, and its profile is the disc's), 4 VSM
+// (moments, a box blur of radius uShadow*VsmBlur texels, Chebyshev with light-bleeding
+// reduction uShadow*VsmBleed).
 //
 //
 // Taps (uShadow*Taps, the module's `<group>.shadow_taps`): 0 full — the PCF's 5 × 5 Gaussian
@@ -35,7 +41,8 @@
 // disabled light returns 1; maps are read with texelFetch on clamped indices (no wrap); the
 // VSM variance is floored (no 0/0); a zero-size cascade (all splits equal) is skipped by the
 // cascade search, the last cascade taking the point; a point exactly at a point light is lit;
-// a taps value other than 1 reads as full.
+// a taps value other than 1 reads as full; a receiver edge-on to the sun has its plane's slope
+// capped (ShadowReceiverSlope) and a degenerate one (no tangent plane in the map) none.
 // =============================================================================================
 #include "shadow_pcf.glsl"
 
@@ -47,7 +54,8 @@ uniform vec4 uShadowSunTile[4];
 uniform vec4 uShadowSunSplits;         // far view depth of each cascade
 uniform int uShadowSunCascades;        // 1..4 maps in use
 uniform int uShadowSunFilter;
-uniform vec4 uShadowSunPcssScale;      // per cascade: texels of penumbra per unit (d_r − d_b)/d_b
+uniform vec4 uShadowSunPcssScale;      // per cascade: texels of penumbra per unit d_r − d_b
+uniform bool uShadowSunPcssFit;        // the former sun penumbra, ∝ (d_r − d_b)/d_b (fit-dependent)
 uniform int uShadowSunVsmBlur;
 uniform float uShadowSunVsmBleed;
 uniform float uShadowSunStrength;
@@ -184,12 +192,69 @@ float ShadowFourTap(sampler2D map, vec2 uv, float depth, vec4 tile) {
                    + ShadowHardAt(map, uv + vec2(t.x, t.y), depth, tile));
 }
 
-// PCSS: the mean blocker depth over a 7 × 7 search (2-texel steps; fast taps: 4 × 4 in 4-texel
-// steps over the same ±6 texels), the penumbra w = pcssScale (d_r − d_b) / d_b in texels, then
-// the 5 × 5 PCF at that width (1..8 texels per tap) whatever the taps: fewer taps spread that far
-// apart band the penumbra.
-float ShadowPcss(sampler2D map, vec2 uv, float depth, vec4 tile, float pcssScale, int taps) {
+// One texel of the receiver's plane, taken off every tap's depth: a tap's bilinear comparison
+// reads texels up to one texel from where the plane was evaluated, and the stored depth is
+// constant over a texel (the caster's biases cover one comparison at the centre only).
+float ShadowPlaneSlack(vec2 slope, vec2 mapSize) { return dot(abs(slope), 1.0 / mapSize); }
+
+// The light's disc over the map: the mean of SHADOW_PCSS_DISC bilinear comparisons on a
+// Fibonacci spiral of `radius` texels (tap k at radius √((k + ½)/N), angle k × the golden
+// angle: equal areas of the disc), the visibility of a disc light behind a blocker at one
+// depth. Numpy twin: app.sim.shadows.disc_taps.
+#define SHADOW_PCSS_DISC 32
+float ShadowDiscAt(sampler2D map, vec2 uv, float depth, vec4 tile, float radius, vec2 slope) {
+    vec2 t = radius / vec2(textureSize(map, 0));
+    float slack = ShadowPlaneSlack(slope, vec2(textureSize(map, 0)));
+    float sum = 0.0;
+    for (int k = 0; k < SHADOW_PCSS_DISC; ++k) {
+        float r = sqrt((float(k) + 0.5) / float(SHADOW_PCSS_DISC));
+        float a = float(k) * 2.39996323;
+        vec2 o = r * vec2(cos(a), sin(a)) * t;
+        sum += ShadowBilinearAt(map, uv + o, depth + dot(slope, o) - slack, tile);
+    }
+    return sum / float(SHADOW_PCSS_DISC);
+}
+
+// The receiver's plane in the map (receiver-plane depth bias, Isidoro 2006): d depth / d uv of
+// the plane through the point with this normal, so a tap at uv + o compares the receiver's own
+// depth there, depth + slope · o, and a wide kernel over a sloped receiver neither shadows it
+// nor counts it as a blocker. The slope is capped at that of a plane 85° from facing the light
+// (a receiver edge-on to it, which the sun barely lights).
+vec2 ShadowReceiverSlope(mat4 m, vec3 worldPos, vec3 worldNormal) {
+    vec3 n = normalize(worldNormal);
+    vec3 t1 = normalize(cross(n, abs(n.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
+    vec3 t2 = cross(n, t1);
+    vec4 h0 = m * vec4(worldPos, 1.0);
+    vec4 h1 = m * vec4(worldPos + t1, 1.0);
+    vec4 h2 = m * vec4(worldPos + t2, 1.0);
+    vec3 a = h1.xyz / h1.w - h0.xyz / h0.w;
+    vec3 b = h2.xyz / h2.w - h0.xyz / h0.w;
+    mat2 j = mat2(a.xy, b.xy);
+    float det = determinant(j);
+    if (abs(det) < 1e-12) return vec2(0.0);
+    vec2 slope = vec2(a.z, b.z) * inverse(j);
+    // a 45° plane's slope is (depth per metre) / (uv per metre): the matrix's rows' scales
+    float perMetreUv = length(vec3(m[0][0], m[1][0], m[2][0]));
+    float perMetreDepth = length(vec3(m[0][2], m[1][2], m[2][2]));
+    float cap = 11.43 * perMetreDepth / max(perMetreUv, 1e-12);  // tan 85°
+    float len = length(slope);
+    return len > cap ? slope * (cap / len) : slope;
+}
+
+// PCSS: a 7 × 7 blocker search (2-texel steps; fast taps: 4 × 4 in 4-texel steps over the same
+// ±6 texels), then the penumbra in texels from the blocker's depth d_b:
+// - a perspective map (the spot, a light of finite size; Fernando 2005): d_b the mean blocker,
+//   w = pcssScale (d_r − d_b) / d_b, the 5 × 5 Gaussian PCF at that width (0.5..8 texels per
+//   tap) whatever the taps (fewer taps spread that far apart band the penumbra);
+// - an orthographic one (`parallel`: the sun, at infinity, depths linear in metres): d_b the
+//   blocker nearest the receiver (the silhouette that bounds the penumbra: the mean of every
+//   blocker in the window includes a convex caster's lit top and widened the spheres' penumbra
+//   by 29 % on the surfaces lab's floor), w = pcssScale (d_r − d_b), the light's disc of radius
+//   w / 2 (ShadowDiscAt, 0.5..16 texels), every tap against the receiver's plane (`slope`).
+float ShadowPcss(sampler2D map, vec2 uv, float depth, vec4 tile, float pcssScale, int taps,
+                 bool parallel, vec2 slope) {
     vec2 t = 1.0 / vec2(textureSize(map, 0));
+    float slack = ShadowPlaneSlack(slope, vec2(textureSize(map, 0)));
     float sum = 0.0, count = 0.0;
     int n = taps == 1 ? 4 : 7;
     float spacing = taps == 1 ? 4.0 : 2.0;
@@ -198,12 +263,16 @@ float ShadowPcss(sampler2D map, vec2 uv, float depth, vec4 tile, float pcssScale
         for (int x = 0; x < n; ++x) {
             vec2 o = vec2(first) + spacing * vec2(x, y);
             float d = texelFetch(map, ShadowTexel(map, uv + o * t, tile), 0).r;
-            if (d < depth) { sum += d; count += 1.0; }
+            if (d < depth + dot(slope, o * t) - slack) {
+                sum = parallel ? max(sum, d) : sum + d;
+                count += 1.0;
+            }
         }
     }
     if (count < 0.5) return 1.0;
-    float blocker = sum / count;
-    float w = pcssScale * (depth - blocker) / max(blocker, 1e-4);
+    float blocker = parallel ? sum : sum / count;
+    float w = pcssScale * (depth - blocker) / (parallel ? 1.0 : max(blocker, 1e-4));
+    if (parallel) return ShadowDiscAt(map, uv, depth, tile, clamp(0.5 * w, 0.5, 16.0), slope);
     return ShadowPcfAt(map, uv, depth, tile, clamp(w / float(2 * SHADOW_PCF_RADIUS), 0.5, 8.0),
                        SHADOW_PCF_RADIUS);
 }
@@ -240,10 +309,11 @@ float ShadowFilterReach(int mode, int blur) {
 }
 
 float ShadowFiltered(sampler2D map, sampler2D moments, vec3 c, vec4 tile, int mode,
-                     float pcssScale, int blur, float bleed, int taps) {
+                     float pcssScale, int blur, float bleed, int taps, bool parallel,
+                     vec2 slope) {
     if (mode == 1) return ShadowFourTap(map, c.xy, c.z, tile);
     if (mode == 2) return ShadowPcfBlock(map, c.xy, c.z, tile, ShadowPcfRadius(taps));
-    if (mode == 3) return ShadowPcss(map, c.xy, c.z, tile, pcssScale, taps);
+    if (mode == 3) return ShadowPcss(map, c.xy, c.z, tile, pcssScale, taps, parallel, slope);
     if (mode == 4) return ShadowVsm(moments, c.xy, c.z, tile, blur, bleed);
     return ShadowHardAt(map, c.xy, c.z, tile);
 }
@@ -266,15 +336,20 @@ float ShadowSun(vec3 worldPos, vec3 worldNormal, float viewDepth) {
     if (!uShadowSunEnabled) return 1.0;
     int c = ShadowCascade(viewDepth);
     if (c < 0) return 1.0;
-    vec3 offset = worldNormal * uShadowSunTexelWorld[c]
+    // the sun's PCSS follows the receiver's plane (no normal offset: it would shift the
+    // penumbra); every other filter moves the receiver along its normal
+    bool plane = SHADOW_SUN_FILTER == 3 && !uShadowSunPcssFit;
+    vec3 offset = plane ? vec3(0.0) : worldNormal * uShadowSunTexelWorld[c]
                 * ShadowFilterReach(SHADOW_SUN_FILTER, uShadowSunVsmBlur);
     vec4 h = uShadowSunMatrix[c] * vec4(worldPos + offset, 1.0);
     vec3 p = h.xyz / h.w;
     vec4 tile = uShadowSunTile[c];
     if (!ShadowInside(p, tile)) return 1.0;
+    vec2 slope = plane ? ShadowReceiverSlope(uShadowSunMatrix[c], worldPos, worldNormal)
+                       : vec2(0.0);
     float v = ShadowFiltered(uShadowSunMap, uShadowSunMoments, p, tile, SHADOW_SUN_FILTER,
                              uShadowSunPcssScale[c], uShadowSunVsmBlur, uShadowSunVsmBleed,
-                             SHADOW_SUN_TAPS);
+                             SHADOW_SUN_TAPS, !uShadowSunPcssFit, slope);
     return mix(1.0, v, clamp(uShadowSunStrength, 0.0, 1.0));
 }
 
@@ -289,7 +364,7 @@ float ShadowSpot(vec3 worldPos, vec3 worldNormal) {
     if (!ShadowInside(p, tile)) return 1.0;
     float v = ShadowFiltered(uShadowSpotMap, uShadowSpotMoments, p, tile, SHADOW_SPOT_FILTER,
                              uShadowSpotPcssScale, uShadowSpotVsmBlur, uShadowSpotVsmBleed,
-                             SHADOW_SPOT_TAPS);
+                             SHADOW_SPOT_TAPS, false, vec2(0.0));
     return mix(1.0, v, clamp(uShadowSpotStrength, 0.0, 1.0));
 }
 

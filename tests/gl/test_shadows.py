@@ -239,8 +239,10 @@ def test_pcf_reads_the_numpy_gaussian_of_bilinear_compares(rig, taps, radius):
 def test_fast_taps_change_only_the_penumbra_and_little(rig, filt, mean_bound, max_bound):
     """``shadow_taps=fast`` (3 × 3 PCF, PCSS's 4 × 4 blocker search) against the full taps on
     the cube's shadow: where the full filter is fully lit or fully shadowed the fast one agrees
-    within 0.011; across the penumbra it differs by at most ``max_bound`` in visibility (the
-    3 × 3 PCF's penumbra is narrower; measured 0.03 mean and 0.08 max at 512–2048 texels)."""
+    within 0.011 (PCSS: one of the sun's 32 disc taps, whose radius follows the blocker the
+    coarser search finds); across the penumbra it differs by at most ``max_bound`` in
+    visibility (the 3 × 3 PCF's penumbra is narrower; measured 0.03 mean and 0.08 max at
+    512–2048 texels)."""
     p, n = floor_points(240, 2.5)
     s = replace(BASE, filter=filt, pcss_light_size=0.05)
     full, _ = sun(rig, replace(s, taps="full"), points=(p, n))
@@ -248,6 +250,6 @@ def test_fast_taps_change_only_the_penumbra_and_little(rig, filt, mean_bound, ma
     penumbra = (full > 0.01) & (full < 0.99)
     assert penumbra.sum() > 300
     d = np.abs(fast - full)
-    assert d[~penumbra].max() <= 0.011
+    assert d[~penumbra].max() <= (1 / 32 + 1e-3 if filt == "pcss" else 0.011)
     assert d[penumbra].mean() < mean_bound and d[penumbra].max() < max_bound
     assert d[penumbra].max() > 0  # the fast taps are in use
