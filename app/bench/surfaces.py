@@ -3,11 +3,15 @@ exact reference of the same analytic scene (app.sim.surfaces_scene):
 
 1. **shadows** (app/bench/surfaces_shadows.py) — the shadow mismatch rate (acne, Peter
    Panning, aliasing) of the shared shadow module against the ray-cast visibility, per map
-   size, bias setting, cascades and filter, against ms; the soft shadow of an area light
-   averaged from 256 jittered hard maps against PCF, PCSS and VSM; chart ``NAME.png``;
+   size, bias setting, cascades and filter, against ms; the soft shadow of a disc light, ray
+   cast in numpy (its error stated), against PCF, PCSS and VSM over all floor points and over
+   the penumbra (the 256 jittered hard maps of the former reference beside it, with their own
+   error); PCSS's penumbra over fit radii 5, 10 and 20 m; chart ``NAME.png``;
 2. **transparency** (surfaces_transparency.py) — sorted blending, ZWrite off, weighted blended
-   OIT and peeling with k layers against the depth-peeled reference, on the intersecting panes,
-   the blue pane over the fence and the smoke, against ms; the cutoff sweep and the
+   OIT and peeling with k layers against an A-buffer (each blended quad's fragments sorted per
+   pixel in numpy), on every pixel and on the pixels with ≥ 2 layers, on the intersecting
+   panes, the blue pane over the fence, the smoke and two views through several layers,
+   against ms; the cutoff sweep and the
    alpha-to-coverage edge counts; chart ``NAME-transparency.png``;
 3. **reflections** (surfaces_reflections.py) — each correction of the probe's lookup (cube,
    box projection, quadratic stretch, perfect sphere) against ray-cast reflections on the

@@ -90,6 +90,82 @@ def _facing(kind, opacity=1.0, name="probe"):
 FACING_VP = look_at((0, 0, 0), (0, 0, -1), 60.0, 1.0)  # tan 30° · 1 m < 1 m: fills the view
 
 
+#: three panes facing the camera at the origin, given far, near, middle (not in depth order):
+#: name, depth [m], horizontal extent as tangents of the view (x / depth), opacity, albedo;
+#: all span the tangents −0.3…0.3 vertically
+STACK = (("far", 3.0, (-0.1, 0.5), 0.6, (0.2, 0.8, 0.3)),
+         ("near", 1.0, (-0.5, 0.1), 0.5, (0.9, 0.25, 0.2)),
+         ("middle", 2.0, (-0.2, 0.4), 0.4, (0.2, 0.35, 0.9)))
+
+
+def _stack_quads():
+    out = []
+    for name, depth, (x0, x1), opacity, albedo in STACK:
+        centre = ((x0 + x1) / 2 * depth, 0.0, -depth)
+        out.append(ss.Quad(name, centre, ((x1 - x0) / 2 * depth, 0.0, 0.0),
+                           (0.0, 0.3 * depth, 0.0), albedo, "solid", opacity))
+    return out
+
+
+def test_the_a_buffer_counts_layers_and_grades_wboit_where_they_overlap(lab):
+    """Issue 39: the bench's exact reference (app/bench/surfaces_transparency.capture_layers,
+    composited by app.sim.transparency.a_buffer) on three stacked panes of known extent: the
+    layer count of every pixel is that of the geometry (away from the panes' edges), each
+    layer's alpha is its pane's opacity, the composite is the depth-sorted "over" of the three
+    (given out of order) and equals depth peeling to float precision. WBOIT is exact where one
+    layer lies over the background and off where two or three overlap, so its error on the
+    pixels with ≥ 2 layers is larger than on all pixels."""
+    from app.bench.surfaces_transparency import capture_layers
+
+    size = (96, 96)
+    quads = lab.build_quads(_stack_quads())
+    lab.overrides.update({name: ("blend", None) for name, *_ in STACK})
+    target = Target(lab.gpu.ctx, size)
+    images = {}
+    try:
+        frags = capture_layers(lab, target, FACING_VP, (0, 0, 0), FLAT, quads)
+        for method in ("peeled", "wboit"):
+            lab.params.set("surfaces.transparency", method)
+            images[method] = _render(lab, None, size, quads=quads, light=FLAT, eye=(0, 0, 0),
+                                     vp=FACING_VP)
+    finally:
+        lab.params.reset("surfaces.transparency")
+        lab.overrides.clear()
+        target.release()
+        for _q, vbo, ibo, _t in quads:
+            lab.gpu.free(vbo)
+            lab.gpu.free(ibo)
+    assert frags["names"] == [name for name, *_ in STACK]
+    counts = tw.layer_counts(frags["alpha"])
+    # the geometry's count at each pixel centre (tangents: 60° fov, square)
+    t = np.tan(np.radians(30.0))
+    tx = ((np.arange(size[0]) + 0.5) / size[0] * 2 - 1) * t
+    ty = (1 - (np.arange(size[1]) + 0.5) / size[1] * 2) * t
+    X, Y = np.meshgrid(tx, ty)
+    expected = np.zeros(size[::-1], int)
+    edge = np.abs(np.abs(Y) - 0.3) < 2 * t / size[1]
+    for k, (_name, _depth, (x0, x1), opacity, _albedo) in enumerate(STACK):
+        inside = (X > x0) & (X < x1) & (np.abs(Y) < 0.3)
+        expected += inside
+        edge |= (np.abs(X - x0) < 2 * t / size[0]) | (np.abs(X - x1) < 2 * t / size[0])
+        np.testing.assert_allclose(frags["alpha"][k][inside & ~edge], opacity, atol=1e-6)
+    np.testing.assert_array_equal(counts[~edge], expected[~edge])
+    assert {int(c) for c in np.unique(counts[~edge])} == {0, 1, 2, 3}
+    exact = tw.a_buffer(frags["premultiplied"], frags["alpha"], frags["depth"], frags["base"])
+    # where all three overlap: the sorted composite of the albedos (flat white light)
+    three = (counts == 3) & ~edge
+    want = tw.sorted_exact([a for *_, a in STACK], [o for *_, o, _a in STACK],
+                           [d for _n, d, *_ in STACK], BG)
+    np.testing.assert_allclose(exact[three], np.broadcast_to(want, exact[three].shape),
+                               atol=1e-5)
+    assert np.abs(images["peeled"][..., :3] - exact).max() < 1e-5
+    single = tw.errors(images["wboit"], exact, (counts == 1) & ~edge)
+    multi = tw.errors(images["wboit"], exact, counts >= 2)
+    every = tw.errors(images["wboit"], exact)
+    assert single["max"] < 2e-3  # exact for one layer, but for the half-float accumulation
+    assert multi["rms"] > 0.01 and multi["rms"] > every["rms"]
+
+
 def test_cutoff_sweep_matches_clip_on_the_gradient(lab):
     """Criterion 16 on the GPU: the discarded fraction is non-decreasing over Cutoff ∈ {0, 0.1,
     0.5, 1}, 0 at 0, every α < 1 discarded at 1, and each pixel kept iff u ≥ Cutoff."""

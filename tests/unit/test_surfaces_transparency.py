@@ -160,3 +160,50 @@ def test_two_sided_lighting_faces_the_viewer():
     back = tw.quad_radiance((1, 1, 1), (1, 1, 1), -n, (0, 0, 1), (0, 0, 1), (1, 1, 1),
                             (0, 0, 0))
     assert np.allclose(lit, 1.0) and np.allclose(back, 1.0)
+
+
+# -- the A-buffer reference (issue 39) ---------------------------------------------------------
+def test_the_a_buffer_sorts_each_pixel_and_ignores_absent_layers():
+    """Per pixel, the A-buffer composite equals the per-pixel exact sort (sorted_exact) of the
+    layers present there, whatever order the layers are given in; an absent layer (alpha 0)
+    changes nothing, whatever its depth."""
+    rng = np.random.default_rng(39)
+    k, h, w = 4, 5, 6
+    colour = rng.random((k, h, w, 3))
+    alpha = rng.random((k, h, w)) * (rng.random((k, h, w)) > 0.3)
+    depth = rng.random((k, h, w))
+    bg = rng.random((h, w, 3))
+    out = tw.a_buffer(colour * alpha[..., None], alpha, depth, bg)
+    for y in range(h):
+        for x in range(w):
+            want = tw.sorted_exact(colour[:, y, x], alpha[:, y, x], depth[:, y, x], bg[y, x])
+            np.testing.assert_allclose(out[y, x], want, atol=1e-12)
+    perm = rng.permutation(k)
+    again = tw.a_buffer((colour * alpha[..., None])[perm], alpha[perm], depth[perm], bg)
+    np.testing.assert_allclose(again, out, atol=1e-12)
+    # an absent layer (alpha 0, so α·c = 0) in front of everything does nothing
+    extra = tw.a_buffer(np.concatenate([colour * alpha[..., None], np.zeros((1, h, w, 3))]),
+                        np.concatenate([alpha, np.zeros((1, h, w))]),
+                        np.concatenate([depth, -np.ones((1, h, w))]), bg)
+    np.testing.assert_allclose(extra, out, atol=1e-12)
+
+
+def test_the_a_buffer_differs_from_wboit_only_where_layers_overlap():
+    """One layer over the background: the A-buffer, over, under and WBOIT agree; two layers:
+    WBOIT's weighted mean is not the ordered composite."""
+    c = np.array([[0.9, 0.2, 0.1], [0.1, 0.3, 0.9]])
+    a = np.array([0.5, 0.6])
+    z = np.array([1.0, 3.0])
+    bg = np.array([0.3, 0.3, 0.35])
+    one = tw.a_buffer((c * a[:, None])[:1, None], a[:1, None], z[:1, None], bg)[0]
+    np.testing.assert_allclose(one, tw.wboit(c[:1], a[:1], z[:1], bg), atol=1e-12)
+    two = tw.a_buffer((c * a[:, None])[:, None], a[:, None], z[:, None], bg)[0]
+    np.testing.assert_allclose(two, tw.sorted_exact(c, a, z, bg), atol=1e-12)
+    assert np.abs(two - tw.wboit(c, a, z, bg)).max() > 0.01
+
+
+def test_layer_counts_count_alpha_above_the_threshold():
+    a = np.array([[[0.0, 0.5, 1e-4, 0.2]], [[0.0, 0.0, 0.3, 0.9]], [[0.0, 0.002, 0.0, 0.1]]])
+    np.testing.assert_array_equal(tw.layer_counts(a), [[0, 2, 1, 3]])
+    np.testing.assert_array_equal(tw.layer_counts(a, 0.25), [[0, 1, 1, 1]])
+    assert tw.layer_counts(np.zeros((0, 2, 3))).shape == (2, 3)
