@@ -61,7 +61,7 @@ uniform vec3 uBoundsMin;               // @param (-1500, 1000, -1500) [-100000, 
 uniform vec3 uBoundsMax;               // @param (1500, 1400, 1500) [-100000, 100000] step=10 unit=m §1.6 _BoundsMax: cloud container, upper corner
 uniform float uCloudScale;             // @param 0.6 [0.01, 20] step=0.01 §1.6 Cloud Scale: noise tiles per km (samplePos = (halfSize + p)·scale·0.001)
 uniform float uDensityThreshold;       // @param -5 [-100, 10] step=0.05 §1.6 Density Threshold: added ×0.1 to the base shape (negative thins the clouds)
-uniform float uDensityMultiplier;      // @param 1 [0, 10] step=0.05 §1.6 Density Multiplier: weight of the detail erosion (§A.4 line 26)
+uniform float uDensityMultiplier;      // @param 1 [0, 10] step=0.05 §1.6 Density Multiplier: weight of the detail erosion (listing A.5, line 26)
 uniform float uDetailNoiseMultiplier;  // @param 0.5 [0, 10] step=0.05 §1.6 _DetailNoiseMultiplier: strength of the detail noise
 uniform float uContainerEdgeFadeDst;   // @param 200 [0.001, 100000] step=10 unit=m §1.6 Container Edge Fade: distance from the x/z walls over which density fades in
 uniform vec4 uVolumeNoiseWeight;       // @param (1, 0.48, 0.15, 0) [0, 10] step=0.01 §1.6 Volume Noise Weights: weight of each channel of the volume noise

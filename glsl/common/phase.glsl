@@ -1,7 +1,8 @@
 // =============================================================================================
 // Phase functions: how much of the light a particle scatters goes into each direction, per
-// steradian, as a function of cos θ between the light's travel direction and the view ray
-// (cos θ = 1: looking into the light). Each integrates to 1 over the sphere.
+// steradian, as a function of cos θ, θ the angle between the view ray (from the eye) and the
+// direction toward the light (cos θ = 1: looking into the light). Each integrates to 1 over the
+// sphere.
 //
 //   Henyey–Greenstein   (1 − g²) / (4π (1 + g² − 2g cos θ)^{3/2})            (spec/001 eq. 4.19,
 //                                                                             spec/000 eq. 3.1)
