@@ -37,8 +37,7 @@ vec3 SunDepthBruteForce(vec3 P) {
     float mu = dot(rel, uSunDir) / r;
     float ds = len / float(uInnerSteps);
     vec3 depth = vec3(0.0);
-    for (int i = 0; i < 4096; ++i) {
-        if (i >= uInnerSteps) break;
+    for (int i = 0; i < uInnerSteps; ++i) {
         float s = (float(i) + 0.5) * ds;
         float h = SafeSqrt(s * s + 2.0 * r * mu * s + r * r) - uBottomRadius;
         depth += DensityRMO(h) * ds;

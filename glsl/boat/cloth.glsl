@@ -45,12 +45,6 @@ const vec3 kClothNoiseOffset[3] = vec3[3](vec3(0.37, 0.61, 0.13), vec3(19.71, 43
 
 float ClothTime(float t) { return uTimeStep * t + uTimeOffset; }
 
-vec3 ClothPatch(vec2 uv) {
-    vec3 left = mix(uCorner00, uCorner01, uv.y);
-    vec3 right = mix(uCorner10, uCorner11, uv.y);
-    return mix(left, right, uv.x);
-}
-
 float ClothChord(float v) { return length(mix(uCorner10, uCorner11, v) - mix(uCorner00, uCorner01, v)); }
 
 float ClothPinEdge(float dist, float band) {

@@ -108,15 +108,15 @@ void main() {
     vec3 reflected = uUseProbe ? textureLod(uEnvironment, r, (1.0 - gloss) * lods).rgb
                                : vec3(0.3, 0.35, 0.4);
     float nl = max(dot(n, uMainLightDir), 0.0);
-    vec3 diffuse = albedo * (ambient * ao + uMainLightRadiance * nl / 3.14159265);
+    vec3 diffuse = albedo * (ambient * ao + uMainLightRadiance * nl / PI);
     float F = SchlickFresnel(0.04, max(dot(n, v), 0.0)) * gloss;
     vec3 h = normalize(uMainLightDir + v);
     float shininess = mix(8.0, 256.0, gloss);
     vec3 highlight = uMainLightRadiance * F * pow(max(dot(n, h), 0.0), shininess)
-                     * (shininess + 8.0) / (8.0 * 3.14159265) * step(0.0, dot(n, uMainLightDir));
+                     * (shininess + 8.0) / (8.0 * PI) * step(0.0, dot(n, uMainLightDir));
     vec3 c = mix(diffuse, reflected * ao, F) + highlight;
     // foam: a white Lambert scatterer in the sky's and the sun's light
-    vec3 foamLit = vec3(0.9) * (ambient + uMainLightRadiance * max(uMainLightDir.y, 0.0) / 3.14159265);
+    vec3 foamLit = vec3(0.9) * (ambient + uMainLightRadiance * max(uMainLightDir.y, 0.0) / PI);
     c = mix(c, foamLit, clamp(foam, 0.0, 1.0));
     fragColor = vec4(max(c, vec3(0.0)), 1.0);
 }

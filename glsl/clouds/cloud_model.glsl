@@ -117,15 +117,9 @@ float DetailErosion(vec3 detail, float pa, float coverage) {
     return 0.35 * exp(-coverage * 0.75) * mix(db, 1.0 - db, saturate(pa * 5.0));
 }
 
-// Shape-only density: Forma · Densidad (the thesis's "density without detail", Algorithm 2).
-// weather = (mc_n0, mc_n1, mc_a, mc_d).
-float CloudShapeDensity(vec4 weather, vec4 shape, float pa, float coverage, float globalDensity) {
-    float forma = CoverageShape(ShapeBase(shape) * HeightShape(pa, weather.b), coverage,
-                                Nubosidad(weather.rg, coverage));
-    return forma * HeightDensity(pa, globalDensity, weather.a);
-}
-
-// spec/001 eq. 4.16: the full density; withDetail false is the shape-only density above.
+// spec/001 eq. 4.16: the full density; withDetail false is the shape-only density, Forma ·
+// Densidad (the thesis's "density without detail", Algorithm 2). weather = (mc_n0, mc_n1, mc_a,
+// mc_d).
 float CloudDensityFromSamples(vec4 weather, vec4 shape, vec3 detail, float pa, float coverage,
                               float globalDensity, bool withDetail) {
     float dns = HeightDensity(pa, globalDensity, weather.a);

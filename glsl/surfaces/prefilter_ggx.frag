@@ -28,7 +28,7 @@ void main() {
         return;
     }
     float alpha = uRoughness * uRoughness;
-    float texelSolid = 4.0 * REFLECTION_PI / (6.0 * uSourceSize * uSourceSize);
+    float texelSolid = 4.0 * PI / (6.0 * uSourceSize * uSourceSize);
     vec3 sum = vec3(0.0);
     float weight = 0.0;
     uint count = uint(max(uSamples, 1));

@@ -19,7 +19,7 @@
 #define PROBE_LOD_STEPS 6.0
 //: Unity's LUT_RANGE: the NHxRoughness texture stores intensity / 16
 #define NHX_LUT_RANGE 16.0
-#define REFLECTION_PI 3.14159265358979
+#include "math.glsl"  // PI
 
 // Distance along dir from p to each face plane it heads for: d_i = (face_i − p_i) / dir_i —
 // with |dir| = 1, dir_i is cos(r, axis i), so this is spec/003 eq. 5.2 (x) and
@@ -155,7 +155,7 @@ vec2 Hammersley(uint i, uint n) {
 
 // A half vector drawn from the GGX distribution of α = roughness² around n (Karis 2013).
 vec3 ImportanceSampleGGX(vec2 xi, vec3 n, float alpha) {
-    float phi = 2.0 * REFLECTION_PI * xi.x;
+    float phi = 2.0 * PI * xi.x;
     float cosTheta = sqrt((1.0 - xi.y) / (1.0 + (alpha * alpha - 1.0) * xi.y));
     float sinTheta = sqrt(max(1.0 - cosTheta * cosTheta, 0.0));
     vec3 h = vec3(sinTheta * cos(phi), sinTheta * sin(phi), cosTheta);
@@ -169,7 +169,7 @@ vec3 ImportanceSampleGGX(vec2 xi, vec3 n, float alpha) {
 float GgxD(float nh, float alpha) {
     float a2 = alpha * alpha;
     float d = nh * nh * (a2 - 1.0) + 1.0;
-    return a2 / (REFLECTION_PI * d * d);
+    return a2 / (PI * d * d);
 }
 
 // Smith–Schlick visibility with k = α/2 (Karis 2013, image-based lighting).
