@@ -82,6 +82,14 @@ def gpu(gl_ctx):
     g.release()
 
 
+@pytest.fixture(scope="module")
+def module_gpu(gl_ctx):
+    """One :class:`Gpu` for a module's tests (for module-scoped fixtures that build on it)."""
+    g = Gpu(gl_ctx)
+    yield g
+    g.release()
+
+
 @pytest.fixture
 def render(gl_ctx):
     """render(scene, size, sets=..., camera=...) → (image (h, w, 4) float32, session)."""

@@ -9,17 +9,9 @@ import pytest
 
 from app.frame import Stage
 from app.gpu.copy import ColourCopy
-from app.gpu.device import Gpu
 from app.gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from app.runtime import open_session, render_frames, scene_params
 from app.sim.camera import Camera
-
-
-@pytest.fixture
-def gpu(gl_ctx):
-    g = Gpu(gl_ctx)
-    yield g
-    g.release()
 
 
 def test_textures_are_bound_by_sampler_name_and_every_sampler_gets_its_own_unit(gpu):

@@ -20,7 +20,6 @@ from hypothesis import strategies as st
 from app.effects.grass import Grass
 from app.effects.grass.methods import BILLBOARD, gs_program
 from app.frame import FrameContext
-from app.gpu.device import Gpu
 from app.gpu.shaders import STAGE_DEFINES
 from app.params import ParamSet
 from app.sim import grass as gs
@@ -52,25 +51,18 @@ class FakeTerrain:
 
 
 @pytest.fixture(scope="module")
-def gpu(gl_ctx):
-    g = Gpu(gl_ctx)
-    yield g
-    g.release()
-
-
-@pytest.fixture(scope="module")
-def grass(gpu):
-    params = ParamSet(Grass.declare(gpu.shaders))
-    effect = Grass(gpu, params, owner="grass-test")
+def grass(module_gpu):
+    params = ParamSet(Grass.declare(module_gpu.shaders))
+    effect = Grass(module_gpu, params, owner="grass-test")
     yield effect
     effect.release()
 
 
 @pytest.fixture(scope="module")
-def target(gpu):
-    t = gpu.target("grass-test", "target", SIZE)
+def target(module_gpu):
+    t = module_gpu.target("grass-test", "target", SIZE)
     yield t
-    gpu.free(t)
+    module_gpu.free(t)
 
 
 class WideTerrain(FakeTerrain):
@@ -106,14 +98,14 @@ def render(effect, target, frame, clear=(0.0, 0.0, 0.0, 1.0)):
 
 
 # ---- transform feedback of the real shaders --------------------------------------------------
-def raw_program(gpu, spec, varyings, stages):
+def raw_program(module_gpu, spec, varyings, stages):
     """The library's sources of ``spec`` (includes, defines, stage defines) linked with
     transform-feedback ``varyings``, for the stages listed."""
-    lib = gpu.shaders
+    lib = module_gpu.shaders
     files = lib.stage_files(spec.name, **spec.stages())
     src = {STAGE_KW[e]: lib.preprocess(files[e], {**dict(spec.defines), STAGE_DEFINES[e]: 1}).text
            for e in stages}
-    return gpu.ctx.program(**src, varyings=varyings)
+    return module_gpu.ctx.program(**src, varyings=varyings)
 
 
 def set_uniforms(prog, values):
@@ -129,9 +121,9 @@ def set_uniforms(prog, values):
 
 
 @pytest.fixture(scope="module")
-def parking(gpu):
+def parking(module_gpu):
     """A bound framebuffer for transform feedback (the headless default one is incomplete)."""
-    fb = gpu.ctx.simple_framebuffer((4, 4))
+    fb = module_gpu.ctx.simple_framebuffer((4, 4))
     yield fb
     fb.release()
 
@@ -149,14 +141,14 @@ def unity_plane(cells: int = 10, unit: float = gs.UNITY_UNIT) -> np.ndarray:
 
 # ---- criterion 27: the geometry-shader blades ------------------------------------------------
 @pytest.fixture(scope="module")
-def gs_tf(gpu):
+def gs_tf(module_gpu):
     """The geometry-shader program's vertex and geometry stages per section count, linked with
     transform-feedback outputs (the fragment stage plays no part in what is emitted)."""
     made = {}
 
     def get(sections):
         if sections not in made:
-            made[sections] = raw_program(gpu, gs_program(sections), ["fWorldPos", "fNormal"],
+            made[sections] = raw_program(module_gpu, gs_program(sections), ["fWorldPos", "fNormal"],
                                          ("vert", "geom"))
         return made[sections]
 
@@ -166,17 +158,17 @@ def gs_tf(gpu):
 
 
 @pytest.mark.parametrize("sections", [1, 2, 3, 4])
-def test_a_200_triangle_plane_emits_200_times_the_budget(gpu, parking, gs_tf, sections):
+def test_a_200_triangle_plane_emits_200_times_the_budget(module_gpu, parking, gs_tf, sections):
     plane = unity_plane()
     assert len(plane) == 200
     prog = gs_tf(sections)
     set_uniforms(prog, {"uViewProj": np.eye(4), "uHeight": gs.GS_HEIGHT, "uShrinkBase": True,
                         "uWindIntensity": 0.5, "uWindDir": (1.0, 0.0, 0.0), "uFogMode": 0})
-    vbo = gpu.ctx.buffer(plane.astype("f4").tobytes())
-    vao = gpu.ctx.vertex_array(prog, [(vbo, "3f", "in_position")])
-    out = gpu.ctx.buffer(reserve=200 * gs.gs_max_vertices(sections) * 7 * 4)
+    vbo = module_gpu.ctx.buffer(plane.astype("f4").tobytes())
+    vao = module_gpu.ctx.vertex_array(prog, [(vbo, "3f", "in_position")])
+    out = module_gpu.ctx.buffer(reserve=200 * gs.gs_max_vertices(sections) * 7 * 4)
     parking.use()
-    query = gpu.ctx.query(primitives=True)
+    query = module_gpu.ctx.query(primitives=True)
     with query:
         vao.transform(out, moderngl.TRIANGLES, vertices=600)
     assert query.primitives == 200 * (6 * (sections - 1) + 3)
@@ -187,14 +179,15 @@ def test_a_200_triangle_plane_emits_200_times_the_budget(gpu, parking, gs_tf, se
 
 
 @pytest.mark.parametrize("sections", [1, 3, 4])
-def test_gs_vertices_match_the_twin_base_still_tip_along_the_wind(gpu, parking, gs_tf, sections):
+def test_gs_vertices_match_the_twin_base_still_tip_along_the_wind(module_gpu, parking, gs_tf,
+                                                                 sections):
     prog = gs_tf(sections)
     rng = np.random.default_rng(sections)
     plane = unity_plane()[rng.choice(200, 12, replace=False)] + np.array([3.7, 0.2, -8.1])
-    vbo = gpu.ctx.buffer(plane.astype("f4").tobytes())
-    vao = gpu.ctx.vertex_array(prog, [(vbo, "3f", "in_position")])
+    vbo = module_gpu.ctx.buffer(plane.astype("f4").tobytes())
+    vao = module_gpu.ctx.vertex_array(prog, [(vbo, "3f", "in_position")])
     per = gs.gs_max_vertices(sections)
-    out = gpu.ctx.buffer(reserve=len(plane) * per * 7 * 4)
+    out = module_gpu.ctx.buffer(reserve=len(plane) * per * 7 * 4)
     d = np.array([0.6, 0.0, -0.8])
 
     def emit(t, wi):
@@ -226,11 +219,11 @@ def test_gs_vertices_match_the_twin_base_still_tip_along_the_wind(gpu, parking, 
 
 # ---- criterion 28: the billboard's frames ----------------------------------------------------
 @pytest.fixture(scope="module")
-def billboard_tf(gpu):
-    return raw_program(gpu, BILLBOARD, ["vWorldPos", "vNormal", "vUV"], ("vert",))
+def billboard_tf(module_gpu):
+    return raw_program(module_gpu, BILLBOARD, ["vWorldPos", "vNormal", "vUV"], ("vert",))
 
 
-def billboard_vertices(gpu, parking, prog, camera, mode, planes=1, centre=(0.3, 0.0, -0.2),
+def billboard_vertices(module_gpu, parking, prog, camera, mode, planes=1, centre=(0.3, 0.0, -0.2),
                        wind=0.0, t=0.0, seed=0.4, size=0.5, angles="document"):
     """The captured vertices of one unit: (planes, 6, 9) rows of world xyzw, normal, uv."""
     r, u, _ = camera.basis()
@@ -244,11 +237,11 @@ def billboard_vertices(gpu, parking, prog, camera, mode, planes=1, centre=(0.3, 
     quad = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
     mesh = np.asarray([(x, y, k) for k in range(4) for x, y in quad], np.float32)
     unit = np.array([[*centre, seed, 2.5, 1.0, 0.0, 1.0, 1.0, 1.0]], np.float32)
-    vb, ib = gpu.ctx.buffer(mesh.tobytes()), gpu.ctx.buffer(unit.tobytes())
-    vao = gpu.ctx.vertex_array(prog, [(vb, "2f 1f", "in_corner", "in_plane"),
+    vb, ib = module_gpu.ctx.buffer(mesh.tobytes()), module_gpu.ctx.buffer(unit.tobytes())
+    vao = module_gpu.ctx.vertex_array(prog, [(vb, "2f 1f", "in_corner", "in_plane"),
                                       (ib, "3f 4f 3f/i", "in_centre", "in_unit", "in_tint")],
                                skip_errors=True)
-    out = gpu.ctx.buffer(reserve=6 * planes * 9 * 4)
+    out = module_gpu.ctx.buffer(reserve=6 * planes * 9 * 4)
     parking.use()
     vao.transform(out, moderngl.POINTS, vertices=6 * planes, instances=1)
     got = np.frombuffer(out.read(), "f4").reshape(planes, 6, 9).copy()
@@ -272,7 +265,7 @@ positions = st.tuples(st.floats(-15, 15), st.floats(0.3, 15), st.floats(-15, 15)
 @settings(max_examples=10, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(positions)
-def test_billboard_y_modes_for_random_cameras(gpu, parking, billboard_tf, pos):
+def test_billboard_y_modes_for_random_cameras(module_gpu, parking, billboard_tf, pos):
     """Criterion 28: camera-up faces the camera (n · normalize(cam − centre) > 0.999 for a
     camera looking at the unit); world-up keeps the up edge vertical; the average's up edge is
     normalize(u + ŷ); every vertex as the twin places it."""
@@ -284,7 +277,8 @@ def test_billboard_y_modes_for_random_cameras(gpu, parking, billboard_tf, pos):
     cam.look_at_direction(centre - np.asarray(pos))
     r, u, _ = cam.basis()
     v = (np.asarray(pos) - centre) / np.linalg.norm(np.asarray(pos) - centre)
-    got = {m: billboard_vertices(gpu, parking, billboard_tf, cam, m)[0] for m in gs.BILLBOARD_Y}
+    got = {m: billboard_vertices(module_gpu, parking, billboard_tf, cam, m)[0]
+           for m in gs.BILLBOARD_Y}
     _, _, n = quad_axes(got["camera"])
     assert n @ v > 0.999
     _, up, _ = quad_axes(got["world"])
@@ -299,14 +293,16 @@ def test_billboard_y_modes_for_random_cameras(gpu, parking, billboard_tf, pos):
         assert np.abs(got[m][:, :3] - twin).max() < 1e-4
 
 
-def test_billboard_from_straight_above_and_at_its_centre_is_finite(gpu, parking, billboard_tf):
+def test_billboard_from_straight_above_and_at_its_centre_is_finite(module_gpu, parking,
+                                                                   billboard_tf):
     above = Camera(position=(0.3, 20.0, -0.2), yaw=10.0, pitch=-90.0)
     at = Camera(position=(0.3, 0.25, -0.2), yaw=10.0, pitch=0.0)
     for cam in (above, at):
         for m in gs.BILLBOARD_Y:
-            v = billboard_vertices(gpu, parking, billboard_tf, cam, m, planes=4, wind=1.0, t=3.0)
+            v = billboard_vertices(module_gpu, parking, billboard_tf, cam, m, planes=4, wind=1.0,
+                                   t=3.0)
             assert np.isfinite(v).all()
-            calm = billboard_vertices(gpu, parking, billboard_tf, cam, m, planes=4)
+            calm = billboard_vertices(module_gpu, parking, billboard_tf, cam, m, planes=4)
             right, up, n = quad_axes(calm[0])
             assert np.isfinite(n).all() and abs(right @ up) < 1e-4  # plane 0: a rectangle
             # the other planes turn about the world's y (spec/003 eq. 7.9): parallelograms when
@@ -318,16 +314,17 @@ def test_billboard_from_straight_above_and_at_its_centre_is_finite(gpu, parking,
 
 # ---- criterion 29: crossed planes, shared seeds, coverage ------------------------------------
 @pytest.mark.parametrize("planes", [1, 2, 3, 4])
-def test_planes_cross_at_180_over_n_and_share_their_tip_offsets(gpu, parking, billboard_tf,
+def test_planes_cross_at_180_over_n_and_share_their_tip_offsets(module_gpu, parking, billboard_tf,
                                                                 planes):
     cam = Camera(position=(0.3, 0.25, 6.0), yaw=0.0, pitch=0.0)
-    calm = billboard_vertices(gpu, parking, billboard_tf, cam, "world", planes)
+    calm = billboard_vertices(module_gpu, parking, billboard_tf, cam, "world", planes)
     rights = np.array([quad_axes(q)[0] for q in calm])
     for k in range(planes - 1):
         ang = math.degrees(math.atan2(np.cross(rights[k], rights[k + 1])[1],
                                       rights[k] @ rights[k + 1]))
         assert abs(abs(ang) - 180.0 / planes) < 1e-2
-    windy = billboard_vertices(gpu, parking, billboard_tf, cam, "world", planes, wind=0.9, t=2.3)
+    windy = billboard_vertices(module_gpu, parking, billboard_tf, cam, "world", planes, wind=0.9,
+                               t=2.3)
     offsets = windy[:, :, :3] - calm[:, :, :3]
     top = windy[0, :, 8] > 0.99
     assert top.sum() == 3
@@ -339,11 +336,11 @@ def test_planes_cross_at_180_over_n_and_share_their_tip_offsets(gpu, parking, bi
 
 
 @pytest.fixture(scope="module")
-def coverage(grass, gpu):
+def coverage(grass, module_gpu):
     """Side-view coverage of a row of three units (one per tuft) for n = 1…4 planes, seen from
     far away with a narrow field (nearly orthographic), at grass level; single-sample, so the
     alpha cutoff decides."""
-    t = gpu.target("grass-test", "coverage", (240, 80))
+    t = module_gpu.target("grass-test", "coverage", (240, 80))
     cam = Camera(position=(0.0, 0.5 * 0.5, 40.0), yaw=0.0, pitch=0.0, fov=1.3, near=1.0,
                  far=100.0)
     units = gs.Units(np.array([[-0.6, 0.0, 0.0], [0.0, 0.0, 0.0], [0.6, 0.0, 0.0]]),
@@ -358,7 +355,7 @@ def coverage(grass, gpu):
         grass.draw_units(f, t, units)
         out[n] = float((t.read()[..., :3].max(axis=-1) > 0.0).mean())
     grass.params.reset()
-    gpu.free(t)
+    module_gpu.free(t)
     return out
 
 
@@ -380,8 +377,8 @@ def test_side_view_coverage_agrees_with_the_twin(coverage):
 
 
 # ---- the three methods ----------------------------------------------------------------------
-def count_primitives(gpu, grass, target, frame):
-    q = gpu.ctx.query(primitives=True)
+def count_primitives(module_gpu, grass, target, frame):
+    q = module_gpu.ctx.query(primitives=True)
     target.clear()
     with q:
         grass.draw(frame, target)
@@ -389,11 +386,11 @@ def count_primitives(gpu, grass, target, frame):
 
 
 @pytest.mark.parametrize("method", gs.METHODS)
-def test_triangle_counts_by_query(gpu, grass, target, method):
+def test_triangle_counts_by_query(module_gpu, grass, target, method):
     blades = 800
     sets(grass, method=method, blades=blades, culling=False, gs_sections=2, bb_planes=3,
          segments=5)
-    got = count_primitives(gpu, grass, target, frame_for(overview()))
+    got = count_primitives(module_gpu, grass, target, frame_for(overview()))
     want = {"geometry": blades * 9, "billboard": gs.units_for(blades) * 3 * 2,
             "instanced": blades * 9}[method]
     # the billboards' two-pass draw (grass.depth_prepass, single-sample) draws them twice:
@@ -405,17 +402,17 @@ def test_triangle_counts_by_query(gpu, grass, target, method):
 
 
 @pytest.mark.parametrize("method", gs.METHODS)
-def test_culling_and_lod_draw_less_on_every_path(gpu, grass, target, method):
+def test_culling_and_lod_draw_less_on_every_path(module_gpu, grass, target, method):
     """grass.culling (on by default) culls and coarsens tiles for each of the three methods."""
     cam = Camera(position=(10.0, 1.2, 0.0), yaw=90.0, pitch=-5.0, fov=50.0, near=0.05,
                  far=100)
     f = frame_for(cam, terrain=WideTerrain())
     assert grass.params["grass.culling"] is True  # the default
     sets(grass, method=method, blades=8000, culling=False)
-    full = count_primitives(gpu, grass, target, f)
+    full = count_primitives(module_gpu, grass, target, f)
     full_tris = grass.last["triangles"]
     sets(grass, method=method, blades=8000, lod_distance=6.0, draw_distance=25.0)
-    culled = count_primitives(gpu, grass, target, f)
+    culled = count_primitives(module_gpu, grass, target, f)
     assert grass.last["triangles"] < full_tris and culled < full
     assert grass.last["culled_tiles"] > 0
     grass.params.reset()
@@ -443,22 +440,22 @@ def render_empty(grass, target, f):
     return render(grass, target, f)
 
 
-def test_grid_input_counts_one_blade_per_mesh_triangle(gpu, grass, target):
+def test_grid_input_counts_one_blade_per_mesh_triangle(module_gpu, grass, target):
     sets(grass, method="geometry", blades=200, gs_input="grid", gs_sections=4)
-    got = count_primitives(gpu, grass, target, frame_for(overview()))
+    got = count_primitives(module_gpu, grass, target, frame_for(overview()))
     assert got == 200 * 21 == grass.last["triangles"]
     grass.params.reset()
 
 
-def test_instanced_culling_and_lod_reduce_what_is_drawn(gpu, grass, target):
+def test_instanced_culling_and_lod_reduce_what_is_drawn(module_gpu, grass, target):
     cam = Camera(position=(10.0, 1.2, 0.0), yaw=90.0, pitch=-5.0, fov=50.0, near=0.05,
                  far=100)
     wide = WideTerrain()
     sets(grass, method="instanced", blades=20_000, culling=False, segments=6)
-    full = count_primitives(gpu, grass, target, frame_for(cam, terrain=wide))
+    full = count_primitives(module_gpu, grass, target, frame_for(cam, terrain=wide))
     sets(grass, method="instanced", blades=20_000, culling=True, segments=6, lod_segments=1,
          lod_distance=6.0, draw_distance=25.0)
-    culled = count_primitives(gpu, grass, target, frame_for(cam, terrain=wide))
+    culled = count_primitives(module_gpu, grass, target, frame_for(cam, terrain=wide))
     assert full == 20_000 * 11
     assert culled == grass.last["triangles"] < full
     assert grass.last["culled_tiles"] > 0 and grass.last["draws"] >= 1
@@ -486,22 +483,22 @@ def test_the_switch_changes_the_image(grass, target):
     grass.params.reset()
 
 
-def test_alpha_to_coverage_on_a_multisampled_target_and_the_cutoff_without(gpu, grass):
+def test_alpha_to_coverage_on_a_multisampled_target_and_the_cutoff_without(module_gpu, grass):
     """On the village's 4× MSAA twin the tufts' edges are covered partly (the resolved alpha
     between 0 and 1); single-sample, the cutoff leaves none."""
     size = (96, 64)
-    colour = gpu.ctx.texture(size, 4, dtype="f4", samples=4)
-    depth = gpu.ctx.depth_texture(size, samples=4)
+    colour = module_gpu.ctx.texture(size, 4, dtype="f4", samples=4)
+    depth = module_gpu.ctx.depth_texture(size, samples=4)
 
     class Msaa:
         samples = 4
-        fbo = gpu.ctx.framebuffer([colour], depth)
+        fbo = module_gpu.ctx.framebuffer([colour], depth)
 
         def use(self):
             self.fbo.use()
 
-    resolved = gpu.ctx.framebuffer([gpu.ctx.texture(size, 4, dtype="f4")])
-    single = gpu.target("grass-test", "single", size)
+    resolved = module_gpu.ctx.framebuffer([module_gpu.ctx.texture(size, 4, dtype="f4")])
+    single = module_gpu.target("grass-test", "single", size)
     cam = Camera(position=(2.0, 0.8, 2.5), yaw=0.0, pitch=-12.0, fov=40.0, near=0.05,
                  far=100.0)
     f = FrameContext(size, cam, terrain=FakeTerrain())
@@ -510,7 +507,7 @@ def test_alpha_to_coverage_on_a_multisampled_target_and_the_cutoff_without(gpu, 
     m.fbo.clear(0.0, 0.0, 0.0, 0.0)
     grass.draw(f, m)
     assert grass.last["alpha_to_coverage"] is True
-    gpu.ctx.copy_framebuffer(resolved, m.fbo)
+    module_gpu.ctx.copy_framebuffer(resolved, m.fbo)
     a = np.frombuffer(resolved.read(components=4, dtype="f4"), "f4").reshape(-1, 4)[:, 3]
     single.clear((0.0, 0.0, 0.0, 0.0))
     grass.draw(f, single)
@@ -521,7 +518,7 @@ def test_alpha_to_coverage_on_a_multisampled_target_and_the_cutoff_without(gpu, 
     assert partial(b) == 0 and (b > 0.5).sum() > 50
     for obj in (m.fbo, colour, depth, *resolved.color_attachments, resolved):
         obj.release()
-    gpu.free(single)
+    module_gpu.free(single)
     grass.params.reset()
 
 
@@ -541,7 +538,7 @@ def test_lit_by_the_main_light_and_fogged(grass, target):
     grass.params.reset()
 
 
-def test_receives_the_suns_published_shadow(gpu, grass, target):
+def test_receives_the_suns_published_shadow(module_gpu, grass, target):
     """A roof over part of the meadow, cast by the shared shadow module and published in the
     frame's shadows slot: the grass under it gets only the ambient light."""
     from app.render.shadow_maps import ShadowSet
@@ -550,8 +547,8 @@ def test_receives_the_suns_published_shadow(gpu, grass, target):
     roof = np.array([[0.5, 3.0, -6.0], [6.0, 3.0, -6.0], [6.0, 3.0, 0.0],
                      [0.5, 3.0, -6.0], [6.0, 3.0, 0.0], [0.5, 3.0, 0.0]], np.float32)
     rows = np.concatenate([roof, np.tile([0.0, 1.0, 0.0, 0.0, 0.0], (6, 1)).astype("f4")], 1)
-    vbo = gpu.ctx.buffer(np.ascontiguousarray(rows, "f4").tobytes())
-    white = gpu.ctx.texture((1, 1), 4, data=bytes([255] * 4))
+    vbo = module_gpu.ctx.buffer(np.ascontiguousarray(rows, "f4").tobytes())
+    white = module_gpu.ctx.texture((1, 1), 4, data=bytes([255] * 4))
 
     def casters(prog):
         prog.set_many({"uAlphaMode": 0, "uOpacity": 1.0, "uCutoff": 0.5})
@@ -559,7 +556,7 @@ def test_receives_the_suns_published_shadow(gpu, grass, target):
         prog.vao([(vbo, "3f 3f 2f", "in_position", "in_normal", "in_uv")]).render(
             moderngl.TRIANGLES)
 
-    shadows = ShadowSet(gpu, "grass-test-shadow")
+    shadows = ShadowSet(module_gpu, "grass-test-shadow")
     up = np.array([0.0, 1.0, 0.0])
     settings_ = ShadowSettings(map_size=256, cascades=0, filter="hard", fixed_centre=(0, 1, 0),
                                fixed_radius=8.0, near_offset=10.0, point_enabled=False,

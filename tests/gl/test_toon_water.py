@@ -36,15 +36,8 @@ PURE = dict(type="simple", wave_intensity=0.0, depth_fog=False, refraction=1.0,
 
 
 @pytest.fixture(scope="module")
-def gpu(gl_ctx):
-    g = Gpu(gl_ctx)
-    yield g
-    g.release()
-
-
-@pytest.fixture(scope="module")
-def rig(gpu):
-    r = WaterRig(gpu, SIZE, owner="test-water")
+def rig(module_gpu):
+    r = WaterRig(module_gpu, SIZE, owner="test-water")
     yield r
     r.release()
 
@@ -77,10 +70,10 @@ def uniform_bed(colour, y0=-1.0, slope=(0.0, 0.12), sky=None):
 
 # ---- the functions against their twins ------------------------------------------------------
 
-def test_fresnel_ramp_pow5_and_bands_against_the_twins(gpu, rig):
+def test_fresnel_ramp_pow5_and_bands_against_the_twins(module_gpu, rig):
     u = np.linspace(0.0, 1.0, 2001)
     pts = np.stack([u, 0 * u, 0 * u], -1)
-    got = evaluate_points(gpu, pts, PROBE, {"uProbeMode": 0},
+    got = evaluate_points(module_gpu, pts, PROBE, {"uProbeMode": 0},
                           textures=[("uRamp", rig.effect.fresnel_ramp())]).astype(np.float64)
     formula = tw.fresnel_water(u)
     # criterion 20 on the GPU: the baked ramp, as the shader reads it, within 1/255
@@ -91,10 +84,10 @@ def test_fresnel_ramp_pow5_and_bands_against_the_twins(gpu, rig):
     assert np.abs(got[away, 2] - tw.simple_band(u[away])).max() < 1e-6
 
 
-def test_toon_reflection_against_the_twin(gpu):
+def test_toon_reflection_against_the_twin(module_gpu):
     x = np.random.default_rng(2).uniform(0.0, 1.3, (3000, 3))
     for toon in (0.15, 0.128):
-        got = evaluate_points(gpu, x, PROBE, {"uProbeMode": 1, "uToonValue": toon})[:, :3]
+        got = evaluate_points(module_gpu, x, PROBE, {"uProbeMode": 1, "uToonValue": toon})[:, :3]
         want = tw.toon_reflection(x, toon)
         frac = np.mod(x, toon) / toon
         away = (np.minimum(frac, 1.0 - frac) > 1e-4).all(axis=1)
@@ -103,7 +96,7 @@ def test_toon_reflection_against_the_twin(gpu):
             assert len(np.unique(np.round(got[:, c], 6))) <= 8
 
 
-def test_fog_weights_and_view_depth_against_the_twins(gpu):
+def test_fog_weights_and_view_depth_against_the_twins(module_gpu):
     rng = np.random.default_rng(3)
     near, far, intensity = 0.1, 2000.0, 0.535
     z = np.exp(rng.uniform(np.log(0.2), np.log(1500.0), 2000))
@@ -111,7 +104,7 @@ def test_fog_weights_and_view_depth_against_the_twins(gpu):
     zw = z * rng.uniform(0.3, 1.0, len(z))
     ray = rng.uniform(1.0, 3.0, len(z))
     pts = np.stack([raw, zw, ray], -1)
-    got = evaluate_points(gpu, pts, PROBE, {"uProbeMode": 2, "uNearFar": (near, far),
+    got = evaluate_points(module_gpu, pts, PROBE, {"uProbeMode": 2, "uNearFar": (near, far),
                                             "uWaterFogIntensity": intensity}).astype(np.float64)
     zs = tw.view_depth(raw.astype(np.float32), near, far)  # the depth as the GPU holds it
     assert np.allclose(got[:, 3], zs, rtol=2e-3)
@@ -120,13 +113,13 @@ def test_fog_weights_and_view_depth_against_the_twins(gpu):
     assert np.abs(got[:, 2] - tw.fog_weight_thickness((zs - zw) * ray, intensity)).max() < 3e-3
 
 
-def test_wave_normals_against_the_twin(gpu, water):
+def test_wave_normals_against_the_twin(module_gpu, water):
     rng = np.random.default_rng(4)
     pts = np.stack([rng.uniform(-50, 50, 1500), rng.uniform(-50, 50, 1500),
                     rng.uniform(0, 100, 1500)], -1)
     u = {"uProbeMode": 3, "uWaveIntensity": 0.7, "uWaveScale": 2.5, "uWaterSpeed": 0.2,
          "uWaveTile": 9.0}
-    got = evaluate_points(gpu, pts, PROBE, u,
+    got = evaluate_points(module_gpu, pts, PROBE, u,
                           textures=[("uNormals", water.effect.wave_normals())])[:, :3]
     nmap = tw.wave_normal_map()
     uvs = [tw.wave_uvs(p[None, :2], p[2], 9.0, 2.5, 0.2) for p in pts]  # each at its own t
@@ -140,10 +133,10 @@ def test_wave_normals_against_the_twin(gpu, water):
     assert tilt.max() > 10.0  # the waves do tilt the normal
 
 
-def test_screen_uv_tide_highlight_and_reflection_against_the_twins(gpu):
+def test_screen_uv_tide_highlight_and_reflection_against_the_twins(module_gpu):
     frag = np.array([[10.5, 5.5, 0.3], [95.5, 53.5, 2.0], [0.5, 0.5, 4.0]])
     for flip in (False, True):
-        got = evaluate_points(gpu, frag, PROBE, {"uProbeMode": 4, "uViewport": (96.0, 54.0),
+        got = evaluate_points(module_gpu, frag, PROBE, {"uProbeMode": 4, "uViewport": (96.0, 54.0),
                                                  "uFlipY": flip, "uSeaLevel": 0.5,
                                                  "uTideHeight": 0.3})
         assert np.allclose(got[:, :2], tw.screen_uv(frag[:, :2], [96, 54], flip), atol=1e-6)
@@ -156,7 +149,7 @@ def test_screen_uv_tide_highlight_and_reflection_against_the_twins(gpu):
     n /= np.linalg.norm(n)
     light = np.array([0.3, 0.6, -0.74])
     light /= np.linalg.norm(light)
-    got = evaluate_points(gpu, v, PROBE, {"uProbeMode": 5, "uNormal": tuple(n),
+    got = evaluate_points(module_gpu, v, PROBE, {"uProbeMode": 5, "uNormal": tuple(n),
                                           "uLight": tuple(light), "uHighlightExponent": 40.0,
                                           "uToonValue": 0.128}).astype(np.float64)
     assert np.allclose(got[:, :3], tw.reflection_direction(v, n), atol=1e-5)
@@ -169,10 +162,10 @@ def test_screen_uv_tide_highlight_and_reflection_against_the_twins(gpu):
     assert got[:, 3].max() > 0.5  # some directions are in the highlight
 
 
-def test_water_refraction_against_the_twin(gpu):
+def test_water_refraction_against_the_twin(module_gpu):
     refr = np.random.default_rng(6).uniform(0, 2, (500, 3))
     for alpha, w in ((1.0, 0.0), (0.5, 0.3), (0.2, 1.0)):
-        got = evaluate_points(gpu, refr, PROBE, {"uProbeMode": 6, "uColour": (0.1, 0.3, 0.4),
+        got = evaluate_points(module_gpu, refr, PROBE, {"uProbeMode": 6, "uColour": (0.1, 0.3, 0.4),
                                                  "uRefraction": alpha, "uWeight": w})[:, :3]
         want = tw.water_refraction(refr, (0.1, 0.3, 0.4), alpha, np.full(len(refr), w))
         assert np.allclose(got, want, atol=1e-6)
@@ -338,9 +331,9 @@ def test_criterion_31_without_fog_no_depth_dependence(water):
 
 # ---- criterion 32: Fresnel ------------------------------------------------------------------
 
-def test_criterion_32_grazing_reflects_normal_refracts(gpu, water):
+def test_criterion_32_grazing_reflects_normal_refracts(module_gpu, water):
     env_colour = (0.2, 0.75, 0.25, 1.0)
-    env = flat_environment(gpu, "test-water", env_colour)
+    env = flat_environment(module_gpu, "test-water", env_colour)
     red = [0.9, 0.05, 0.05]
     water.set(type="complex", reflection_tint=False, fresnel="ramp")
     refl = tw.toon_reflection(np.array(env_colour[:3]), 0.128)
@@ -363,7 +356,7 @@ def test_criterion_32_grazing_reflects_normal_refracts(gpu, water):
     assert np.median(share["grazing"]) > 0.5  # the reflection dominates
     assert share["grazing"].max() > 0.8
     assert share["normal"].max() < 0.03  # the refraction dominates (F = 0.018 head-on)
-    gpu.free(env)
+    module_gpu.free(env)
 
 
 class _Env:
@@ -376,8 +369,8 @@ class _Env:
 
 # ---- criterion 13: the discretised reflection, the Simple type's bands -----------------------
 
-def test_criterion_13_complex_reflection_has_at_most_eight_values_per_channel(gpu, water):
-    env = gradient_environment(gpu, "test-water")
+def test_criterion_13_complex_reflection_has_at_most_eight_values_per_channel(module_gpu, water):
+    env = gradient_environment(module_gpu, "test-water")
     water.set(type="complex", reflection_tint=False, wave_intensity=0.8, toon_value=0.15,
               output=1)
     cam = Camera(position=(0.0, 3.0, 0.0), yaw=30.0, pitch=-25.0, fov=90.0, near=0.1,
@@ -392,7 +385,7 @@ def test_criterion_13_complex_reflection_has_at_most_eight_values_per_channel(gp
     water.set(toon_value=0.01)  # nearly undiscretised: many more values
     fine = water.render(cam, seabed(cam, SIZE), environment=env)[..., :3]
     assert len(np.unique(fine[on][:, 0])) > 3 * counts[0]
-    gpu.free(env.cube)
+    module_gpu.free(env.cube)
 
 
 def test_criterion_13_simple_water_has_exactly_three_bands(water):

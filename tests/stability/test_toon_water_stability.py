@@ -27,22 +27,15 @@ COLOUR = (0.05, 0.3, 0.36)
 
 
 @pytest.fixture(scope="module")
-def gpu(gl_ctx):
-    g = Gpu(gl_ctx)
-    yield g
-    g.release()
-
-
-@pytest.fixture(scope="module")
-def env(gpu):
-    e = gradient_environment(gpu, "stability-water-sky")
+def env(module_gpu):
+    e = gradient_environment(module_gpu, "stability-water-sky")
     yield e
-    gpu.free(e.cube)
+    module_gpu.free(e.cube)
 
 
 @pytest.fixture
-def rig(gpu):
-    r = WaterRig(gpu, SIZE, owner="stability-water")
+def rig(module_gpu):
+    r = WaterRig(module_gpu, SIZE, owner="stability-water")
     yield r
     r.release()
 
@@ -188,15 +181,15 @@ def test_near_and_far_planes(rig, env, near, far):
 
 @pytest.mark.parametrize("size", [(1, 1), (7, 3), (2, 9)])
 def test_tiny_and_odd_targets(gl_ctx, size):
-    gpu = Gpu(gl_ctx)
-    r = WaterRig(gpu, size, owner="stability-water-tiny")
+    module_gpu = Gpu(gl_ctx)
+    r = WaterRig(module_gpu, size, owner="stability-water-tiny")
     try:
         cam = Camera(position=(0.0, 3.0, 0.0), yaw=0.0, pitch=-45.0, fov=60.0)
         img = r.render(cam, seabed(cam, size), light=SUN)
         _check(img, size)
     finally:
         r.release()
-        gpu.release()
+        module_gpu.release()
 
 
 def test_numpy_twins_at_the_ends():
