@@ -26,6 +26,15 @@
   (``planet.march_scale``: half and quarter against full, method 3, the ground view and a
   light-shaft view: the scattering pass's and the frame's time ratio beside the 8-bit image
   difference, mean, p99 and max, and the share of pixels that marched their own ray).
+* **Multiple scattering** (:func:`multiple_scattering`, numpy only, its own chart
+  ``FILE-multiple.png``): Hillaire's sky (method 4's numpy twin: exact single scattering plus
+  σ_s Ψ_ms from its multiple-scattering LUT) against the multi-order reference of
+  :mod:`app.sim.multiple_scattering` (Bruneton & Neyret 2008 / Bruneton 2017, orders 1–10, full
+  phase functions), per view elevation 1°–90° toward and away from the sun, for suns at 3°, 10°
+  and 45°, from 2 m up: relative error per direction and channel, the worst per sun elevation,
+  the reference's own figures (orders ≥ 5 share, truncation tail, the change when its grid is
+  halved) and Hillaire's LUT variants side by side (the paper's 32² LUT with 64 directions, a
+  64² LUT with 256, the true phase for the LUT's first scattering event).
 * The thesis's table and the accuracy sweep time and grade the thesis's per-pixel march
   (``planet.march_scale = full``, :data:`PER_PIXEL`): every pixel its own ray, as the thesis's
   methods; the reduced march is graded against it in "changes".
@@ -42,6 +51,15 @@ from ..teach.sweeps import scale_hillaire as _scale_hillaire
 from . import at_most, write_chart
 
 DEFAULT_SIZES = ((800, 600), (1280, 720), (1920, 1080))
+#: the charts: the thesis's table and the accuracy sweep, then multiple scattering
+CHART_SUFFIXES = (".png", "-multiple.png")
+#: Hillaire's multiple-scattering LUT variants the multiple-scattering section grades:
+#: name → keyword arguments of :func:`app.sim.multiple_scattering.hillaire_ms_lut`
+MS_VARIANTS: dict[str, dict] = {
+    "paper (32², 64 directions)": {"size": 32, "directions": 8},
+    "64², 256 directions": {"size": 64, "directions": 16},
+    "32², true first-event phase": {"size": 32, "directions": 8, "first_phase": "full"},
+}
 VIEWS = {
     "ground": {"position": (0.0, 2.0, 60.0), "yaw": 0.0, "pitch": 4.0, "fov": 60.0},
     "space": {"position": (0.0, 300000.0, 60.0), "yaw": 0.0, "pitch": -30.0, "fov": 60.0},
@@ -412,7 +430,47 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None) -> dict:
             p.set(k, v)
     done["march_scale"] = march_scale_change(session, at_most(size, (640, 360)),
                                              warmup=max(1, warmup - 1), rounds=max(5, repeat))
-    return {"table": {**table, "march_scale": "full"}, "accuracy": acc, "changes": done}
+    return {"table": {**table, "march_scale": "full"}, "accuracy": acc, "changes": done,
+            "multiple_scattering": multiple_scattering()}
+
+
+def multiple_scattering(grid=None, orders: int = 10, variants=None, lut_steps: int = 60) -> dict:
+    """Hillaire against the multi-order reference (numpy, no GL; the module notes): for each
+    LUT variant of :data:`MS_VARIANTS`, :func:`app.sim.multiple_scattering.compare`; beside them
+    the reference's resolution check (the same sky with the grid halved: largest relative
+    change) and its single-scattering check against :func:`app.sim.atmosphere.reference`.
+    The atmosphere is the scene's default (``ozone`` 0)."""
+    import time
+
+    from ..sim import multiple_scattering as msr
+
+    params = atm.AtmosphereParams()
+    grid = grid or msr.Grid()
+    t0 = time.perf_counter()
+    ref = msr.Reference(params, grid, orders)
+    build_s = time.perf_counter() - t0
+    out: dict = {"grid": dict(grid.__dict__), "orders": orders, "reference_build_s": build_s,
+                 "variants": {}}
+    for name, kw in (variants or MS_VARIANTS).items():
+        lut = msr.hillaire_ms_lut(params, steps=lut_steps, model=ref.m, **kw)
+        out["variants"][name] = msr.compare(params, grid, orders, reference=ref, lut=lut)
+    half = msr.Reference(params, grid.scaled(0.5), orders)
+    el = np.asarray(msr.ELEVATIONS)
+    change = 0.0
+    single = 0.0
+    for se in msr.SUN_ELEVATIONS:
+        sun = atm.direction(se, 0.0)
+        for az in (0.0, 180.0):
+            a = ref.orders_along(msr.H_CAM, el, np.full(el.shape, az), se)
+            b = half.orders_along(msr.H_CAM, el, np.full(el.shape, az), se)
+            change = max(change, float(np.max(np.abs(sum(b.values()) / sum(a.values()) - 1))))
+            dirs = np.stack([atm.direction(e, az) for e in el])
+            cam = atm.local_to_planet(np.array([0.0, msr.H_CAM, 0.0]), params)
+            exact = atm.reference(cam, dirs, sun, params, steps=4096).in_scatter
+            single = max(single, float(np.max(np.abs(a[1] / exact - 1))))
+    out["resolution_change_half_grid"] = change
+    out["single_vs_atmosphere_reference"] = single
+    return out
 
 
 def march_scale_change(session, size=(640, 360), warmup: int = 1, rounds: int = 7) -> dict:
@@ -516,6 +574,73 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.set_title("the thesis's table layout (spec/002 §5)")
     ax.legend(fontsize=8)
     write_chart(fig, path, force, title=f"natura bench planet — {report['renderer']}")
+    ms = s.get("multiple_scattering")
+    if ms:
+        from pathlib import Path
+
+        p = Path(path)
+        multiple_chart(ms, p.with_name(p.stem + CHART_SUFFIXES[1]), force)
+
+
+def multiple_chart(ms: dict, path, force: bool = False) -> None:
+    """Hillaire's relative error against the multi-order reference (green channel) per view
+    elevation, one panel per sun elevation, each LUT variant toward (solid) and away (dashed)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    suns = list(next(iter(ms["variants"].values()))["suns"])
+    fig, axes = plt.subplots(1, len(suns), figsize=(5 * len(suns), 4.5), sharey=True)
+    for ax, se in zip(np.atleast_1d(axes), suns):
+        for i, (name, c) in enumerate(ms["variants"].items()):
+            el = c["elevations"]
+            for side, style in (("toward", "-"), ("away", "--")):
+                err = 100.0 * np.asarray(c["suns"][se][side]["error"])[:, 1]
+                ax.plot(el, err, style, color=f"C{i}", marker="o", ms=3,
+                        label=f"{name}, {side}")
+        first = next(iter(ms["variants"].values()))
+        for side, style in (("toward", "-"), ("away", "--")):
+            ax.plot(first["elevations"],
+                    100.0 * np.asarray(first["suns"][se][side]["oracle_error"]["sphere"])[:, 1],
+                    style, color="k", lw=0.8,
+                    label=f"bound: best isotropic Ψ (reference averaged), {side}")
+        ax.axhspan(-5, 5, color="0.9", zorder=0)
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set_xscale("log")
+        ax.set_xlabel("view elevation (°)")
+        ax.set_title(f"sun {float(se):g}° up")
+    np.atleast_1d(axes)[0].set_ylabel("Hillaire / reference − 1 (%, green)")
+    np.atleast_1d(axes)[0].legend(fontsize=6)
+    write_chart(fig, path, force, title=f"Hillaire 2020 against orders 1–{ms['orders']} "
+                f"(Bruneton 2017 formulation); reference grid halved changes it ≤ "
+                f"{100 * ms['resolution_change_half_grid']:.2f} %")
+
+
+def multiple_summary(ms: dict | None) -> list[str]:
+    if not ms:
+        return []
+    lines = [f"multiple scattering: Hillaire against the multi-order reference (orders 1–"
+             f"{ms['orders']}, grid {ms['grid']}; halving the grid changes the sky ≤ "
+             f"{100 * ms['resolution_change_half_grid']:.2f} %, its single scattering is within "
+             f"{100 * ms['single_vs_atmosphere_reference']:.3f} % of the float64 reference)"]
+    for name, c in ms["variants"].items():
+        worst = ", ".join(f"sun {float(se):g}°: {100 * d['worst']:+.1f} %"
+                          for se, d in c["suns"].items())
+        lines.append(f"  {name:28s} worst error above 1° elevation — {worst}")
+    c = next(iter(ms["variants"].values()))
+    ge5 = max(max(d["toward"]["orders_ge5_share"], d["away"]["orders_ge5_share"])
+              for d in c["suns"].values())
+    tail = max(max(d["toward"]["tail_share"], d["away"]["tail_share"])
+               for d in c["suns"].values())
+    for over, what in (("sphere", "any isotropic Ψ(h, μ_s), Hillaire's form"),
+                       ("azimuth", "an azimuth-averaged Ψ(h, μ_s, μ)")):
+        worst = ", ".join(f"sun {float(se):g}°: {100 * d[f'worst_oracle_{over}']:+.1f} %"
+                          for se, d in c["suns"].items())
+        lines.append(f"  bound: the reference's own source as {what} — {worst}")
+    lines.append(f"  reference: orders ≥ 5 are ≤ {100 * ge5:.2f} % of the sky, orders beyond "
+                 f"{ms['orders']} ≤ {100 * tail:.3f} % (geometric tail)")
+    return lines
 
 
 def summary(report: dict) -> str:
@@ -536,6 +661,7 @@ def summary(report: dict) -> str:
                      f"{r['in_mean']:.2e} / {r['in_p99']:.2e}       "
                      f"{r['t_mean']:.2e} / {r['t_p99']:.2e}")
     lines += changes_summary(s.get("changes"), s.get("accuracy"))
+    lines += multiple_summary(s.get("multiple_scattering"))
     m1 = s["accuracy"].get("method_1_defaults")
     if m1:
         lines.append(f"method 1 at its defaults (N = {m1['n_steps']}, τ(PC) rule "
