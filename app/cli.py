@@ -230,12 +230,8 @@ def _apply_quality(args, params, scene_name: str | None = None,
     return picks
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="natura",
-                     description="Natural effects from five graphics theses, live and measured.")
-    parser.add_argument("--version", action="version", version=f"natura {__version__}")
-    sub = parser.add_subparsers(dest="command", parser_class=_Parser)
-
+def _add_window(sub: argparse._SubParsersAction) -> None:
+    """``natura window [SCENE]``: the desktop window."""
     w = sub.add_parser("window", help="open the desktop window")
     w.add_argument("scene", nargs="?", default=None)
     _add_scene_options(w)
@@ -243,6 +239,9 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--frames", type=_int_in("--frames", 1, MAX_FRAMES), default=None,
                    help="close after N frames (scripts, tests)")
 
+
+def _add_render(sub: argparse._SubParsersAction) -> None:
+    """``natura render SCENE``: headless PNG or EXR."""
     r = sub.add_parser("render", help="render headless to PNG (tone-mapped sRGB) or EXR (linear)")
     r.add_argument("scene")
     _add_scene_options(r)
@@ -255,8 +254,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="frames per second of simulated time (0.001..1000)")
     r.add_argument("--force", action="store_true", help="overwrite existing output files")
 
-    sub.add_parser("scenes", help="list the scenes")
 
+def _add_explain(sub: argparse._SubParsersAction) -> None:
+    """``natura explain TAG``: a theory section and every file:line that carries its tag."""
     ex = sub.add_parser("explain", help="an equation or section of the theory pages, and "
                         "every file:line that carries its tag",
                         description="Print the text of a tag's section of docs/theory (math as "
@@ -266,10 +266,16 @@ def build_parser() -> argparse.ArgumentParser:
                     help='"spec/NNN eq. X" or "spec/NNN §X", e.g. "spec/003 eq. 7.18" or '
                     '"spec/003 §2.9 a" (quoted or not)')
 
+
+def _add_params(sub: argparse._SubParsersAction) -> None:
+    """``natura params SCENE``: a scene's parameters."""
     pp = sub.add_parser("params", help="list a scene's parameters")
     pp.add_argument("scene")
     _add_common(pp)
 
+
+def _add_shaders(sub: argparse._SubParsersAction) -> None:
+    """``natura shaders check|copy``: compile or copy the GLSL library."""
     s = sub.add_parser("shaders", help="check or copy the GLSL library")
     s_sub = s.add_subparsers(dest="shaders_command", parser_class=_Parser)
     sc = s_sub.add_parser("check", help="compile every program; print file:line errors")
@@ -282,19 +288,9 @@ def build_parser() -> argparse.ArgumentParser:
     cp = s_sub.add_parser("copy", help="copy the shader folder to DIR for editing")
     cp.add_argument("dest", metavar="DIR")
 
-    sub.add_parser("doctor", help="the driver report: context, the paths the scenes take on "
-                   "it, the shader compilers' verdict, what the window and the tests lack")
 
-    b = sub.add_parser("bench", help="time each pass of a scene, or run the boat bench; "
-                       "write JSON",
-                       description="Time each pass of a scene (and its sweeps), or run a numpy "
-                       "bench that is not a scene: " + ", ".join(
-                           f"{name} ({about})" for name, about in NUMPY_BENCH_NAMES.items())
-                       + ". A numpy bench takes --out, --quick and --force only.")
-    b.add_argument("scene", metavar="NAME",
-                   help="a scene (see natura scenes) or a numpy bench: "
-                   + ", ".join(NUMPY_BENCH_NAMES))
-    _add_scene_options(b)
+def _add_bench_rounds(b: argparse.ArgumentParser) -> None:
+    """The bench's untimed and timed rounds (--warmup, --repeat)."""
     b.add_argument("--warmup", type=_int_in("--warmup", 0, MAX_WARMUP), default=None,
                    help=f"untimed runs first, 0..{MAX_WARMUP} (default {BENCH_WARMUP}; 1 "
                    f"with --repeat {SHORT_REPEAT} or fewer)")
@@ -302,12 +298,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"timed rounds (every pass once per round, shuffled; the median and "
                    f"quartiles are reported), 1..{MAX_REPEAT} (default {BENCH_REPEAT}, fewer — "
                    "at least 5 — once the rounds have taken 6 s)")
-    b.add_argument("--out", default=None, metavar="FILE.json",
-                   help="default: bench-results/NAME-NNNN.json (a numpy bench's charts beside "
-                   "it: FILE.png, FILE-polar.png)")
-    b.add_argument("--quick", action="store_true",
-                   help="numpy benches (boat): a reduced run, the same figures on fewer masses, "
-                   "steps and poses")
+
+
+def _add_bench_scene_table(b: argparse.ArgumentParser) -> None:
+    """A scene's table, sweeps and budget (--sizes, --no-sweep, --budget), then --force and
+    --window (in this order: the help lists them so)."""
     b.add_argument("--sizes", default=None, metavar="WxH,WxH,...",
                    help="image sizes of the scene's table "
                    "(planet: the thesis's 800x600,1280x720,1920x1080)")
@@ -326,6 +321,45 @@ def build_parser() -> argparse.ArgumentParser:
                    "output.scale sets it; the median frame time, fps and the scale reached, "
                    "into bench-results/SCENE-window-NNNN.json")
 
+
+def _add_bench(sub: argparse._SubParsersAction) -> None:
+    """``natura bench NAME``: time a scene's passes, or run a numpy bench."""
+    b = sub.add_parser("bench", help="time each pass of a scene, or run the boat bench; "
+                       "write JSON",
+                       description="Time each pass of a scene (and its sweeps), or run a numpy "
+                       "bench that is not a scene: " + ", ".join(
+                           f"{name} ({about})" for name, about in NUMPY_BENCH_NAMES.items())
+                       + ". A numpy bench takes --out, --quick and --force only.")
+    b.add_argument("scene", metavar="NAME",
+                   help="a scene (see natura scenes) or a numpy bench: "
+                   + ", ".join(NUMPY_BENCH_NAMES))
+    _add_scene_options(b)
+    _add_bench_rounds(b)
+    b.add_argument("--out", default=None, metavar="FILE.json",
+                   help="default: bench-results/NAME-NNNN.json (a numpy bench's charts beside "
+                   "it: FILE.png, FILE-polar.png)")
+    b.add_argument("--quick", action="store_true",
+                   help="numpy benches (boat): a reduced run, the same figures on fewer masses, "
+                   "steps and poses")
+    _add_bench_scene_table(b)
+
+
+def _add_compare_sides(c: argparse.ArgumentParser) -> None:
+    """Sides A and B, and how the image lays them out (--a, --b, --layout, --wipe)."""
+    c.add_argument("--a", dest="a_sets", action="extend", nargs="+", default=[],
+                   metavar="NAME=VALUE",
+                   help="side A's parameters over the base (repeatable; several after one --a)")
+    c.add_argument("--b", dest="b_sets", action="extend", nargs="+", default=[],
+                   metavar="NAME=VALUE", help="side B's parameters over the base")
+    c.add_argument("--layout", choices=("side", "wipe"), default="side",
+                   help="side: A | B | difference; wipe: A left and B right of a line, beside "
+                   "the difference")
+    c.add_argument("--wipe", type=_float_in("--wipe", 0.0, 1.0), default=None, metavar="0..1",
+                   help="where the wipe's line is, as a share of the width (default 0.5)")
+
+
+def _add_compare(sub: argparse._SubParsersAction) -> None:
+    """``natura compare SCENE``: two parameter sets side by side."""
     c = sub.add_parser("compare", help="two parameter sets of a scene side by side: both "
                        "images, their ms, the difference and each one's error; PNG + JSON",
                        description="Render a scene with two parameter sets A and B (each over "
@@ -340,16 +374,7 @@ def build_parser() -> argparse.ArgumentParser:
     for action in c._actions:
         if action.dest == "size":
             action.help = f"image size of each side (default {COMPARE_SIZE})"
-    c.add_argument("--a", dest="a_sets", action="extend", nargs="+", default=[],
-                   metavar="NAME=VALUE",
-                   help="side A's parameters over the base (repeatable; several after one --a)")
-    c.add_argument("--b", dest="b_sets", action="extend", nargs="+", default=[],
-                   metavar="NAME=VALUE", help="side B's parameters over the base")
-    c.add_argument("--layout", choices=("side", "wipe"), default="side",
-                   help="side: A | B | difference; wipe: A left and B right of a line, beside "
-                   "the difference")
-    c.add_argument("--wipe", type=_float_in("--wipe", 0.0, 1.0), default=None, metavar="0..1",
-                   help="where the wipe's line is, as a share of the width (default 0.5)")
+    _add_compare_sides(c)
     c.add_argument("--rounds", type=_int_in("--rounds", 1, MAX_COMPARE_ROUNDS), default=5,
                    help=f"timed rounds, each frame of A and of B once, 1..{MAX_COMPARE_ROUNDS} "
                    "(default 5; the median and quartiles are reported)")
@@ -360,6 +385,25 @@ def build_parser() -> argparse.ArgumentParser:
                    "the JSON is FILE.json beside it")
     c.add_argument("--force", action="store_true", help="overwrite existing PNG and JSON")
 
+
+def _add_report_base(rp: argparse.ArgumentParser) -> None:
+    """The base every method of the handout shares (--time, --camera, --set, --preset), then
+    --force."""
+    rp.add_argument("--time", type=_float_in("--time", 0.0, 24.0), default=None,
+                    metavar="HOURS", help="hour of day, 0 to 24")
+    rp.add_argument("--camera", default=None, metavar="X,Y,Z[,YAW[,PITCH[,FOV]]]",
+                    help="camera position in metres, then yaw, pitch and fov in degrees")
+    rp.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                    help="set a parameter for every method (repeatable)")
+    rp.add_argument("--preset", default=None, metavar="FILE.toml",
+                    help="apply a TOML preset before --set")
+    rp.add_argument("--force", action="store_true",
+                    help="write into a non-empty DIR (its index.html and report.json are "
+                    "replaced, nothing else)")
+
+
+def _add_report(sub: argparse._SubParsersAction) -> None:
+    """``natura report SCENE``: the HTML handout of a scene's methods."""
     rp = sub.add_parser("report", help="write an HTML handout: a scene's methods side by side "
                         "with their times, errors, charts and thesis sections",
                         description="Render every method of a scene (see --methods) in "
@@ -385,20 +429,13 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--rounds", type=_int_in("--rounds", 1, MAX_COMPARE_ROUNDS), default=5,
                     help=f"timed rounds of each method with the first, 1..{MAX_COMPARE_ROUNDS} "
                     "(default 5)")
-    rp.add_argument("--time", type=_float_in("--time", 0.0, 24.0), default=None,
-                    metavar="HOURS", help="hour of day, 0 to 24")
-    rp.add_argument("--camera", default=None, metavar="X,Y,Z[,YAW[,PITCH[,FOV]]]",
-                    help="camera position in metres, then yaw, pitch and fov in degrees")
-    rp.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
-                    help="set a parameter for every method (repeatable)")
-    rp.add_argument("--preset", default=None, metavar="FILE.toml",
-                    help="apply a TOML preset before --set")
-    rp.add_argument("--force", action="store_true",
-                    help="write into a non-empty DIR (its index.html and report.json are "
-                    "replaced, nothing else)")
+    _add_report_base(rp)
     _add_common(rp)
     rp.set_defaults(yaw=None, pitch=None, fov=None, vr=False, mesh=None)
 
+
+def _add_exercise(sub: argparse._SubParsersAction) -> None:
+    """``natura exercise list|start|check``: the graded shader exercises."""
     ex = sub.add_parser("exercise", help="graded shader exercises: list, start NAME DIR, "
                         "check DIR (docs/exercises.md)")
     ex_sub = ex.add_subparsers(dest="exercise_command", parser_class=_Parser)
@@ -411,6 +448,25 @@ def build_parser() -> argparse.ArgumentParser:
     ec = ex_sub.add_parser("check", help="render DIR's version against Natura's: PASS or FAIL "
                            "(exit 0 or 1), the errors, DIR/difference.png")
     ec.add_argument("dest", metavar="DIR", help="a folder made by natura exercise start")
+
+def build_parser() -> argparse.ArgumentParser:
+    """The whole command line: one ``_add_*`` function per subcommand, in help order."""
+    parser = _Parser(prog="natura",
+                     description="Natural effects from five graphics theses, live and measured.")
+    parser.add_argument("--version", action="version", version=f"natura {__version__}")
+    sub = parser.add_subparsers(dest="command", parser_class=_Parser)
+    _add_window(sub)
+    _add_render(sub)
+    sub.add_parser("scenes", help="list the scenes")
+    _add_explain(sub)
+    _add_params(sub)
+    _add_shaders(sub)
+    sub.add_parser("doctor", help="the driver report: context, the paths the scenes take on "
+                   "it, the shader compilers' verdict, what the window and the tests lack")
+    _add_bench(sub)
+    _add_compare(sub)
+    _add_report(sub)
+    _add_exercise(sub)
     return parser
 
 

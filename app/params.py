@@ -369,17 +369,7 @@ class ParamSet:
         return out
 
     def _unknown(self, name: str) -> ParamError:
-        """One line: every allowed name when they fit, else the closest ones (or the groups)
-        and where the full list is."""
-        group = name.split(".", 1)[0]
-        same = [p.name for p in self._params.values() if p.group == group]
-        pool = sorted(same or list(self._params))
-        head = f"unknown parameter {quote(name)}: allowed "
-        if len(head) + len(", ".join(pool)) <= 190:
-            return ParamError(head + ", ".join(pool))
-        close = difflib.get_close_matches(name[:200], pool, n=3, cutoff=0.6)
-        shown = ", ".join(close) if close else "names in " + ", ".join(sorted(self.groups()))
-        return ParamError(one_line(f"{head}{shown}, … (all: natura params SCENE)"))
+        return _unknown_name(name, list(self._params.values()))
 
     # -- values ----------------------------------------------------------------------------
     def __getitem__(self, name: str) -> Any:
@@ -399,12 +389,7 @@ class ParamSet:
     def joints(self) -> list[Joint]:
         """The rules between this set's parameters (each once; a rule naming a parameter the
         scene does not have is left out)."""
-        seen: dict[int, Joint] = {}
-        for p in self._params.values():
-            for j in p.joint:
-                if id(j) not in seen and all(n in self._params for n in j.names):
-                    seen[id(j)] = j
-        return list(seen.values())
+        return _rules_among(self._params)
 
     def check_joint(self, changed: Iterable[str] | None = None,
                     values: Mapping[str, Any] | None = None) -> None:
@@ -414,12 +399,8 @@ class ParamSet:
         current = {**self._values, **(values or {})}
         names = None if changed is None else {self.resolve(n) for n in changed}
         for j in self.joints():
-            if names is not None and names.isdisjoint(j.names):
-                continue
-            why = j.broken_by(current)
-            if why is not None:
-                shown = ", ".join(f"{n}={show(current[n])}" for n in j.names)
-                raise ParamError(one_line(f"{why or shown}: allowed {j.text}"))
+            if names is None or not names.isdisjoint(j.names):
+                _check_rule(j, current)
 
     def try_set(self, name: str, value: Any) -> Any:
         """:meth:`set`, refused (ParamError, nothing changed) when the new value breaks a rule
@@ -456,18 +437,7 @@ class ParamSet:
         with the file (missing, a folder, a pipe or device, unreadable, too large, not UTF-8,
         not TOML, nested too deeply, a value out of range) is one :class:`ParamError` line."""
         name = quote(str(path), 40)
-        text = read_preset_text(path)
-        try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            raise ParamError(one_line(f"preset {name} is not valid TOML ({str(exc)[:70]}): "
-                                      f"{_PRESET_ALLOWED}")) from None
-        except RecursionError:
-            raise ParamError(f"preset {name} nests too deeply: {_PRESET_ALLOWED}") from None
-        except (ValueError, OverflowError, MemoryError) as exc:  # e.g. an int of 5000 digits
-            raise ParamError(one_line(f"preset {name} holds a value Python cannot read "
-                                      f"({type(exc).__name__}): {_PRESET_ALLOWED}")) from None
-        for group, table in data.items():
+        for group, table in read_preset(path).items():
             if not isinstance(table, dict):
                 raise ParamError(f"preset {name}: {quote(group, 30)} must be a table like "
                                  f"[{quote(group, 30)[1:-1]}]: allowed one table per group")
@@ -475,16 +445,76 @@ class ParamSet:
                 try:
                     self.set(f"{group}.{key}", value)
                 except ParamError as exc:
-                    raise ParamError(one_line(f"preset {quote(str(path), 40)}: {exc}")) from None
+                    raise ParamError(one_line(f"preset {name}: {exc}")) from None
 
     def preset_text(self, title: str = "") -> str:
         """The current values as a TOML preset (every parameter, grouped)."""
-        lines = [f"# Natura preset{(' — ' + title) if title else ''}"]
-        for group, params in self.groups().items():
-            lines.append(f"\n[{group}]")
-            for p in params:
-                lines.append(f"{p.short} = {_toml_value(self._values[p.name])}")
-        return "\n".join(lines) + "\n"
+        return _preset_toml(self.groups(), self._values, title)
+
+
+def _rules_among(params: Mapping[str, Param]) -> list[Joint]:
+    """The rules between ``params`` (each once, in declaration order; a rule naming a
+    parameter not in ``params`` is left out)."""
+    seen: dict[int, Joint] = {}
+    for p in params.values():
+        for j in p.joint:
+            if id(j) not in seen and all(n in params for n in j.names):
+                seen[id(j)] = j
+    return list(seen.values())
+
+
+def _check_rule(j: Joint, current: Mapping[str, Any]) -> None:
+    """Raise :class:`ParamError` (one line: the values and the rule) when ``current`` breaks
+    the rule ``j``."""
+    why = j.broken_by(current)
+    if why is not None:
+        shown = ", ".join(f"{n}={show(current[n])}" for n in j.names)
+        raise ParamError(one_line(f"{why or shown}: allowed {j.text}"))
+
+
+def _preset_toml(groups: Mapping[str, list[Param]], values: Mapping[str, Any],
+                 title: str = "") -> str:
+    """``values`` as a TOML preset: a title comment, then one table per group."""
+    lines = [f"# Natura preset{(' — ' + title) if title else ''}"]
+    for group, params in groups.items():
+        lines.append(f"\n[{group}]")
+        for p in params:
+            lines.append(f"{p.short} = {_toml_value(values[p.name])}")
+    return "\n".join(lines) + "\n"
+
+
+def _unknown_name(name: str, params: list[Param]) -> ParamError:
+    """One line: every allowed name when they fit, else the closest ones (or the groups)
+    and where the full list is."""
+    group = name.split(".", 1)[0]
+    same = [p.name for p in params if p.group == group]
+    pool = sorted(same or [p.name for p in params])
+    head = f"unknown parameter {quote(name)}: allowed "
+    if len(head) + len(", ".join(pool)) <= 190:
+        return ParamError(head + ", ".join(pool))
+    close = difflib.get_close_matches(name[:200], pool, n=3, cutoff=0.6)
+    groups = sorted({p.group for p in params})
+    shown = ", ".join(close) if close else "names in " + ", ".join(groups)
+    return ParamError(one_line(f"{head}{shown}, … (all: natura params SCENE)"))
+
+
+def read_preset(path: Path) -> dict[str, Any]:
+    """A preset file's TOML, or one :class:`ParamError` line: the file as
+    :func:`read_preset_text` takes it, valid TOML, not nested too deeply, every value
+    readable. Its top-level entries are checked to be tables as they are applied."""
+    name = quote(str(path), 40)
+    text = read_preset_text(path)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ParamError(one_line(f"preset {name} is not valid TOML ({str(exc)[:70]}): "
+                                  f"{_PRESET_ALLOWED}")) from None
+    except RecursionError:
+        raise ParamError(f"preset {name} nests too deeply: {_PRESET_ALLOWED}") from None
+    except (ValueError, OverflowError, MemoryError) as exc:  # e.g. an int of 5000 digits
+        raise ParamError(one_line(f"preset {name} holds a value Python cannot read "
+                                  f"({type(exc).__name__}): {_PRESET_ALLOWED}")) from None
+    return data
 
 
 def read_preset_text(path: str | os.PathLike) -> str:
