@@ -37,7 +37,16 @@ from .core import (
 )
 from .params import DetailBake, ShapeBake, WeatherBake, bake_params, defaults, maritime
 
+
+def context_path(caps) -> dict[str, str]:
+    """The ``context_paths`` entry of an effect that bakes noise: how the bakes run on ``caps``
+    (compute shaders where GL ≥ 4.3, else one fragment pass per slice)."""
+    how = "compute shaders" if caps.compute else "one fragment pass per slice"
+    return {"noise bakes (3D textures)": how}
+
+
 __all__ = [
+    "context_path",
     "bake", "bake_detail", "bake_params", "bake_raw", "bake_report", "bake_shape",
     "BAKE_VERSION", "bake_weather", "BakeCache", "Baked", "CACHE_ENV", "default_cache_dir",
     "defaults", "DetailBake", "finish", "key_for", "maritime", "normalized", "PROGRAMS",

@@ -24,7 +24,8 @@ import numpy as np
 
 from ..gpu.programs import ProgramSpec
 from ..sim import shadows as sh
-from .shadows import SHADOW_FILTERS, SHADOW_TAPS, ShadowSettings, look_at
+from ..sim.maths import look_at, perspective
+from .shadows import SHADOW_FILTERS, SHADOW_TAPS, ShadowSettings
 
 CASTER = ProgramSpec("common/shadow_caster")
 #: toward +x −x +y −y +z −z, with each face's up vector
@@ -32,17 +33,6 @@ CUBE_FACES = (((1, 0, 0), (0, -1, 0)), ((-1, 0, 0), (0, -1, 0)), ((0, 1, 0), (0,
               ((0, -1, 0), (0, 0, -1)), ((0, 0, 1), (0, -1, 0)), ((0, 0, -1), (0, -1, 0)))
 
 Casters = Callable[[Any], None]
-
-
-def perspective(fovy_deg: float, aspect: float, near: float, far: float) -> np.ndarray:
-    """OpenGL perspective projection (M @ v)."""
-    f = 1.0 / np.tan(np.radians(fovy_deg) / 2.0)
-    m = np.zeros((4, 4))
-    m[0, 0], m[1, 1] = f / aspect, f
-    m[2, 2] = (far + near) / (near - far)
-    m[2, 3] = 2 * far * near / (near - far)
-    m[3, 2] = -1.0
-    return m
 
 
 def tile_matrix(tile) -> np.ndarray:

@@ -14,27 +14,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..sim.maths import look_at
+
 #: the PCF kernel of glsl/common/shadow_pcf.glsl: (2 r + 1)² taps, Gaussian σ in texels
 PCF_RADIUS = 2
 PCF_SIGMA = 1.0
 #: how a receiver compares depths: in hardware (sampler2DShadow) or by hand (sampler2D)
 COMPARE_MODES = ("hardware", "manual")
-
-
-def look_at(eye, target, up) -> np.ndarray:
-    """World → view matrix (right-handed, looking down −z) of a camera at ``eye`` looking at
-    ``target``; ``up`` parallel to the view falls back to +x."""
-    f = np.asarray(target, float) - np.asarray(eye, float)
-    f /= np.linalg.norm(f)
-    r = np.cross(f, up)
-    if np.linalg.norm(r) < 1e-6:
-        r = np.cross(f, [1.0, 0.0, 0.0])
-    r /= np.linalg.norm(r)
-    u = np.cross(r, f)
-    m = np.identity(4)
-    m[0, :3], m[1, :3], m[2, :3] = r, u, -f
-    m[:3, 3] = -m[:3, :3] @ np.asarray(eye, float)
-    return m
 
 
 def ortho(half: float, near: float, far: float) -> np.ndarray:

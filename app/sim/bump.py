@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from app.sim.maths import normalize as _normalize
 from app.sim.surface_maps import sample_bilinear
 
 EXACT = 0
@@ -62,10 +63,6 @@ def approx_z_error(s: np.ndarray | float) -> np.ndarray:
     """z of spec/003 eq. 3.4 minus z of spec/003 eq. 3.3 at s = x² + y² in [0, 1]."""
     s = np.asarray(s, dtype=np.float64)
     return (1.0 - 0.5 * s) - np.sqrt(1.0 - s)
-
-
-def _normalize(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
 def tangent_frame(n: np.ndarray, tangent: np.ndarray) -> np.ndarray:

@@ -14,10 +14,7 @@ import numpy as np
 from pyrr import matrix44
 
 from ..errors import UsageError, quote
-
-
-def _normalize(v: np.ndarray) -> np.ndarray:
-    return v / np.linalg.norm(v)
+from .maths import normalize
 
 
 @dataclass
@@ -66,10 +63,10 @@ class Camera:
         y = math.radians(self.yaw)
         right = np.array([math.cos(y), 0.0, math.sin(y)])
         up = np.cross(right, f)
-        return right, _normalize(up), f
+        return right, normalize(up, axis=None), f
 
     def look_at_direction(self, direction) -> "Camera":
-        d = _normalize(np.asarray(direction, dtype=float))
+        d = normalize(np.asarray(direction, dtype=float), axis=None)
         pitch = math.degrees(math.asin(max(-1.0, min(1.0, d[1]))))
         yaw = math.degrees(math.atan2(d[0], -d[2]))
         return self.set(yaw=yaw, pitch=pitch)

@@ -36,6 +36,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .maths import TWO_PI, compass_xz, rotation_y, wrap_two_pi
+from .maths import safe_normalize as _normalize
+
 Array = NDArray[np.float64]
 
 #: metres per Unity unit of the thesis's test plane (see the module docstring)
@@ -59,20 +62,8 @@ ANGLE_LAYOUTS = ("document", "repository")
 #: the repository's tints of the three ripenesses (GrassGenerator.cs): green (white), yellow,
 #: brown — Unity's Color.white, Color.yellow, (1, 0.75, 0.25)
 RIPENESS_TINTS = np.array([[1.0, 1.0, 1.0], [1.0, 0.92, 0.016], [1.0, 0.75, 0.25]])
-TWO_PI = 2.0 * math.pi
 #: the culling tiles of the instanced blades [m]
 TILE = 8.0
-
-
-def _normalize(v: ArrayLike, fallback: ArrayLike | None = None) -> Array:
-    """Unit vectors along the last axis; (near) zero vectors become ``fallback`` (the GLSL
-    SafeNormalize of glsl/common/math.glsl)."""
-    a = np.asarray(v, np.float64)
-    n = np.linalg.norm(a, axis=-1, keepdims=True)
-    fb = np.broadcast_to(np.asarray(fallback if fallback is not None else np.zeros(a.shape[-1]),
-                                    np.float64), a.shape)
-    ok = n > 1e-10
-    return np.where(ok, a / np.where(ok, n, 1.0), fb)
 
 
 # ---- the wind ---------------------------------------------------------------------------------
@@ -84,8 +75,8 @@ def wind_intensity(speed: ArrayLike) -> Array:
 def compass_direction(degrees: float) -> Array:
     """The (x, 0, z) unit vector a wind blowing toward ``degrees`` moves along (0° = north = −z,
     90° = east = +x: the wind effect's convention; the thesis's (1, 0, 0) is 90°)."""
-    a = math.radians(degrees)
-    return np.array([math.sin(a), 0.0, -math.cos(a)])
+    x, z = compass_xz(degrees)
+    return np.array([x, 0.0, z])
 
 
 @dataclass(frozen=True)
@@ -121,7 +112,7 @@ def grass_wind(slot: Any, direction_deg: float, intensity: float) -> GrassWind:
 def gs_phase(px: ArrayLike, pz: ArrayLike) -> Array:
     """spec/003 eq. 7.1: φ = |P_x + P_z| mod 2π (P the blade's centroid in object space)."""
     s = np.abs(np.asarray(px, np.float64) + np.asarray(pz, np.float64))
-    return s - TWO_PI * np.floor(s / TWO_PI)
+    return wrap_two_pi(s)
 
 
 def gs_omega(phi: ArrayLike) -> Array:
@@ -225,12 +216,6 @@ def billboard_up(mode: str, camera_up: ArrayLike) -> Array:
     if mode == "average":
         return _normalize(u + np.array([0.0, 1.0, 0.0]), np.array([0.0, 1.0, 0.0]))
     raise ValueError(f"billboard y {mode!r}: allowed {', '.join(BILLBOARD_Y)}")
-
-
-def rotation_y(theta: float) -> Array:
-    """spec/003 eq. 7.9: R_y(θ) = [[cos θ, 0, sin θ], [0, 1, 0], [−sin θ, 0, cos θ]]."""
-    c, s = math.cos(theta), math.sin(theta)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def plane_angles(n: int, layout: str = "document") -> Array:

@@ -44,6 +44,8 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from .maths import unit_vectors as _normalize
+
 #: attribute name → float components per vertex
 ATTRIBUTE_SIZES = {"position": 3, "normal": 3, "smooth_normal": 3, "uv": 2, "tangent": 4}
 _FIELDS = {"position": "positions", "normal": "normals", "smooth_normal": "smooth_normals",
@@ -127,20 +129,6 @@ class LabMesh:
 
 # ---------------------------------------------------------------------------------------------
 # shared geometry helpers
-
-
-def _normalize(v: np.ndarray, fallback: np.ndarray | None = None, eps: float = 1e-12
-               ) -> tuple[np.ndarray, np.ndarray]:
-    """(unit vectors, ok mask): rows shorter than ``eps`` (or not finite) become ``fallback``
-    (zero when None)."""
-    v = np.asarray(v, np.float64)
-    with np.errstate(over="ignore", invalid="ignore"):
-        length = np.linalg.norm(v, axis=-1)
-        ok = np.isfinite(length) & (length > eps)
-        out = np.divide(v, length[..., None], out=np.zeros_like(v), where=ok[..., None])
-    if fallback is not None:
-        out[~ok] = fallback
-    return out, ok
 
 
 def _corner_angles(p: np.ndarray, tri: np.ndarray) -> np.ndarray:

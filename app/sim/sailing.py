@@ -98,6 +98,8 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from ..params import Param
+from .maths import smoothstep as _smoothstep
+from .maths import wrap_degrees
 from .vec import cross, norm
 
 G = 9.81
@@ -227,13 +229,6 @@ def wind_vector(speed, direction) -> np.ndarray:
     a = np.radians(np.asarray(direction, dtype=np.float64))
     s = np.asarray(speed, dtype=np.float64)
     return _horizontal(s * np.sin(a), -s * np.cos(a))
-
-
-def wrap_degrees(angle):
-    """An angle in degrees wrapped into (−180, 180]."""
-    a = np.asarray(angle, dtype=np.float64)
-    out = 180.0 - np.mod(180.0 - a, 360.0)
-    return float(out) if out.ndim == 0 else out
 
 
 def relative_wind_angle(direction, psi):
@@ -614,11 +609,6 @@ class SailState:
 def _clip(x, lo: float, hi: float):
     """np.clip(x, lo, hi) as the two ufuncs it is (np.clip's argument handling costs more)."""
     return np.minimum(np.maximum(x, lo), hi)
-
-
-def _smoothstep(e0, e1, x):
-    t = _clip((np.asarray(x, dtype=np.float64) - e0) / (e1 - e0), 0.0, 1.0)
-    return t * t * (3.0 - 2.0 * t)
 
 
 class Sail:

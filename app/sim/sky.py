@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 
+from .maths import smoothstep
+
 MIE_G = -0.990
 MIE_G2 = 0.9801
 
@@ -23,11 +25,6 @@ def sun_term(cos_angle, sun_size: float = 0.05, intensity: float = 2.0):
     (spec/000 eq. B.3, ``calcSunAttenuation``, times SunIntensity)."""
     f = np.clip(np.asarray(cos_angle, dtype=np.float64), 0.0, 1.0) ** 5
     return mie_phase(-f, f * f, sun_size) * intensity
-
-
-def smoothstep(e0, e1, x):
-    t = np.clip((np.asarray(x, dtype=np.float64) - e0) / (e1 - e0), 0.0, 1.0)
-    return t * t * (3.0 - 2.0 * t)
 
 
 def scattering_intensity_factor(sun_sin_elevation):

@@ -33,6 +33,7 @@ from typing import Callable
 
 import numpy as np
 
+from app.sim.maths import smoothstep as _smoothstep
 from app.sim.noise import perlin_fbm2_periodic, worley2_periodic
 
 
@@ -79,11 +80,6 @@ def _grid(size: int) -> tuple[np.ndarray, np.ndarray]:
     c = (np.arange(size) + 0.5) / size
     v, u = np.meshgrid(c, c, indexing="ij")
     return u, v
-
-
-def _smoothstep(e0: float, e1: float, x: np.ndarray) -> np.ndarray:
-    t = np.clip((x - e0) / (e1 - e0), 0.0, 1.0)
-    return t * t * (3.0 - 2.0 * t)
 
 
 def _hash01(*ints: np.ndarray | int, seed: int = 0) -> np.ndarray:

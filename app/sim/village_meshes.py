@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import lab_meshes
+from . import lab_meshes, maths
 from .noise.fractal import perlin_fbm2
 from .sky import smoothstep
 from .village import (
@@ -98,9 +98,7 @@ class _Collector:
 def rotation_y(compass_deg: float) -> np.ndarray:
     """The 3 × 3 rotation that turns a local mesh facing +z to face the compass direction
     ``compass_deg`` (0 north = −z, 90 east = +x)."""
-    t = math.pi - math.radians(compass_deg)
-    c, s = math.cos(t), math.sin(t)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+    return maths.rotation_y(math.pi - math.radians(compass_deg))
 
 
 def placed(mesh: lab_meshes.LabMesh, facing: float = 0.0, offset=(0.0, 0.0, 0.0),

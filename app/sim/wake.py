@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ParamError
+from .maths import smoothstep as _smoothstep
 
 #: half-angle of the Kelvin wedge: asin(1/3) [rad]
 KELVIN_HALF_ANGLE = math.asin(1.0 / 3.0)
@@ -159,11 +160,6 @@ def wake_foam(x: np.ndarray, z: np.ndarray, positions: np.ndarray, ages: np.ndar
     wash = 0.7 * np.exp(-(rw / half) ** 2) * np.exp(-aw / p.wash_life)
     foam = np.maximum(cusp_foam, wash) * way * p.strength
     return np.clip(foam.max(axis=-1), 0.0, 1.0)
-
-
-def _smoothstep(e0: float, e1: float, x):
-    t = np.clip((np.asarray(x, float) - e0) / (e1 - e0), 0.0, 1.0)
-    return t * t * (3.0 - 2.0 * t)
 
 
 def ridge_angle(along, across, foam, start: float = 8.0, stop: float | None = None,

@@ -29,6 +29,7 @@ from ...render.environment import flat_environment
 from ...render.noise import GradientNoiseTextures
 from ...sim import cloth, rigging
 from ...sim.boat import METHODS, BoatSim
+from ...sim.maths import compass_radians
 from ..base import Effect, Pass
 from . import details
 
@@ -332,7 +333,7 @@ class Boat(Effect):
         wind = self.wind
         if self.sim is None or float(np.hypot(*wind)) <= 1e-3:
             return 0.0
-        rel = math.atan2(wind[0], -wind[1]) - self.sim.heading
+        rel = compass_radians(wind[0], wind[1]) - self.sim.heading
         return math.remainder(rel - math.pi, 2.0 * math.pi)
 
     def _draw_dry_mask(self, frame, target, model_rel, vp, meshes) -> None:

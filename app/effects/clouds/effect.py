@@ -106,12 +106,11 @@ class Clouds(Effect):
 
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:
-        how = "compute shaders" if caps.compute else "one fragment pass per slice"
         kind = "software renderer" if caps.software else "GPU"
         march = (f"{params['clouds.reprojection']}: scale {params['clouds.march_scale']}, "
                  f"refresh {params['clouds.refresh']} (auto: from the frame budget, planned "
                  f"for a {kind})")
-        return {"noise bakes (3D textures)": how, "amortised march": march}
+        return {**bakes.context_path(caps), "amortised march": march}
 
     @classmethod
     def python_params(cls) -> list[Param]:

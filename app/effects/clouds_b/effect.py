@@ -63,6 +63,7 @@ from ...render.amortise import PROGRAMS, Amortiser, amortise_params, amortised, 
 from ...render.layers import LAYER_COMPOSITE, composite_layer
 from ...sim import clouds_b as twin
 from ...sim.amortise import LayerState
+from ...sim.maths import compass_xz
 from ..base import Effect, Pass
 
 CLOUDS_B = fullscreen("clouds_b/clouds_b")
@@ -83,12 +84,11 @@ class CloudsB(Effect):
 
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:
-        how = "compute shaders" if caps.compute else "one fragment pass per slice"
         kind = "software renderer" if caps.software else "GPU"
         march = (f"{params['clouds_b.reprojection']}: scale {params['clouds_b.march_scale']}, "
                  f"refresh {params['clouds_b.refresh']} (auto: from the frame budget, planned "
                  f"for a {kind})")
-        return {"noise bakes (3D textures)": how, "amortised march": march}
+        return {**bakes.context_path(caps), "amortised march": march}
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -137,8 +137,8 @@ class CloudsB(Effect):
     # -- CPU -------------------------------------------------------------------------------
     def wind_velocity(self, frame=None) -> np.ndarray:
         """Wind (x, z) in m/s: the parameters plus ``frame.wind``."""
-        a = math.radians(self.params["clouds_b.wind_direction"])
-        v = self.params["clouds_b.wind_speed"] * np.array([math.sin(a), -math.cos(a)])
+        p = self.params
+        v = p["clouds_b.wind_speed"] * compass_xz(p["clouds_b.wind_direction"])
         if frame is not None and getattr(frame, "wind", None) is not None and len(frame.wind) == 2:
             v = v + np.asarray(frame.wind, dtype=np.float64)
         return v

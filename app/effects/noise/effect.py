@@ -37,8 +37,7 @@ class Noise(Effect):
 
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:
-        how = "compute shaders" if caps.compute else "one fragment pass per slice"
-        return {"noise bakes (3D textures)": how}
+        return bakes.context_path(caps)
 
     @classmethod
     def python_params(cls) -> list[Param]:

@@ -38,6 +38,7 @@ from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Joint, Param
 from ...render.environment import flat_environment
 from ...sim import ocean as oc
+from ...sim.maths import compass_degrees
 from ..base import Effect, Pass
 from .deferred import DeferredInputs, WakeMap, far_band, screen_rect
 from .fft import BLEND, RESAMPLE
@@ -186,7 +187,7 @@ class Ocean(SeaState, FoamCalibration, WaterQueries, OceanUniforms, Effect):
             self.frame_wind = None
         else:
             vx, vz = (float(v) for v in frame.wind)
-            self.frame_wind = (math.hypot(vx, vz), math.degrees(math.atan2(vx, -vz)) % 360.0)
+            self.frame_wind = (math.hypot(vx, vz), compass_degrees(vx, vz))
         model = p["ocean.model"]
         if model == "fft":
             self._ensure_fft()

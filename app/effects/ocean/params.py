@@ -3,21 +3,19 @@ cascades, foam, the sine and Gerstner models, the surface mesh and the queries."
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ...params import Param
 from ...sim import ocean as oc
+from ...sim.maths import compass_xz
 
 MODELS = ("sine", "gerstner", "fft")
 FFT_SIZES = ("64", "128", "256", "512")
 
 
 def wind_vector(direction_deg: float) -> np.ndarray:
-    """Unit (x, z) vector the wind blows toward: 0° = north (−z), 90° = east (+x)."""
-    a = math.radians(direction_deg)
-    return np.array([math.sin(a), -math.cos(a)])
+    """Unit (x, z) vector the wind blows toward (the compass convention of app.sim.maths)."""
+    return compass_xz(direction_deg)
 
 
 def ocean_params() -> list[Param]:

@@ -26,7 +26,7 @@ from ...gpu.programs import ProgramSpec
 from ...params import Inspector, Param, ParamSet
 from ...render.shadow_maps import CASTER, DirectionalShadow, receiver_defines, receiver_variants
 from ...render.shadows import ShadowSettings, shadow_params
-from ...sim import lab_meshes, surface_maps
+from ...sim import lab_meshes, maths, surface_maps
 from ..base import Effect, Pass
 from .outlines import PROGRAMS as OUTLINE_PROGRAMS
 from .outlines import Outlines, outline_params
@@ -107,10 +107,9 @@ def mask_texture(size: int = 64, windows: bool = False) -> np.ndarray:
 
 
 def rotation_y(degrees: float) -> np.ndarray:
-    t = math.radians(degrees)
-    c, s = math.cos(t), math.sin(t)
+    """The 4 × 4 R_y of ``degrees`` (maths.rotation_y, spec/003 eq. 7.9)."""
     m = np.identity(4)
-    m[0, 0], m[0, 2], m[2, 0], m[2, 2] = c, s, -s, c
+    m[:3, :3] = maths.rotation_y(math.radians(degrees))
     return m
 
 

@@ -45,6 +45,7 @@ import numpy as np
 from ...gpu.cache import build_mipmaps, memoised
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
+from ...sim import maths
 from ...sim import surfaces_scene as ss
 from ...sim import transparency as tw
 
@@ -89,21 +90,7 @@ VIEWS = {
 def look_at(eye, centre, fov: float, aspect: float, near: float = 0.05, far: float = 50.0
             ) -> np.ndarray:
     """Projection × view of a camera at ``eye`` looking at ``centre`` (y up)."""
-    eye, centre = np.asarray(eye, float), np.asarray(centre, float)
-    f = centre - eye
-    f /= np.linalg.norm(f)
-    r = np.cross(f, (0.0, 1.0, 0.0))
-    r /= np.linalg.norm(r)
-    u = np.cross(r, f)
-    view = np.identity(4)
-    view[0, :3], view[1, :3], view[2, :3] = r, u, -f
-    view[:3, 3] = -view[:3, :3] @ eye
-    t = 1.0 / np.tan(np.radians(fov) / 2)
-    proj = np.zeros((4, 4))
-    proj[0, 0], proj[1, 1] = t / aspect, t
-    proj[2, 2], proj[2, 3] = (far + near) / (near - far), 2 * far * near / (near - far)
-    proj[3, 2] = -1.0
-    return proj @ view
+    return maths.perspective(fov, aspect, near, far) @ maths.look_at(eye, centre, (0.0, 1.0, 0.0))
 
 
 def transparency_params() -> list[Param]:

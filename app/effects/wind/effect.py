@@ -12,20 +12,18 @@ Direction convention (the slot's, shared by its readers): the direction the wind
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ...frame import Stage
 from ...params import Param
+from ...sim.maths import compass_xz
 from ..base import Effect
 
 
 def wind_velocity(speed: float, direction_deg: float) -> np.ndarray:
     """(x, z) velocity [m/s] of a wind of ``speed`` blowing toward ``direction_deg``
     (0° = north = −z, 90° = east = +x)."""
-    a = math.radians(direction_deg)
-    return speed * np.array([math.sin(a), -math.cos(a)])
+    return speed * compass_xz(direction_deg)
 
 
 class Wind(Effect):
