@@ -637,10 +637,10 @@ def optical_depth(h, cos_phi, params: AtmosphereParams, nodes: int = 24):
     return d[..., 0], d[..., 1]
 
 
-def optical_depth_midpoint(h, cos_phi, params: AtmosphereParams, steps: int = 1000):
-    """The thesis's inner loop (§2.3): a midpoint Riemann sum of exp(−h/H) over ``steps`` equal
-    steps from the point to where its ray leaves the atmosphere (the GPU's
-    ``SunDepthBruteForce``). Ground rays → +inf. Returns (D_R, D_M), without P0."""
+def _midpoint_columns(h, cos_phi, params: AtmosphereParams, steps: int, densities) -> np.ndarray:
+    """Midpoint Riemann sums ∑ ρ_k(alt) ds over ``steps`` equal steps from each point to where
+    its ray leaves the atmosphere, one column per function of ``densities`` (altitude → density);
+    ground rays → +inf. Shape: the broadcast of (h, cos_phi) + (len(densities),)."""
     R = params.bottom_radius
     h = np.clip(np.asarray(h, dtype=np.float64), 0.0, params.top_height)
     mu = np.clip(np.asarray(cos_phi, dtype=np.float64), -1.0, 1.0)
@@ -649,19 +649,28 @@ def optical_depth_midpoint(h, cos_phi, params: AtmosphereParams, steps: int = 10
     h, mu = h.reshape(-1), mu.reshape(-1)
     ds = _atmosphere_exit(h, mu, params) / steps
     r = R + h
-    H = params.scale_heights
     frac = np.arange(steps) + 0.5
-    out = np.zeros((h.size, 2))
+    out = np.zeros((h.size, len(densities)))
     chunk = max(1, 2_000_000 // steps)           # bound the (rays, steps) temporaries
     for a in range(0, h.size, chunk):
         b = slice(a, a + chunk)
         s = frac * ds[b, None]
         rb, mub = r[b, None], mu[b, None]
         alt = np.sqrt(np.maximum(s * s + 2.0 * rb * mub * s + rb * rb, 0.0)) - R
-        alt = np.maximum(alt, 0.0)
-        for i in range(2):
-            out[b, i] = np.exp(-alt / H[i]).sum(-1) * ds[b]
-    out = np.where(sun_ray_hits_ground(h, mu, params)[:, None], np.inf, out).reshape(shape + (2,))
+        for i, density in enumerate(densities):
+            out[b, i] = density(alt).sum(-1) * ds[b]
+    out = np.where(sun_ray_hits_ground(h, mu, params)[:, None], np.inf, out)
+    return out.reshape(shape + (len(densities),))
+
+
+def optical_depth_midpoint(h, cos_phi, params: AtmosphereParams, steps: int = 1000):
+    """The thesis's inner loop (§2.3): a midpoint Riemann sum of exp(−h/H) over ``steps`` equal
+    steps from the point to where its ray leaves the atmosphere (the GPU's
+    ``SunDepthBruteForce``). Ground rays → +inf. Returns (D_R, D_M), without P0."""
+    H = params.scale_heights
+    out = _midpoint_columns(h, cos_phi, params, steps,
+                            [lambda alt, k=k: np.exp(-np.maximum(alt, 0.0) / H[k])
+                             for k in range(2)])
     return out[..., 0], out[..., 1]
 
 
@@ -669,24 +678,7 @@ def ozone_optical_depth_midpoint(h, cos_phi, params: AtmosphereParams, steps: in
     """The brute-force inner loop of :func:`optical_depth_midpoint` for the ozone layer (the
     third component of the GPU's ``SunDepthBruteForce``): ∑ ρ_O ds over ``steps`` equal steps to
     the top. Ground rays → +inf."""
-    R = params.bottom_radius
-    h = np.clip(np.asarray(h, dtype=np.float64), 0.0, params.top_height)
-    mu = np.clip(np.asarray(cos_phi, dtype=np.float64), -1.0, 1.0)
-    h, mu = np.broadcast_arrays(h, mu)
-    shape = h.shape
-    h, mu = h.reshape(-1), mu.reshape(-1)
-    ds = _atmosphere_exit(h, mu, params) / steps
-    r = R + h
-    frac = np.arange(steps) + 0.5
-    out = np.zeros(h.size)
-    chunk = max(1, 2_000_000 // steps)
-    for a in range(0, h.size, chunk):
-        b = slice(a, a + chunk)
-        s = frac * ds[b, None]
-        rb, mub = r[b, None], mu[b, None]
-        alt = np.sqrt(np.maximum(s * s + 2.0 * rb * mub * s + rb * rb, 0.0)) - R
-        out[b] = ozone_density(alt).sum(-1) * ds[b]
-    return np.where(sun_ray_hits_ground(h, mu, params), np.inf, out).reshape(shape)
+    return _midpoint_columns(h, cos_phi, params, steps, [ozone_density])[..., 0]
 
 
 def _atmosphere_exit(h, mu, params: AtmosphereParams):

@@ -16,7 +16,7 @@ the local vertical measured from the sun's (the field is even in φ). Order by o
 * J_1(x, ω) = T_sun(x) [σ_R(x) P_R(ω·s) + σ_M(x) P_M(ω·s)]  (exact, no table);
 * L_n(x, ω) = ∫_0^{t_end} T(x, x + tω) J_n(x + tω, ω) dt along the ray to the top or the
   (black) ground;
-* J_{n+1}(x, ω) = σ_R(x) ∫ P_R(ω·ω') L_n(x, ω') dω' + σ_M(x) ∫ P_M(ω·ω') L_n(x, ω') dω'.
+* J(n+1; x, ω) = σ_R(x) ∫ P_R(ω·ω') L_n(x, ω') dω' + σ_M(x) ∫ P_M(ω·ω') L_n(x, ω') dω'.
 
 Discretisation (:class:`Grid`): J_n and L_n live on nodes of (h, μ_s, μ, φ). Altitudes
 h = top · u² (u uniform: dense near the ground, where the Mie layer's 1.2 km scale height is);
@@ -24,7 +24,7 @@ sun cosines μ_s = v |v| with v uniform in [−0.5, 1] (dense at the horizon, wh
 transmittance changes fastest; μ_s ≥ −0.25 covers every point that sees the sun, and below it
 the table is clamped); view directions at the centres of a midpoint grid, uniform in μ (cells
 meet at μ = 0, the ground's horizon) and in φ ∈ [0, π] (each node stands for its cell and the
-mirror cell at −φ). The sphere integral of J_{n+1} uses a phase *matrix*: for each target
+mirror cell at −φ). The sphere integral of J(n+1) uses a phase *matrix*: for each target
 node, the phase integrated over each source cell (sub-sampled 6 × 6 per cell and per mirror),
 its rows then scaled to sum to 1 (energy conserved exactly), so the forward-peaked Mie phase
 (g = 0.76, a lobe ~15° wide) is integrated, not point-sampled. L_n is marched from every node
@@ -34,8 +34,8 @@ constant along a ray, which gives φ_t. Sun transmittance comes from a fine (x_�
 exact optical depths (:func:`app.sim.atmosphere._density_integrals`), bilinear.
 
 The sky seen by a camera is then a final gather along its exact ray with many samples:
-single scattering from the exact J_1, plus T · Σ_{n≥2} J_n read from the tables. Its errors
-are measured, not assumed: the single-scattering part against
+single scattering from the exact J_1, plus T times the sum over n ≥ 2 of J_n read from the
+tables. Its errors are measured, not assumed: the single-scattering part against
 :func:`app.sim.atmosphere.reference`; the orders' convergence (the share of orders ≥ 5); the
 table's resolution by halving and doubling the grid (:func:`resolution_error`).
 
@@ -272,7 +272,7 @@ class Reference:
         self.p_m = pm / pm.sum(1, keepdims=True)
 
     def _gather(self, l_nodes: np.ndarray) -> np.ndarray:
-        """J_{n+1} at the nodes from L_n at the nodes."""
+        """J(n+1) at the nodes from L_n at the nodes."""
         g = self.grid
         D = g.n_mu * g.n_phi
         L = l_nodes.reshape(g.n_h, g.n_mu_s, D, 3)

@@ -16,8 +16,8 @@ from ...gpu.cache import memoised
 def polar_grid(segments: int, inner: float, extent: float, aspect: float = 0.0,
                height: float = 1.0):
     """Rest-point mesh around the camera: a centre vertex, then rings r₀ = inner,
-    r_{i+1} = r_i·(1 + s_i·2π/segments) up to ``extent``, where s_i = 1 (cells about square)
-    out to ``aspect``·``height`` and s_i = r_i/(``aspect``·``height``) beyond it (``aspect`` ≤ 0:
+    r(i+1) = r(i)·(1 + s(i)·2π/segments) up to ``extent``, where s(i) = 1 (cells about square)
+    out to ``aspect``·``height`` and s(i) = r(i)/(``aspect``·``height``) beyond it (``aspect`` ≤ 0:
     square cells everywhere).
 
     Why the stretch: seen from a height h, a ring at distance r ≫ h shrinks on screen by h/r
