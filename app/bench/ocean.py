@@ -2,45 +2,22 @@
 
 Two comparisons and four sweeps, run by ``natura bench ocean`` after the per-pass timings, all at
 the bench view size with the scene's camera and the session's sea state (wind, spectrum, patch
-sizes):
+sizes); each function below says what it measures:
 
-0. **Surface pass, forward against deferred** (``ocean.shading``) — the ocean's surface pass
-   (from a cleared target, as the per-pass timings run it) in both ways, timed in the same
-   interleaved rounds (``app.gpu.timing.time_interleaved``): each one's median and quartiles, the
-   per-round ratio deferred/forward (median [p25–p75]), and the difference of the two images in
-   linear radiance (mean and max |Δ| over pixels and channels).
-
-0b. **Simulation, what the view resolves against the thesis's** (``ocean.simulation``):
-   :func:`simulation_comparison` — ms of one frame's simulation each way, interleaved, and the
-   error of the view's sea (cropped grids, slow cascades interpolated) against every cascade
-   at ``ocean.fft_size`` every frame, measured at random points and predicted.
-
-1. **FFT size × cascades** (``ocean.simulation = full``: the grid of each row) — N ∈ {64,
-   128, 256, 512} (``fft_sizes``; ``--sizes NxN,...`` narrows it) × 1–4 cascades.  Time: ms
-   per frame (median; ``scene.frame(size, dt=1/30)`` then ``scene.render``, so the
-   simulation update and every ocean pass, with the sky) and ms of the simulation alone
-   (``GpuOceanSim.update``).  Error: the mean-square slope and Hs carried by the cascades'
-   actual h₀ — mss = Σ_k k²(|h₀(k)|² + |h₀(−k)|²) = 2·Σk²|h₀|²,
+0. forward against deferred surface shading (:func:`shading_comparison`);
+0b. the simulation of what the view resolves against the thesis's (:func:`simulation_comparison`);
+1. **FFT size × cascades** (:func:`fft_sweep`, ``ocean.simulation = full``) — ms per frame and
+   of the simulation alone, against the error of the mean-square slope and Hs carried by the
+   cascades' actual h₀ — mss = Σ_k k²(|h₀(k)|² + |h₀(−k)|²) = 2·Σk²|h₀|²,
    Hs = 4·sqrt(2·Σ|h₀|²), summed over cascades — against ``spectrum_moments`` of the same
    spectrum (same short-wave fade) up to k_ref = π·512/L_min, the Nyquist of the finest
    configuration: the *mss deficit* 1 − mss/mss_ref and the *Hs error* |Hs − Hs_ref|/Hs_ref.
    The actual h₀ is one random draw, so the same figures are also given for its expectation
    (E|h₀|² = ½Ψ(−k)Δk²): ``*_expected`` is the deficit of the band limits alone, without the
-   sampling noise.  Combinations that ``cascade_bands`` refuses are reported as skipped with
-   its message.
-2. **Gerstner 8–64 waves vs the FFT** (N = 256, 3 cascades) at equal Hs and peak period: ms per
-   frame, Hs, peak period Tp = 2π/ω_p — for Gerstner the wave with the most energy (A²/2), for
-   the FFT the peak of its actual h₀'s S(ω) binned in rings 2π/L₀ wide, for the spectrum
-   ``SpectrumParams.peak_omega()`` (the E(k) peak for Phillips) — and the mss deficit against
-   the same reference; also the number of distinct wave directions (1° bins) and the length
-   over which the FFT repeats (its tile sizes).
-3. **GPU FFT against a direct sum of the same waves** — one cascade (L = the first patch size),
-   N ∈ {16, 32, 64}, plus 128 when its estimated cost stays under ``DIRECT_BUDGET_S`` (20 s):
-   ms of ``GpuOceanSim.update`` (evolve + FFT + finalize) against ``direct_sum`` (the same
-   fields summed mode by mode, then the same finalize), the speed-up measured in the same run,
-   and max|η_direct − η_FFT|/max|η_FFT|.
-4. **Oceanography** (``app.sim.ocean_validation``): Hs against 0.21·U²/g on numpy and on the GPU,
-   phase speed, wind alignment and drift, mean-square slope against Cox–Munk.
+   sampling noise;
+2. **Gerstner 8–64 waves vs the FFT** (:func:`gerstner_sweep`) at equal Hs and peak period;
+3. **GPU FFT against a direct sum of the same waves** (:func:`direct_sweep`);
+4. **Oceanography** (``app.sim.ocean_validation``).
 
 All timings are wall time around ``ctx.finish()`` (``app.gpu.timing.time_call``): the figures
 are specific to the renderer that produced them (on llvmpipe the CPU does everything and the
@@ -69,7 +46,7 @@ from ..sim.ocean_validation import (
     spectrum_peak_period,
 )
 from ..sim.ocean_validation import summary as oceanography_summary
-from . import write_chart
+from . import pyplot, write_chart
 
 FFT_SIZES = (64, 128, 256, 512)
 CASCADES = (1, 2, 3, 4)
@@ -91,14 +68,10 @@ TITLES = {"shading": "Surface pass, forward vs deferred",
 
 # ---- sea-state helpers -----------------------------------------------------------------------
 
-def _effect(session):
-    return session.scene.effect("ocean")
-
-
 def reference(session) -> dict:
     """Moments of the session's spectrum up to the Nyquist of the finest configuration."""
-    eff = _effect(session)
-    sp = eff.spectrum_params()
+    eff = session.scene.effect("ocean")
+    sp = eff.sea.spectrum_params()
     sizes = [float(s) for s in session.params["ocean.patch_sizes"]]
     k_ref = math.pi * max(FFT_SIZES) / min(sizes)
     m = oc.spectrum_moments(sp, k_max=k_ref)
@@ -142,21 +115,17 @@ def _frame_ms(session, size, warmup: int, repeat: int) -> float:
 
 
 def _sim_ms(session, warmup: int, repeat: int) -> float:
-    eff = _effect(session)
-    p = session.params
-    t = session.scene.time
+    eff, t = session.scene.effect("ocean"), session.scene.time
+    sea, thresholds = eff.sea, eff.foam.thresholds()
     return time_call(session.gpu.ctx, "ocean.simulate",
-                     lambda: eff.sim.update(t, p["ocean.choppiness"], DT,
-                                            foam_threshold=p["ocean.foam_threshold"],
-                                            foam_decay_time=p["ocean.foam_decay"]),
-                     warmup, repeat).median_ms
+                     lambda: sea.simulate(sea.sim, t, DT, thresholds), warmup, repeat).median_ms
 
 
 def _cascades_of(eff, n: int, count: int):
-    ref = eff.reference  # what the effect uploaded to its GpuOceanSim
+    ref = eff.sea.reference  # what the effect uploaded to its GpuOceanSim
     if ref is None or ref.n != n or len(ref.cascades) != count:
         p = eff.params
-        ref = oc.FFTOcean(eff.spectrum_params(), n=n, patch_sizes=eff.patch_sizes(),
+        ref = oc.FFTOcean(eff.sea.spectrum_params(), n=n, patch_sizes=eff.sea.patch_sizes(),
                           seed=p["ocean.seed"])
     return ref.cascades
 
@@ -171,13 +140,19 @@ def _fft_sizes_from(sizes) -> tuple[int, ...]:
     return tuple(out)
 
 
+def _quartiles(timed, names) -> dict:
+    """Median and quartiles [ms] of each of ``names`` in an interleaved timing."""
+    rows = {name: timed.quartiles(name) for name in names}
+    return {name: {"median_ms": q[1], "p25_ms": q[0], "p75_ms": q[2]} for name, q in rows.items()}
+
+
 # ---- comparison: forward against deferred shading ----------------------------------------------
 
 def shading_comparison(session, size, warmup: int = 2, rounds: int = 5) -> dict:
     """The ocean's surface pass with ``ocean.shading`` = forward and = deferred, from a cleared
     target each time, timed in the same interleaved rounds; and the two images' difference."""
     p = session.params
-    eff = _effect(session)
+    eff = session.scene.effect("ocean")
     gpu = session.gpu
     saved = p["ocean.shading"]
     target = gpu.target("bench", "ocean shading", tuple(size))
@@ -190,7 +165,7 @@ def shading_comparison(session, size, warmup: int = 2, rounds: int = 5) -> dict:
             def run():
                 p.set("ocean.shading", mode)
                 target.clear()
-                eff.render_surface(frame, target)
+                eff.surface.render(frame, target)
 
             return run
 
@@ -199,7 +174,7 @@ def shading_comparison(session, size, warmup: int = 2, rounds: int = 5) -> dict:
             run()
             images[mode] = target.read()[..., :3].astype(np.float64)
             if mode == "deferred":
-                band = eff.far_band
+                band = eff.surface.far_band
         timed = time_interleaved(gpu.ctx, variants, warmup, rounds)
     finally:
         p.set("ocean.shading", saved)
@@ -210,10 +185,7 @@ def shading_comparison(session, size, warmup: int = 2, rounds: int = 5) -> dict:
            "mean_abs_diff": float(diff.mean()), "max_abs_diff": float(diff.max()),
            "max_radiance": float(images["forward"].max()),
            "far_band_ndc": list(band) if band is not None else None}
-    for mode in SHADINGS:
-        p25, med, p75 = timed.quartiles(mode)
-        out[mode] = {"median_ms": med, "p25_ms": p25, "p75_ms": p75}
-    return out
+    return {**out, **_quartiles(timed, SHADINGS)}
 
 
 # ---- comparison: the simulation for what the view resolves against the thesis's --------------
@@ -249,7 +221,7 @@ def simulation_comparison(session, size, warmup: int = 2, rounds: int = 5,
     from ..effects.ocean.fft import GpuOceanSim
 
     p = session.params
-    eff = _effect(session)
+    eff = session.scene.effect("ocean")
     gpu = session.gpu
     p.set("ocean.model", "fft")
     p.set("ocean.simulation", "view")
@@ -258,17 +230,13 @@ def simulation_comparison(session, size, warmup: int = 2, rounds: int = 5,
     try:
         for _ in range(3):  # the view's grids and periods settle at frames of 1/30 s
             session.scene.render(session.scene.frame(tuple(size), DT), target)
-        full_cascades = eff.reference.cascades
-        view_cascades = list(eff._sim_cascades)
-        sizes, periods = list(eff.sim.sizes), list(eff.sim.periods)
-        lam = p["ocean.choppiness"]
-        thresholds = eff.foam_thresholds()
-        foam = {"foam_threshold": [t for t, _ in thresholds],
-                "foam_width": [w for _, w in thresholds],
-                "foam_decay_time": p["ocean.foam_decay"]}
+        full_cascades = eff.sea.reference.cascades
+        view_cascades = list(eff.sea._sim_cascades)
+        sizes, periods = list(eff.sea.sim.sizes), list(eff.sea.sim.periods)
+        thresholds = eff.foam.thresholds()
         for name, cascades, refresh in (("full", full_cascades, [0.0] * len(sizes)),
                                         ("view", view_cascades, periods)):
-            sim = GpuOceanSim(gpu, "bench", use_compute=eff.sim.use_compute)
+            sim = GpuOceanSim(gpu, "bench", use_compute=eff.sea.sim.use_compute)
             sim.set_spectrum(cascades)
             sim.set_refresh(refresh)
             sims[name] = sim
@@ -278,20 +246,20 @@ def simulation_comparison(session, size, warmup: int = 2, rounds: int = 5,
         def variant(name: str):
             def run():
                 clock[name] += 1
-                sims[name].update(t0 + clock[name] * DT, lam, DT, **foam)
+                eff.sea.simulate(sims[name], t0 + clock[name] * DT, DT, thresholds)
 
             return run
 
         timed = time_interleaved(gpu.ctx, {n: variant(n) for n in sims}, warmup, rounds)
         rng = np.random.default_rng(37)
-        span = max(eff.patch_sizes())
+        span = max(eff.sea.patch_sizes())
         x, z = rng.uniform(-span, span, SIM_POINTS), rng.uniform(-span, span, SIM_POINTS)
-        patch = eff.patch_sizes()
+        patch = eff.sea.patch_sizes()
         t1 = t0 + (max(clock.values()) + 10) * DT  # a jump ahead: the slow cascades start over
         d_h2, d_s2, d_max, h2, s2 = 0.0, 0.0, 0.0, 0.0, 0.0
         for j in range(max(1, frames)):
             for sim in sims.values():
-                sim.update(t1 + j * DT, lam, DT, **foam)
+                eff.sea.simulate(sim, t1 + j * DT, DT, thresholds)
             hf, sf = _sea_at_points(sims["full"], patch, x, z)
             hv, sv = _sea_at_points(sims["view"], patch, x, z)
             d_h2 += float(np.mean((hv - hf) ** 2))
@@ -318,7 +286,7 @@ def simulation_comparison(session, size, warmup: int = 2, rounds: int = 5,
     hs = 4.0 * math.sqrt(var_full)
     n = max(1, frames)
     out = {"view_size": list(size), "fft_size": int(p["ocean.fft_size"]), "grids": sizes,
-           "periods_s": periods, "footprint_m": float(eff.footprint),
+           "periods_s": periods, "footprint_m": float(eff.sea.footprint),
            "rounds": timed.rounds, "warmup": warmup, "frames": n, "points": SIM_POINTS,
            "ratio": timed.ratio("view", "full"), "hs_m": hs,
            "rms_height_error": math.sqrt(d_h2 / n) / math.sqrt(h2 / n),
@@ -326,10 +294,7 @@ def simulation_comparison(session, size, warmup: int = 2, rounds: int = 5,
            "rms_slope_error": math.sqrt(d_s2 / n) / math.sqrt(s2 / n),
            "predicted_rms_height_error": math.sqrt(max(pred_h2, 0.0) / var_full),
            "predicted_rms_slope_error": math.sqrt(max(pred_s2, 0.0) / mss_full)}
-    for name in sims:
-        p25, med, p75 = timed.quartiles(name)
-        out[name] = {"median_ms": med, "p25_ms": p25, "p75_ms": p75}
-    return out
+    return {**out, **_quartiles(timed, sims)}
 
 
 def simulation_summary(c: dict) -> list[str]:
@@ -358,10 +323,13 @@ def simulation_summary(c: dict) -> list[str]:
 
 def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int = 2,
               repeat: int = 5, ref: dict | None = None) -> dict:
+    """Each N × cascades: ms per frame (:func:`_frame_ms`: the simulation and every pass, with
+    the sky) and of ``GpuOceanSim.update`` alone, and the errors of the module docstring; the
+    combinations ``cascade_bands`` refuses are reported as skipped with its message."""
     p = session.params
-    eff = _effect(session)
+    eff = session.scene.effect("ocean")
     ref = ref or reference(session)
-    sp = eff.spectrum_params()
+    sp = eff.sea.spectrum_params()
     p.set("ocean.model", "fft")
     p.set("ocean.simulation", "full")  # every cascade on the N of the row, every frame
     all_sizes = [float(s) for s in p["ocean.patch_sizes"]]
@@ -397,10 +365,13 @@ def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int
 
 def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmup: int = 2,
                    repeat: int = 5, ref: dict | None = None) -> dict:
+    """Gerstner sets of ``counts`` waves and the FFT at ``fft`` = (N, cascades): ms per frame,
+    Hs, peak period (its definitions: the report's ``tp_definition``), mss deficit, distinct
+    wave directions (1° bins) and the length over which the FFT repeats (its tile sizes)."""
     p = session.params
-    eff = _effect(session)
+    eff = session.scene.effect("ocean")
     ref = ref or reference(session)
-    sp = eff.spectrum_params()
+    sp = eff.sea.spectrum_params()
     p.set("ocean.simulation", "full")  # the FFT at the N compared, every frame
     rows = []
     bins = shape_bins(sp, ref)
@@ -409,7 +380,7 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
         row = {"model": "gerstner", "waves": int(count)}
         try:
             p.set("ocean.gerstner_waves", int(count))
-            waves = eff.gerstner_waves()
+            waves = eff.sea.gerstner_waves()
             row["ms_frame"] = _frame_ms(session, size, warmup, repeat)
         except ParamError as exc:
             row["skipped"] = str(exc)
@@ -460,12 +431,14 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
 
 def direct_sweep(session, sizes=DIRECT_SIZES, extra: int | None = DIRECT_EXTRA,
                  budget_s: float = DIRECT_BUDGET_S, warmup: int = 2, repeat: int = 5) -> dict:
-    """One cascade: GpuOceanSim.update (FFT) against direct_sum, same waves, same run."""
+    """One cascade (L = the first patch size): GpuOceanSim.update (FFT) against direct_sum, same
+    waves, same run, at ``sizes`` and at ``extra`` when its estimated cost stays under
+    ``budget_s``: ms of each, the speed-up and max|η_direct − η_FFT|/max|η_FFT|."""
     from ..effects.ocean.fft import GpuOceanSim
 
     p = session.params
-    eff = _effect(session)
-    sp = eff.spectrum_params()
+    eff = session.scene.effect("ocean")
+    sp = eff.sea.spectrum_params()
     patch = float(p["ocean.patch_sizes"][0])
     lam = float(p["ocean.choppiness"])
     direct_repeat = max(1, min(repeat, 3))  # the first (accuracy) run is its warm-up
@@ -531,11 +504,11 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None, fft_sizes
         if direct_extra is not None and direct_extra > max(fft_sizes):
             direct_extra = None
     saved = session.params.values()
-    eff = _effect(session)
+    eff = session.scene.effect("ocean")
     t0 = time.perf_counter()
     try:
         ref = reference(session)
-        sp = eff.spectrum_params()
+        sp = eff.sea.spectrum_params()
         out = {
             "renderer": session.gpu.caps.renderer,
             "view_size": list(size),
@@ -572,33 +545,36 @@ FLOOR = 1e-4
 SYMLOG_LINEAR = 1e-2
 
 
-def chart(report: dict, path, force: bool = False) -> None:
-    import matplotlib
+def _time_against(ax, s: dict, rows: list, gerstner: list, key: str) -> None:
+    """ms per frame against ``key``: a line per FFT size (labels: cascades), one for the
+    Gerstner sets (labels: waves)."""
+    for n in s["fft"]["fft_sizes"]:
+        line = [r for r in rows if r["fft_size"] == n]
+        if line:
+            ax.plot([r["ms_frame"] for r in line], [r[key] for r in line], "o-",
+                    label=f"FFT N = {n}")
+            for r in line:
+                ax.annotate(str(r["cascades"]), (r["ms_frame"], r[key]), fontsize=8,
+                            textcoords="offset points", xytext=(3, 3))
+    if gerstner:
+        ax.plot([r["ms_frame"] for r in gerstner], [r[key] for r in gerstner], "s--", color="k",
+                label="Gerstner (waves)")
+        for r in gerstner:
+            ax.annotate(f"{r['waves']}w", (r["ms_frame"], r[key]), fontsize=8,
+                        textcoords="offset points", xytext=(3, -9))
+    ax.set_xlabel(f"ms per frame at {s['view_size'][0]}×{s['view_size'][1]} (labels: cascades)")
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+
+def chart(report: dict, path, force: bool = False) -> None:
+    plt = pyplot()
 
     s = report["sweep"]
     fig, axes = plt.subplots(2, 2, figsize=(14, 10))
     axes = axes.ravel()
     ax = axes[0]
     rows = [r for r in s["fft"]["rows"] if "skipped" not in r]
-    for n in s["fft"]["fft_sizes"]:
-        line = [r for r in rows if r["fft_size"] == n]
-        if not line:
-            continue
-        ys = [r["mss_deficit"] for r in line]
-        ax.plot([r["ms_frame"] for r in line], ys, "o-", label=f"FFT N = {n}")
-        for r, y in zip(line, ys):
-            ax.annotate(str(r["cascades"]), (r["ms_frame"], y), fontsize=8,
-                        textcoords="offset points", xytext=(3, 3))
     g = [r for r in s["gerstner"]["rows"] if r["model"] == "gerstner" and "skipped" not in r]
-    if g:
-        ys = [r["mss_deficit"] for r in g]
-        ax.plot([r["ms_frame"] for r in g], ys, "s--", color="k", label="Gerstner (waves)")
-        for r, y in zip(g, ys):
-            ax.annotate(f"{r['waves']}w", (r["ms_frame"], y), fontsize=8,
-                        textcoords="offset points", xytext=(3, -9))
+    _time_against(ax, s, rows, g, "mss_deficit")
     f = [r for r in s["gerstner"]["rows"] if r["model"] == "fft" and "skipped" not in r]
     for r in f:
         ax.plot([r["ms_frame"]], [r["mss_deficit"]], "*", ms=13, color="tab:red",
@@ -606,10 +582,8 @@ def chart(report: dict, path, force: bool = False) -> None:
     # symlog: a random draw of h0 can hold slightly more slope than the reference (deficit < 0)
     ax.set_yscale("symlog", linthresh=SYMLOG_LINEAR)
     ax.axhline(0.0, color="0.6", lw=0.5)
-    ax.set_xlabel(f"ms per frame at {s['view_size'][0]}×{s['view_size'][1]} "
-                  "(labels: cascades)")
-    ax.set_ylabel(f"mss deficit 1 − mss/mss_ref (symlog, linear below {SYMLOG_LINEAR:g})")
-    ax.set_title("(a) time against slope error")
+    ax.set(ylabel=f"mss deficit 1 − mss/mss_ref (symlog, linear below {SYMLOG_LINEAR:g})",
+           title="(a) time against slope error")
     ax.legend(fontsize=7)
 
     ax = axes[1]
@@ -621,10 +595,8 @@ def chart(report: dict, path, force: bool = False) -> None:
         ax.annotate(f"×{r['speedup']:.0f}", (r["fft_size"], r["ms_direct"]), fontsize=8,
                     textcoords="offset points", xytext=(4, -10))
     ax.set_xscale("log", base=2)
-    ax.set_yscale("log")
-    ax.set_xlabel("N (one cascade)")
-    ax.set_ylabel("ms")
-    ax.set_title("(b) FFT against direct sum (labels: speed-up)")
+    ax.set(yscale="log", xlabel="N (one cascade)", ylabel="ms",
+           title="(b) FFT against direct sum (labels: speed-up)")
     ax.legend(fontsize=8)
 
     ax = axes[2]
@@ -640,30 +612,14 @@ def chart(report: dict, path, force: bool = False) -> None:
         ax.axhline(max(r["hs_error"], FLOOR), color="k", lw=0.5, ls="--")
     ax.set_yscale("log")
     ax.set_xticks(list(s["fft"]["cascades"]))
-    ax.set_xlabel("cascades (dotted: expectation of h0; dashed: Gerstner sets)")
-    ax.set_ylabel(f"Hs error |Hs − Hs_ref|/Hs_ref (floored at {FLOOR:g})")
-    ax.set_title("(c) Hs error")
+    ax.set(xlabel="cascades (dotted: expectation of h0; dashed: Gerstner sets)",
+           ylabel=f"Hs error |Hs − Hs_ref|/Hs_ref (floored at {FLOOR:g})", title="(c) Hs error")
     ax.legend(fontsize=7)
     ax = axes[3]
-    for n in s["fft"]["fft_sizes"]:
-        line = [r for r in rows if r["fft_size"] == n]
-        if line:
-            ax.plot([r["ms_frame"] for r in line], [r["shape_distance"] for r in line], "o-",
-                    label=f"FFT N = {n}")
-            for r in line:
-                ax.annotate(str(r["cascades"]), (r["ms_frame"], r["shape_distance"]), fontsize=8,
-                            textcoords="offset points", xytext=(3, 3))
-    if g:
-        ax.plot([r["ms_frame"] for r in g], [r["shape_distance"] for r in g], "s--", color="k",
-                label="Gerstner (waves)")
-        for r in g:
-            ax.annotate(f"{r['waves']}w", (r["ms_frame"], r["shape_distance"]), fontsize=8,
-                        textcoords="offset points", xytext=(3, -9))
+    _time_against(ax, s, rows, g, "shape_distance")
     ax.set_ylim(0.0, 1.0)
-    ax.set_xlabel(f"ms per frame at {s['view_size'][0]}×{s['view_size'][1]} "
-                  "(labels: cascades)")
-    ax.set_ylabel("spectrum shape distance (½ L1 over log k × direction bins)")
-    ax.set_title("(d) time against how well the waves fill the directional spectrum")
+    ax.set(ylabel="spectrum shape distance (½ L1 over log k × direction bins)",
+           title="(d) time against how well the waves fill the directional spectrum")
     ax.legend(fontsize=7)
     write_chart(fig, path, force,
                 title=f"natura bench ocean — {report.get('renderer', s.get('renderer'))}, "

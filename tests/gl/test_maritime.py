@@ -61,7 +61,7 @@ def test_one_wind_moves_sea_clouds_sails_and_flag(maritime):
         s.params.set("wind.direction", direction)
         frame = sc.frame((32, 18), 1 / 30)
         ocean, clouds, boat = (sc.effect(n) for n in ("ocean", "clouds_b", "boat"))
-        spec = ocean.spectrum_params()
+        spec = ocean.sea.spectrum_params()
         drift = clouds.wind_velocity(frame)
         sail_force = boat.sim.sailing.sail.forces(boat.sim.state(), _wind(frame.wind))[0]
         flag = boat.flag_angle() + boat.sim.heading  # the flag's bearing, heading removed
@@ -92,7 +92,7 @@ def test_the_boat_rides_the_swell(maritime):
         sim = sc.effect("boat").sim
         p = sim.body.position
         heave.append(p[1] + sim.draft)
-        water.append(float(sc.effect("ocean").height(p[0], p[2])))
+        water.append(float(sc.effect("ocean").queries.height(p[0], p[2])))
     heave, water = np.array(heave[30:]), np.array(water[30:])
     assert np.isfinite(heave).all()
     assert water.std() > 0.1  # a real swell
@@ -191,7 +191,7 @@ def test_the_deck_stays_dry_in_a_rough_sea(maritime):
     sc = s.scene
     sc.frame((8, 8), 0.0)
     sim = sc.effect("boat").sim
-    water = float(sc.effect("ocean").height(0.0, 0.0))
+    water = float(sc.effect("ocean").queries.height(0.0, 0.0))
     sim.body.position = (0.0, water - 1.4 - 0.3, 0.0)  # the deck 0.3 m under the water there
     # steeply from above: the water beside the hull, higher than the sunk deck, then hides only
     # a thin strip of the deck's near edge (that water is outside the boat and rightly drawn)
@@ -287,7 +287,7 @@ def _stretch_shot(render, sets):
     image, session = render("maritime", STRETCH_SIZE, sets=sets)
     ocean = session.scene.effect("ocean")
     srgb = to_srgb8(image[..., :3], session.params["output.exposure"]).astype(float)
-    return srgb, ocean.drawn_triangles
+    return srgb, ocean.surface.mesh.drawn
 
 
 def _blocks(image, b=8):

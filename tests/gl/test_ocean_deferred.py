@@ -61,7 +61,7 @@ def test_far_band_leaves_no_row_at_the_horizon_and_no_gap_to_the_mesh(ocean_shot
     s.ocean.params.set("ocean.shading", "deferred")
     s.frame()
     deferred = np.isfinite(s.distance())
-    assert s.ocean.far_band is not None
+    assert s.ocean.surface.far_band is not None
     assert np.array_equal(forward, deferred), "the same pixels hold water"
     dirs = cam.ray_directions(80, 45)
     assert np.all(deferred[dirs[..., 1] < -0.003]), "every ray that meets the sea finds water"
@@ -75,7 +75,7 @@ def test_nothing_of_the_far_plane_is_drawn_when_its_band_is_empty(ocean_shot, pi
     cam = Camera(position=(0.0, 4.0, 0.0), yaw=262.0, pitch=pitch, fov=60.0, far=200000.0)
     s = ocean_shot(("ocean.model=gerstner",), cam, size=(64, 36))
     a, _, b, _ = both(s)
-    assert s.ocean.far_band is None
+    assert s.ocean.surface.far_band is None
     assert np.abs(a - b).mean() <= 1e-6
     if pitch > 0:
         assert not np.any(np.isfinite(s.distance())), "no water in the sky"

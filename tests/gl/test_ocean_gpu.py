@@ -24,6 +24,7 @@ import pytest
 from app.effects.ocean.fft import GpuOceanSim
 from app.errors import ParamError
 from app.gpu.fft import GpuFFT
+from app.runtime import scene_params
 from app.sim import ocean as oc
 from tests.helpers.ocean import (
     FIELD_TOL,
@@ -35,6 +36,7 @@ from tests.helpers.ocean import (
     relative_error,
     worst_errors,
 )
+from tests.helpers.ocean_sim import ocean_from_cascades
 
 FFT_TOL = 1e-6
 DIRECT_TOL = 2e-5
@@ -51,7 +53,7 @@ def test_fft_matches_numpy_ifft2(gpu, use_compute, n):
     rng = np.random.default_rng(n)
     data = [rng.standard_normal((n, n, 4)).astype(np.float32) for _ in range(count)]
     for i, d in enumerate(data):
-        fft.upload(i, d)
+        fft.textures[i].write(np.ascontiguousarray(d, dtype=np.float32).tobytes())
     fft.inverse()
     for i, d in enumerate(data):
         out = fft.read(i)
@@ -71,25 +73,22 @@ def test_bad_fft_size_is_a_param_error(gpu, bad):
     assert "\n" not in str(err.value)
 
 
-def test_bad_sizes_and_counts_for_the_sim(gpu):
+def test_a_grid_size_not_a_power_of_two_is_refused_by_the_sim(gpu):
     ocean = reference(32, (60.0,))
     sim = GpuOceanSim(gpu, "ocean-test")
     with pytest.raises(ParamError, match="power of two"):
         sim.set_spectrum(ocean.cascades, 48)
-    with pytest.raises(ParamError, match="shape"):
-        sim.set_spectrum(ocean.cascades, 64)  # arrays are 32×32
-    with pytest.raises(ParamError, match="cascades"):
-        sim.set_spectrum([], 32)
-    with pytest.raises(ParamError, match="cascades"):
-        sim.set_spectrum(ocean.cascades * 5, 32)
-    sim.set_spectrum(ocean.cascades, 32)
-    with pytest.raises(ParamError, match="choppiness"):
-        sim.update(1.0, 9.0, 0.1)
-    with pytest.raises(ParamError, match="foam_threshold"):
-        sim.update(1.0, 1.0, 0.1, foam_threshold=0.0)
-    with pytest.raises(ParamError, match="foam_decay_time"):
-        sim.update(1.0, 1.0, 0.1, foam_decay_time=0.0)
     sim.release()
+
+
+@pytest.mark.parametrize("bad", ["ocean.cascades=5", "ocean.cascades=0", "ocean.fft_size=48",
+                                 "ocean.choppiness=9", "ocean.foam_threshold=0",
+                                 "ocean.foam_decay=0"])
+def test_bad_simulation_settings_are_refused_by_their_parameters(bad):
+    # the simulation's inputs come from these parameters: their ranges are what a user meets
+    with pytest.raises(ParamError, match=bad.split("=")[0]) as err:
+        scene_params("ocean", sets=[bad])
+    assert "\n" not in str(err.value)
 
 
 # -- the ocean fields ------------------------------------------------------------------------
@@ -110,7 +109,7 @@ def test_fields_match_numpy_synthesize(gpu, use_compute, n, sizes):
     sim.update(t, 1.0, 1.0 / 30.0)
     worst = worst_errors(sim, fields_at(ocean, t))
     assert max(worst.values()) < FIELD_TOL, worst
-    assert sim.time == t and sim.n == n and sim.patch_sizes == list(sizes)
+    assert sim.time == t and sim.sizes == [n] * len(sizes) and sim.patch_sizes == list(sizes)
     assert len(sim.disp) == len(sim.deriv) == len(sim.foam) == len(sizes)
     sim.release()
     assert gpu.owned_by("ocean-test") == []
@@ -288,9 +287,9 @@ def test_cascades_of_their_own_size_match_numpy(gpu, use_compute):
     cascades = [ocean.cascades[0], oc.crop_cascade(ocean.cascades[1], 16), ocean.cascades[2]]
     sim = GpuOceanSim(gpu, "ocean-test", use_compute=use_compute)
     sim.set_spectrum(cascades)
-    assert sim.sizes == [32, 16, 32] and sim.n == 32
+    assert sim.sizes == [32, 16, 32]
     sim.update(2.7, 1.0, 1.0 / 30.0)
-    cropped = oc.FFTOcean.from_cascades(ocean.params, cascades)
+    cropped = ocean_from_cascades(ocean.params, cascades)
     worst = worst_errors(sim, fields_at(cropped, 2.7))
     assert max(worst.values()) < FIELD_TOL, worst
     sim.request_readback()

@@ -16,6 +16,7 @@ from app.effects.ocean.params import wind_vector
 from app.errors import ParamError
 from app.sim import ocean as oc
 from app.sim.camera import Camera
+from tests.helpers.ocean_sim import ocean_from_cascades
 
 # -- GPU geometry against numpy ------------------------------------------------------------------
 
@@ -29,14 +30,14 @@ def test_gpu_surface_height_matches_the_numpy_query(ocean_shot, model):
     for _ in range(3):  # FFT queries lag one frame: let the readback catch up on a still sea
         s.frame(dt=0.0)
     dist = s.distance()[16, 16]
-    q = s.ocean.water(np.array(3.0), np.array(-7.0))
+    q = s.ocean.queries.water(np.array(3.0), np.array(-7.0))
     gpu_height = 30.0 - dist
     assert abs(gpu_height - float(q.height)) < 0.05 + 0.02 * abs(float(q.height))
     if model == "sine":
-        a, k, w = s.ocean.sine_wave()
+        a, k, w = s.ocean.sea.sine_wave()
         d = wind_vector(s.ocean.params["ocean.wind_direction"])
         assert float(q.height) == pytest.approx(
-            a * math.sin(k * (3.0 * d[0] - 7.0 * d[1]) - w * s.ocean.time), abs=1e-9)
+            a * math.sin(k * (3.0 * d[0] - 7.0 * d[1]) - w * s.ocean.queries.time), abs=1e-9)
 
 
 def test_gerstner_query_matches_the_numpy_inversion_and_normals_point_up(ocean_shot):
@@ -44,9 +45,9 @@ def test_gerstner_query_matches_the_numpy_inversion_and_normals_point_up(ocean_s
     s.frame()
     rng = np.random.default_rng(3)
     x, z = rng.uniform(-40, 40, 64), rng.uniform(-40, 40, 64)
-    q = s.ocean.water(x, z, iterations=6)
+    q = s.ocean.queries.water(x, z, iterations=6)
     assert np.all(q.residuals[-1] < 1e-3)
-    surf = oc.gerstner(q.rest_x, q.rest_z, s.ocean.time, s.ocean.gerstner_waves())
+    surf = oc.gerstner(q.rest_x, q.rest_z, s.ocean.queries.time, s.ocean.sea.gerstner_waves())
     np.testing.assert_allclose(surf.position[..., 1], q.height, atol=1e-9)
     assert np.all(q.normal[..., 1] > 0)
     np.testing.assert_allclose(np.einsum("...i,...i", q.normal, surf.normal), 1.0, atol=2e-3)
@@ -56,20 +57,21 @@ def test_fft_query_lags_one_frame_and_matches_the_reference(ocean_shot):
     s = ocean_shot(("ocean.model=fft", "ocean.wind=12", "ocean.cascades=2"))
     s.frame(dt=0.0)
     # the first frame of a sea reads its own simulation at once (one stall): never flat water
-    assert s.ocean.query_time == pytest.approx(0.0)
-    first = s.ocean.water(np.array([1.0, 7.0]), np.array([2.0, -3.0])).height
+    assert s.ocean.queries.query_time == pytest.approx(0.0)
+    first = s.ocean.queries.water(np.array([1.0, 7.0]), np.array([2.0, -3.0])).height
     assert np.abs(first).max() > 1e-3
     s.frame(dt=0.5)
-    assert s.ocean.query_time == pytest.approx(0.0)  # then the sea of the previous frame
+    assert s.ocean.queries.query_time == pytest.approx(0.0)  # then the sea of the previous frame
     s.frame(dt=0.5)
-    assert s.ocean.query_time == pytest.approx(0.5)
+    assert s.ocean.queries.query_time == pytest.approx(0.5)
     # the sea as simulated: each cascade on the grid the view chose (ocean.simulation=view)
-    ref = s.ocean.simulated
-    assert [c.patch_size for c in ref.cascades] == s.ocean.patch_sizes()
+    sea = s.ocean.sea
+    ref = ocean_from_cascades(sea.reference.params, sea._sim_cascades)
+    assert [c.patch_size for c in ref.cascades] == sea.patch_sizes()
     ref.update(0.5)
     rng = np.random.default_rng(5)
     x, z = rng.uniform(-30, 30, 50), rng.uniform(-30, 30, 50)
-    got = s.ocean.water(x, z)
+    got = s.ocean.queries.water(x, z)
     want = ref.water_height(x, z)
     scale = float(np.max(np.abs(want.height)))
     assert np.max(np.abs(got.height - want.height)) < 2e-3 * scale + 1e-4
@@ -84,14 +86,14 @@ def test_a_second_session_of_the_same_sea_shares_its_builds_and_draws_the_same(o
     first, _ = a.frame()
     b = ocean_shot(sets, size=(32, 18))
     second, _ = b.frame()
-    h0 = b.ocean.reference.cascades[0].h0
-    assert h0 is a.ocean.reference.cascades[0].h0 and not h0.flags.writeable
-    assert b.ocean.foam_thresholds() == a.ocean.foam_thresholds()
+    h0 = b.ocean.sea.reference.cascades[0].h0
+    assert h0 is a.ocean.sea.reference.cascades[0].h0 and not h0.flags.writeable
+    assert b.ocean.foam.thresholds() == a.ocean.foam.thresholds()
     assert np.array_equal(first, second)
     for s in (a, b):
         s.ocean.params.set("ocean.model", "gerstner")
-    assert b.ocean.gerstner_waves() == a.ocean.gerstner_waves()
-    assert b.ocean.foam_thresholds() == a.ocean.foam_thresholds()
+    assert b.ocean.sea.gerstner_waves() == a.ocean.sea.gerstner_waves()
+    assert b.ocean.foam.thresholds() == a.ocean.foam.thresholds()
 
 
 # -- the scene -----------------------------------------------------------------------------------
@@ -100,14 +102,14 @@ def test_sine_and_gerstner_allocate_nothing_of_the_fft(ocean_shot):
     s = ocean_shot(("ocean.model=gerstner",))
     s.frame()
     names = [a.name for a in s.session.gpu.owned_by("ocean")]
-    assert s.ocean.sim is None
+    assert s.ocean.sea.sim is None
     assert not any("fft" in n.lower() or "spectrum" in n.lower() for n in names), names
     s.ocean.params.set("ocean.model", "fft")
     s.frame()
-    assert s.ocean.sim is not None
+    assert s.ocean.sea.sim is not None
     s.ocean.params.set("ocean.model", "sine")
     s.frame()
-    assert s.ocean.sim is None, "leaving the FFT frees its textures"
+    assert s.ocean.sea.sim is None, "leaving the FFT frees its textures"
 
 
 def test_switching_models_live_changes_the_sea(ocean_shot):
@@ -192,7 +194,7 @@ def test_underwater_fog_pulls_toward_the_fog_colour_and_clouds_show_through(ocea
               "clouds_b.gradient_resolution=64"), up, size=(64, 36))
     assert s.ocean.params["scene.clouds"] == "b"
     with_clouds, _ = s.frame()
-    assert s.ocean.underwater
+    assert s.ocean.surface.underwater
     s.ocean.params.set("scene.clouds", "off")
     without, _ = s.frame()
     assert np.mean(np.abs(with_clouds - without)) > 1e-3, "clouds seen through Snell's window"
@@ -215,7 +217,7 @@ def test_camera_exactly_at_the_surface_shows_a_waterline(ocean_shot):
     img, _ = s.frame()
     assert np.all(np.isfinite(img))
     top, bottom = img[:14].mean(), img[22:].mean()
-    assert s.ocean.view_mode() == 2
+    assert s.ocean.surface.view_mode() == 2
     assert top > 2.0 * bottom, "sky above the waterline, fogged water below"
 
 
@@ -228,7 +230,7 @@ def test_reflection_probe_is_rendered_only_when_the_sky_changes(ocean_shot):
     s.ocean.params.set("time.hour", 15.0)
     s.frame(dt=0.1)
     assert sky.environment_renders == 2
-    assert not sky.has_cubemap(sun=True), (
+    assert not sky._cubes[True].built, (
         "the sky's own cubemap (with the sun) is not made for the ocean")
 
 
@@ -237,7 +239,7 @@ def test_foam_shows_where_the_fft_surface_is_compressed(ocean_shot):
     s = ocean_shot(("ocean.wind=25", "ocean.choppiness=2", "time.hour=12", "ocean.foam_amount=0"),
                    cam)
     no_foam = s.frame(dt=0.1)[0]
-    fields = s.ocean.sim.read_fields(0)
+    fields = s.ocean.sea.sim.read_fields(0)
     assert fields["foam"].max() > 0.5 and fields["jacobian"].min() < 0.5
     s.ocean.params.set("ocean.foam_amount", 2.0)
     foam = s.frame(dt=0.1)[0]
@@ -248,10 +250,10 @@ def test_fft_paths_draw_the_same_sea(ocean_shot):
     cam = Camera(position=(0.0, 8.0, 0.0), yaw=60.0, pitch=-20.0, fov=60.0)
     s = ocean_shot(("ocean.wind=12", "ocean.fft_path=compute"), cam)
     a = s.frame()[0]
-    assert s.ocean.sim.path == "compute"
+    assert s.ocean.sea.sim.path == "compute"
     s.ocean.params.set("ocean.fft_path", "fragment")
     b = s.frame()[0]
-    assert s.ocean.sim.path == "fragment"
+    assert s.ocean.sea.sim.path == "fragment"
     assert np.max(np.abs(a - b)) < 1e-3 * max(float(a.max()), 1.0)
 
 
@@ -261,12 +263,12 @@ def test_drawing_only_the_visible_wedges_changes_no_pixel(ocean_shot, yaw, pitch
     cam = Camera(position=(1.0, 5.0, 2.0), yaw=yaw, pitch=pitch, fov=60.0)
     s = ocean_shot(("ocean.model=gerstner", "ocean.mesh_segments=128"), cam, size=(64, 36))
     culled = s.frame()[0]
-    drawn = s.ocean.drawn_triangles
+    drawn = s.ocean.surface.mesh.drawn
     s.ocean.params.set("ocean.mesh_cull", False)
     full = s.frame()[0]
     assert np.array_equal(culled, full)
     if pitch > -60:
-        assert drawn < 0.5 * s.ocean.mesh_triangles
+        assert drawn < 0.5 * s.ocean.surface.mesh.triangles
 
 
 def test_panel_notes_name_the_lesson_and_the_live_figures(ocean_shot):
@@ -291,14 +293,14 @@ def test_whitecap_foam_covers_monahans_fraction(ocean_shot, wind):
     target = oc.whitecap_coverage(wind)
     shares = np.array([1.0, 0.5, 0.25]) / 1.75
     for i, share in enumerate(shares):
-        covered = float((s.ocean.sim.read_fields(i)["foam"] > 0.5).mean())
+        covered = float((s.ocean.sea.sim.read_fields(i)["foam"] > 0.5).mean())
         assert covered == pytest.approx(target * share, rel=0.35, abs=2e-4), (i, covered,
                                                                              target * share)
     # the upstream's fixed threshold (J < 0.5) foams far less than a real sea at these winds
     j = ocean_shot((f"ocean.wind={wind}", "ocean.fft_size=128", "ocean.foam_mode=jacobian",
                     "ocean.simulation=full"))
     j.frame(dt=0.0)
-    assert (max(float((j.ocean.sim.read_fields(i)["foam"] > 0.5).mean()) for i in range(3))
+    assert (max(float((j.ocean.sea.sim.read_fields(i)["foam"] > 0.5).mean()) for i in range(3))
             < 0.5 * target * shares[0])
 
 
@@ -324,17 +326,41 @@ def test_a_standing_clock_simulates_nothing_and_draws_the_same_sea(ocean_shot):
     the one a recomputed simulation draws; a moving clock or a changed parameter simulates."""
     s = ocean_shot(("ocean.model=fft",), size=(64, 36))
     s.frame()
-    assert s.ocean.sim_ran  # the first frame of the sea
+    assert s.ocean.sea.sim_ran  # the first frame of the sea
     still = s.frame()[0]
-    assert not s.ocean.sim_ran
-    s.ocean._sim_inputs = None  # forget what was simulated: the same frame, recomputed
+    assert not s.ocean.sea.sim_ran
+    s.ocean.sea._sim_inputs = None  # forget what was simulated: the same frame, recomputed
     again = s.frame()[0]
-    assert s.ocean.sim_ran
+    assert s.ocean.sea.sim_ran
     assert np.array_equal(still, again)
     s.ocean.params.set("ocean.choppiness", 1.6)
     choppier = s.frame()[0]
-    assert s.ocean.sim_ran and not np.array_equal(choppier, still)
+    assert s.ocean.sea.sim_ran and not np.array_equal(choppier, still)
     s.frame()
-    assert not s.ocean.sim_ran
+    assert not s.ocean.sea.sim_ran
     moved = s.frame(dt=0.5)[0]
-    assert s.ocean.sim_ran and not np.array_equal(moved, choppier)
+    assert s.ocean.sea.sim_ran and not np.array_equal(moved, choppier)
+
+
+def test_the_frame_and_the_bench_step_the_sea_through_one_call(ocean_shot, monkeypatch):
+    """Issue 40, the ocean by composition: a moving frame updates the FFT simulation once, a
+    standing one not at all, and the bench's ``ocean.simulate`` pass updates its copy through
+    the same :meth:`Sea.simulate` — never the frame's own simulation, whose clock it keeps."""
+    from app.effects.ocean.fft import GpuOceanSim
+
+    s = ocean_shot(("ocean.model=fft",), size=(32, 18))
+    s.frame()
+    updated = []
+    real = GpuOceanSim.update
+    monkeypatch.setattr(GpuOceanSim, "update",
+                        lambda sim, *a, **k: (updated.append(sim), real(sim, *a, **k))[1])
+    s.frame(dt=1 / 30)
+    assert updated == [s.ocean.sea.sim]
+    s.frame(dt=0.0)
+    assert len(updated) == 1
+    frame = s.scene.last_frame
+    passes = {p.name: p for p in s.ocean.bench_passes(frame, s.target)}
+    passes["ocean.simulate"].run()
+    passes["ocean.simulate"].run()
+    assert len(updated) == 3 and updated[1] is updated[2] is not s.ocean.sea.sim
+    assert s.ocean.sea.sim.time == pytest.approx(frame.time)

@@ -193,8 +193,8 @@ def bake_progress(work: str) -> int:
     win.frame(1 / 60)
     win.wnd.swap_buffers()
     eff = win.scene.effect("noise")
-    out = {"progress_frames": win.progress_frames, "cache": eff.last_bake.cache,
-           "path": eff.last_bake.path}
+    out = {"progress_frames": win.progress_frames, "cache": eff.bakes.last.cache,
+           "path": eff.bakes.last.path}
     win.close()
     print("RESULT " + json.dumps(out))
     return 0
@@ -802,7 +802,7 @@ def ocean_models(work: str) -> int:
     out = {"render_error": str(win.render_error or ""),
            "diff_sine_gerstner": float(np.abs(shots["sine"] - shots["gerstner"]).mean()),
            "diff_gerstner_fft": float(np.abs(shots["gerstner"] - shots["fft"]).mean()),
-           "fft_sim": win.scene.effect("ocean").sim is not None}
+           "fft_sim": win.scene.effect("ocean").sea.sim is not None}
     win.close()
     print("RESULT " + json.dumps(out))
     return 0

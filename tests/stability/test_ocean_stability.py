@@ -40,7 +40,7 @@ def test_stability_no_nan_or_holes(ocean_shot, sets):
             img, _ = s.frame(dt=0.25)
             assert np.all(np.isfinite(img)), (sets, cam.position)
             assert np.all(img >= 0.0)
-        q = s.ocean.water(np.linspace(-50, 50, 9), np.linspace(-20, 20, 9))
+        q = s.ocean.queries.water(np.linspace(-50, 50, 9), np.linspace(-20, 20, 9))
         assert np.all(np.isfinite(q.height)) and np.all(np.isfinite(q.normal))
         assert np.all(q.normal[..., 1] > 0)
         s.close()

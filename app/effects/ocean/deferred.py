@@ -1,5 +1,5 @@
 """The ocean's deferred surface pass (``ocean.shading = deferred``): the mesh and the far plane
-write only their shading inputs into two RGBA32F targets, then one pass shades the pixels they
+write only their shading inputs into three RGBA32F targets, then one pass shades the pixels they
 covered (``glsl/ocean/shade.frag``).
 
 Why: on a software rasteriser (llvmpipe) fragments are shaded in whole 4×4 blocks, and the far
@@ -21,7 +21,6 @@ far plane is drawn only over the rows between the horizon and where the mesh end
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import moderngl
 import numpy as np
@@ -54,49 +53,16 @@ def far_band(camera, aspect: float, rows: int, far_start: float,
     return lo / rows * 2.0 - 1.0, hi / rows * 2.0 - 1.0
 
 
-class DeferredInputs:
-    """The three RGBA32F input targets of the deferred pass, with a framebuffer that shares a
-    render target's depth (remade when the target's size or depth texture changes) and one that
-    holds only the kind target, to clear it without touching the depth."""
-
-    def __init__(self, gpu, owner: str):
-        self.gpu = gpu
-        self.owner = owner
-        self.rel: Any = None
-        self.surf: Any = None
-        self.grad: Any = None
-        self.fbo: Any = None
-        self._clear_fbo: Any = None
-        self._size: tuple[int, int] | None = None
-        self._depth: Any = None
-
-    def of(self, target) -> Any:
-        """The inputs' framebuffer for ``target``, its kind target cleared to 0 (nothing)."""
-        size = (int(target.size[0]), int(target.size[1]))
-        if self.fbo is None or size != self._size or target.depth is not self._depth:
-            self.release()
-            nearest = (moderngl.NEAREST, moderngl.NEAREST)
-            self.rel = self.gpu.texture(self.owner, "deferred inputs (position)", size, 4,
-                                        dtype="f4", filter=nearest)
-            self.surf = self.gpu.texture(self.owner, "deferred inputs (surface)", size, 4,
-                                         dtype="f4", filter=nearest)
-            self.grad = self.gpu.texture(self.owner, "deferred inputs (gradients)", size, 4,
-                                         dtype="f4", filter=nearest)
-            self.fbo = self.gpu.framebuffer(self.owner, "deferred inputs",
-                                            [self.rel, self.surf, self.grad],
-                                            depth_attachment=target.depth)
-            self._clear_fbo = self.gpu.framebuffer(self.owner, "deferred inputs (clear)",
-                                                   [self.surf])
-            self._size, self._depth = size, target.depth
-        self._clear_fbo.clear(0.0, 0.0, 0.0, 0.0)
-        return self.fbo
-
-    def release(self) -> None:
-        for obj in (self.fbo, self._clear_fbo, self.rel, self.surf, self.grad):
-            if obj is not None:
-                self.gpu.free(obj)
-        self.fbo = self._clear_fbo = self.rel = self.surf = self.grad = None
-        self._size = self._depth = None
+def deferred_inputs(gpu, owner: str, size: tuple[int, int], depth) -> tuple:
+    """The three RGBA32F input targets of the deferred pass (position, surface, gradients) for a
+    render target of ``size``, a framebuffer over them that shares the target's ``depth``, and
+    one over the surface target alone, to clear its kind without touching the depth:
+    ``(rel, surf, grad, fbo, clear_fbo)``."""
+    nearest = (moderngl.NEAREST, moderngl.NEAREST)
+    rel, surf, grad = (gpu.texture(owner, f"deferred inputs ({what})", size, 4, dtype="f4",
+                                   filter=nearest) for what in ("position", "surface", "gradients"))
+    fbo = gpu.framebuffer(owner, "deferred inputs", [rel, surf, grad], depth_attachment=depth)
+    return rel, surf, grad, fbo, gpu.framebuffer(owner, "deferred inputs (clear)", [surf])
 
 
 def screen_rect(view_proj_rel: np.ndarray, bounds: tuple[float, float, float, float],
@@ -135,33 +101,10 @@ def screen_rect(view_proj_rel: np.ndarray, bounds: tuple[float, float, float, fl
     return (px0, py0, px1 - px0, py1 - py0)
 
 
-class WakeMap:
+def wake_map(gpu, owner: str, size: tuple[int, int], stride: int) -> tuple:
     """The deferred pass's wake foam per block of ``stride`` × ``stride`` pixels
-    (``glsl/ocean/wake_map.frag``): an R32F texture of the screen's size over the stride,
-    remade when either changes."""
-
-    def __init__(self, gpu, owner: str):
-        self.gpu = gpu
-        self.owner = owner
-        self.texture: Any = None
-        self.fbo: Any = None
-        self._key: tuple | None = None
-
-    def of(self, size: tuple[int, int], stride: int) -> Any:
-        """The map's framebuffer for a screen of ``size`` at ``stride``, cleared to 0."""
-        key = (int(size[0]), int(size[1]), int(stride))
-        if self.fbo is None or key != self._key:
-            self.release()
-            shape = (-(-key[0] // key[2]), -(-key[1] // key[2]))
-            self.texture = self.gpu.texture(self.owner, "wake map", shape, 1, dtype="f4")
-            self.fbo = self.gpu.framebuffer(self.owner, "wake map", [self.texture])
-            self._key = key
-        self.fbo.clear(0.0, 0.0, 0.0, 0.0)
-        return self.fbo
-
-    def release(self) -> None:
-        for obj in (self.fbo, self.texture):
-            if obj is not None:
-                self.gpu.free(obj)
-        self.fbo = self.texture = None
-        self._key = None
+    (``glsl/ocean/wake_map.frag``): an R32F texture of the screen's ``size`` over the stride,
+    and its framebuffer."""
+    texture = gpu.texture(owner, "wake map", (-(-size[0] // stride), -(-size[1] // stride)), 1,
+                          dtype="f4")
+    return texture, gpu.framebuffer(owner, "wake map", [texture])

@@ -3,8 +3,7 @@ evolution, inverse FFT and the fields the surface samples, for 1–4 cascades.  
 reference is ``app/sim/ocean.py`` (``evolve_amplitudes``, ``synthesize``, ``foam_step``); the
 tests compare the two field by field (``tests/**/test_ocean_gpu*.py``).
 
-Per frame, :meth:`GpuOceanSim.update` runs three stages per cascade (also callable one by one,
-for every cascade at once, for benches: see :meth:`GpuOceanSim.stages`):
+Per frame, :meth:`GpuOceanSim.update` runs three stages per cascade:
 
 1. **evolve** (``glsl/ocean/spectrum_evolve.*``) — spec/000 eq. 2.11 with the conjugate restored,
    h(k,t) = h₀(k)e^{iωt} + conj h₀(−k)e^{−iωt}, and the eight field spectra (η, λD_x, λD_z,
@@ -15,12 +14,10 @@ for every cascade at once, for benches: see :meth:`GpuOceanSim.stages`):
    ``deriv[i]`` = (∂η/∂x, ∂η/∂z, λ∂D_x/∂x, λ∂D_z/∂z) (RGBA32F, mipmapped, repeat: they tile
    with period L_i), and ``foam[i]`` (R32F) updated as ``foam_step``; then mipmaps.
 
-Each cascade has a grid of its own size (``sizes``; the ocean effect takes them from what the
-view resolves, :func:`app.sim.ocean.view_cascade_size`), and each may be **slow**
-(:meth:`GpuOceanSim.set_refresh`): it is then not simulated every frame but holds two snapshots
-computed ahead of time and shows their interpolation, computing the next one a few steps per
-frame (``app/effects/ocean/schedule.py``; ``glsl/ocean/cascade_blend.frag``). A slow cascade's
-snapshots are finalised and blended by fragment passes on either path.
+Each cascade has a grid of its own size (``sizes``), and each may be **slow**
+(:meth:`GpuOceanSim.set_refresh`; the plan: ``app/effects/ocean/schedule.py``); a slow cascade's
+snapshots are finalised and blended (``glsl/ocean/cascade_blend.frag``) by fragment passes on
+either path.
 
 Both paths — compute shaders (GL ≥ 4.3) and full-screen fragment passes (GL 3.3) — compute
 the same numbers.  In the fragment path foam ping-pongs between two textures, so the texture
@@ -34,17 +31,17 @@ simulated time (plain float32 ωt loses ~0.3 rad per frame of jitter after a day
 from __future__ import annotations
 
 import math
-from typing import Callable, Sequence
+from typing import Sequence
 
 import moderngl
 import numpy as np
 
 from ...errors import ParamError
-from ...gpu.fft import GpuFFT, check_fft_size, resolve_compute, twiddle_table
+from ...gpu.fft import GpuFFT, resolve_compute, twiddle_table
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from ...sim import ocean as oc
 from .schedule import Plan, SnapshotSchedule
 
-MAX_CASCADES = 4
 LOCAL = 8  # work group edge of the ocean compute shaders
 MODE_ROW = 256  # modes per row of the direct-sum mode texture
 
@@ -54,9 +51,6 @@ DIRECT_SUM = "ocean/direct_sum"
 BLEND = fullscreen("ocean/cascade_blend")
 RESAMPLE = fullscreen("ocean/cascade_blend", defines=(("CASCADE_RESAMPLE", 1),))
 
-FIELD_KEYS = ("height", "disp_x", "disp_z", "jacobian", "slope_x", "slope_z", "ddx_dx", "ddz_dz",
-              "ddx_dz", "foam")
-
 
 def split_hi_lo(x, bits: int = 12) -> tuple[np.ndarray, np.ndarray]:
     """x (float64) = hi + lo with hi carrying ``bits`` significant bits (exact in float32) and lo
@@ -65,11 +59,6 @@ def split_hi_lo(x, bits: int = 12) -> tuple[np.ndarray, np.ndarray]:
     mant, expo = np.frexp(x)
     hi = np.ldexp(np.round(np.ldexp(mant, bits)), expo - bits)
     return hi.astype(np.float32), (x - hi).astype(np.float32)
-
-
-def negate_index(a: np.ndarray) -> np.ndarray:
-    """a(−k) on an FFT-ordered (N, N) grid: index j → (N − j) mod N on both axes."""
-    return np.roll(np.flip(a, axis=(-2, -1)), 1, axis=(-2, -1))
 
 
 def _rgba(*channels) -> bytes:
@@ -88,20 +77,14 @@ class _Snapshots:
         self.schedule = schedule
         self.sets = []
         for j in range(2):
-            disp = gpu.texture(owner, f"ocean snapshot {i}.{j} displacement", (n, n), 4,
-                               dtype="f4", filter=NEAREST)
-            deriv = gpu.texture(owner, f"ocean snapshot {i}.{j} derivatives", (n, n), 4,
-                                dtype="f4", filter=NEAREST)
-            foam = gpu.texture(owner, f"ocean snapshot {i}.{j} foam", (n, n), 1, dtype="f4",
-                               filter=NEAREST)
+            disp, deriv, foam = (gpu.texture(owner, f"ocean snapshot {i}.{j} {what}", (n, n),
+                                             components, dtype="f4", filter=NEAREST)
+                                 for what, components in (("displacement", 4), ("derivatives", 4),
+                                                          ("foam", 1)))
             fbo = gpu.framebuffer(owner, f"ocean snapshot {i}.{j}", [disp, deriv, foam])
             self.sets.append((disp, deriv, foam, fbo))
         self.a = 0  # the set holding snapshot A; B is the other
         self.weight: float | None = None  # the last blend's weight (None: the display is stale)
-
-    @property
-    def objects(self) -> list:
-        return [obj for s in self.sets for obj in s]
 
 
 class _Cascade:
@@ -111,38 +94,29 @@ class _Cascade:
     def __init__(self, sim: "GpuOceanSim", i: int, n: int):
         gpu, owner = sim.gpu, sim.owner
         self.n = n
-        self.objects: list = []
-        own = self.objects.append
-        size = (n, n)
         self.fft = GpuFFT(gpu, owner, n, count=2, use_compute=sim.use_compute)
-        zeros = np.zeros(size, dtype=np.float32).tobytes()
-        self.h0 = gpu.texture(owner, f"ocean h0 {i}", size, 4, dtype="f4", filter=NEAREST)
-        self.freq = gpu.texture(owner, f"ocean frequency {i}", size, 2, dtype="f4",
-                                filter=NEAREST)
-        self.wave = gpu.texture(owner, f"ocean wave vector {i}", size, 2, dtype="f4",
-                                filter=NEAREST)
-        self.disp = gpu.texture(owner, f"ocean displacement {i}", size, 4, dtype="f4",
-                                filter=MIPMAPPED, repeat=True)
-        self.deriv = gpu.texture(owner, f"ocean derivatives {i}", size, 4, dtype="f4",
-                                 filter=MIPMAPPED, repeat=True)
+        zeros = np.zeros((n, n), dtype=np.float32).tobytes()
+
+        def texture(name: str, components: int, **kw):
+            return gpu.texture(owner, name, (n, n), components, dtype="f4", **kw)
+
+        self.h0 = texture(f"ocean h0 {i}", 4, filter=NEAREST)
+        self.freq = texture(f"ocean frequency {i}", 2, filter=NEAREST)
+        self.wave = texture(f"ocean wave vector {i}", 2, filter=NEAREST)
+        self.disp = texture(f"ocean displacement {i}", 4, filter=MIPMAPPED, repeat=True)
+        self.deriv = texture(f"ocean derivatives {i}", 4, filter=MIPMAPPED, repeat=True)
         for tex in (self.disp, self.deriv):
             tex.build_mipmaps()  # allocate every level now: image units need a complete texture
-        self.foam_pair = [gpu.texture(owner, f"ocean foam {i}", size, 1, data=zeros, dtype="f4",
-                                      repeat=True)]
-        if sim.use_compute:
-            self.foam_pair.append(self.foam_pair[0])  # updated in place by the compute pass
-        else:
-            self.foam_pair.append(gpu.texture(owner, f"ocean foam {i} (ping-pong)", size, 1,
-                                              data=zeros, dtype="f4", repeat=True))
-        for obj in (self.h0, self.freq, self.wave, self.disp, self.deriv, self.foam_pair[0]):
-            own(obj)
-        if self.foam_pair[1] is not self.foam_pair[0]:
-            own(self.foam_pair[1])
-        # framebuffers after the textures: released before them (the list is freed backwards)
-        self.evolve_fbo = (None if sim.use_compute else
-                           gpu.framebuffer(owner, f"ocean spectrum {i}", self.fft.textures))
-        if self.evolve_fbo is not None:
-            own(self.evolve_fbo)
+        # the compute pass updates the foam in place; the fragment passes ping-pong
+        foam = texture(f"ocean foam {i}", 1, data=zeros, repeat=True)
+        self.foam_pair = [foam, foam if sim.use_compute else
+                          texture(f"ocean foam {i} (ping-pong)", 1, data=zeros, repeat=True)]
+        self.objects: list = [self.h0, self.freq, self.wave, self.disp, self.deriv, foam]
+        if not sim.use_compute:
+            # framebuffers after the textures: released before them (freed backwards)
+            self.objects += [self.foam_pair[1], gpu.framebuffer(owner, f"ocean spectrum {i}",
+                                                                self.fft.textures)]
+        self.evolve_fbo = None if sim.use_compute else self.objects[-1]
         self.foam_cur = 0
         # framebuffers over (disp, deriv, foam pair[j]): the fragment finalize, the blend and
         # the resample write through them (made on first use on the compute path)
@@ -171,7 +145,7 @@ class _Cascade:
 
     def drop_snapshots(self, gpu) -> None:
         if self.snap is not None:
-            for obj in reversed(self.snap.objects):
+            for obj in reversed([obj for s in self.snap.sets for obj in s]):
                 gpu.free(obj)
             self.snap = None
 
@@ -208,11 +182,6 @@ class GpuOceanSim:
     @property
     def cascade_count(self) -> int:
         return len(self._c)
-
-    @property
-    def n(self) -> int | None:
-        """The largest grid size of the cascades (all of them, unless the view chose less)."""
-        return max(c.n for c in self._c) if self._c else None
 
     @property
     def sizes(self) -> list[int]:
@@ -278,19 +247,7 @@ class GpuOceanSim:
         into the new grid (same tile), and cleared only when its tile size changed too. A slow
         cascade starts its snapshots over."""
         cascades = list(cascades)
-        if not 1 <= len(cascades) <= MAX_CASCADES:
-            raise ParamError(f"ocean.cascades: {len(cascades)} is outside the allowed range "
-                             f"[1, {MAX_CASCADES}]")
-        sizes = []
-        for i, c in enumerate(cascades):
-            size = n if n is not None else int(np.shape(c.h0)[-1])
-            check_fft_size(size)
-            for name in ("h0", "omega", "kx", "kz"):
-                shape = np.shape(getattr(c, name))
-                if shape != (size, size):
-                    raise ParamError(f"ocean.cascade {i}: {name} has shape {shape}, expected "
-                                     f"({size}, {size})")
-            sizes.append(int(size))
+        sizes = [int(n if n is not None else np.shape(c.h0)[-1]) for c in cascades]
         for old in self._c[len(cascades):]:
             old.release(self.gpu)
         del self._c[len(cascades):]
@@ -309,7 +266,7 @@ class GpuOceanSim:
                 resized = True
             cg = self._c[i]
             h0 = np.asarray(c.h0, dtype=np.complex128)
-            h0m = np.conj(negate_index(h0))
+            h0m = np.conj(oc._negate_index(h0))
             cg.h0.write(_rgba(h0.real, h0.imag, h0m.real, h0m.imag))
             nu_hi, nu_lo = split_hi_lo(np.asarray(c.omega, dtype=np.float64) / (2.0 * np.pi))
             cg.freq.write(_rgba(nu_hi, nu_lo))
@@ -329,14 +286,7 @@ class GpuOceanSim:
         makes it slow — two snapshots T apart, interpolated (``app/effects/ocean/schedule.py``).
         A changed period starts that cascade's snapshots over."""
         self._require()
-        periods = [float(p) for p in periods]
-        if len(periods) != self.cascade_count:
-            raise ParamError(f"ocean refresh periods: {len(periods)} values for "
-                             f"{self.cascade_count} cascades")
-        for i, (c, period) in enumerate(zip(self._c, periods)):
-            if not (math.isfinite(period) and period >= 0.0):
-                raise ParamError(f"ocean refresh period {period!r} s is outside the allowed "
-                                 "range [0, inf)")
+        for i, (c, period) in enumerate(zip(self._c, (float(p) for p in periods))):
             if period == 0.0:
                 c.drop_snapshots(self.gpu)
             elif c.snap is None:
@@ -358,12 +308,6 @@ class GpuOceanSim:
     def _require(self) -> None:
         if not self._c:
             raise RuntimeError("GpuOceanSim.set_spectrum(cascades) must be called first")
-
-    @staticmethod
-    def _check_choppiness(choppiness: float) -> float:
-        if not (math.isfinite(choppiness) and 0.0 <= choppiness <= 4.0):
-            raise ParamError(f"ocean.choppiness: {choppiness} is outside the allowed range [0, 4]")
-        return float(choppiness)
 
     @staticmethod
     def _set_spectrum_uniforms(prog, c: _Cascade, t: float, choppiness: float) -> dict:
@@ -392,22 +336,6 @@ class GpuOceanSim:
         prog = self._program(EVOLVE)
         self._write_fields(prog, c, self._set_spectrum_uniforms(prog, c, t, lam))
 
-    def evolve(self, t: float, choppiness: float) -> None:
-        """Stage 1: h(k,t) and the packed field spectra of every cascade at time t [s]."""
-        self._require()
-        lam = self._check_choppiness(choppiness)
-        for c in self._c:
-            self._evolve_one(c, t, lam)
-            self._stale(c)
-        self.time = float(t)
-
-    def fft(self) -> None:
-        """Stage 2: inverse FFT of every cascade's two field textures."""
-        self._require()
-        for c in self._c:
-            c.fft.inverse()
-            self._stale(c)
-
     @staticmethod
     def _stale(c: _Cascade) -> None:
         """A slow cascade's FFT textures were used for something else: its snapshot in
@@ -415,20 +343,10 @@ class GpuOceanSim:
         if c.snap is not None:
             c.snap.schedule.t_a = None
 
-    def _foam_settings(self, foam_threshold, foam_width, foam_decay_time):
+    def _foam_settings(self, foam_threshold, foam_width):
         thresholds = self._per_cascade(foam_threshold, "ocean.foam_threshold")
         widths = (thresholds if foam_width is None
                   else self._per_cascade(foam_width, "ocean.foam_width"))
-        for value in thresholds:
-            if not (math.isfinite(value) and value > 0):
-                raise ParamError(f"ocean.foam_threshold: {value} is outside the allowed range "
-                                 "(0, inf)")
-        for value in widths:
-            if not (math.isfinite(value) and value > 0):
-                raise ParamError(f"ocean.foam_width: {value} is outside the allowed range (0, inf)")
-        if not (foam_decay_time > 0):  # inf is allowed: foam never decays
-            raise ParamError(f"ocean.foam_decay_time: {foam_decay_time} s is outside the allowed "
-                             "range (0, inf]")
         return thresholds, widths
 
     @staticmethod
@@ -440,13 +358,10 @@ class GpuOceanSim:
                           update_foam: bool = True) -> None:
         """Cascade ``c``'s FFT fields into the textures the surface samples (and its foam)."""
         prog = self._program(FINALIZE)
-        prog.set("uFoamDecay", decay)
-        prog.set("uFoamUpdate", 1 if update_foam else 0)
-        prog.set("uN", c.n)
-        prog.set("uFoamThreshold", threshold)
-        prog.set("uFoamWidth", width)
-        ctx = self.gpu.ctx
+        uniforms = {"uFoamDecay": decay, "uFoamUpdate": 1 if update_foam else 0, "uN": c.n,
+                    "uFoamThreshold": threshold, "uFoamWidth": width}
         if self.use_compute:
+            prog.set_many(uniforms)
             c.fft.textures[0].bind_to_image(0, read=True, write=False)
             c.fft.textures[1].bind_to_image(1, read=True, write=False)
             c.disp.bind_to_image(2, read=False, write=True)
@@ -454,16 +369,24 @@ class GpuOceanSim:
             c.foam_pair[0].bind_to_image(4, read=True, write=True)
             groups = (c.n + LOCAL - 1) // LOCAL
             prog.program.run(groups, groups, 1)
-            ctx.memory_barrier()
+            self.gpu.ctx.memory_barrier()
         else:
             src = c.foam_cur
-            fbo = c.out_fbo(self.gpu, self.owner, 1 - src)
-            with ctx.scope(fbo, enable_only=moderngl.NOTHING):
-                fbo.use()
-                prog.bind_textures({"uFields0": c.fft.textures[0], "uFields1": c.fft.textures[1],
-                                    "uFoamBefore": c.foam_pair[src]})
-                draw_fullscreen(prog)
+            self._draw(prog, c.out_fbo(self.gpu, self.owner, 1 - src), uniforms,
+                       {**self._fields(c), "uFoamBefore": c.foam_pair[src]})
             c.foam_cur = 1 - src
+
+    def _draw(self, prog, fbo, uniforms: dict, textures: dict) -> None:
+        """One full-screen pass of ``prog`` into ``fbo``."""
+        prog.set_many(uniforms)
+        with self.gpu.ctx.scope(fbo, enable_only=moderngl.NOTHING):
+            fbo.use()
+            prog.bind_textures(textures)
+            draw_fullscreen(prog)
+
+    @staticmethod
+    def _fields(c: _Cascade) -> dict:
+        return {"uFields0": c.fft.textures[0], "uFields1": c.fft.textures[1]}
 
     @staticmethod
     def _mipmaps(c: _Cascade) -> None:
@@ -473,30 +396,14 @@ class GpuOceanSim:
         c.foam.filter = MIPMAPPED
         c.foam.build_mipmaps()
 
-    def finalize(self, dt: float = 0.0, foam_threshold=0.5, foam_decay_time: float = 2.0,
-                 update_foam: bool = True, foam_width=None) -> None:
-        """Stage 3: ``disp``, ``deriv`` (then their mipmaps) and foam from the fields.
-
-        Foam: e^{−dt/τ} decay, raised to clip((threshold − J)/width, 0, 1) (width = threshold
-        unless given); threshold and width may be one number or one per cascade. dt ≤ 0 (or NaN)
-        neither decays nor grows it.  ``update_foam=False`` carries foam over unchanged."""
-        self._require()
-        thresholds, widths = self._foam_settings(foam_threshold, foam_width, foam_decay_time)
-        decay = self._decay(dt, foam_decay_time)
-        for c, threshold, width in zip(self._c, thresholds, widths):
-            self._finalize_display(c, decay, threshold, width, update_foam)
-            self._stale(c)
-        for c in self._c:
-            self._mipmaps(c)
-
     def update(self, t: float, choppiness: float, dt: float, foam_threshold=0.5,
                foam_decay_time: float = 2.0, foam_width=None) -> None:
         """One frame at time t [s]: every cascade evolved, transformed and finalised (foam
         advanced by dt [s]) — or, for a slow cascade, its snapshot plan for this frame and the
         blend of its two snapshots."""
         self._require()
-        lam = self._check_choppiness(choppiness)
-        thresholds, widths = self._foam_settings(foam_threshold, foam_width, foam_decay_time)
+        lam = float(choppiness)
+        thresholds, widths = self._foam_settings(foam_threshold, foam_width)
         decay = self._decay(dt, foam_decay_time)
         self.last_work = []
         for c, threshold, width in zip(self._c, thresholds, widths):
@@ -545,45 +452,31 @@ class GpuOceanSim:
     def _finalize_snapshot(self, c: _Cascade, dest, foam_before, decay: float, threshold: float,
                            width: float) -> None:
         """The FFT fields into a snapshot set (the fragment finalize on either path)."""
-        prog = self._program(FINALIZE, compute=False)
-        prog.set_many({"uFoamDecay": decay, "uFoamUpdate": 1, "uN": c.n,
-                       "uFoamThreshold": threshold, "uFoamWidth": width})
-        fbo = dest[3]
-        with self.gpu.ctx.scope(fbo, enable_only=moderngl.NOTHING):
-            fbo.use()
-            prog.bind_textures({"uFields0": c.fft.textures[0], "uFields1": c.fft.textures[1],
-                                "uFoamBefore": foam_before})
-            draw_fullscreen(prog)
+        self._draw(self._program(FINALIZE, compute=False), dest[3],
+                   {"uFoamDecay": decay, "uFoamUpdate": 1, "uN": c.n,
+                    "uFoamThreshold": threshold, "uFoamWidth": width},
+                   {**self._fields(c), "uFoamBefore": foam_before})
 
     def _blend(self, c: _Cascade, weight: float) -> None:
         """The surface's textures of a slow cascade: A + w·(B − A), then their mipmaps."""
         snap = c.snap
-        a, b = snap.sets[snap.a], snap.sets[1 - snap.a]
-        prog = self._program(BLEND)
-        prog.set("uWeight", float(weight))
-        prog.set("uN", c.n)
-        j = 0 if self.use_compute else 1 - c.foam_cur
-        fbo = c.out_fbo(self.gpu, self.owner, j)
-        with self.gpu.ctx.scope(fbo, enable_only=moderngl.NOTHING):
-            fbo.use()
-            prog.bind_textures({"uDispA": a[0], "uDispB": b[0], "uDerivA": a[1],
-                                "uDerivB": b[1], "uFoamA": a[2], "uFoamB": b[2]})
-            draw_fullscreen(prog)
-        c.foam_cur = j
-        self._mipmaps(c)
+        self._blend_into(c, 0 if self.use_compute else 1 - c.foam_cur, BLEND, weight,
+                         snap.sets[snap.a], snap.sets[1 - snap.a])
 
     def _resample_foam(self, old: _Cascade, new: _Cascade) -> None:
         """``old``'s foam (same tile, another N) into ``new``'s current foam texture."""
-        prog = self._program(RESAMPLE)
-        prog.set("uWeight", 0.0)
-        prog.set("uN", new.n)
-        fbo = new.out_fbo(self.gpu, self.owner, new.foam_cur)
-        with self.gpu.ctx.scope(fbo, enable_only=moderngl.NOTHING):
-            fbo.use()
-            prog.bind_textures({"uDispA": old.disp, "uDispB": old.disp, "uDerivA": old.deriv,
-                                "uDerivB": old.deriv, "uFoamA": old.foam, "uFoamB": old.foam})
-            draw_fullscreen(prog)
-        self._mipmaps(new)
+        held = (old.disp, old.deriv, old.foam)
+        self._blend_into(new, new.foam_cur, RESAMPLE, 0.0, held, held)
+
+    def _blend_into(self, c: _Cascade, j: int, spec: ProgramSpec, weight: float, a, b) -> None:
+        """``spec`` over the (displacement, derivatives, foam) textures ``a`` and ``b`` into
+        ``c``'s textures with foam ``foam_pair[j]``, then their mipmaps."""
+        self._draw(self._program(spec), c.out_fbo(self.gpu, self.owner, j),
+                   {"uWeight": float(weight), "uN": c.n},
+                   {"uDispA": a[0], "uDispB": b[0], "uDerivA": a[1], "uDerivB": b[1],
+                    "uFoamA": a[2], "uFoamB": b[2]})
+        c.foam_cur = j
+        self._mipmaps(c)
 
     def _per_cascade(self, value, what: str) -> list[float]:
         if isinstance(value, (int, float)):
@@ -593,15 +486,6 @@ class GpuOceanSim:
             raise ParamError(f"{what}: {len(values)} values for {self.cascade_count} cascades")
         return values
 
-    def stages(self, t: float = 1.0, choppiness: float = 1.0,
-               dt: float = 1.0 / 60.0) -> dict[str, Callable]:
-        """Named callables of the three stages, for timing them separately."""
-        return {
-            "ocean.evolve": lambda: self.evolve(t, choppiness),
-            "ocean.fft": self.fft,
-            "ocean.finalize": lambda: self.finalize(dt),
-        }
-
     # -- direct summation (bench reference) ------------------------------------------------
     def _build_modes(self, i: int, c: _Cascade) -> None:
         n = c.n
@@ -609,7 +493,7 @@ class GpuOceanSim:
         nyquist[n // 2, :] = nyquist[:, n // 2] = True
         cascade = c.cascade
         h0 = np.asarray(cascade.h0, dtype=np.complex128)
-        h0m = np.conj(negate_index(h0))
+        h0m = np.conj(oc._negate_index(h0))
         iz, ix = np.nonzero(((h0 != 0) | (h0m != 0)) & ~nyquist)
         count = len(ix)
         width = max(1, min(count, MODE_ROW))
@@ -650,7 +534,7 @@ class GpuOceanSim:
 
         Cost O(N²·modes) per cascade — a reference for benches at N ≤ 128, not a renderer."""
         self._require()
-        lam = self._check_choppiness(choppiness)
+        lam = float(choppiness)
         prog = self._program(DIRECT_SUM)
         for i, c in enumerate(self._c):
             tex = self._modes_of(i, c)
@@ -659,9 +543,10 @@ class GpuOceanSim:
             prog.set("uModeWidth", tex.extra["width"])
             self._write_fields(prog, c, {**textures, "uModes": tex,
                                          "uPhaseTable": self._phase_tables[c.n]})
+            self._finalize_display(c, 1.0, 0.5, 0.5, update_foam=False)
+            self._mipmaps(c)
             self._stale(c)
         self.time = float(t)
-        self.finalize(0.0, update_foam=False)
 
     # -- reading back ----------------------------------------------------------------------
     def read_fields(self, i: int) -> dict[str, np.ndarray]:

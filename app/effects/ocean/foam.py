@@ -10,27 +10,30 @@ from ...gpu.cache import MEMO
 from ...sim import ocean as oc
 
 
-class FoamCalibration:
-    """Mixin of :class:`~app.effects.ocean.Ocean`: per-cascade foam thresholds."""
+class Foam:
+    """Per-cascade foam thresholds of the :class:`~.sea.Sea` ``sea``."""
 
-    def foam_thresholds(self) -> list[tuple[float, float]]:
+    def __init__(self, effect, sea):
+        self.params, self.sea = effect.params, sea
+        self._foam = effect.keyed(self._calibrate_foam)  # (threshold, width) per cascade
+
+    def thresholds(self) -> list[tuple[float, float]]:
         """(threshold, ramp width) of the foam source per cascade (FFT) or for the wave set.
 
         Whitecap mode calibrates them on the sea's own Jacobian (the FFT's λ = 1 derivative fields
         at t = 0 of the cascades as simulated, rescaled for the choppiness; a grid of the
         Gerstner set), so that the foam covers Monahan & O'Muircheartaigh's whitecap fraction
         for the wind."""
-        p = self.params
+        p, s = self.params, self.sea
         model = p["ocean.model"]
         if p["ocean.foam_mode"] == "jacobian":
             t = p["ocean.foam_threshold"]
-            return [(t, t)] * (len(self.cascade_bands) if model == "fft" and self.cascade_bands
-                               else 1)
+            return [(t, t)] * (len(s.cascade_bands) if model == "fft" and s.cascade_bands else 1)
         if model == "gerstner":
-            self.gerstner_waves()  # drawn now if the sea changed: the key names the current set
-        sea = ((self._sim_key, tuple(self._sim_sizes)) if model == "fft" and self._sim_key
-               else None if model == "fft" else self._waves.key)
-        return self._foam.get((model, p["ocean.choppiness"], self.wind_speed(), sea))
+            s.gerstner_waves()  # drawn now if the sea changed: the key names the current set
+        sea = ((s._sim_key, tuple(s._sim_sizes)) if model == "fft" and s._sim_key
+               else None if model == "fft" else s._waves.key)
+        return self._foam.get((model, p["ocean.choppiness"], s.wind_speed(), sea))
 
     def _calibrate_foam(self, key) -> list[tuple[float, float]]:
         """The whitecap calibration for ``key`` = (model, choppiness, wind, sea state), made once
@@ -41,19 +44,19 @@ class FoamCalibration:
         FFT reference, no wave set drawn) it is computed each time, not shared."""
         if not isinstance(key[3], tuple):
             return list(self._whitecaps(key))
-        return list(MEMO.get((FoamCalibration._whitecaps, key), lambda: self._whitecaps(key)))
+        return list(MEMO.get((Foam._whitecaps, key), lambda: self._whitecaps(key)))
 
     def _whitecaps(self, key) -> tuple[tuple[float, float], ...]:
         model, lam, wind, _ = key
         coverage = oc.whitecap_coverage(wind)
-        if model == "fft" and self._sim_cascades:
+        if model == "fft" and self.sea._sim_cascades:
             # the sea as the GPU simulates it (each cascade on the grid the view chose)
             fields = [oc.synthesize(oc.evolve_amplitudes(c.h0, c.omega, 0.0), c.kx, c.kz, 1.0)
-                      for c in self._sim_cascades]
+                      for c in self.sea._sim_cascades]
             jacs = [(1 + lam * f.ddx_dx) * (1 + lam * f.ddz_dz) - (lam * f.ddx_dz) ** 2
                     for f in fields]
         elif model == "gerstner":
-            waves = self.gerstner_waves()
+            waves = self.sea.gerstner_waves()
             span = 2.0 * max(w.wavelength for w in waves)
             g = np.linspace(0.0, span, 192)
             x, z = np.meshgrid(g, g)

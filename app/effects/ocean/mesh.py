@@ -123,17 +123,6 @@ class OceanMesh:
     def built(self) -> bool:
         return self._buffers.built
 
-    def buffers(self, segments: int, inner: float, extent: float, aspect: float = 0.0,
-                height: float = 1.0):
-        """(vertex buffer, index buffer) of the grid."""
-        return self._buffers.get((segments, inner, extent, aspect, height))
-
-    def stretch_height(self, camera_height: float) -> float:
-        """The height the far rings are stretched for (:func:`stretch_height`), kept between
-        frames."""
-        self.height = stretch_height(self.height, camera_height)
-        return self.height
-
     def _make(self, key):
         # a pure build of the key, shared by every session of the process (1–2 ms at the
         # tests' 96 segments, 3–9 ms and 3.6 MB at the default 256; sessions draw the same grid)
@@ -146,9 +135,11 @@ class OceanMesh:
              cull: bool, cell_aspect: float = 0.0) -> None:
         """Draw the grid with ``prog`` (attribute ``in_polar``): every wedge, or with ``cull``
         only those :func:`visible_wedges` finds; far cells stretched to ``cell_aspect`` (0: none)
-        for the camera's height (:meth:`stretch_height`)."""
-        height = self.stretch_height(camera.position[1]) if cell_aspect > 0.0 else 1.0
-        vbo, ibo = self.buffers(segments, inner, extent, float(cell_aspect), height)
+        for the camera's height (:func:`stretch_height`, kept between frames)."""
+        height = 1.0
+        if cell_aspect > 0.0:
+            height = self.height = stretch_height(self.height, camera.position[1])
+        vbo, ibo = self._buffers.get((segments, inner, extent, float(cell_aspect), height))
         vao = prog.vao([(vbo, "3f", "in_polar")], index_buffer=ibo)
         per = 3 * self.triangles // segments  # indices per wedge
         wedges = visible_wedges(camera, aspect, segments) if cull else None

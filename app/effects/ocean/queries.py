@@ -19,7 +19,28 @@ from .params import wind_vector
 
 
 class WaterQueries:
-    """Mixin of :class:`~app.effects.ocean.Ocean` implementing :class:`app.frame.WaterSurface`."""
+    """The frame's ``water`` slot (:class:`app.frame.WaterSurface`) over the :class:`~.sea.Sea`
+    ``sea``, as of the last frame (``time``, ``camera_pos``) and the last FFT readback."""
+
+    def __init__(self, params, sea):
+        self.params, self.sea = params, sea
+        self.time = 0.0
+        self.camera_pos = np.zeros(3)
+        self.query_time: float | None = None
+        self._readback = None
+        self._readback_groups: list = []  # the readback grouped by grid size
+
+    def forget(self) -> None:
+        """A new FFT sea: flat water until it is read back."""
+        self._readback = None
+        self.query_time = None
+
+    def take(self, got) -> None:
+        """The FFT's newest readback (time, fields), or None: the sea the answers describe."""
+        if got is not None and got is not self._readback:
+            self._readback = got
+            self._readback_groups = oc.group_cascade_grids(got[1], self.sea.patch_sizes())
+            self.query_time = got[0]
 
     def fade_range(self) -> tuple[float, float]:
         """Distances from the camera [m] over which the displacement fades to flat water (the
@@ -45,12 +66,12 @@ class WaterQueries:
         z = np.asarray(z, dtype=float)
         model = self.params["ocean.model"]
         if model == "sine":
-            a, k, w = self.sine_wave()
-            d = wind_vector(self.wind_direction())
+            a, k, w = self.sea.sine_wave()
+            d = wind_vector(self.sea.wind_direction())
             eta = a * np.sin(k * (d[0] * x + d[1] * z) - w * self.time)
             out = np.stack([np.zeros_like(eta), eta, np.zeros_like(eta)], axis=-1)
         elif model == "gerstner":
-            surf = oc.gerstner(x, z, self.time, self.gerstner_waves(),
+            surf = oc.gerstner(x, z, self.time, self.sea.gerstner_waves(),
                                depth=self.params["ocean.depth"])
             out = surf.position - np.stack([x, np.zeros_like(x), z], axis=-1)
         else:
@@ -100,6 +121,7 @@ class WaterQueries:
         if model == "sine":
             return min(0.05, self.params["ocean.sine_wavelength"] / 50.0)
         if model == "gerstner":
-            return min(0.05, min(w.wavelength for w in self.gerstner_waves()) / 50.0)
-        sizes = self.sim.sizes if self.sim is not None else [self.fft_size()]
-        return min(0.05, 0.5 * min(size / n for size, n in zip(self.patch_sizes(), sizes)))
+            return min(0.05, min(w.wavelength for w in self.sea.gerstner_waves()) / 50.0)
+        sea = self.sea
+        sizes = sea.sim.sizes if sea.sim is not None else [int(self.params["ocean.fft_size"])]
+        return min(0.05, 0.5 * min(size / n for size, n in zip(sea.patch_sizes(), sizes)))

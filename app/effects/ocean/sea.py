@@ -1,14 +1,17 @@
-"""The sea state the ocean effect draws: the chosen wave model's parameters (the sine wave, the
-Gerstner set drawn from the spectrum, the FFT cascades and their GPU simulation), with what is
-derived from them (Hs, the resolved slope variance, the cascades' wavenumber bands)."""
+"""The ocean's simulation: the sea state its parameters describe (the sine wave, the Gerstner set
+drawn from the spectrum, the FFT cascades), what is derived from it (Hs, the resolved slope
+variance, the cascades' wavenumber bands) and the GPU simulation with its schedule."""
 
 from __future__ import annotations
 
+import functools
 import math
+from typing import Any
 
 from ...errors import ParamError
 from ...gpu.cache import MEMO, memoised
 from ...sim import ocean as oc
+from ...sim.maths import compass_degrees
 from .params import wind_vector
 
 
@@ -20,18 +23,115 @@ def _wave_set(params: oc.SpectrumParams, count: int, seed: int,
                                                  steepness_scale=steepness))
 
 
-def _shared_cascades(*args) -> tuple:
-    """:func:`app.sim.ocean.cascade_arrays` shared by every session of the process (read-only
-    arrays): every ocean session of a test module or a bench builds the same few seas."""
-    return memoised(oc.cascade_arrays, *args)
+class Sea:
+    """The sea of :class:`~app.effects.ocean.Ocean`: its state per model and, for the FFT, the
+    :class:`~.fft.GpuOceanSim` (``sim``), fitted to the view and stepped by :meth:`step`."""
 
+    def __init__(self, effect):
+        self.gpu, self.name, self.params = effect.gpu, effect.name, effect.params
+        #: (speed m/s, direction °) of the frame's ``wind`` slot when an effect before the ocean
+        #: filled it (the scene's one wind); None: the ocean's own parameters
+        self.frame_wind: tuple[float, float] | None = None
+        self.sim: Any = None  # GpuOceanSim, only for the FFT model
+        self._waves = effect.keyed(self._draw_waves)
+        self._sim_path = self._sim_key = None
+        #: the numpy ocean whose amplitudes the GPU simulation holds (None unless the FFT runs)
+        self.reference: oc.FFTOcean | None = None
+        self.resolved_mss = self._fft_hs = 0.0
+        self.cascade_bands: list[tuple[float, float, float]] = []
+        self._sim_sizes: list[int] = []  # each cascade's grid as simulated (fit_view)
+        self._sim_cascades: list[oc.Cascade] = []
+        #: the smallest pixel footprint on the water of the last view [m] (ocean.simulation=view)
+        self.footprint = math.nan
+        self._frame_dt = 1.0 / 30.0  # the frame interval, smoothed (slow cascades)
+        self._bench_sim, self._bench_clock = None, 0  # (key, the copy the bench times), frames
+        #: what the last simulated frame was computed from (a standing clock with the same
+        #: inputs simulates nothing), and whether the last step ran the simulation
+        self._sim_inputs: tuple | None = None
+        self.sim_ran = False
 
-class SeaState:
-    """Mixin of :class:`~app.effects.ocean.Ocean`: the sea its parameters describe."""
+    def set_wind(self, frame) -> None:
+        """The scene's one wind, when an effect before the ocean filled the slot (spec/000
+        §1.4); else fills the slot from ``ocean.wind`` and ``ocean.wind_direction``."""
+        if frame.wind is None:
+            self.frame_wind = None
+            p = self.params
+            frame.wind = wind_vector(p["ocean.wind_direction"]) * p["ocean.wind"]
+        else:
+            vx, vz = (float(v) for v in frame.wind)
+            self.frame_wind = (math.hypot(vx, vz), compass_degrees(vx, vz))
 
-    #: (speed m/s, direction °) of the frame's ``wind`` slot when an effect before the ocean
-    #: filled it (the scene's one wind); None: the ocean's own parameters
-    frame_wind: tuple[float, float] | None = None
+    def prepare(self, frame) -> bool:
+        """This frame's sea for ``ocean.model``: the FFT's sea and grids fitted to the view (True
+        when the sea is new: flat water until it is read back), or the other models' slopes."""
+        model = self.params["ocean.model"]
+        if model == "fft":
+            new = self._ensure_fft()
+            self.fit_view(frame)
+            return new
+        self._release_fft()
+        if model == "gerstner":
+            self.resolved_mss = oc.gerstner_moments(self.gerstner_waves())["mss"]
+        else:
+            a, k, _ = self.sine_wave()
+            self.resolved_mss = 0.5 * (k * a) ** 2
+        return False
+
+    def step(self, frame, dt: float, thresholds, query_time):
+        """Advance the FFT simulation to the frame and request its readback; returns the newest
+        readback (time, fields), or None. What the output depends on, the same on a standing
+        clock (dt ≤ 0), leaves every texture as it is (the foam's decay is then 1 and its update
+        idempotent): nothing is recomputed (the window's pause menu, a still render, the bench's
+        frame). ``query_time``: the time of the readback the queries hold."""
+        p = self.params
+        inputs = (self.sim, self._sim_key, tuple(self.sim.sizes), tuple(self.sim.periods),
+                  float(frame.time), p["ocean.choppiness"], tuple(thresholds),
+                  p["ocean.foam_decay"])
+        still = (dt <= 0.0 and self._sim_inputs is not None
+                 and len(inputs) == len(self._sim_inputs)
+                 and all(a is b or a == b for a, b in zip(inputs, self._sim_inputs)))
+        self._sim_inputs = inputs
+        if still:
+            got = self.sim.poll_readback()
+            if query_time != float(frame.time):  # the newest request is this time's sea: no
+                got = self.sim.read_newest()  # stall left, its work is long done
+        else:
+            self.simulate(self.sim, frame.time, dt, thresholds)
+            self.sim.request_readback()
+            got = self.sim.poll_readback()  # the previous frame's request: no stall
+        self.sim_ran = not still
+        if got is None:  # the first frame of this sea: read it now (one stall), so floating
+            got = self.sim.read_newest()  # objects and the camera never start on flat water
+        return got
+
+    def simulate(self, sim, t: float, dt: float, thresholds) -> None:
+        """One update of ``sim`` at time ``t`` [s] (the frame's and the bench's alike)."""
+        p = self.params
+        sim.update(t, p["ocean.choppiness"], dt, foam_threshold=[a for a, _ in thresholds],
+                   foam_decay_time=p["ocean.foam_decay"], foam_width=[w for _, w in thresholds])
+
+    def bench_simulate(self, t: float, thresholds):
+        """The bench's ``ocean.simulate`` pass: a copy of the simulation (the same cascades,
+        grids and periods) on a clock of its own that moves 1/30 s a call — the bench's frames
+        stand still, and a slow cascade does nothing while its clock does. A copy, so that the
+        frame's own simulation keeps its clock."""
+        from .fft import GpuOceanSim
+
+        key = (self._sim_key, tuple(self.sim.sizes), tuple(self.sim.periods), self.sim.path)
+        if self._bench_sim is None or self._bench_sim[0] != key:
+            if self._bench_sim is not None:
+                self._bench_sim[1].release()
+            sim = GpuOceanSim(self.gpu, self.name, use_compute=self.sim.use_compute)
+            sim.set_spectrum(self._sim_cascades)
+            sim.set_refresh(self.sim.periods)
+            self._bench_sim = (key, sim)
+        sim = self._bench_sim[1]
+
+        def run():
+            self._bench_clock += 1
+            self.simulate(sim, t + self._bench_clock / 30.0, 1.0 / 30.0, thresholds)
+
+        return run
 
     def wind_speed(self) -> float:
         """Wind speed [m/s] the sea is built on: the frame's wind, else ``ocean.wind``."""
@@ -55,9 +155,6 @@ class SeaState:
 
     def patch_sizes(self) -> list[float]:
         return [float(s) for s in self.params["ocean.patch_sizes"][: self.params["ocean.cascades"]]]
-
-    def fft_size(self) -> int:
-        return int(self.params["ocean.fft_size"])
 
     def gerstner_waves(self) -> list[oc.GerstnerWave]:
         """The Gerstner set drawn from the spectrum, redrawn when the sea state changes."""
@@ -95,16 +192,18 @@ class SeaState:
             return oc.gerstner_moments(self.gerstner_waves())["hs"]
         return self._fft_hs
 
-    def _ensure_fft(self) -> None:
+    def _ensure_fft(self) -> bool:
         path = self.params["ocean.fft_path"]
-        key = (self.spectrum_params(), self.fft_size(), tuple(self.patch_sizes()),
-               self.params["ocean.seed"])
+        key = (self.spectrum_params(), int(self.params["ocean.fft_size"]),
+               tuple(self.patch_sizes()), self.params["ocean.seed"])
         if self.sim is not None and self._sim_path != path:
             self._release_fft()
         if key == self._sim_key:
-            return
+            return False
+        # the cascades' arrays shared (read-only) by every session of the process that
+        # builds the same sea
         ref = oc.FFTOcean(key[0], n=key[1], patch_sizes=key[2], choppiness=1.0, seed=key[3],
-                          build=_shared_cascades)
+                          build=functools.partial(memoised, oc.cascade_arrays))
         if self.sim is None:
             from ...gpu.fft import choose_compute
             from .fft import GpuOceanSim
@@ -114,25 +213,18 @@ class SeaState:
             use_compute = choose_compute(self.gpu.caps, path, "ocean.fft_path")
             self.sim = GpuOceanSim(self.gpu, self.name, use_compute=use_compute)
             self._sim_path = path
-        self._fft_ref = ref
-        self._sim_key = key
+        self.reference, self._sim_key = ref, key
         self._sim_sizes = []  # the view chooses them (fit_view), then the GPU gets the sea
         self._fft_hs = 4.0 * math.sqrt(sum(c.moments()[0] for c in ref.cascades))
-        self._readback = None
-        self.query_time = None  # flat water until the new sea is read back
+        return True
 
     def fit_view(self, frame) -> None:
-        """The FFT sea's grid per cascade and which cascades are slow, for this frame's view
-        (``ocean.simulation``): full — every cascade at ``ocean.fft_size``, every frame; view —
-        each cascade's N from the smallest pixel footprint on the water
-        (:func:`app.sim.ocean.view_cascade_size`; the spectrum cropped, never redrawn:
-        :func:`app.sim.ocean.crop_cascade`) and, for the cascades whose interpolation between
-        snapshots a period of at least three frames apart stays within
-        ``ocean.refresh_tolerance`` of the sea's rms slope, that period
-        (:func:`app.sim.ocean.refresh_period`)."""
+        """The FFT sea's grid per cascade and which cascades are slow, for this frame's view, as
+        ``ocean.simulation`` says (:func:`app.sim.ocean.view_cascade_size`, ``crop_cascade``,
+        ``refresh_period``)."""
         p = self.params
-        ref = self._fft_ref
-        n_max = self.fft_size()
+        ref = self.reference
+        n_max = int(self.params["ocean.fft_size"])
         full = p["ocean.simulation"] == "full"
         if full:
             sizes = [n_max] * len(ref.cascades)
@@ -171,7 +263,7 @@ class SeaState:
         """Each simulated cascade's snapshot period for ``ocean.refresh_tolerance`` (shared by
         every session of the process: the same sea, sizes and tolerance give the same)."""
         tol = self.params["ocean.refresh_tolerance"]
-        key = (SeaState._refresh_periods, self._sim_key, tuple(self._sim_sizes), tol)
+        key = (Sea._refresh_periods, self._sim_key, tuple(self._sim_sizes), tol)
 
         def build():
             cascades = self._sim_cascades
@@ -195,30 +287,15 @@ class SeaState:
         self.resolved_mss = sum(b[2] for b in self.cascade_bands)
         self._fft_hs = 4.0 * math.sqrt(m0)
 
-    @property
-    def simulated(self) -> oc.FFTOcean | None:
-        """The numpy ocean of the cascades as the GPU simulates them (each on the grid the
-        view chose: ``ocean.simulation``), or None unless the FFT runs."""
-        if self._fft_ref is None or not self._sim_cascades:
-            return None
-        return oc.FFTOcean.from_cascades(self._fft_ref.params, self._sim_cascades)
-
-    @property
-    def reference(self) -> oc.FFTOcean | None:
-        """The numpy ocean whose amplitudes the GPU simulation holds (None unless the FFT runs)."""
-        return self._fft_ref
-
     def _release_fft(self) -> None:
         if self.sim is not None:
             self.sim.release()
-            self.sim = None
-            self._sim_key = None
-            self._fft_ref = None
-            self._readback = None
-            self._fft_hs = 0.0
-            self._sim_sizes = []
-            self._sim_cascades = []
+            self.sim = self._sim_key = self.reference = None
+            self._fft_hs, self._sim_sizes, self._sim_cascades = 0.0, [], []
 
-    def cox_munk_mss(self) -> float:
-        """Cox & Munk 1954 clean-surface mean-square slope 0.003 + 5.12e-3·U."""
-        return 0.003 + 5.12e-3 * self.wind_speed()
+    def release(self) -> None:
+        if self._bench_sim is not None:
+            self._bench_sim[1].release()
+            self._bench_sim = None
+        self._sim_inputs = None
+        self._release_fft()

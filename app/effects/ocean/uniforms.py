@@ -8,29 +8,35 @@ import math
 import numpy as np
 
 from ...sim import ocean as oc
+from ...sim.sea_plane import cox_munk_mss
 from .params import MODELS, wind_vector
 
 
-class OceanUniforms:
-    """Mixin of :class:`~app.effects.ocean.Ocean`: uniforms and textures of its passes."""
+class Uniforms:
+    """Uniforms and textures of the ocean's passes, from its ``sea``, ``foam`` and ``queries``
+    (the frame's time and camera)."""
+
+    def __init__(self, effect, sea, foam, queries):
+        self.params, self.apply_params = effect.params, effect.apply_params
+        self.sea, self.foam, self.queries = sea, foam, queries
 
     def wave_uniforms(self, prog) -> dict:
         """Set the wave model's uniforms; returns its textures by sampler name (FFT)."""
-        p = self.params
-        cam = self.camera_pos
+        p, sea, q = self.params, self.sea, self.queries
+        cam = q.camera_pos
         model = MODELS.index(p["ocean.model"])
-        fade_start, fade_end = self.fade_range()
-        foam_t, foam_w = self.foam_thresholds()[0]
-        prog.set_many({"uWaveModel": model, "uTime": float(self.time), "uFadeStart": fade_start,
+        fade_start, fade_end = q.fade_range()
+        foam_t, foam_w = self.foam.thresholds()[0]
+        prog.set_many({"uWaveModel": model, "uTime": float(q.time), "uFadeStart": fade_start,
                        "uFadeEnd": fade_end, "uFoamThreshold": foam_t, "uFoamWidth": foam_w})
-        d = wind_vector(self.wind_direction())
+        d = wind_vector(sea.wind_direction())
         if model == 0:
-            a, k, w = self.sine_wave()
+            a, k, w = sea.sine_wave()
             phase = math.fmod(k * (d[0] * cam[0] + d[1] * cam[2]), 2.0 * math.pi)
             prog.set("uSine", (float(d[0]), float(d[1]), k, a))
             prog.set("uSinePhase", (-w, phase))
         elif model == 1:
-            waves = self.gerstner_waves()
+            waves = sea.gerstner_waves()
             a_rows, b_rows = [], []
             for wv in waves:
                 dx, dz = np.asarray(wv.direction) / math.hypot(*wv.direction)
@@ -43,22 +49,22 @@ class OceanUniforms:
             prog.set_array("uGerstnerA", a_rows)
             prog.set_array("uGerstnerB", b_rows)
         else:
-            sizes = self.patch_sizes()
-            grids = self.sim.sizes  # each cascade's N (the view's choice)
+            sizes = sea.patch_sizes()
+            grids = sea.sim.sizes  # each cascade's N (the view's choice)
             rows = []
             for size, n in zip(sizes + [1.0] * (4 - len(sizes)), grids + [1] * (4 - len(grids))):
                 # sample j of the grid sits at j·L/N, i.e. at texel centre (j + ½)/N
                 uv = ((cam[0] / size + 0.5 / n) % 1.0, (cam[2] / size + 0.5 / n) % 1.0)
                 rows.append((uv[0], uv[1], 1.0 / size, n / size))
             prog.set_array("uCascadeUV", rows)
-            bands = self.cascade_bands + [(1.0, 2.0, 0.0)] * (4 - len(self.cascade_bands))
+            bands = sea.cascade_bands + [(1.0, 2.0, 0.0)] * (4 - len(sea.cascade_bands))
             prog.set_array("uCascadeBand", [(lo, hi, m, 0.0) for lo, hi, m in bands])
             weight = p["ocean.foam_amount"]
             prog.set("uFoamWeight", [weight] * 4)
             prog.set("uCascades", len(sizes))
             textures = {}
-            for kind, held in (("uDisp", self.sim.disp), ("uDeriv", self.sim.deriv),
-                               ("uFoam", self.sim.foam)):
+            for kind, held in (("uDisp", sea.sim.disp), ("uDeriv", sea.sim.deriv),
+                               ("uFoam", sea.sim.foam)):
                 for i in range(4):
                     textures[f"{kind}{i}"] = held[min(i, len(sizes) - 1)]
             return textures
@@ -66,11 +72,11 @@ class OceanUniforms:
 
     def shading_uniforms(self, prog, frame, env) -> dict:
         """Set the shading uniforms; returns the environment cubemap by sampler name."""
-        p = self.params
-        subgrid = (max(self.cox_munk_mss() - self.resolved_mss, 0.0) if p["ocean.subgrid_slopes"]
-                   else 0.0)
+        p, sea = self.params, self.sea
+        subgrid = (max(cox_munk_mss(sea.wind_speed()) - sea.resolved_mss, 0.0)
+                   if p["ocean.subgrid_slopes"] else 0.0)
         prog.set_many({"uEnvironmentLods": float(max(0, int(math.log2(env.size[0])))),
-                       "uSubgridMss": subgrid, "uSeaHs": max(self.significant_height(), 1e-3)})
+                       "uSubgridMss": subgrid, "uSeaHs": max(sea.significant_height(), 1e-3)})
         if frame.main_light is not None:
             prog.set_many(frame.light_uniforms())
         else:
@@ -78,6 +84,10 @@ class OceanUniforms:
                            "uMainLightRadiance": (1.0, 1.0, 1.0)})
         self.apply_params(prog)
         return {"uEnvironment": env}
+
+    def surface_uniforms(self, prog, frame, env) -> dict:
+        """:meth:`wave_uniforms`, then :meth:`shading_uniforms`: their textures by sampler name."""
+        return {**self.wave_uniforms(prog), **self.shading_uniforms(prog, frame, env)}
 
     def wake_uniforms(self, prog, frame) -> None:
         """The first wake of the frame's ``wakes`` slot (glsl/common/wake.glsl), its samples
