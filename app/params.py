@@ -14,6 +14,9 @@ snake_case). See :func:`parse_glsl_annotations` for the full grammar.
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
+import datetime
 import difflib
 import math
 import os
@@ -43,8 +46,6 @@ def _plain(value: Any, depth: int = 0) -> str:
     """``value`` as a user writes it: numbers as numbers (numpy's too), a sequence as
     comma-separated items (the ``--set`` form), a date or time in ISO form (a TOML preset may
     hold one); anything else by its reprlib repr."""
-    import datetime
-
     np = sys.modules.get("numpy")  # a numpy value exists only where numpy is loaded
     if np is not None and isinstance(value, (np.generic, np.ndarray)):
         value = value.tolist() if value.size <= 6 else value
@@ -121,9 +122,6 @@ class Joint:
             return None if self.holds(*(values[n] for n in self.names)) else ""
         except ParamError as exc:
             return str(exc)
-
-    def kept_by(self, values: Mapping[str, Any]) -> bool:
-        return self.broken_by(values) is None
 
 
 @dataclass
@@ -275,8 +273,6 @@ def non_zero(name: str, what: str = "vector") -> Joint:
 def with_joints(params: Iterable[Param], joints: Iterable[Joint]) -> list[Param]:
     """``params`` with each rule of ``joints`` added to every parameter it ties (copies where
     one is added; the others as they are)."""
-    import dataclasses
-
     joints = list(joints)
     out = []
     for p in params:
@@ -305,7 +301,6 @@ class ParamSet:
         lookups): the former name of a renamed group keeps old presets and scripts working."""
         self._aliases[former] = group
 
-    # -- declaration -------------------------------------------------------------------------
     def add(self, param: Param, replace: bool = False) -> None:
         """Declare a parameter. A re-declaration (e.g. after a shader reload) keeps the value
         when it is still valid."""
@@ -316,11 +311,9 @@ class ParamSet:
             param.joint = old.joint
         self._params[param.name] = param
         if param.name in self._values:
-            try:
+            with contextlib.suppress(ParamError):  # an invalid value falls back to the default
                 self._values[param.name] = param.validate(self._values[param.name])
                 return
-            except ParamError:
-                pass
         self._values[param.name] = param.default
         self._bump(param.group)
 
@@ -357,7 +350,7 @@ class ParamSet:
             if len(matches) > 1:
                 raise ParamError(one_line(f"parameter {quote(name)} is ambiguous: allowed "
                                           + ", ".join(sorted(matches))))
-        raise self._unknown(name)
+        raise _unknown_name(name, list(self._params.values()))
 
     def spec(self, name: str) -> Param:
         return self._params[self.resolve(name)]
@@ -368,10 +361,6 @@ class ParamSet:
             out.setdefault(p.group, []).append(p)
         return out
 
-    def _unknown(self, name: str) -> ParamError:
-        return _unknown_name(name, list(self._params.values()))
-
-    # -- values ----------------------------------------------------------------------------
     def __getitem__(self, name: str) -> Any:
         return self._values[self.resolve(name)]
 
@@ -431,7 +420,6 @@ class ParamSet:
     def _bump(self, group: str) -> None:
         self._versions[group] = self._versions.get(group, 0) + 1
 
-    # -- presets ---------------------------------------------------------------------------
     def load_preset(self, path: Path) -> None:
         """Apply a TOML preset: one table per group, ``[sky] sun_size = 0.05``. Any problem
         with the file (missing, a folder, a pipe or device, unreadable, too large, not UTF-8,
@@ -575,8 +563,6 @@ def _toml_value(v: Any) -> str:
     return '"' + str(v).replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
-# ---- GLSL annotations ------------------------------------------------------------------------
-
 _ANNOTATION = re.compile(
     r"^\s*uniform\s+(?P<type>float|int|bool|vec3|vec4)\s+(?P<name>\w+)\s*;\s*//\s*@param\s+(?P<rest>.*)$"
 )
@@ -606,7 +592,10 @@ def parse_glsl_annotations(text: str, group: str, source: str = "",
 
     Grammar (after ``@param``)::
 
-        DEFAULT [LO, HI] [step=S] [unit=U] [color] [§SECTION] one-line doc
+        DEFAULT [LO, HI] [step=S] [unit=U] [color] [§SECTION] doc
+
+    The doc may go on over the comment-only lines right below whose ``//`` stands in the
+    annotation's column (so that a shader's lines stay within 100 columns).
 
     DEFAULT is a number, ``true``/``false`` (bool uniforms) or ``(a, b, c)`` (vec3). The range
     is required except for bools. ``color`` marks a vec3 as a colour (colour-picker widget).
@@ -616,7 +605,10 @@ def parse_glsl_annotations(text: str, group: str, source: str = "",
     counts them (only ``\\n`` ends one).
     """
     out = []
-    for lineno, line in enumerate(text.split("\n"), 1):
+    lines = text.split("\n")
+    for lineno, line in enumerate(lines, 1):
+        if "@param" in line:
+            line += _continued(line, lines[lineno:])
         try:
             param = _annotation(line, group, source, spec_doc)
         except ParamError as exc:
@@ -626,6 +618,18 @@ def parse_glsl_annotations(text: str, group: str, source: str = "",
             continue
         if param is not None:
             out.append(param)
+    return out
+
+
+def _continued(line: str, below: list[str]) -> str:
+    """The doc text an annotation continues on the comment-only lines right below it whose
+    ``//`` stands in the annotation's column (each prefixed with a space; "" if none)."""
+    col = line.find("//")
+    out = ""
+    for nxt in below:
+        if col < 0 or nxt.find("//") != col or nxt[:col].strip():
+            break
+        out += " " + nxt[col + 2:].strip()
     return out
 
 

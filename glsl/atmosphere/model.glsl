@@ -6,7 +6,8 @@
 //   extinction     β^ext_R = β^scatt_R = (5.8, 13.5, 33.1)·10⁻⁶ /m,
 //                  β^ext_M = β^scatt_M + β^abs_M = 1.1 · 2·10⁻⁵ /m                           (§1.3)
 //   transmittance  T = exp(−(β^ext_R τ_R + β^ext_M τ_M))   — e^(−τ), not ×τ (erratum of §1.4)
-//   phases         Rayleigh 3/(16π)(1 + μ²); Mie: Cornette–Shanks, |G| < 1  (§1.2; common/phase.glsl)
+//   phases         Rayleigh 3/(16π)(1 + μ²); Mie: Cornette–Shanks, |G| < 1
+//                  (§1.2; common/phase.glsl)
 //   ozone          beyond the thesis (uOzoneAbsorption = 0 there): absorption only, a tent of
 //                  relative density 0 below 10 km, 1 at 25 km, 0 from 40 km (Bruneton 2017,
 //                  Hillaire 2020), σ_a = atmosphere.ozone · (0.650, 1.881, 0.085)·10⁻⁶ /m at its
@@ -48,7 +49,9 @@ const float OZONE_TOP = 40000.0;      // m: back to 0
 // returns (t0, t1) with t0 ≤ t1, or (-1, -1) when it does not cross the atmosphere.
 vec2 AtmosphereSegment(vec3 dir, float maxDist) {
     vec2 top;
-    if (!RaySphereIntersect(vec3(0.0), dir, uEarthCenter, uTopRadius, top) || top.y <= 0.0) return vec2(-1.0);
+    if (!RaySphereIntersect(vec3(0.0), dir, uEarthCenter, uTopRadius, top) || top.y <= 0.0) {
+        return vec2(-1.0);
+    }
     float t0 = max(top.x, 0.0);
     float t1 = min(top.y, maxDist);
     if (t1 <= t0) return vec2(-1.0);
@@ -58,7 +61,8 @@ vec2 AtmosphereSegment(vec3 dir, float maxDist) {
 // Distance to the ground along dir, or a huge value when the ray misses the planet.
 float GroundDistance(vec3 dir) {
     vec2 g;
-    return RaySphereIntersect(vec3(0.0), dir, uEarthCenter, uBottomRadius, g) && g.x > 0.0 ? g.x : 1.0e30;
+    return RaySphereIntersect(vec3(0.0), dir, uEarthCenter, uBottomRadius, g) && g.x > 0.0
+        ? g.x : 1.0e30;
 }
 
 // Height above sea level at distance t along a view ray whose cosine with the camera's local

@@ -19,6 +19,9 @@ bool SunRayHitsGround(float h, float cosPhi) {
     return cosPhi < 0.0 && r * r * cosPhi * cosPhi >= h * (2.0 * uBottomRadius + h);
 }
 
+// Texture coordinates of the table for height h (m) and cos Φ of the ray to the local vertical,
+// as described above (twin: lut_uv). h is clamped into the atmosphere, cos Φ into [−1, 1], both
+// coordinates into [0, 1]; the caller tests SunRayHitsGround first (those rays are not stored).
 vec2 OpticalDepthLutUv(float h, float cosPhi) {
     float R = uBottomRadius;
     float top = uTopRadius - uBottomRadius;

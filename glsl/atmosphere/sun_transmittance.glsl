@@ -5,5 +5,6 @@
 vec3 SunTransmittanceAt(vec3 rel) {
     vec3 fromCentre = rel - uEarthCenter;
     float r = length(fromCentre);
-    return TransmittanceFromDepths(OpticalDepthToSun(r - uBottomRadius, dot(fromCentre / r, uSunDir)));
+    return TransmittanceFromDepths(OpticalDepthToSun(r - uBottomRadius,
+                                                     dot(fromCentre / r, uSunDir)));
 }

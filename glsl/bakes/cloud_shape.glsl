@@ -18,7 +18,8 @@
 //
 // Equations (uvw in [0, 1)³ is the texel centre, so the tile is one unit of uvw):
 //
-//   fBm (spec/001 eq. 3.2), normalised:  F(p) = Σ_{i<n} G^i noise(2^i p) / Σ_{i<n} G^i  (lacunarity 2)
+//   fBm (spec/001 eq. 3.2), normalised, lacunarity 2:
+//                                         F(p) = Σ_{i<n} G^i noise(2^i p) / Σ_{i<n} G^i
 //   R = PW = clamp((P + 1 - W) / (2 - W), 0, 1),  P = clamp(0.5 + 0.5 PerlinFbm(B uvw), 0, 1),
 //                                                 W = WorleyFbm(B uvw)        (B = base period)
 //   G = WorleyFbm(C_g uvw),  B = WorleyFbm(C_b uvw),  A = WorleyFbm(C_a uvw)   (C_g < C_b < C_a)
@@ -66,11 +67,15 @@ float ShapeWorleyChannel(vec3 uvw, int cells, uint channel) {
                               uShapeSeed * 8u + channel);
 }
 
+// The shape texture's texel at uvw ([0, 1)³, one tile per unit): R the Perlin-Worley remap PW
+// of the base period B, G, B and A the three Worley fBm channels of uShapeCells (the header's
+// equations), each in [0, 1] and periodic over the tile, so the bake tiles without a seam.
 vec4 BakeValue(vec3 uvw) {
     vec3 p = uvw * float(uShapeBasePeriod);
     ivec3 period = ivec3(uShapeBasePeriod);
     float perlin = PerlinFbm3Periodic(p, period, uShapePerlinOctaves, 2, uShapeGain);
-    float worley = WorleyFbm3Periodic(p, period, uShapeBaseWorleyOctaves, 2, uShapeGain, uShapeSeed * 8u);
+    float worley = WorleyFbm3Periodic(p, period, uShapeBaseWorleyOctaves, 2, uShapeGain,
+                                      uShapeSeed * 8u);
     return vec4(PerlinWorleyRemap(perlin, worley),
                 ShapeWorleyChannel(uvw, uShapeCells.x, 1u),
                 ShapeWorleyChannel(uvw, uShapeCells.y, 2u),

@@ -88,7 +88,8 @@ const ivec2 WEATHER_HEIGHT_LATTICE_OFFSET = ivec2(128, 64);  // K of the max-hei
 vec4 BakeValue(vec3 uvw) {
     vec2 q = uvw.xy + uWeatherOffset;
     float low = clamp(0.5 + 0.5 * uWeatherContrast * WeatherFbm(q, ivec2(0)), 0.0, 1.0);
-    float height = clamp(0.5 + 0.5 * uWeatherContrast * WeatherFbm(q, WEATHER_HEIGHT_LATTICE_OFFSET), 0.0, 1.0);
+    float height = clamp(0.5 + 0.5 * uWeatherContrast
+                         * WeatherFbm(q, WEATHER_HEIGHT_LATTICE_OFFSET), 0.0, 1.0);
     float high = 1.0 - (1.0 - low) * (1.0 - low);
     return vec4(low, high, height, uWeatherDensity);
 }

@@ -45,7 +45,10 @@ const vec3 kClothNoiseOffset[3] = vec3[3](vec3(0.37, 0.61, 0.13), vec3(19.71, 43
 
 float ClothTime(float t) { return uTimeStep * t + uTimeOffset; }
 
-float ClothChord(float v) { return length(mix(uCorner10, uCorner11, v) - mix(uCorner00, uCorner01, v)); }
+// The patch's chord (m) at height v [0, 1]: the distance between its u = 0 and u = 1 edges.
+float ClothChord(float v) {
+    return length(mix(uCorner10, uCorner11, v) - mix(uCorner00, uCorner01, v));
+}
 
 float ClothPinEdge(float dist, float band) {
     if (band <= 0.0) return 1.0;
@@ -59,13 +62,16 @@ float ClothPinned(vec2 uv) {
          * ClothPinEdge(1.0 - uv.x, uPinBand.z) * ClothPinEdge(1.0 - uv.y, uPinBand.w);
 }
 
-// D in the local frame; the flat normal is local +z.
+// D in the local frame (m); the flat normal is local +z. uv in [0, 1]², w the pinned weight
+// [0, 1] (every term carries it, so a held edge never moves), T the cloth time.
 vec3 ClothDisplacement(vec2 uv, float w, float T) {
     float s = uWaveSize * uv.x - uWaveSpeed * T;
     float ripple = uWaveHeight * sin(CLOTH_TWO_PI * s);
     vec3 q = vec3(s, uWaveSize * uv.y, T);
-    vec3 noise = vec3(PerlinNoise3(q + kClothNoiseOffset[0]), PerlinNoise3(q + kClothNoiseOffset[1]),
-                      PerlinNoise3(q + kClothNoiseOffset[2])) * (uGradientWeight / CLOTH_NOISE_BOUND);
+    vec3 noise = vec3(PerlinNoise3(q + kClothNoiseOffset[0]),
+                      PerlinNoise3(q + kClothNoiseOffset[1]),
+                      PerlinNoise3(q + kClothNoiseOffset[2]))
+               * (uGradientWeight / CLOTH_NOISE_BOUND);
     float fill = clamp(uFill, 0.0, 1.0);
     float a = 1.0 + fill * (uTaut - 1.0);
     vec3 d = noise * (w * a);
@@ -74,7 +80,12 @@ vec3 ClothDisplacement(vec2 uv, float w, float T) {
     return d;
 }
 
-// The displaced position and unit normal (local frame) of a vertex at scene time t.
+// The displaced position (m) and unit normal (local frame) of a vertex at scene time t (s):
+// D at uv, then central differences of D a step CLOTH_FD_STEP apart in u and in v, added to
+// the patch's exact tangents, give S_u and S_v; normal = normalize(S_u × S_v), turned to the
+// flat normal's side. The neighbours' pinned weights follow the vertex's own (pinned) by the
+// change of ClothPinned across the step. Failure case: a vanishing cross product (the sail's
+// collapsed head) falls back to the flat normal instead of a NaN.
 void ClothSurface(vec3 position, vec3 flatNormal, vec2 uv, float pinned, float t,
                   out vec3 displaced, out vec3 normal) {
     float T = ClothTime(t);
@@ -89,8 +100,10 @@ void ClothSurface(vec3 position, vec3 flatNormal, vec2 uv, float pinned, float t
     vec3 left = mix(uCorner00, uCorner01, uv.y), right = mix(uCorner10, uCorner11, uv.y);
     vec3 pu = right - left;
     vec3 pv = mix(uCorner01 - uCorner00, uCorner11 - uCorner10, uv.x);
-    vec3 su = pu + (ClothDisplacement(uv + du, wu1, T) - ClothDisplacement(uv - du, wu0, T)) / (2.0 * h);
-    vec3 sv = pv + (ClothDisplacement(uv + dv, wv1, T) - ClothDisplacement(uv - dv, wv0, T)) / (2.0 * h);
+    vec3 su = pu + (ClothDisplacement(uv + du, wu1, T) - ClothDisplacement(uv - du, wu0, T))
+                 / (2.0 * h);
+    vec3 sv = pv + (ClothDisplacement(uv + dv, wv1, T) - ClothDisplacement(uv - dv, wv0, T))
+                 / (2.0 * h);
     vec3 n = cross(su, sv);
     float len2 = dot(n, n);
     normal = len2 > 1e-24 ? n * inversesqrt(len2) : flatNormal;

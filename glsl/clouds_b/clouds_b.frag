@@ -40,7 +40,9 @@ uniform float uCameraNear;
 uniform float uCameraFar;
 uniform vec3 uLightDir;         // unit vector toward the sun (the main light)
 uniform vec3 uLightColor;       // _SunColor: the main light's radiance
-uniform float uHazeDistance;    // @param 0 [0, 200000] step=100 unit=m §1.6 beyond the thesis: aerial perspective, distance over which the clouds fade into the horizon's haze (0 = off, the thesis)
+uniform float uHazeDistance;    // @param 0 [0, 200000] step=100 unit=m §1.6 beyond the thesis:
+                                //   aerial perspective, distance over which the clouds fade into
+                                //   the horizon's haze (0 = off, the thesis)
 uniform samplerCube uHazeEnvironment;  // the sky probe (no sun disk): the horizon's colour
 uniform bool uHasHazeEnvironment;      // false: the faded part turns transparent
 uniform float uHazeLods;               // mip levels of the probe − 1
@@ -56,7 +58,8 @@ float SceneDistance(vec3 rayDir, ivec2 pixel) {
     if (!uHasDepth) return 3.0e38;
     float depth = texelFetch(uSceneDepth, pixel, 0).r;
     float zNdc = depth * 2.0 - 1.0;
-    float eyeDepth = 2.0 * uCameraNear * uCameraFar / (uCameraFar + uCameraNear - zNdc * (uCameraFar - uCameraNear));
+    float eyeDepth = 2.0 * uCameraNear * uCameraFar
+                     / (uCameraFar + uCameraNear - zNdc * (uCameraFar - uCameraNear));
     return eyeDepth / max(dot(rayDir, uCamForward), 1.0e-6);
 }
 
@@ -79,9 +82,10 @@ void main() {
 
     float stepSize = uFixedStepSize;
     float dstLimit = min(sceneDistance - dstToBox, dstInsideBox);
-    float dstTravelled = (uAmortised || uJitterReference) ? AmortiseJitter(pixel) * stepSize : 0.0;
+    float dstTravelled = (uAmortised || uJitterReference) ? AmortiseJitter(pixel) * stepSize
+                                                          : 0.0;
     float transmittance = 1.0;
-    float tSum = 0.0;  // each step's distance × the transmittance it removes: the cloud's distance for reprojection
+    float tSum = 0.0;  // Σ step distance × transmittance removed: the cloud's distance (aux)
     float lightEnergy = 0.0;
     float haze = 0.0;  // opacity handed to the air (aerial perspective)
     float invHaze = uHazeDistance > 0.0 ? 1.0 / uHazeDistance : 0.0;

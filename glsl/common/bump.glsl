@@ -29,9 +29,12 @@
 // =============================================================================================
 #include "math.glsl"
 
-uniform int uNormalUnpack;   // @param 0 [0, 1] §2.2 z of the unpacked normal: 0 exact sqrt(1 − x² − y²), 1 the cheap 1 − ½(x² + y²)
-uniform bool uNormalDXT5nm;  // @param false §2.2 DXT5nm storage: x in alpha, y in green (Unity's "Normal map" textures)
-uniform float uBumpiness;    // @param 1 [0, 2] step=0.01 §2.2 _Bumpiness: scales the normal map's x and y (0 = the vertex normal)
+uniform int uNormalUnpack; // @param 0 [0, 1] §2.2 z of the unpacked normal: 0 exact sqrt(1 − x² −
+                           // y²), 1 the cheap 1 − ½(x² + y²)
+uniform bool uNormalDXT5nm; // @param false §2.2 DXT5nm storage: x in alpha, y in green (Unity's
+                            // "Normal map" textures)
+uniform float uBumpiness; // @param 1 [0, 2] step=0.01 §2.2 _Bumpiness: scales the normal map's x
+                          // and y (0 = the vertex normal)
 
 // The normal map's x, y: 2·tex − 1 from (r, g), or from (a, g) in the DXT5nm layout.
 vec2 UnpackNormalXY(vec4 tex, bool dxt5nm) {

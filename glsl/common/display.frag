@@ -18,6 +18,11 @@ uniform float uExposure;
 uniform int uTonemap;
 uniform int uBicubic;  // 1: Catmull-Rom enlargement; 0: the texture's own (bilinear) filter
 
+// Catmull-Rom bicubic of tex at uv ([0, 1]²) in five bilinear taps (Jimenez 2016): each axis's
+// two middle weights w1 + w2 merge into one bilinear tap at their centroid; of the 4 × 4
+// kernel only the cross is read (centre, left, right, down, up) and the weights are
+// renormalised over it, so a flat image stays flat. Linear radiance in, out; the negative
+// lobes may overshoot below 0, which main clamps.
 vec3 CatmullRom5(sampler2D tex, vec2 uv) {
     vec2 size = vec2(textureSize(tex, 0));
     vec2 pos = uv * size;
@@ -42,6 +47,9 @@ vec3 CatmullRom5(sampler2D tex, vec2 uv) {
 void main() {
     vec3 radiance = uBicubic == 1 ? CatmullRom5(uScene, vUV) : texture(uScene, vUV).rgb;
     // NaN/Inf must not spread over the screen through filtering: show them as magenta.
-    if (any(isnan(radiance)) || any(isinf(radiance))) { fragColor = vec4(1.0, 0.0, 1.0, 1.0); return; }
+    if (any(isnan(radiance)) || any(isinf(radiance))) {
+        fragColor = vec4(1.0, 0.0, 1.0, 1.0);
+        return;
+    }
     fragColor = vec4(LinearToSrgb(Tonemap(max(radiance, vec3(0.0)), uExposure, uTonemap)), 1.0);
 }

@@ -44,7 +44,8 @@
 // Numpy twin: app/sim/fog.py (same names in snake case).
 // =============================================================================================
 
-uniform int uFogMode;          // 0 off, 1 linear, 2 exp, 3 exp2 (Unity's FOG_LINEAR / FOG_EXP / FOG_EXP2)
+// uFogMode: 0 off, 1 linear, 2 exp, 3 exp2 (Unity's FOG_LINEAR / FOG_EXP / FOG_EXP2)
+uniform int uFogMode;
 uniform vec3 uFogParams;       // (density t, start s, end e): unity_FogParams
 uniform vec3 uFogColor;        // linear radiance of the fog
 uniform vec2 uFogNearFar;      // the camera's near and far planes [m]

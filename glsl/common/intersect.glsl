@@ -15,7 +15,8 @@
 // hits the box when t_far >= max(t_near, 0).
 vec2 RayBoxIntersect(vec3 origin, vec3 dir, vec3 boxMin, vec3 boxMax) {
     const float tiny = 1.0e-20;
-    vec3 safeDir = mix(dir, mix(vec3(-tiny), vec3(tiny), step(vec3(0.0), dir)), lessThan(abs(dir), vec3(tiny)));
+    vec3 safeDir = mix(dir, mix(vec3(-tiny), vec3(tiny), step(vec3(0.0), dir)),
+                       lessThan(abs(dir), vec3(tiny)));
     vec3 inv = 1.0 / safeDir;
     vec3 t0 = (boxMin - origin) * inv;
     vec3 t1 = (boxMax - origin) * inv;

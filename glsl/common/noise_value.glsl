@@ -3,7 +3,8 @@
 // (spec/004 §1.5–1.6; thesis §4.2 and §5.5–5.7).
 //
 //   hash  getPixel(i):  f = (i / 256) mod 1
-//                       pix = T(f.xy);  pix = T((pix.rg + f.yz) mod 1);  pix = T((pix.rg + f.zx) mod 1)
+//                       pix = T(f.xy);  pix = T((pix.rg + f.yz) mod 1);
+//                       pix = T((pix.rg + f.zx) mod 1)
 //         T = the seedable 256×256 RGB random texture, read with texelFetch at floor(u·256)
 //         (bilinear filtering would blend neighbouring texels and lower the variance)
 //   noise3(p):  p wrapped by divmod3 into [0, Texture2DImageSize); the 8 corner values of the
@@ -26,6 +27,8 @@ float ThesisEaseInOut(float x) {
     return (3.0 - 2.0 * x) * x * x;
 }
 
+// getPixel(i): the header's three chained lookups of the random texture T for the lattice
+// point i (integer coordinates; any value, wrapped by mod 256), an RGB value in [0, 1]³.
 vec3 ThesisGetPixel(vec3 indices) {
     vec3 f = mod(indices / 256.0, 1.0);
     vec4 pix = texelFetch(uValueNoiseTex, ivec2(f.xy * 256.0), 0);
@@ -34,6 +37,9 @@ vec3 ThesisGetPixel(vec3 indices) {
     return pix.rgb;
 }
 
+// noise3(p): the thesis's value noise at p (lattice units), in [0, 1]³. p is wrapped into
+// [0, uValueNoiseWrap) by the floor-based remainder, so negative coordinates have no seam;
+// the cell's 8 corner values are blended z, then y, then x with the cubic fade.
 vec3 ThesisNoise3(vec3 p) {
     vec3 wrap = uValueNoiseWrap;
     vec3 q = p - floor(p / wrap) * wrap;  // divmod3 remainder, non-negative
@@ -55,6 +61,8 @@ vec3 ThesisNoise3(vec3 p) {
     return mix(c0, c1, wx);
 }
 
+// octaves(p, d): the normalised sum of d octaves of noise3, octave i at 2^i p with weight
+// 2^-i, in [0, 1]³. A depth outside 1…8 (RecDepth) is clamped.
 vec3 ThesisOctaves(vec3 p, int depth) {
     int d = clamp(depth, 1, 8);
     vec3 sum = vec3(0.0);

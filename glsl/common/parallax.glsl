@@ -38,9 +38,13 @@
 // =============================================================================================
 #include "bump.glsl"
 
-uniform int uParallaxMode;    // @param 1 [0, 4] §2.3 Parallax: 0 off, 1 bare (the thesis's inspector default), 2 steep, 3 occlusion, 4 reference (1024 layers and bisection, beyond the thesis)
-uniform int uParallaxLayers;  // @param 12 [1, 64] §2.3 layers n of steep and occlusion parallax (the thesis shows 12 and 32; keep 10–20)
-uniform float uParallaxScale; // @param 0.05 [0, 0.2] step=0.005 §2.3 depth of the relief in UV units (height 0 lies this far below the surface)
+uniform int uParallaxMode; // @param 1 [0, 4] §2.3 Parallax: 0 off, 1 bare (the thesis's inspector
+                           // default), 2 steep, 3 occlusion, 4 reference (1024 layers and
+                           // bisection, beyond the thesis)
+uniform int uParallaxLayers; // @param 12 [1, 64] §2.3 layers n of steep and occlusion parallax (the
+                             // thesis shows 12 and 32; keep 10–20)
+uniform float uParallaxScale; // @param 0.05 [0, 0.2] step=0.005 §2.3 depth of the relief in UV
+                              // units (height 0 lies this far below the surface)
 // Specialisation (optional, as shadow.glsl's): a program compiled with PARALLAX_MODE defined
 // reads it as a constant instead of uParallaxMode, so the methods it does not use (the
 // reference's 1024 layers among them) are compiled out — a software rasteriser runs both sides
@@ -112,6 +116,10 @@ vec2 ParallaxOcclusion(sampler2D heightMap, vec2 uv, vec3 v, float scale, int la
     return mix(cur, cur + delta, a / (a - b));
 }
 
+// The reference for the parallax methods (beyond the thesis): the steep search over
+// PARALLAX_REFERENCE_LAYERS layers, then PARALLAX_REFERENCE_BISECTIONS bisections between the
+// last layer above the height field and the first at or below it: the corrected uv.
+// A search that stops at layer 0 (the eye ray meets the surface at once) returns uv.
 vec2 ParallaxReference(sampler2D heightMap, vec2 uv, vec3 v, float scale) {
     int n = PARALLAX_REFERENCE_LAYERS;
     vec2 delta = ParallaxDelta(v, scale, n);

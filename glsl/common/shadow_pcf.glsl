@@ -71,6 +71,8 @@ float ShadowPcfWeight(int x, int y) {
     return exp(-0.5 * float(x * x + y * y) / (SHADOW_PCF_SIGMA * SHADOW_PCF_SIGMA));
 }
 
+// The PCF with the hardware's bilinear comparison (a compare-mode depth texture), in [0, 1]:
+// the weights are normalised by their sum.
 float ShadowPcf(sampler2DShadow map, vec2 uv, float depth) {
     vec2 texelSize = 1.0 / vec2(textureSize(map, 0));
     float sum = 0.0, wsum = 0.0;
@@ -84,6 +86,8 @@ float ShadowPcf(sampler2DShadow map, vec2 uv, float depth) {
     return sum / wsum;
 }
 
+// The same PCF on a plain sampler2D (the compare mode off), the manual bilinear comparison
+// of four texelFetch per tap.
 float ShadowPcf(sampler2D map, vec2 uv, float depth) {
     vec2 texelSize = 1.0 / vec2(textureSize(map, 0));
     float sum = 0.0, wsum = 0.0;

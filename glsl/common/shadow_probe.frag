@@ -5,7 +5,8 @@
 // ShadowSun / ShadowSpot / ShadowPoint (uLight 0 / 1 / 2) and ShadowCascade — how the tests and
 // the bench measure the shared receivers against app/sim/surfaces_scene.py's exact visibility.
 // Equations: none of its own (shadow.glsl's).
-// Failure cases guarded: a texel whose normal's w < 0.5 (no point there) writes −1, never a visibility.
+// Failure cases guarded: a texel whose normal's w < 0.5 (no point there) writes −1, never a
+// visibility.
 in vec2 vUV;
 uniform sampler2D uPoints;
 uniform sampler2D uNormals;

@@ -1,6 +1,7 @@
 // A boat's wake as foam: trail samples P left in world space, each a Kelvin ring (centre
 // P + d·U·a/4, radius U·a/4) brightest at its cusp (cos = 1/3 to the travel direction d, from the
-// centre, so the envelope is the 19.47° wedge) and a wash band along the path as wide as the beam (Kelvin 1887; twin: app/sim/wake.py).
+// centre, so the envelope is the 19.47° wedge) and a wash band along the path as wide as the
+// beam (Kelvin 1887; twin: app/sim/wake.py).
 // Positions are relative to the camera (folded on the CPU in float64), like the ocean's rest
 // points. Failure cases guarded: no samples or a point outside the trail's bounds costs one test
 // (uWakeBounds); a zero distance gives no NaN (the cosine's denominator is floored); a drifting
@@ -18,8 +19,15 @@ float WakeSmooth(float e0, float e1, float x) {
     return t * t * (3.0 - 2.0 * t);
 }
 
+// The wake's foam in [0, 1] at off, a camera-relative (x, z) point in metres: the largest over
+// the trail samples of a Kelvin ring's cusp (the ring of radius U·a/4 about P + d·U·a/4, bright
+// at acos(1/3) from the travel direction, fading with age over the cusp life) and of the wash
+// band along the segment to the next sample (its half-width grows with speed and age, fading
+// over the wash life), ramped in from 0.3 to 2 m/s of speed, times the strength. A point
+// outside uWakeBounds, or no samples, returns 0 at once.
 float WakeFoam(vec2 off) {
-    if (uWakeCount <= 0 || any(lessThan(off, uWakeBounds.xy)) || any(greaterThan(off, uWakeBounds.zw))) {
+    if (uWakeCount <= 0 || any(lessThan(off, uWakeBounds.xy))
+        || any(greaterThan(off, uWakeBounds.zw))) {
         return 0.0;
     }
     float foam = 0.0;

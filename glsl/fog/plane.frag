@@ -31,17 +31,25 @@ in vec2 vUV;
 in vec2 vMaskUV;
 
 uniform sampler2D uFogTexture;   // RGB the wisps' shade, A their coverage (tileable)
-uniform sampler2D uGroundMask;   // R: 1 where the ground lies just below the plane; G: its depth below the plane / 2 m
+// uGroundMask: R 1 where the ground lies just below the plane; G its depth below the plane / 2 m
+uniform sampler2D uGroundMask;
 uniform float uCutoff;           // FogGenerator's _Cutoff = 1 − Fog Intensity
 uniform float uTime;             // seconds (Unity's _Time.y)
 uniform vec3 uCameraPos;
 uniform vec3 uLightDir;          // toward the main light
 uniform vec3 uLightRadiance;     // the main light's radiance
 uniform vec3 uAmbient;           // the sky's ambient radiance
-uniform float uPlaneOpacity;     // @param 1 [0, 1] step=0.01 §2.11 times the fog texture's alpha (1: the thesis's plane; beyond the thesis)
-uniform float uPlaneBreakup;     // @param 0 [0, 1] step=0.01 §2.11 breaks the wisps into drifting banks with clear ground between them (0: the thesis's one texture lookup; beyond the thesis)
-uniform float uPlaneGrazing;     // @param 0 [0, 4] step=0.05 §2.11 the wisps thin as the view looks down on the plane, (1 − |v·n|)^this: a thin layer seen from above (0: off; beyond the thesis)
-uniform float uPlaneHug;         // @param 0 [0, 2] step=0.05 unit=m §2.11 the wisps thin where the ground lies less than this below the plane: fog in the hollows, no hard cut on slopes (0: off; beyond the thesis)
+uniform float uPlaneOpacity; // @param 1 [0, 1] step=0.01 §2.11 times the fog texture's alpha (1:
+                             // the thesis's plane; beyond the thesis)
+uniform float uPlaneBreakup; // @param 0 [0, 1] step=0.01 §2.11 breaks the wisps into drifting banks
+                             // with clear ground between them (0: the thesis's one texture lookup;
+                             // beyond the thesis)
+uniform float uPlaneGrazing; // @param 0 [0, 4] step=0.05 §2.11 the wisps thin as the view looks
+                             // down on the plane, (1 − |v·n|)^this: a thin layer seen from above
+                             // (0: off; beyond the thesis)
+uniform float uPlaneHug; // @param 0 [0, 2] step=0.05 unit=m §2.11 the wisps thin where the ground
+                         // lies less than this below the plane: fog in the hollows, no hard cut on
+                         // slopes (0: off; beyond the thesis)
 
 // the banks' lookup: this many tiles of the wisps per tile of the banks, and turned by 37°
 const float PlaneBankScale = 3.4;

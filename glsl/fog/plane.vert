@@ -18,7 +18,8 @@ in vec2 in_position;        // world (x, z) of the vertex [m]
 uniform mat4 uViewProj;
 uniform float uPlaneY;      // the plane's height [m]
 uniform vec2 uScroll;       // the uv offset [tiles]
-uniform float uPlaneTile;   // @param 24 [2, 200] step=0.5 unit=m §2.11 metres of ground one tile of the fog texture covers
+uniform float uPlaneTile; // @param 24 [2, 200] step=0.5 unit=m §2.11 metres of ground one tile of
+                          // the fog texture covers
 uniform vec4 uMaskRect;     // (x0, z0, 1/width, 1/depth) of the ground mask [m, 1/m]
 
 out vec4 vWorldPos;         // xyz world position, w the global fog's factor of this vertex

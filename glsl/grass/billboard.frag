@@ -26,7 +26,8 @@ in vec2 vUV;
 flat in vec3 vTint;
 
 uniform sampler2D uTufts;
-uniform float uCutoff; // @param 0.2 [0, 1] step=0.01 §2.9 Alpha Cutoff (_Cutoff: the repository's default 0.2)
+uniform float uCutoff; // @param 0.2 [0, 1] step=0.01 §2.9 Alpha Cutoff (_Cutoff: the repository's
+                       // default 0.2)
 uniform bool uAlphaToCoverage;  // set by the effect: the target is multisampled
 
 out vec4 fragColor;

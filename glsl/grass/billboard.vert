@@ -53,8 +53,11 @@ uniform float uAngleStep;     // 180°/n [degrees]
 uniform float uSize;          // the quad's side s [m]
 uniform bool uFade;           // culling on: the units shrink to nothing over the last 20 % of
 uniform float uDrawDistance;  // the draw distance [m] (beyond it their tile is not drawn)
-uniform float uBbBend; // @param 0.4 [0, 1] step=0.01 §2.9 billboard wind: the tip's offset per unit of intensity, in quad sides (the thesis's scale is illegible)
-uniform float uBbSteady; // @param 1 [0, 5] step=0.1 §2.9 billboard wind: the steady part of (steady + s) — 1 the document's (1 + A·sin) form, 3 the repository's (3 + movement)
+uniform float uBbBend; // @param 0.4 [0, 1] step=0.01 §2.9 billboard wind: the tip's offset per unit
+                       // of intensity, in quad sides (the thesis's scale is illegible)
+uniform float uBbSteady; // @param 1 [0, 5] step=0.1 §2.9 billboard wind: the steady part of (steady
+                         // + s) — 1 the document's (1 + A·sin) form, 3 the repository's (3 +
+                         // movement)
 
 out vec4 vWorldPos;   // xyz world position, w the fog factor of the vertex
 out vec3 vNormal;

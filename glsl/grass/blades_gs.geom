@@ -50,6 +50,9 @@ flat out vec3 fAlbedo;
 
 const float UNITY_UNIT = 0.1;  // metres per Unity unit (app/sim/grass.py)
 
+// Emits the triangle (a, b, c), world positions in metres, with its flat normal turned away
+// from the blade's axis point `axis` (outward), the fog factor of each vertex and the
+// blade's albedo. A degenerate triangle (zero cross product) gets the normal +y.
 void EmitFace(vec3 a, vec3 b, vec3 c, vec3 axis, vec3 albedo) {
     vec3 n = SafeNormalize(cross(b - a, c - a), vec3(0.0, 1.0, 0.0));
     if (dot(n, (a + b + c) / 3.0 - axis) < 0.0) n = -n;

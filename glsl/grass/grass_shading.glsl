@@ -38,6 +38,10 @@ vec3 GrassFacingNormal(vec3 n, vec3 p) {
     return dot(nn, v) < 0.0 ? -nn : nn;
 }
 
+// The grass's colour, linear radiance after the fog: the document's or the repository's model
+// of the header (uLightingModel), for the albedo, the normal n (turned toward the camera), the
+// world position in metres with the fog factor in w, and the translucency τ. The sun's shadow
+// is read only while the light is above the horizon; the colour is floored at 0.
 vec3 GrassShade(vec3 albedo, vec3 n, vec4 worldPos, float translucency) {
     vec3 p = worldPos.xyz;
     vec3 nn = GrassFacingNormal(n, p);

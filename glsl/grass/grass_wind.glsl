@@ -35,7 +35,10 @@ uniform float uWindIntensity; // w_i ∈ [0, 1] (min(|wind| / 20 m/s, 1) from th
 uniform vec2 uWindVelocity;   // (x, z) m/s: the gusts travel with it
 uniform float uTime;          // t [s]
 uniform vec3 uRipeness;       // cumulative chances of green, green + yellow, 1 (GrassGenerator)
-uniform vec3 uBladeColor; // @param (0.16, 0.40, 0.06) [0, 1] color §2.9 Grass Color (Fig. 93): the albedo of the geometry-shader and instanced blades (linear; the repository's default is pure green; the billboards' tufts are painted around it)
+uniform vec3 uBladeColor; // @param (0.16, 0.40, 0.06) [0, 1] color §2.9 Grass Color (Fig. 93): the
+                          // albedo of the geometry-shader and instanced blades (linear; the
+                          // repository's default is pure green; the billboards' tufts are painted
+                          // around it)
 
 const float GRASS_TWO_PI = 6.28318530717959;
 

@@ -12,7 +12,8 @@ in vec4 vWorldPos;
 in vec3 vNormal;
 in vec3 vAlbedo;
 
-uniform float uTranslucency; // @param 0.3 [0, 1] step=0.01 §2.9 instanced blades: light through the blade from behind (beyond the thesis's diffuse-only shading)
+uniform float uTranslucency; // @param 0.3 [0, 1] step=0.01 §2.9 instanced blades: light through the
+                             // blade from behind (beyond the thesis's diffuse-only shading)
 
 out vec4 fragColor;
 

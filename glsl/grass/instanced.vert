@@ -30,7 +30,8 @@ uniform float uBladeHeight;   // mean height [m]
 uniform float uBladeWidth;    // mean width at the root [m]
 uniform float uDrawDistance;  // [m]
 uniform bool uFade;           // fade out toward the draw distance (culling on)
-uniform float uGust; // @param 0.6 [0, 1] step=0.01 §2.9 instanced blades: strength of the gusts travelling with the wind
+uniform float uGust; // @param 0.6 [0, 1] step=0.01 §2.9 instanced blades: strength of the gusts
+                     // travelling with the wind
 uniform float uGustScale; // @param 9 [1, 60] step=0.5 unit=m §2.9 instanced blades: size of a gust
 
 out vec4 vWorldPos;

@@ -11,7 +11,8 @@ vec3 MaterialNoise3(vec3 p, int depth) {
     // Perlin fBm with the thesis's octave weights (lacunarity 2, gain ½, normalised), one
     // decorrelated lattice offset per channel, mapped from about [−1, 1] to [0, 1].
     int d = clamp(depth, 1, 8);
-    vec3 fbm = vec3(PerlinFbm3(p, d, 2.0, 0.5), PerlinFbm3(p + vec3(31.416, 47.853, 12.793), d, 2.0, 0.5),
+    vec3 fbm = vec3(PerlinFbm3(p, d, 2.0, 0.5),
+                    PerlinFbm3(p + vec3(31.416, 47.853, 12.793), d, 2.0, 0.5),
                     PerlinFbm3(p + vec3(-73.156, 19.271, 61.932), d, 2.0, 0.5));
     return clamp(0.5 + 0.5 * fbm, 0.0, 1.0);
 }

@@ -29,6 +29,7 @@ uniform vec3 uGraniteLightColor;
 
 float MaterialNoise1(vec3 p);  // defined by material.frag from the noise switch
 
+// Turbulence: Σ 2^-i |noise(2^i p)| over up to 10 octaves (not normalised), p in object units.
 float MaterialTurbulence(vec3 p, int octaves) {
     float sum = 0.0, amp = 1.0, freq = 1.0;
     for (int i = 0; i < 10; ++i) {
@@ -40,6 +41,8 @@ float MaterialTurbulence(vec3 p, int octaves) {
     return sum;
 }
 
+// fBm: Σ 2^-i noise(2^i p) / Σ 2^-i over up to 10 octaves, p in object units. Failure case:
+// octaves < 1 sums nothing and gives 0/0, so the octave parameter must stay ≥ 1.
 float MaterialFbm(vec3 p, int octaves) {
     float sum = 0.0, total = 0.0, amp = 1.0, freq = 1.0;
     for (int i = 0; i < 10; ++i) {
@@ -55,7 +58,8 @@ float MaterialFbm(vec3 p, int octaves) {
 vec3 MarbleColor(vec3 objectPos) {
     vec3 p = objectPos * uMarbleScale;
     float t = MaterialTurbulence(p, uMarbleOctaves);
-    float s = 0.5 + 0.5 * sin(TWO_PI * (uMarbleVeinFrequency * objectPos.x + uMarbleTurbulence * t));
+    float s = 0.5 + 0.5 * sin(TWO_PI * (uMarbleVeinFrequency * objectPos.x
+                                        + uMarbleTurbulence * t));
     return mix(uMarbleVeinColor, uMarbleBaseColor, pow(s, uMarbleSharpness));
 }
 

@@ -4,9 +4,9 @@
 //
 //   noiseCoords  = pos · NoiseGridSize.xyz · NoiseGridSize.w
 //   distor       = (octaves(noiseCoords, RecDepth) − 0.5) · DistorFactor.xyz · DistorFactor.w
-//   volTexCoords = pos · VolTexScale.xyz · VolTexScale.w + distor      (distort the input point, §4.2)
-//   radius       = √(x² + z²) of volTexCoords                          (rings about the Y axis, §4.1 step 1)
-//   value        = easeIn(radius mod 1) = (radius mod 1)²               (w(x) = (x/T) mod 1, g(t) = t²)
+//   volTexCoords = pos · VolTexScale.xyz · VolTexScale.w + distor   (distort the point, §4.2)
+//   radius       = √(x² + z²) of volTexCoords             (rings about the Y axis, §4.1 step 1)
+//   value        = easeIn(radius mod 1) = (radius mod 1)²     (w(x) = (x/T) mod 1, g(t) = t²)
 //   colour       = lerp(InnerColor, OuterColor, value)                  (C∘g∘w, §4.1 step 5)
 //
 // Every output colour is on the segment Inner–Outer: with the defaults R − G = G − B = 0.25.

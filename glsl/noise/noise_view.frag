@@ -80,6 +80,10 @@ vec3 ThesisOctavesPeriodic(vec3 p, vec3 period, int depth) {
     return sum / total;
 }
 
+// The grey value the noise lab shows at uv for a view: 0–1 a slice of the baked volume, 2 the
+// 2-D map, 3–8 Perlin, Worley F1, F2 − F1, Perlin fBm, turbulence and Perlin-Worley computed
+// live over uScale cells (periodic, so the tile repeats), else the thesis's value-noise
+// octaves. Values in [0, 1] except where a noise's own range exceeds it.
 vec4 Sample(int view, vec2 uv, int octaves) {
     if (view <= 1) return texture(uVolume, vec3(uv, uSlice));
     if (view == 2) return texture(uMap, uv);

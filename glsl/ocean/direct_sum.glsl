@@ -22,6 +22,10 @@ uniform sampler2D uPhaseTable;  // N × 1 RG32F: e^{+2πi·q/N}
 
 #include "spectrum_evolve.glsl"
 
+// The two field texels (fields0, fields1, layout above; metres and slopes) at grid point
+// `texel`, summed over all uModeCount modes of the mode texture: each mode's amplitude is
+// evolved to uTime (spec/000 eq. 2.11) and turned by the exact phase e^{ik·x} from the table.
+// Failure case: 1/k at k = 0 reads 0 (SafeInverseWavenumber): a k = 0 mode adds only to η.
 void DirectSumTexel(ivec2 texel, out vec4 fields0, out vec4 fields1) {
     vec4 sumRe = vec4(0.0);  // weights of Re c: (η, λ∂D_x/∂x, λ∂D_z/∂z, λ∂D_x/∂z)
     vec4 sumIm = vec4(0.0);  // weights of Im c: (λD_x, λD_z, ∂η/∂x, ∂η/∂z)

@@ -51,11 +51,13 @@ vec2 EvolvedAmplitude(vec4 amp, vec2 e) {
     return ComplexMul(amp.xy, e) + ComplexMul(amp.zw, vec2(e.x, -e.y));
 }
 
+// 1/|k| (m) of a wave vector k (rad/m); 0 at k = 0 instead of an infinity (the mean mode).
 float SafeInverseWavenumber(vec2 k) {
     float len = length(k);
     return len > 0.0 ? 1.0 / len : 0.0;
 }
 
+// i·z for a complex number z = (re, im).
 vec2 TimesI(vec2 z) { return vec2(-z.y, z.x); }
 
 // The four packed spectra A, B, C, D of one wave vector (see the header).

@@ -22,7 +22,7 @@ in float vHeight;
 uniform float uSeaHs;          // significant wave height (m), for the crest term
 uniform sampler2D uSceneCopy;  // the target before the ocean (sky, clouds), for the view from below
 uniform vec2 uViewport;
-uniform int uViewMode;         // 0 camera above the water, 1 below it, 2 near the surface: test per pixel
+uniform int uViewMode;  // 0 camera above the water, 1 below it, 2 near the surface: test per pixel
 uniform float uCamNear;
 
 uniform vec3 uCameraPos;

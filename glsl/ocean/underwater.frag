@@ -21,7 +21,10 @@ out vec4 fragColor;
 
 void main() {
     vec3 color = texture(uColor, vUV).rgb;
-    if (!OceanPixelStartsUnderwater(vUV * 2.0 - 1.0, uCameraPos.y)) { fragColor = vec4(color, 1.0); return; }
+    if (!OceanPixelStartsUnderwater(vUV * 2.0 - 1.0, uCameraPos.y)) {
+        fragColor = vec4(color, 1.0);
+        return;
+    }
     float depth = texture(uSceneDepth, vUV).r;
     vec3 trans = vec3(0.0);
     if (depth < 1.0) {

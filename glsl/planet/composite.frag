@@ -1,74 +1,15 @@
 #version 330 core
-// =============================================================================================
-// The planet scene's scattering pass: for each pixel, the surface it sees (a mesh from the
-// G-buffer, the analytic Earth sphere, or space with stars) and the light the atmosphere
-// removes and adds on the way to the camera (spec/002):
-//   METHOD 1  first approximation: nested midpoint sums over the whole camera→object segment,
-//             unclipped, to the universe sphere for the sky, as the thesis did (its dark
-//             horizon band comes from here, see "Method 1's universe sphere") (§2.3)
-//   METHOD 2  second: optical-depth LUT for the sun integral, segment clipped to the atmosphere
-//             (§2.4)
-//   METHOD 3  final: method 2 + shadow-map visibility V(P) in the integral (light shafts) (§2.5)
-//   METHOD 4  beyond the thesis: Hillaire 2020 transmittance / multiple-scattering / sky-view /
-//             aerial-perspective lookups with the same constants
-// Output is linear radiance Color_out + Color_in; the thesis's exposure 1 − e^(−pupil·x) (§1.6)
-// is applied by the output tone map with the pupil factor computed per frame on the CPU.
-// Debug views (the thesis's figures): 1 = in-scattering on black, 2 = out-scattering on white.
-// Equations: the thesis numbers none; out- and in-scattering are spec/002 §1.4 and §1.5,
-// discretised as in §1.7 (atmosphere/inscatter.glsl), the sun's optical depth via §1.8's LUT.
-// Method 1's universe sphere (§2.3, §2.4 item 2): the thesis's first approximation integrates
-// from the camera to the visible point — for the sky, "the sphere that contains the rest of the
-// scene and represents the universe" — so part of its samples lie outside the atmosphere. Its
-// radius is not given; its figure (§2.3: sun at zenith, N_STEPS = 30) bounds it: the sky is
-// blue, so the zenith ray's 30 steps must reach into the air (a sphere 10 000 km away puts the
-// first sample at 167 km: a black sky above ~15°), while the sphere contains the Earth and
-// the atmosphere — so it hugs them: centred on the Earth, a radius beyond R + 60 km. Default
-// uUniverseRadius = R + 200 km about the Earth's centre (ours; the thesis gives no value):
-// inside that range, and it contains a space camera at 3 × the atmosphere's height (§9
-// criterion 19), as the thesis's space views are taken inside it. Then the zenith ray is
-// 200 km long (first sample at 3.3 km)
-// and a horizontal one ~1600 km (53 km steps); with the thesis's τ(PC) rule (the whole step
-// added before use: uThesisPcRule, on for method 1 by default) such a step extinguishes its own
-// sample, so the rows just above the horizon turn dark and the bright orange line moves up to
-// ~4° — the thesis's "orange horizon line displaced upward ... a black band" (§2.3). With the
-// midpoint rule the band all but vanishes (≥ 95 % of method 3 there), so the rule is part of
-// the figure. The worse, black-sky case stays reachable: planet.universe_centre = camera,
-// planet.universe_radius = 1e7 (the rays into space 10 000 km long).
-// Fixed per-pixel work, out of the per-method integral: the ground's 5-octave noise is two
-// lookups (GROUND_NOISE_BAKED: a fine gnomonic cap about the scene's origin and a coarse cubemap,
-// planet/ground_noise_bake.frag, baked once and rebuilt only when planet.ground_noise_size
-// changes) instead of 5 octaves of Perlin noise per ground pixel, which
-// every method paid alike and which compressed the methods' ratios; without the define (planet.
-// ground_noise = live) the live sum is the reference. The bake moves coastlines by a fraction of
-// a texel (bilinear f between texel centres); the image is otherwise the same (the bench's
-// "changes" section states mean and max |Δ|). Shadow comparisons are the hardware's unless
-// SHADOW_COMPARE_MANUAL (shadow.glsl). With SURFACES_IN_GBUFFER (the default, planet.ground_pass
-// = gbuffer) the analytic ground and the background are not shaded here at all: the surfaces'
-// pass shades them once into the G-buffer's colour where no mesh is (planet/ground.frag), so this
-// pass reads Color_original(O) of every pixel with one texelFetch and its time is what the
-// method's integral costs; without the define (planet.ground_pass = scattering) they are shaded
-// here as before (planet/surroundings.glsl), the same image.
-// Reduced-resolution march (methods 1–3, beyond the thesis: the field's way with light shafts;
-// planet.march_scale, MARCH_PASS): 1 marches one pixel of every B × B block (AmortisedPixel of
-// common/amortise.glsl) with its own ray and G-buffer distance into a grid, storing the distance
-// beside the in-scattering; 2 (every pixel) interpolates the 4 grid points around it where their
-// interpolated inverse distance agrees with its own within 2 %, no neighbour of it lies across a
-// mesh's edge and the grid values change by less than uMarchContrast across the cell, writing
-// window depth 0 there and 1 elsewhere; 3 is this pass's full march drawn on the far plane with
-// the depth test '<=', so only the pixels 2 could not fill are shaded (a march compiled into 2
-// would cost every pixel its loops on a software rasteriser). Without MARCH_PASS (planet.
-// march_scale = full) every pixel marches: the thesis's method, the reference.
-// Failure cases: method 1 keeps the thesis's own (the unclipped segment and its dark horizon
-// band, see above; a ray into space that misses the universe sphere gets no in-scattering, the
-// sphere containing the atmosphere); methods 2–4 guard rays that miss or only
-// graze the atmosphere (an empty or behind-the-camera segment: no in-scattering, T = 1); the
-// asin of the star lookup is clamped; float32 at planet scale: G-buffer positions are
-// camera-relative and the Earth centre relative to the camera comes from the CPU in double
-// precision; the analytic ground takes no shadow-map depth bias (it cannot shadow itself, see
-// GroundColor); the baked noise's cubemap is seamless (GL_TEXTURE_CUBE_MAP_SEAMLESS), so face
-// edges do not show; the reduced march: grid points past the image's last row or column are
-// not interpolated from (their pixels march), the sky's distance (1e30) interpolates as 1/d = 0.
-// =============================================================================================
+// The planet scene's scattering pass (spec/002 §2.3–§2.5; Hillaire 2020 beyond the thesis): for
+// each pixel, the surface it sees (a mesh from the G-buffer, the analytic Earth, or space with
+// stars) and the light the atmosphere removes and adds on the way to the camera. Output is linear
+// radiance Color_out + Color_in; the thesis's exposure (§1.6) is the output's tone map.
+//   METHOD 1  first approximation: nested midpoint sums over the unclipped camera→object
+//             segment, to the universe sphere for the sky (§2.3; "Method 1's universe sphere")
+//   METHOD 2  second: the optical-depth LUT for the sun, the segment clipped to the air (§2.4)
+//   METHOD 3  final: method 2 + shadow-map visibility V(P) in the integral (§2.5)
+//   METHOD 4  Hillaire 2020's LUT lookups with the same constants
+// Failure cases guarded: rays that miss or graze the air (methods 2–4: no scattering, T = 1),
+// float32 at planet scale (camera-relative positions), seams of the reduced march (see below).
 #include "atmosphere/model.glsl"
 #include "camera.glsl"
 
@@ -83,11 +24,31 @@ uniform vec3 uCameraLocal;   // camera in the local frame at the scene origin (m
 
 #include "atmosphere/optical_depth_lut.glsl"
 #include "atmosphere/sun_transmittance.glsl"
+// Shadow comparisons are the hardware's unless SHADOW_COMPARE_MANUAL (shadow.glsl).
 #include "shadow.glsl"
+// With SURFACES_IN_GBUFFER (the default, planet.ground_pass = gbuffer) the analytic ground and
+// the background are not shaded here: the surfaces' pass shades them once into the G-buffer's
+// colour where no mesh is (planet/ground.frag), so this pass reads Color_original(O) of every
+// pixel with one texelFetch and its time is what the method's integral costs. Without it
+// (planet.ground_pass = scattering) they are shaded here (planet/surroundings.glsl), the same
+// image. Either way the ground's 5-octave noise is, with GROUND_NOISE_BAKED, two lookups (a fine
+// gnomonic cap about the scene's origin and a coarse seamless cubemap, baked once by
+// planet/ground_noise_bake.frag and rebuilt only when planet.ground_noise_size changes) instead
+// of 5 octaves of Perlin noise that every method paid alike and that compressed the methods'
+// ratios; the live sum (planet.ground_noise = live) is the reference. The bake moves coastlines
+// by a fraction of a texel; the bench's "changes" section states mean and max |Δ|.
 #ifndef SURFACES_IN_GBUFFER
 #include "surroundings.glsl"
 #endif
 #include "atmosphere/inscatter.glsl"
+// Reduced-resolution march (methods 1–3, beyond the thesis: the field's way with light shafts;
+// planet.march_scale): MARCH_PASS 1 marches one pixel of every B × B block (AmortisedPixel of
+// common/amortise.glsl) into a grid, with the distance beside the in-scattering; 2 (every pixel)
+// interpolates the grid where it can (MarchUpsample), writing window depth 0 there and 1
+// elsewhere; 3 is this pass's full march drawn on the far plane with the depth test '<=', so it
+// shades only the pixels 2 could not fill (a march compiled into 2 would cost every pixel its
+// loops on a software rasteriser). Without MARCH_PASS (planet.march_scale = full) every pixel
+// marches: the thesis's method, the reference.
 #ifndef MARCH_PASS
 #define MARCH_PASS 0
 #endif
@@ -107,9 +68,31 @@ uniform sampler2D uGColor;
 uniform sampler2D uGPosition;
 uniform float uUniverseRadius;    // method 1 integrates to this sphere for rays into space
 uniform vec3 uUniverseCenter;     // its centre relative to the camera: the Earth's, or 0
-uniform int uDebugView;           // 0 final, 1 in-scattering on black, 2 out-scattering on white
+uniform int uDebugView;           // the thesis's figures: 0 final, 1 in-scattering on black,
+                                  // 2 out-scattering on white
 
-// Method 1's end of a ray into space: where it leaves the universe sphere (0 if it misses it).
+const float SPACE_DISTANCE = 1.0e30;   // m: GroundDistance's value for a ray into space
+const float SPACE_THRESHOLD = 1.0e29;  // m: a distance this far or farther is space
+const float MESH_FLAG = 0.5;           // G-buffer position .w above this: a mesh covers the pixel
+
+// Method 1's universe sphere (§2.3, §2.4 item 2). The thesis's first approximation integrates
+// from the camera to the visible point, which for the sky is "the sphere that contains the rest
+// of the scene and represents the universe", so part of its samples lie outside the atmosphere.
+// The thesis gives no radius; its figure (§2.3: sun at zenith, N_STEPS = 30) bounds it. The sky
+// there is blue, so the zenith ray's 30 steps must reach into the air (a sphere 10 000 km away
+// puts the first sample at 167 km: a black sky above ~15°), and the sphere contains the Earth and
+// the atmosphere, so it hugs them: centred on the Earth, radius beyond R + 60 km. Our default,
+// uUniverseRadius = R + 200 km about the Earth's centre, lies in that range and contains a space
+// camera at 3 × the atmosphere's height (§9 criterion 19), as the thesis's space views are taken
+// inside it. The zenith ray is then 200 km long (first sample at 3.3 km) and a horizontal one
+// ~1600 km (53 km steps); with the thesis's τ(PC) rule (the whole step added before use:
+// uThesisPcRule, on for method 1 by default) such a step extinguishes its own sample, so the rows
+// just above the horizon turn dark and the bright orange line moves up to ~4°: the thesis's
+// "orange horizon line displaced upward ... a black band" (§2.3). With the midpoint rule the band
+// all but vanishes (≥ 95 % of method 3 there), so the rule is part of the figure. The black-sky
+// case stays reachable: planet.universe_centre = camera, planet.universe_radius = 1e7.
+// Returns the distance (m) where dir leaves the sphere; a ray that misses it gets 0 (so no
+// in-scattering: the sphere contains the atmosphere, which such a ray cannot cross).
 float UniverseDistance(vec3 dir) {
     vec2 t;
     return RaySphereIntersect(vec3(0.0), dir, uUniverseCenter, uUniverseRadius, t) ? max(t.y, 0.0)
@@ -119,12 +102,12 @@ float UniverseDistance(vec3 dir) {
 #if METHOD == 4
 out vec4 fragColor;
 
-// Method 4's pass is lookups only (Hillaire 2020 §5.3–5.4). HILLAIRE_PART says which pixels a
-// program shades: 1 those no mesh covers (drawn on the far plane with the depth test '<='
-// against the G-buffer's depth: the sky, or the analytic ground — the sky-view LUT's rays end
-// exactly there), 2 the meshes (the test '>'), 0 both, chosen per pixel (one pass where the
-// depth cannot be shared). Each program then carries one path's code only, which is what a
-// software rasteriser, running every branch, pays for.
+// Method 4's pass is lookups only (Hillaire 2020 §5.3–5.4), linear radiance out. HILLAIRE_PART
+// says which pixels a program shades: 1 those no mesh covers (drawn on the far plane with the
+// depth test '<=' against the G-buffer's depth: the sky, or the analytic ground — the sky-view
+// LUT's rays end exactly there), 2 the meshes (the test '>'), 0 both, chosen per pixel (one pass
+// where the depth cannot be shared). Each program then carries one path's code only, which is
+// what a software rasteriser, running every branch, pays for.
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     vec3 dir = CameraRayDirection(vUV);
@@ -134,7 +117,7 @@ void main() {
 #elif HILLAIRE_PART == 1
     bool mesh = false;
 #else
-    bool mesh = texelFetch(uGPosition, px, 0).w > 0.5;
+    bool mesh = texelFetch(uGPosition, px, 0).w > MESH_FLAG;
 #endif
 #if HILLAIRE_PART != 1
     if (mesh) {
@@ -151,7 +134,7 @@ void main() {
         surface = texelFetch(uGColor, px, 0).rgb;   // planet/ground.frag's
 #else
         float dist = GroundDistance(dir);
-        surface = dist >= 1.0e29 ? Background(dir) : GroundColor(dir * dist);
+        surface = dist >= SPACE_THRESHOLD ? Background(dir) : GroundColor(dir * dist);
 #endif
     }
 #endif
@@ -163,16 +146,19 @@ void main() {
     fragColor = vec4(surface * transmittance + inscatter, 1.0);
 }
 #else
-// What pixel px (uv its centre) sees: its ray, the distance to the surface (a mesh's, the
-// analytic ground's, or 1e30 into space) and Color_original of that surface.
-void PixelView(ivec2 px, vec2 uv, out vec3 dir, out float dist, out bool space, out vec3 surface) {
+// What pixel px (uv its centre) sees: its unit ray, the distance (m) to the surface (a mesh's,
+// the analytic ground's, or SPACE_DISTANCE into space) and Color_original of that surface
+// (linear). G-buffer positions are camera-relative, so float32 holds them at planet scale; the
+// analytic ground takes no shadow-map bias (it cannot shadow itself: GroundColor).
+void PixelView(ivec2 px, vec2 uv, out vec3 dir, out float dist, out bool space,
+               out vec3 surface) {
     vec4 gpos = texelFetch(uGPosition, px, 0);
     dir = CameraRayDirection(uv);
 #ifdef SURFACES_IN_GBUFFER
     surface = texelFetch(uGColor, px, 0).rgb;   // a mesh's, or planet/ground.frag's
 #endif
     space = false;
-    if (gpos.w > 0.5) {
+    if (gpos.w > MESH_FLAG) {
         dist = length(gpos.xyz);
         dir = gpos.xyz / dist;
 #ifndef SURFACES_IN_GBUFFER
@@ -180,14 +166,19 @@ void PixelView(ivec2 px, vec2 uv, out vec3 dir, out float dist, out bool space, 
 #endif
     } else {
         dist = GroundDistance(dir);
-        space = dist >= 1.0e29;
+        space = dist >= SPACE_THRESHOLD;
 #ifndef SURFACES_IN_GBUFFER
         surface = space ? Background(dir) : GroundColor(dir * dist);
 #endif
     }
 }
 
-// The method's integral in front of that surface with `steps` view-ray samples (0: none).
+// The method's integral in front of that surface (dist in m) with `steps` view-ray samples (0:
+// none): linear in-scattered radiance and per-channel transmittance. Out- and in-scattering are
+// spec/002 §1.4 and §1.5 (the thesis numbers no equation), discretised as in §1.7
+// (atmosphere/inscatter.glsl), the sun's optical depth from §1.8's LUT (methods 2–3). Method 1
+// runs the unclipped segment to the universe sphere; methods 2–4 clip it to the atmosphere, and
+// a ray that misses it, or whose segment lies behind the camera, gets none and T = 1.
 void Atmosphere(vec3 dir, float dist, bool space, int steps, out vec3 inscatter,
                 out vec3 transmittance) {
     float t0, t1;
@@ -195,7 +186,7 @@ void Atmosphere(vec3 dir, float dist, bool space, int steps, out vec3 inscatter,
     t0 = 0.0;
     t1 = space ? UniverseDistance(dir) : dist;
 #else
-    vec2 seg = AtmosphereSegment(dir, space ? 1.0e30 : dist);
+    vec2 seg = AtmosphereSegment(dir, space ? SPACE_DISTANCE : dist);
     t0 = seg.x;
     t1 = seg.y;
 #endif
@@ -208,7 +199,7 @@ void Atmosphere(vec3 dir, float dist, bool space, int steps, out vec3 inscatter,
 #if MARCH_PASS == 1
 // The reduced-resolution march: grid texel t marches full-resolution pixel t·B + sub exactly as
 // the full-resolution pass would (its ray and its G-buffer distance), and stores the distance it
-// marched to (1e30 into space) beside the in-scattering for the upsampling's depth test.
+// marched to (SPACE_DISTANCE into space) beside the in-scattering for the upsampling's depth test.
 layout(location = 0) out vec4 outInscatter;
 layout(location = 1) out vec4 outTransmittance;
 void main() {
@@ -218,38 +209,44 @@ void main() {
     bool space;
     PixelView(px, AmortisedUV(px), dir, dist, space, surface);
     Atmosphere(dir, dist, space, uSteps, inscatter, transmittance);
-    outInscatter = vec4(inscatter, space ? 1.0e30 : dist);
+    outInscatter = vec4(inscatter, space ? SPACE_DISTANCE : dist);
     outTransmittance = vec4(transmittance, 0.0);
 }
 #else
 out vec4 fragColor;
 #if MARCH_PASS == 2
-uniform sampler2D uMarchInscatter;      // the grid's in-scattering, a = the distance it marched to
+uniform sampler2D uMarchInscatter;      // the grid's in-scattering, a = the distance marched (m)
 uniform sampler2D uMarchTransmittance;  // the grid's transmittance
 uniform float uMarchContrast;           // largest relative spread of 4 grid values interpolated
 #ifndef MARCH_DEPTH_TOLERANCE
 #define MARCH_DEPTH_TOLERANCE 0.02
 #endif
+const float FLOAT_HUGE = 1.0e38;            // above any radiance: the running minimum's start
+const float MIN_INVERSE_DISTANCE = 1.0e-30; // 1/m: Σ w/d of four sky points (0) floored
 
-// Depth-aware upsampling of the grid at px (its distance `key`, 1e30 into space): the bilinear
-// interpolation of the 4 grid points around px. It stands (true) when the interpolated inverse
-// distance of those points agrees with px's own (AmortiseDepthAgree: 1/d is affine across the
-// screen on a plane, so one surface passes and a silhouette — a mesh's edge, the horizon, the
-// limb — does not), every point lies inside the grid, and the 4 points' values are close: each
-// channel of the in-scattering within uMarchContrast of the largest, of the transmittance within
-// uMarchContrast, over the whole cell (a shaft's edge, the limb's thin glow seen from space change faster than
-// interpolation follows); else px marches its own ray (MARCH_PASS 3). So does every pixel beside
-// a mesh's edge (one of its 4 neighbours is a mesh and it is not, or the reverse): a ray that
-// grazes a ridge can run in its shadow for kilometres, a dark line one pixel wide that no grid
-// ray meets. The choice depends on neither the surface nor the debug view (the three views make one image) and is the same for
-// radiance scaled by a power of two (the sun's intensity).
+// Depth-aware upsampling of the grid at px (its distance `key` in m, SPACE_DISTANCE into space):
+// the bilinear interpolation of the 4 grid points around px. It stands (true) when the
+// interpolated inverse distance of those points agrees with px's own within
+// MARCH_DEPTH_TOLERANCE (AmortiseDepthAgree: 1/d is affine across the screen on a plane, so one
+// surface passes and a silhouette — a mesh's edge, the horizon, the limb — does not), every
+// point lies inside the grid, and the 4 points' values are close: each channel of the
+// in-scattering within uMarchContrast of the largest, of the transmittance within
+// uMarchContrast, over the whole cell (a shaft's edge, the limb's thin glow seen from space
+// change faster than interpolation follows); else px marches its own ray (MARCH_PASS 3). So does
+// every pixel beside a mesh's edge (one of its 4 neighbours is a mesh and it is not, or the
+// reverse): a ray that grazes a ridge can run in its shadow for kilometres, a dark line one
+// pixel wide that no grid ray meets. Failure cases: grid points past the image's last row or
+// column are not interpolated from (their pixels march); the sky's distance interpolates as
+// 1/d = 0, its sum floored. The choice depends on neither the surface nor the debug view (the
+// three views make one image) and is the same for radiance scaled by a power of two (the sun's
+// intensity).
 bool MarchUpsample(ivec2 px, float key, out vec3 inscatter, out vec3 transmittance) {
     ivec2 last = textureSize(uMarchInscatter, 0) - 1;
     ivec2 g0 = px >> uAmortiseShift;
     vec2 f = vec2(px - (g0 << uAmortiseShift)) / float(uAmortiseBlock);
     inscatter = vec3(0.0);
     transmittance = vec3(0.0);
-    vec3 loL = vec3(1.0e38), hiL = vec3(0.0), loT = vec3(1.0), hiT = vec3(0.0);
+    vec3 loL = vec3(FLOAT_HUGE), hiL = vec3(0.0), loT = vec3(1.0), hiT = vec3(0.0);
     bool agree = true;
     float inverse = 0.0;   // Σ w / d
     for (int dy = 0; dy <= 1; ++dy) {
@@ -278,13 +275,15 @@ bool MarchUpsample(ivec2 px, float key, out vec3 inscatter, out vec3 transmittan
         ivec2 q = px + ivec2(k == 0 ? -1 : k == 1 ? 1 : 0, k == 2 ? -1 : k == 3 ? 1 : 0);
         agree = agree && texelFetch(uGPosition, clamp(q, ivec2(0), top), 0).w == mesh;
     }
-    float d = 1.0 / max(inverse, 1.0e-30);
+    float d = 1.0 / max(inverse, MIN_INVERSE_DISTANCE);
     return agree && abs(key - d) <= MARCH_DEPTH_TOLERANCE * max(key, d)
         && all(lessThanEqual(hiL - loL, uMarchContrast * hiL))   // scale-free: 0 ≤ 0 passes
         && all(lessThanEqual(hiT - loT, vec3(uMarchContrast)));
 }
 #endif
 
+// Methods 1–3, one pixel: its surface times the transmittance plus the in-scattering (linear
+// radiance), the debug views replacing surface or in-scattering as the thesis's figures do.
 void main() {
     ivec2 px = ivec2(gl_FragCoord.xy);
     vec3 dir, surface, inscatter, transmittance;
@@ -296,7 +295,7 @@ void main() {
 #if MARCH_PASS == 2
     // interpolated, or marked for MARCH_PASS 3 (window depth 1: its far-plane draw passes '<='
     // there only; 0 where the interpolation stands)
-    bool filled = MarchUpsample(px, space ? 1.0e30 : dist, inscatter, transmittance);
+    bool filled = MarchUpsample(px, space ? SPACE_DISTANCE : dist, inscatter, transmittance);
     gl_FragDepth = filled ? 0.0 : 1.0;
 #else
     Atmosphere(dir, dist, space, uSteps, inscatter, transmittance);

@@ -86,10 +86,10 @@ float ShadowVisibilityPoint(vec3 local) {
 }
 
 // The samples i ∈ [first, last) of a view ray's midpoint sum (t_i = t0 + (i + ½) ds, i < n, the
-// ray from the camera at `camera` in the local frame along dir) whose points may be in shadow: the ray's light-space line
-// p(t) = p(0) + t · M dir / 2 clipped to the casters' box extended to the far plane (a slab
-// test), widened by one sample each side against rounding. (0, 0) when shadows are off or the
-// ray misses the box.
+// ray from the camera at `camera` in the local frame along dir) whose points may be in shadow:
+// the ray's light-space line p(t) = p(0) + t · M dir / 2 clipped to the casters' box extended
+// to the far plane (a slab test), widened by one sample each side against rounding. (0, 0)
+// when shadows are off or the ray misses the box.
 ivec2 ShadowSampleRange(vec3 camera, vec3 dir, float t0, float ds, int n) {
     if (!uShadowsEnabled || !(ds > 0.0)) return ivec2(0);
     vec3 a = ShadowLightCoords(camera);

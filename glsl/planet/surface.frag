@@ -39,6 +39,8 @@ uniform float uKd;
 uniform float uKs;
 uniform float uShininess;
 
+// The mesh's colour (texture, or Phong lit by the attenuated sun) and its camera-relative
+// position, into the G-buffer.
 void main() {
     vec3 albedo = texture(uAlbedo, vUv / uTextureTile).rgb;
     vec3 color = albedo;
@@ -62,7 +64,8 @@ void main() {
         vec3 fromCentre = vRel - uEarthCenter;
         float r = length(fromCentre);
         if (SunRayHitsGround(r - uBottomRadius, dot(fromCentre / r, uSunDir))) sunlight = vec3(0.0);
-        color = AmbientLight(albedo, n, uKa, uKd) + (albedo * uKd * diffuse + uKs * spec) * sunlight;
+        color = AmbientLight(albedo, n, uKa, uKd)
+                + (albedo * uKd * diffuse + uKs * spec) * sunlight;
     }
     outColor = vec4(color, 1.0);
     outPosition = vec4(vRel, 1.0);

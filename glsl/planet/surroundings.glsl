@@ -8,9 +8,9 @@
 // attenuates, §1.4); diffuse = min(V, n·l) as the meshes' Phong (planet/surface.frag).
 // Used by planet/ground.frag (the default: shaded once into the G-buffer's colour, outside the
 // per-method pass) and by planet/composite.frag without SURFACES_IN_GBUFFER (the earlier path).
-// Needs atmosphere/model.glsl, atmosphere/optical_depth_lut.glsl, atmosphere/sun_transmittance.glsl,
-// planet/shadow.glsl and uCameraLocal; includes planet/sky_irradiance.glsl (the ambient: k_a, or
-// beyond the thesis the sky's irradiance).
+// Needs atmosphere/model.glsl, atmosphere/optical_depth_lut.glsl,
+// atmosphere/sun_transmittance.glsl, planet/shadow.glsl and uCameraLocal; includes
+// planet/sky_irradiance.glsl (the ambient: k_a, or beyond the thesis the sky's irradiance).
 // Failure cases: the asin of the star lookup is clamped; the analytic ground takes no shadow-map
 // depth bias (it cannot shadow itself, see GroundColor); the baked noise's cubemap is seamless
 // (GL_TEXTURE_CUBE_MAP_SEAMLESS), so face edges do not show; the cap's gnomonic coordinates are

@@ -61,6 +61,9 @@ float Grid(vec2 p, float s, float px) {
     return line * fade;
 }
 
+// The contact shadow under the lab's objects at ground point p (x, z in metres), in [0, 1]:
+// the product over up to 6 objects of 1 − strength·exp(−d/falloff), d the distance to the
+// object's rotated footprint rectangle (0 inside it). The falloff is floored at 1e-3 m.
 float ContactOcclusion(vec2 p) {
     float occ = 1.0;
     int n = clamp(uContactCount, 0, 6);

@@ -19,7 +19,8 @@ in vec4 in_tangent;        // xyz the tangent (direction of +u), w the handednes
 uniform mat4 uModel;       // rotation, translation and uniform scale only
 uniform mat4 uViewProj;
 uniform vec3 uCameraPos;
-uniform bool uGouraud;     // @param false §2.1 Gouraud: light per vertex and interpolate (the thesis lights per fragment)
+uniform bool uGouraud; // @param false §2.1 Gouraud: light per vertex and interpolate (the thesis
+                       // lights per fragment)
 
 out vec3 vWorldPos;
 out vec3 vWorldNormal;

@@ -14,10 +14,12 @@
 //   sky   = gradient(elevation) from the keyframes around the hour (CPU: app/sim/daynight.py)
 //   stars = saturate(star³ · 3) · StarIntensity,  star = StarTex(sphereUV · 2).r
 //   moon  = (MoonTex(moonPos.xy + 0.5) · step(0.5, p·L_moon) · MoonIntensity
-//            + smoothstep(0.97, 1.3, p·L_moon) · 0.8) · MoonCol,  moonPos = World2Moon·p·6, x mirrored
+//            + smoothstep(0.97, 1.3, p·L_moon) · 0.8) · MoonCol,
+//           moonPos = World2Moon·p·6, x mirrored
 //
 // Failure cases guarded here:
-//  * the reversed smoothstep(0.6, 0.0, x) of the HLSL original is undefined in GLSL → SmoothStepDown;
+//  * the reversed smoothstep(0.6, 0.0, x) of the HLSL original is undefined in GLSL
+//    → SmoothStepDown;
 //  * the 1e-4 clamp keeps the sun finite at its centre (peak 400.7 × SunCol at the defaults);
 //  * asin/atan2 arguments are clamped (a normalised vector can exceed 1 by rounding);
 //  * beyond the thesis (switchable): the Earth hides sun, moon and stars below the horizon.
@@ -32,8 +34,8 @@
 //   reflected = gradient + halo toward the mirrored direction at that incidence (no sun or
 //          moon disk: the glitter is their reflection, spread by the waves)
 //   body = uSeaColor · (sky ambient + E·max(l.y, 0)/π), sky ambient = the cosine-weighted mean
-//          of the gradient over the upper hemisphere (uSkyAmbient, from the CPU); E = the main light (sun by day, moon by
-//          night, already reddened by the air mass on the CPU)
+//          of the gradient over the upper hemisphere (uSkyAmbient, from the CPU); E = the main
+//          light (sun by day, moon by night, already reddened by the air mass on the CPU)
 //   glitter = E · F(v·h) · Beckmann(n·h, mss) · G / (4 n·v), mss = Cox & Munk 1954's slope
 //          variance 0.003 + 0.00512·U for the wind U (CPU)
 //   haze = 1 − exp(−(uEyeHeight / n·v) / 12 km), toward the horizon colour (gradient + halo)
@@ -51,17 +53,29 @@
 const float MIE_G = -0.990;
 const float MIE_G2 = 0.9801;
 
-uniform float uSunSize;             // @param 0.05 [0, 1] step=0.005 §1.7 _SunSize: sun disk size (Mie exponent SunSize^0.65·10)
-uniform float uSunIntensity;        // @param 2 [0, 20] step=0.1 §1.7 _SunIntensity: sun disk brightness
-uniform vec3 uSunColor;             // @param (1, 1, 1) [0, 1] color §1.7 _SunCol: sun colour (also the main light's colour by day)
-uniform float uScatteringIntensity; // @param 1 [0, 5] step=0.05 §1.7 _ScatteringIntensity: halo strength around the sun
-uniform float uStarIntensity;       // @param 1 [0, 5] step=0.05 §1.7 _StarIntensity: star brightness (times the keyframes' star factor)
-uniform vec3 uMoonColor;            // @param (1, 1, 1) [0, 1] color §1.7 _MoonCol: moon colour (also the main light's colour by night)
-uniform float uMoonIntensity;       // @param 1.2 [1, 3] step=0.05 §1.7 _MoonIntensity: moon disk brightness
-uniform bool uHorizonOcclusion;     // @param true beyond the thesis: the Earth hides sun, moon and stars below the horizon
-uniform float uBelowHorizon;        // @param 1 [0, 1] step=0.01 beyond the thesis: brightness below the horizon (1 = the thesis's clamped horizon colour; sky.ground = horizon only)
-uniform vec3 uSeaColor;             // @param (0.01, 0.045, 0.06) [0, 1] color beyond the thesis: the sea plane's body colour, upwelling radiance per unit of irradiance/π (sky.ground = sea)
-uniform float uSeaHaze;             // @param 12000 [100, 100000] step=100 unit=m beyond the thesis: distance over which the sea plane fades into the horizon colour
+uniform float uSunSize; // @param 0.05 [0, 1] step=0.005 §1.7 _SunSize: sun disk size (Mie exponent
+                        // SunSize^0.65·10)
+uniform float uSunIntensity; // @param 2 [0, 20] step=0.1 §1.7 _SunIntensity: sun disk brightness
+uniform vec3 uSunColor; // @param (1, 1, 1) [0, 1] color §1.7 _SunCol: sun colour (also the main
+                        // light's colour by day)
+uniform float uScatteringIntensity; // @param 1 [0, 5] step=0.05 §1.7 _ScatteringIntensity: halo
+                                    // strength around the sun
+uniform float uStarIntensity; // @param 1 [0, 5] step=0.05 §1.7 _StarIntensity: star brightness
+                              // (times the keyframes' star factor)
+uniform vec3 uMoonColor; // @param (1, 1, 1) [0, 1] color §1.7 _MoonCol: moon colour (also the main
+                         // light's colour by night)
+uniform float uMoonIntensity; // @param 1.2 [1, 3] step=0.05 §1.7 _MoonIntensity: moon disk
+                              // brightness
+uniform bool uHorizonOcclusion; // @param true beyond the thesis: the Earth hides sun, moon and
+                                // stars below the horizon
+uniform float uBelowHorizon; // @param 1 [0, 1] step=0.01 beyond the thesis: brightness below the
+                             // horizon (1 = the thesis's clamped horizon colour; sky.ground =
+                             // horizon only)
+uniform vec3 uSeaColor; // @param (0.01, 0.045, 0.06) [0, 1] color beyond the thesis: the sea
+                        // plane's body colour, upwelling radiance per unit of irradiance/π
+                        // (sky.ground = sea)
+uniform float uSeaHaze; // @param 12000 [100, 100000] step=100 unit=m beyond the thesis: distance
+                        // over which the sea plane fades into the horizon colour
 
 uniform int uGround;                // 0 = the thesis's horizon colour, 1 = the sea (sky.ground)
 uniform vec3 uMainLightDir;         // toward the main light (sun by day, moon by night)
@@ -122,7 +136,8 @@ vec3 SkySea(vec3 p) {
                             uSeaColor, uSeaMss, uSeaGlitter, uEyeHeight, uSeaHaze);
 }
 
-// spec/000 eq. B.4: radiance of the sky toward unit direction p (world space, y up).
+// spec/000 eq. B.4: linear radiance of the sky toward unit direction p (world space, y up): the
+// sum of sun, halo, gradient, stars and moon of the header, or the sea below the horizon.
 vec3 SkyRadiance(vec3 p) {
     if (uGround == 1 && p.y < 0.0) return SkySea(p);
     vec2 sphereUV = vec2(atan(p.x, p.z) / TWO_PI, asin(ClampCosine(p.y)) / HALF_PI);

@@ -16,7 +16,8 @@ in vec4 in_tangent;
 uniform mat4 uViewProj;
 uniform mat4 uView;
 uniform vec3 uCameraPos;
-uniform bool uReflectionOptimize; // @param false §2.5 REFLECTION_OPTIMIZE: the reflection vector per vertex, interpolated (cheaper; bends on coarse meshes)
+uniform bool uReflectionOptimize; // @param false §2.5 REFLECTION_OPTIMIZE: the reflection vector
+                                  // per vertex, interpolated (cheaper; bends on coarse meshes)
 
 out vec3 vWorldPos;
 out vec3 vWorldNormal;
@@ -35,7 +36,9 @@ void main() {
     if (uReflectionOptimize) {
         vec3 v = uCameraPos - in_position;
         float lv = dot(v, v), ln = dot(in_normal, in_normal);
-        if (lv > 1e-20 && ln > 1e-20) vReflect = reflect(-v * inversesqrt(lv), in_normal * inversesqrt(ln));
+        if (lv > 1e-20 && ln > 1e-20) {
+            vReflect = reflect(-v * inversesqrt(lv), in_normal * inversesqrt(ln));
+        }
     }
     gl_Position = uViewProj * vec4(in_position, 1.0);
 }

@@ -26,6 +26,7 @@ void main() {
     } else if (uProbeMode == 2) {
         fragColor = vec4(CloudsBRayBoxDistance(uBoundsMin, uBoundsMax, p, uProbeDir), 0.0, 0.0);
     } else {
-        fragColor = vec4(HenyeyGreenstein(p.x, p.y), CloudsBPhase(p.x), CloudsBBeer(p.z), CloudsBPowder(p.z));
+        fragColor = vec4(HenyeyGreenstein(p.x, p.y), CloudsBPhase(p.x), CloudsBBeer(p.z),
+                         CloudsBPowder(p.z));
     }
 }

@@ -20,6 +20,9 @@ uniform float uProbeDistance;
 uniform int uProbeSteps;      // view-ray steps of the brute force
 uniform int uProbeSunSteps;   // sun-ray steps of the brute force
 
+// T_sun by a midpoint march to the top of the atmosphere (uProbeSunSteps steps, denser near
+// the point: s³ spacing), at height h above the ground (the LUTs' length unit) and sun cosine
+// muS; 0 where the ground hides the sun. The reference for the transmittance LUT.
 vec3 ProbeSunTransmittance(float h, float muS) {
     if (HillaireRayHitsGround(h, muS)) return vec3(0.0);
     float d = HillaireDistanceToTop(h, muS);
@@ -32,6 +35,9 @@ vec3 ProbeSunTransmittance(float h, float muS) {
     return TransmittanceFromDepths(depth);
 }
 
+// The brute-force sky along dir up to maxDist: uProbeSteps midpoint steps of single
+// scattering (ProbeSunTransmittance for T_sun) plus the Ψ_ms LUT's multiple scattering;
+// rgb the radiance, a the mean transmittance. A ray with an empty segment returns (0, 1).
 vec4 ProbeBruteForce(vec3 dir, float maxDist) {
     vec4 a = HillaireViewAngles(dir);
     float mu = a.x, nu = a.y, muS = a.z;

@@ -1,7 +1,7 @@
 #version 430
 // Noise probe: evaluates one GLSL expression of the noise library at points read from a
 // buffer and writes the results to another — how the tests (and accuracy benches) compare
-// the GLSL noise with its numpy twin in app/sim/noise/. Driven by app.render.noise.NoiseProbe.
+// the GLSL noise with its numpy twin in app/sim/noise/. Driven by tests/helpers/noise_probe.py.
 //
 // The expression comes in as the define NOISE_FUNC (injected after #version by
 // ShaderLibrary.program(name, defines={"NOISE_FUNC": ...})). It may use

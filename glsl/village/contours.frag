@@ -29,9 +29,12 @@ uniform sampler2D uDepth;            // a copy of the image's depth (GL window d
 uniform vec2 uNearFar;               // the camera's near and far planes [m]
 uniform mat4 uInvViewProj;           // clip → world, for the fog of the line's own distance
 uniform int uTap;                    // the taps' distance h [px] (the line's width)
-uniform float uContourThreshold;     // @param 0.06 [0.005, 1] step=0.005 §2.13 contours: the relative depth step (≈ 1 − z_near/z_far) where a line begins; twice it is a full line
-uniform float uContourStrength;      // @param 0.85 [0, 1] step=0.01 §2.13 contours: the line's opacity
-uniform vec3 uContourColor;          // @param (0.05, 0.035, 0.03) [0, 1] color §2.13 contours: the line's colour (linear), a warm near-black
+uniform float uContourThreshold; // @param 0.06 [0.005, 1] step=0.005 §2.13 contours: the relative
+                                 // depth step (≈ 1 − z_near/z_far) where a line begins; twice it is
+                                 // a full line
+uniform float uContourStrength; // @param 0.85 [0, 1] step=0.01 §2.13 contours: the line's opacity
+uniform vec3 uContourColor; // @param (0.05, 0.035, 0.03) [0, 1] color §2.13 contours: the line's
+                            // colour (linear), a warm near-black
 
 out vec4 fragColor;
 

@@ -46,8 +46,10 @@ uniform sampler2D uNormalMap;   // tangent-space normals of the relief (0.5·n +
 uniform sampler2D uHeightMap;   // the relief's height in alpha
 uniform float uReliefTile;      // metres (terrain) or uv units (walls) per tile of the relief
 uniform vec3 uFrameColour;      // the window frames' albedo (walls)
-uniform int uDebug;             // 0 the image, 1 each draw's group as a flat colour, 2 the sun's shadow visibility
-uniform int uDebugId;           // the draw's group: 0 terrain, 1 walls, 2 solids, 3 lanterns, 4 flame, 5 people
+// uDebug: 0 the image, 1 each draw's group as a flat colour, 2 the sun's shadow visibility;
+// uDebugId: the draw's group, 0 terrain, 1 walls, 2 solids, 3 lanterns, 4 flame, 5 people.
+uniform int uDebug;
+uniform int uDebugId;
 
 // A flat colour per group for the debug view (their ids on the three channels: exact to read).
 vec3 DebugGroupColour(int id) {

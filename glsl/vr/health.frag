@@ -15,17 +15,26 @@
 in vec2 vUV;
 out vec4 fragColor;
 
-uniform sampler2D uRingMask;  // the UI texture: the ring's shape in red (app.sim.vr.ring_mask_texture)
-uniform float uVisibility;    // @param 0.5 [0, 1] step=0.01 §2.15 Visibility (Fig. 145): multiplies the ring's alpha (0 hidden, 1 opaque)
-uniform int uLives;           // @param 20 [1, 64] §2.15 Lives: the ring's sections (Fig. 145's inspector: 20; Fig. 146 shows 8)
-uniform float uRemaining;     // @param 12.35 [0, 64] step=1 §2.15 Remaining (Fig. 145: 12.35): sections below it are full; clamped to Lives
-uniform vec3 uColorFull;      // @param (1, 0, 0) [0, 1] color §2.15 Color Full (the repository's material: red)
-uniform vec3 uColorEmpty;     // @param (1, 0.706, 0.706) [0, 1] color §2.15 Color Empty (the repository's material: pale red)
+// uRingMask: the UI texture, the ring's shape in red (app.sim.vr.ring_mask_texture).
+uniform sampler2D uRingMask;
+uniform float uVisibility; // @param 0.5 [0, 1] step=0.01 §2.15 Visibility (Fig. 145): multiplies
+                           // the ring's alpha (0 hidden, 1 opaque)
+uniform int uLives; // @param 20 [1, 64] §2.15 Lives: the ring's sections (Fig. 145's inspector: 20;
+                    // Fig. 146 shows 8)
+uniform float uRemaining; // @param 12.35 [0, 64] step=1 §2.15 Remaining (Fig. 145: 12.35): sections
+                          // below it are full; clamped to Lives
+uniform vec3 uColorFull; // @param (1, 0, 0) [0, 1] color §2.15 Color Full (the repository's
+                         // material: red)
+uniform vec3 uColorEmpty; // @param (1, 0.706, 0.706) [0, 1] color §2.15 Color Empty (the
+                          // repository's material: pale red)
 uniform int uAngleMode;       // 0 by quadrant (0–360°), 1 the document's acos (0–180°)
 
 const float GAP_FRACTION = 0.05;
 const float DEGREES = 57.29577951308232;
 
+// The angle of e (the ring's coordinates, [−1, 1]²) in degrees counter-clockwise from the
+// screen's right: by quadrant over [0, 360) or, with uAngleMode 1, the document's acos over
+// [0, 180]. The centre (|e| < 1e-6) gets 0, not a NaN.
 float RingAngle(vec2 e) {
     float r = length(e);
     if (r < 1e-6) {

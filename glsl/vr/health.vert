@@ -15,9 +15,13 @@
 in vec2 in_position;   // the Plane mesh's (x, z), in [-5, 5]
 out vec2 vUV;          // (0, 0) bottom-left of the quad, +u right, +v up on screen
 
-uniform float uElementSize;  // @param 0.014 [0, 1] step=0.001 §2.15 Element Size (Fig. 145): the viewport's width per unit of the 10-unit Plane mesh, so the ring spans 10× this of the width
-uniform float uScreenX;      // @param 0.666 [0, 1] step=0.001 §2.15 Screen X (Fig. 145): the ring's centre, fraction of the viewport's width from its left
-uniform float uScreenY;      // @param 0.579 [0, 1] step=0.001 §2.15 Screen Y (Fig. 145): the ring's centre, fraction of the viewport's height from its bottom
+uniform float uElementSize; // @param 0.014 [0, 1] step=0.001 §2.15 Element Size (Fig. 145): the
+                            // viewport's width per unit of the 10-unit Plane mesh, so the ring
+                            // spans 10× this of the width
+uniform float uScreenX; // @param 0.666 [0, 1] step=0.001 §2.15 Screen X (Fig. 145): the ring's
+                        // centre, fraction of the viewport's width from its left
+uniform float uScreenY; // @param 0.579 [0, 1] step=0.001 §2.15 Screen Y (Fig. 145): the ring's
+                        // centre, fraction of the viewport's height from its bottom
 uniform vec2 uViewport;      // the image's width and height [px]
 uniform int uAspectForm;     // 0 corrected, 1 the document's h/w, 2 the repository's w/h
 

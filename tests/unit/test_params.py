@@ -343,6 +343,20 @@ def test_annotations_become_parameters():
     assert (f.unit, f.section, f.doc) == ("1/m", "spec/000 §2.3", "fog density")
 
 
+def test_an_annotation_doc_goes_on_below_in_its_column():
+    text = ("uniform float uA; // @param 0.5 [0, 1] step=0.1 unit=m §1.6 first part,\n"
+            "                  //   and the rest\n"
+            "                  // still the doc\n"
+            "uniform float uB; // @param 1 [0, 2] its own doc\n"
+            "                     // not the doc: another column\n"
+            "// nor this\n")
+    found = {p.name: p for p in parse_glsl_annotations(text, "fx", "glsl/fx/wrapped.glsl")}
+    a, b = found["fx.a"], found["fx.b"]
+    assert (a.default, a.lo, a.hi, a.step, a.unit, a.section) == (0.5, 0.0, 1.0, 0.1, "m", "§1.6")
+    assert a.doc == "first part, and the rest still the doc"
+    assert b.doc == "its own doc"
+
+
 def test_no_annotations_no_parameters():
     assert parse_glsl_annotations("uniform float uX;\nvoid main() {}\n// @param in a comment\n",
                                   "fx") == []

@@ -71,3 +71,23 @@ def test_main_shader_opens_with_its_thesis_and_failure_cases(path):
             text = header(inc)
     assert CITES.search(text), f"{path}: the header names no thesis (spec/NNN §…) or paper (YEAR)"
     assert FAILURES.search(text), f"{path}: the header lists no failure cases ('Failure cases …')"
+
+
+MAX_COLUMNS = 100
+
+
+def test_every_shader_line_fits_in_100_columns():
+    """Every line of every file under glsl/ is at most 100 characters wide (as the Python is):
+    one message lists every offending file with its lines and widths."""
+    shaders = [p for p in DEFAULT_SHADER_ROOT.rglob("*")
+               if p.is_file() and p.suffix in (".glsl", ".frag", ".vert", ".comp", ".geom")]
+    assert shaders
+    wide = []
+    for path in sorted(shaders):
+        lines = path.read_text(encoding="utf-8").split("\n")
+        over = [f"{i} ({len(line)})" for i, line in enumerate(lines, 1)
+                if len(line) > MAX_COLUMNS]
+        if over:
+            wide.append(f"{path.relative_to(DEFAULT_SHADER_ROOT)}: lines {', '.join(over)}")
+    assert not wide, (f"{len(wide)} shader files have lines over {MAX_COLUMNS} columns:\n"
+                      + "\n".join(wide))

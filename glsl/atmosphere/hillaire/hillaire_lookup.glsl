@@ -1,74 +1,23 @@
-// =============================================================================================
-// Method 4 — what a scene's composite pass calls (Hillaire 2020 §5.3 sky-view lookup, §5.4
-// aerial-perspective lookup, §4 transmittance, §6 space views). Include this file; bind the LUTs
-// with HillaireLuts.bind(program, first_unit) (app/effects/planet/hillaire.py), which also
-// sets every uHillaire* uniform below. The scene sets, as for methods 1–3, the model uniforms of
-// glsl/atmosphere/model.glsl (uEarthCenter, uCameraRadius, radii, β, H, P0, G, uSunIntensity,
-// uSunDir) and the camera uniforms of glsl/common/camera.glsl (uCamRight/Up/Forward,
-// uTanHalfFov, uAspect) — the same camera the LUTs were updated with this frame.
-//
-//   vec3 HillaireSkyRadiance(vec3 viewDir)
-//        radiance of a ray that leaves the atmosphere (sun disk NOT included; a ray that hits
-//        the ground gets the in-scattering up to the ground);
-//   vec4 HillaireAerialPerspective(vec2 screenUv, float distanceMetres)
-//        (in-scattered radiance rgb, mean transmittance a) between the camera and a surface at
-//        that distance along the pixel's ray CameraRayDirection(screenUv); composite as
-//        surface · a + rgb, or per channel with HillaireTransmittance;
-//   vec4 HillaireAerialPerspectiveAlongRay(vec2 screenUv, vec3 viewDir, float distanceMetres)
-//        the same with the ray given (a mesh pass that knows its fragment's direction);
-//   vec3 HillaireTransmittance(float t, vec3 viewDir)
-//        per-channel transmittance from the camera to distance t (transmittance-LUT ratio);
-//   void HillaireSkyView(vec3 viewDir, out vec3 radiance, out vec3 transmittance)
-//        a pixel no mesh covers (the sky, or the analytic ground the ray meets): the sky-view
-//        LUT's radiance and per-channel transmittance of the whole ray (to the top or the
-//        ground), two bilinear reads;
-//   void HillaireAerial(vec2 screenUv, vec3 viewDir, float distanceMetres, out vec3 radiance,
-//                       out vec3 transmittance)
-//        a mesh at that distance: the volume's radiance and per-channel transmittance, two
-//        trilinear reads. These two are the per-pixel pass of Hillaire's paper: lookups only.
-//   vec3 HillaireSunTransmittance(vec3 positionRelCamera)
-//        transmittance of sunlight reaching a point (0 in the planet's shadow): light a surface
-//        with uSunIntensity · HillaireSunTransmittance(p) · BRDF · cos.
-//
-// Units: radiance = uSunIntensity × dimensionless integrals, as in model.glsl; uSunIntensity is
-// used as a sun *illuminance* E (radiance = E · σ · phase per steradian · length), exactly as in
-// the thesis's in-scattering integral (spec/002 §1.5), so method 4 with uHillaireMsScale = 0
-// converges to method 1 as its steps grow.
-//
-// Space and far distances (Hillaire §6): above the top of the atmosphere the sky-view LUT and
-// the volume are replaced by a per-pixel march of the same integral with the transmittance and
-// multiple-scattering LUTs (uHillaireMarchSteps samples); the weight uHillaireSpaceWeight (set
-// by the CPU) ramps from 0 at the top to 1 a tenth of the atmosphere's height above it, so
-// flying out is continuous. Past uHillaireApRange the volume hands over to the same march
-// (blended over the last 10 % of the range). HILLAIRE_MARCH says at compile time which of them
-// a program contains: 1 (the default) both, chosen per pixel as above; 0 the lookups alone (the
-// camera inside the atmosphere, every mesh within the range: what the scene's pass compiles in
-// the usual case); 2 the march alone (the camera above the blend band). A software rasteriser
-// runs every branch a program contains, so the march must be compiled out, not skipped.
-//
-// What the LUTs store (skyview_lut.frag, aerial_perspective.glsl): rgb the phase-free Mie and
-// the phased Rayleigh + multiple scattering integrals, and in their alphas the density
-// integrals (∫ρ_R dt, ∫ρ_M dt) of the same ray, so that the per-channel transmittance is
-// exp(−(β^ext_R x + β^ext_M y)) from the same two reads (model.glsl's TransmittanceFromDepths).
-// The ozone layer (model.glsl, beyond the thesis) adds a third density integral the alphas have
-// no room for: with HILLAIRE_OZONE defined (the scene defines it when the layer is on) the
-// per-channel transmittance of a sky-view or volume lookup whose segment rises into the layer
-// (above 10 km) comes instead from the transmittance LUT, which includes ozone (HillaireTransmittance:
-// one read to the top, or the ratio of two); a segment that stays below the layer keeps the
-// alphas' exact value (the LUT ratio errs up to ~4 % on near-horizontal rays).
-// The volume's first slice lies range/D² from the camera; nearer (a mesh within ~125 m), the
-// radiance follows the quadratic through 0 whose slope is the camera's own source term, whose
-// per-frame factors (sunlight × σ_R, sunlight × σ_M, σ_s Ψ_ms at the camera) come from the CPU
-// (uHillaireSource*, HillaireLuts.lookup_uniforms), and the density integrals fall linearly.
-//
-// Texture units: six: transmittance, multiple scattering, sky-view ×2, aerial perspective ×2.
-// Failure cases: a camera/LUT mismatch (the volume was built for another camera: it is drawn
-// with the wrong rays), G → ±1 (PhaseMieCornetteShanks clamps), t ≤ 0 (returns 0, T = 1).
-// =============================================================================================
+// Method 4, beyond the thesis: what a scene's composite pass calls to read Hillaire's LUTs
+// (Hillaire 2020 §4 transmittance, §5.3 sky-view, §5.4 aerial perspective, §6 space views).
+// Include this file and bind the six LUTs (transmittance, multiple scattering, sky-view ×2,
+// aerial perspective ×2) with HillaireLuts.bind (app/effects/planet/hillaire.py), which also
+// sets every uHillaire* uniform; the scene sets model.glsl's uniforms and camera.glsl's camera,
+// the one the LUTs were updated with this frame. Radiance is linear, uSunIntensity × the
+// integrals (an illuminance, as in the thesis's spec/002 §1.5: method 4 with uHillaireMsScale
+// = 0 converges to method 1 as its steps grow); the sun disk is not included.
+// Failure cases guarded: a camera above the atmosphere or a mesh past the volume's range (the
+// per-pixel march takes over), t ≤ 0 (no scattering, T = 1), G → ±1 (the phase clamps). Not
+// guarded: a volume built for another camera is drawn along the wrong rays.
 #include "hillaire_common.glsl"
 #include "skyview.glsl"
 #include "camera.glsl"
 
+// HILLAIRE_MARCH says at compile time what a program contains: 1 (the default) the LUT lookups
+// and the per-pixel march, chosen per pixel; 0 the lookups alone (the camera inside the
+// atmosphere and every mesh within the volume's range: the usual case); 2 the march alone (the
+// camera above the blend band). A software rasteriser runs every branch a program contains, so
+// the march must be compiled out, not skipped.
 #ifndef HILLAIRE_MARCH
 #define HILLAIRE_MARCH 1
 #endif
@@ -87,7 +36,14 @@ uniform vec3 uHillaireSourceRayleigh;   // T_sun σ_R at the camera
 uniform vec3 uHillaireSourceMie;        // T_sun σ^s_M at the camera
 uniform vec3 uHillaireSourceMultiple;   // σ_s Ψ_ms at the camera (0 with multiple scattering off)
 
-// (μ, ν, μ_s, cos φ) of a direction, in the camera's local vertical frame.
+const float HILLAIRE_MIN_SIN2 = 1.0e-12;       // sin² μ · sin² μ_s below which φ is undefined
+const float HILLAIRE_MIN_TRANSMITTANCE = 1.0e-30; // floor of a ratio's denominator (T ∈ [0, 1])
+const float HILLAIRE_AP_BLEND_START = 0.9;  // fraction of uHillaireApRange: the march starts
+const float HILLAIRE_AP_BLEND_WIDTH = 0.1;  // fraction of uHillaireApRange: ... and takes over
+
+// (μ, ν, μ_s, cos φ) of a unit direction in the camera's local vertical frame: view zenith,
+// view–sun and sun zenith cosines, and the cosine of the azimuth between view and sun. Every
+// cosine is clamped into [−1, 1]; cos φ is 1 where either direction is vertical.
 vec4 HillaireViewAngles(vec3 viewDir) {
     vec3 up = CameraUp();
     float mu = ClampCosine(dot(viewDir, up));
@@ -97,13 +53,16 @@ vec4 HillaireViewAngles(vec3 viewDir) {
     // (ν − μ μ_s) / sqrt((1 − μ²)(1 − μ_s²)) — no vectors formed per pixel (1 when either is
     // vertical, where φ is undefined and the sky-view LUT does not depend on it)
     float d = (1.0 - mu * mu) * (1.0 - muS * muS);
-    float cosPhi = d > 1.0e-12 ? (nu - mu * muS) * inversesqrt(d) : 1.0;
+    float cosPhi = d > HILLAIRE_MIN_SIN2 ? (nu - mu * muS) * inversesqrt(d) : 1.0;
     return vec4(mu, nu, muS, ClampCosine(cosPhi));
 }
 
 vec3 HillaireTransmittance(float t, vec3 viewDir);
 
-// The same integral as the LUTs, marched for one pixel from the camera (or the entry point).
+// The same integral as the LUTs (Hillaire 2020 eq. 1), marched for one pixel from the camera
+// (or from the entry point, seen from space, Hillaire 2020 §6) to maxDist (m), with
+// uHillaireMarchSteps samples: linear radiance rgb and mean transmittance a, and the per-channel
+// transmittance. A ray that misses the atmosphere gives (0, 0, 0, 1) and T = 1.
 vec4 HillaireMarch(vec3 viewDir, float maxDist, out vec3 transmittance) {
     vec4 a = HillaireViewAngles(viewDir);
     float h0 = uHillaireCameraHeight;
@@ -116,8 +75,13 @@ vec4 HillaireMarch(vec3 viewDir, float maxDist, out vec3 transmittance) {
     return vec4(HillaireRadiance(acc, a.y), HillaireMean(transmittance));
 }
 
-// The sky-view LUT for the ray along viewDir: radiance (no sun disk) and the per-channel
-// transmittance of the whole ray, to the top of the atmosphere or to the ground.
+// The sky-view LUT (Hillaire 2020 §5.3) for the unit direction viewDir: linear radiance (no sun
+// disk; a ray that hits the ground gets the in-scattering up to it) and the per-channel
+// transmittance of the whole ray, to the top or the ground, from two bilinear reads. The LUT
+// holds the phased Rayleigh + multiple scattering and the phase-free Mie; its alphas hold the
+// density integrals (∫ρ_R dt, ∫ρ_M dt), so T = exp(−(β^ext_R x + β^ext_M y)). With
+// HILLAIRE_OZONE (ozone on: a third integral the alphas have no room for) a ray that rises into
+// the layer (above OZONE_BOTTOM) takes T from the transmittance LUT instead, which holds ozone.
 void HillaireSkyViewLookup(vec3 viewDir, out vec3 radiance, out vec3 transmittance) {
     vec4 a = HillaireViewAngles(viewDir);
     vec2 size = vec2(textureSize(uHillaireSkyViewRayleighMs, 0));
@@ -136,14 +100,10 @@ void HillaireSkyViewLookup(vec3 viewDir, out vec3 radiance, out vec3 transmittan
 #endif
 }
 
-vec3 HillaireSkyRadianceFromLut(vec3 viewDir) {
-    vec3 L, T;
-    HillaireSkyViewLookup(viewDir, L, T);
-    return L;
-}
-
-// A pixel no mesh covers: the sky-view LUT (HILLAIRE_MARCH 0), the march (2), or the two blended
-// by uHillaireSpaceWeight (1).
+// A pixel no mesh covers (the sky, or the analytic ground its ray meets): linear radiance and
+// per-channel transmittance from the sky-view LUT (HILLAIRE_MARCH 0), the march (2), or the two
+// blended by uHillaireSpaceWeight (1): the CPU ramps it from 0 at the top of the atmosphere to
+// 1 a tenth of its height above, so flying out is continuous.
 void HillaireSkyView(vec3 viewDir, out vec3 radiance, out vec3 transmittance) {
 #if HILLAIRE_MARCH == 2
     radiance = HillaireMarch(viewDir, HILLAIRE_INFINITY, transmittance).rgb;
@@ -159,15 +119,18 @@ void HillaireSkyView(vec3 viewDir, out vec3 radiance, out vec3 transmittance) {
 #endif
 }
 
+// HillaireSkyView's radiance alone (the preview and the probes).
 vec3 HillaireSkyRadiance(vec3 viewDir) {
     vec3 L, T;
     HillaireSkyView(viewDir, L, T);
     return L;
 }
 
-// Per-channel transmittance from the camera to distance t along viewDir: the ratio of two
-// transmittance-LUT values (Bruneton 2008), taken along the ray's direction when it does not
-// hit the ground, and along the reversed ray otherwise (both then stay in the LUT's domain).
+// Per-channel transmittance ([0, 1]) from the camera to distance t (m) along the unit viewDir:
+// the ratio of two transmittance-LUT values (Bruneton 2008), along the ray when it misses the
+// ground and along the reversed ray otherwise, so both stay in the LUT's domain. Near-horizontal
+// rays err up to ~4 % (the ratio of two filtered reads); t ≤ 0 or an empty segment gives 1, a
+// zero denominator is floored and the result clamped into [0, 1].
 vec3 HillaireTransmittance(float t, vec3 viewDir) {
     float h0 = uHillaireCameraHeight;
     float mu = ClampCosine(dot(viewDir, CameraUp()));
@@ -181,23 +144,20 @@ vec3 HillaireTransmittance(float t, vec3 viewDir) {
     float muB = ClampCosine((r0 * mu + seg.y) / (uBottomRadius + hB));
     vec3 T;
     if (HillaireRayHitsGround(h0, mu)) {
-        T = HillaireTransmittanceToTop(hB, -muB) / max(HillaireTransmittanceToTop(hA, -muA), vec3(1.0e-30));
+        T = HillaireTransmittanceToTop(hB, -muB)
+            / max(HillaireTransmittanceToTop(hA, -muA), vec3(HILLAIRE_MIN_TRANSMITTANCE));
     } else {
-        T = HillaireTransmittanceToTop(hA, muA) / max(HillaireTransmittanceToTop(hB, muB), vec3(1.0e-30));
+        T = HillaireTransmittanceToTop(hA, muA)
+            / max(HillaireTransmittanceToTop(hB, muB), vec3(HILLAIRE_MIN_TRANSMITTANCE));
     }
     return clamp(T, 0.0, 1.0);
 }
 
-// In-scattered radiance per metre at the camera itself (the integrand at t = 0), from the
-// per-frame factors the CPU sets (0 above the top of the atmosphere).
-vec3 HillaireSourceAtCamera(float nu) {
-    return uSunIntensity * (uHillaireSourceRayleigh * PhaseRayleigh(nu)
-                            + uHillaireSourceMie * PhaseMieCornetteShanks(nu, uMieG)
-                            + uHillaireSourceMultiple);
-}
-
-// The volume's radiance and per-channel transmittance to distance dist along the pixel's ray
-// (screenUv for the froxel column, viewDir for the Mie phase): two trilinear reads.
+// The aerial-perspective volume (Hillaire 2020 §5.4): linear radiance and per-channel
+// transmittance to distance dist (m) along the pixel's ray (screenUv for the froxel column, the
+// unit viewDir for the phase), from two trilinear reads. Slices are spaced in sqrt(dist), the
+// first at range/D² (~125 m); nearer, see below. The alphas and the ozone case are as in
+// HillaireSkyViewLookup, except that a segment's highest point is one of its two ends.
 void HillaireVolumeLookup(vec2 screenUv, vec3 viewDir, float dist, out vec3 radiance,
                           out vec3 transmittance) {
     float nu = ClampCosine(dot(viewDir, uSunDir));
@@ -229,14 +189,10 @@ void HillaireVolumeLookup(vec2 screenUv, vec3 viewDir, float dist, out vec3 radi
 #endif
 }
 
-vec4 HillaireAerialPerspectiveFromVolume(vec2 screenUv, vec3 viewDir, float dist) {
-    vec3 L, T;
-    HillaireVolumeLookup(screenUv, viewDir, dist, L, T);
-    return vec4(L, HillaireMean(T));
-}
-
-// A mesh at distanceMetres along the pixel's ray: the volume (HILLAIRE_MARCH 0), the march (2),
-// or the two blended by uHillaireSpaceWeight and past 90 % of the volume's range (1).
+// A mesh at distanceMetres (m) along the pixel's ray: linear radiance and per-channel
+// transmittance from the volume (HILLAIRE_MARCH 0), the march (2), or the two blended by
+// uHillaireSpaceWeight and over the last 10 % of the volume's range (1). Past the range the
+// march alone. distanceMetres ≤ 0 or NaN gives no scattering and T = 1.
 void HillaireAerial(vec2 screenUv, vec3 viewDir, float distanceMetres, out vec3 radiance,
                     out vec3 transmittance) {
     radiance = vec3(0.0);
@@ -246,7 +202,8 @@ void HillaireAerial(vec2 screenUv, vec3 viewDir, float distanceMetres, out vec3 
     radiance = HillaireMarch(viewDir, distanceMetres, transmittance).rgb;
 #elif HILLAIRE_MARCH == 1
     float range = uHillaireApRange;
-    float far = clamp((distanceMetres - 0.9 * range) / (0.1 * range), 0.0, 1.0);
+    float far = clamp((distanceMetres - HILLAIRE_AP_BLEND_START * range)
+                      / (HILLAIRE_AP_BLEND_WIDTH * range), 0.0, 1.0);
     float w = max(clamp(uHillaireSpaceWeight, 0.0, 1.0), far);
     vec3 volL = vec3(0.0), volT = vec3(1.0), marchL = vec3(0.0), marchT = vec3(1.0);
     if (w < 1.0) HillaireVolumeLookup(screenUv, viewDir, distanceMetres, volL, volT);
@@ -258,17 +215,22 @@ void HillaireAerial(vec2 screenUv, vec3 viewDir, float distanceMetres, out vec3 
 #endif
 }
 
+// HillaireAerial for a mesh pass that knows its fragment's direction: (radiance rgb, mean
+// transmittance a); composite as surface · a + rgb.
 vec4 HillaireAerialPerspectiveAlongRay(vec2 screenUv, vec3 viewDir, float distanceMetres) {
     vec3 L, T;
     HillaireAerial(screenUv, viewDir, distanceMetres, L, T);
     return vec4(L, HillaireMean(T));
 }
 
+// The same along the pixel's own ray, CameraRayDirection(screenUv).
 vec4 HillaireAerialPerspective(vec2 screenUv, float distanceMetres) {
-    return HillaireAerialPerspectiveAlongRay(screenUv, CameraRayDirection(screenUv), distanceMetres);
+    return HillaireAerialPerspectiveAlongRay(screenUv, CameraRayDirection(screenUv),
+                                             distanceMetres);
 }
 
-// Altitude of a point given relative to the camera, without forming |p − C| at planet scale.
+// Altitude (m) of a point given relative to the camera (m), without forming |p − C| at planet
+// scale (it would cancel in float32); rounding negatives under the root are clamped.
 float HillaireHeightOf(vec3 positionRelCamera) {
     float rc = uCameraRadius;
     float along = dot(positionRelCamera, CameraUp());
@@ -277,6 +239,8 @@ float HillaireHeightOf(vec3 positionRelCamera) {
     return uHillaireCameraHeight + num / max(r + rc, 1.0);
 }
 
+// Transmittance ([0, 1], rgb) of sunlight reaching a point given relative to the camera (m): 0
+// in the planet's shadow. Light a surface with uSunIntensity · this · BRDF · cos.
 vec3 HillaireSunTransmittance(vec3 positionRelCamera) {
     float h = HillaireHeightOf(positionRelCamera);
     vec3 n = normalize(positionRelCamera - uEarthCenter);

@@ -34,6 +34,7 @@ uniform int uHillaireMsSteps;          // samples per direction (the paper: 20)
 uniform float uHillaireGroundAlbedo;   // Lambertian ground albedo in the LUT (0: none)
 uniform float uHillaireMsInfinite;     // 1: F_ms = 1/(1 − f_ms); 0: second order only
 
+// One texel (μ_s, h): the sphere of directions integrated as described above.
 void main() {
     vec2 unit = floor(gl_FragCoord.xy) / max(uHillaireTargetSize - 1.0, vec2(1.0));
     float muS = ClampCosine(2.0 * unit.x - 1.0);
@@ -62,7 +63,8 @@ void main() {
                     float r0 = uBottomRadius + h;
                     float muSG = ClampCosine((r0 * muS + tg * nu) / uBottomRadius);
                     vec3 sunG = HillaireSunTransmittanceAt(0.0, muSG);
-                    Lp += exp(-acc.opticalDepth) * sunG * (uHillaireGroundAlbedo / PI) * max(muSG, 0.0);
+                    Lp += exp(-acc.opticalDepth) * sunG * (uHillaireGroundAlbedo / PI)
+                          * max(muSG, 0.0);
                 }
             } else if (uHillaireGroundAlbedo > 0.0 && HillaireRayHitsGround(h, mu)) {
                 vec3 sunG = HillaireSunTransmittanceAt(0.0, muS);

@@ -14,6 +14,7 @@ in vec2 vUV;
 out vec4 fragColor;
 uniform float uPreviewGroundAlbedo;   // 0.3
 
+// The ground sphere where the pixel's ray meets it (lit, then the aerial perspective), else sky.
 void main() {
     vec3 dir = CameraRayDirection(vUV);
     float tGround = GroundDistance(dir);

@@ -26,6 +26,8 @@ layout(location = 1) out vec4 outMie;
 uniform vec2 uHillaireTargetSize;
 uniform int uHillaireSkyViewSteps;
 
+// One texel: the ray of its (zenith, azimuth) angles from the camera's altitude, integrated to the
+// top or the ground; rgb phased Rayleigh + multiple and phase-free Mie, alphas ∫ρ_R dt, ∫ρ_M dt.
 void main() {
     float h0 = uHillaireCameraHeight;
     vec2 angles = HillaireSkyViewAngles(ivec2(gl_FragCoord.xy), ivec2(uHillaireTargetSize), h0);
