@@ -1,8 +1,11 @@
 """Test tiers from measured durations (issue 26).
 
-``tests/durations.json`` holds what each test cost in the last recorded full run (setup, call
-and teardown seconds, and whether it shares a module-scoped fixture), written by
-``pytest --record-durations`` (see tests/conftest.py). From it, at collection:
+``tests/durations.json`` holds what each test cost in the last recorded run, one rounded number
+a test, by module: a module's ``tests`` (setup + call + teardown seconds), its ``shared`` ones
+(those sharing a module-scoped fixture: call + teardown) and that fixture's seconds once
+(``fixture``: the setup of the test that paid it). ``pytest --record-durations`` writes it
+(see tests/conftest.py): each module the run measured replaces its entry, so record whole
+modules. From it, at collection:
 
 * ``slow``: a test whose measured setup + call + teardown exceeds ``SLOW_S``. An unmarked test
   (neither ``slow`` by measurement nor by decorator) that takes more than ``GUARD_S`` is listed
@@ -61,20 +64,33 @@ class Cost:
 
 
 def load(path: Path = DURATIONS) -> dict[str, Cost]:
+    """Each test's cost; a test sharing a module fixture carries the fixture as its setup."""
     if not path.is_file():
         return {}
     raw = json.loads(path.read_text(encoding="utf-8"))
-    return {node: Cost(*row) for node, row in raw.get("tests", {}).items()}
+    costs = {}
+    for module, entry in raw.get("modules", {}).items():
+        fixture = entry.get("fixture", 0.0)
+        for name, seconds in entry.get("tests", {}).items():
+            costs[f"{module}::{name}"] = Cost(0.0, seconds, 0.0)
+        for name, seconds in entry.get("shared", {}).items():
+            costs[f"{module}::{name}"] = Cost(fixture, seconds, 0.0, True)
+    return costs
 
 
 def save(costs: dict[str, Cost], note: str, path: Path = DURATIONS) -> None:
-    """Write atomically (a temporary file beside it, then a rename; removed on any error)."""
-    rows = [f"  {json.dumps(node)}: "
-            + json.dumps([round(c.setup, 3), round(c.call, 3), round(c.teardown, 3),
-                          c.shares_module_fixture])
-            for node, c in sorted(costs.items())]
-    text = ("{\n  \"note\": " + json.dumps(note) + ",\n  \"tests\": {\n"
-            + ",\n".join("  " + row for row in rows) + "\n  }\n}\n")
+    """Write by module, one rounded number a test (see the module's note), atomically (a
+    temporary file beside it, then a rename; removed on any error)."""
+    modules: dict[str, dict] = {}
+    for node, c in sorted(costs.items()):
+        module, name = node.split("::", 1)
+        entry = modules.setdefault(module, {})
+        if c.shares_module_fixture:
+            entry["fixture"] = round(max(entry.get("fixture", 0.0), c.setup), 3)
+            entry.setdefault("shared", {})[name] = round(c.call + c.teardown, 3)
+        else:
+            entry.setdefault("tests", {})[name] = round(c.total, 3)
+    text = json.dumps({"note": note, "modules": modules}, indent=1, ensure_ascii=False) + "\n"
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".durations-", suffix=".json")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as f:
@@ -193,9 +209,11 @@ def longest_first(items, costs: dict[str, Cost]) -> list:
             if group is not None else item.nodeid
         units.setdefault(key, []).append(item)
 
-    def cost(unit: list) -> float:
-        return sum(costs[n].total if n in costs else UNKNOWN_S
-                   for n in (plain_nodeid(i.nodeid) for i in unit))
+    def cost(unit: list) -> float:  # a shared fixture once: the largest setup
+        known = [costs[n] for n in (plain_nodeid(i.nodeid) for i in unit) if n in costs]
+        return (sum(c.call + c.teardown for c in known) + max((c.setup for c in known),
+                                                             default=0.0)
+                + UNKNOWN_S * (len(unit) - len(known)))
 
     ordered = sorted(units.values(), key=cost, reverse=True)  # stable: ties keep their order
     return [item for unit in ordered for item in unit]
@@ -235,8 +253,9 @@ def mark(items, costs: dict[str, Cost] | None = None) -> None:
 
 def pytest_addoption(parser):
     parser.addoption("--record-durations", action="store_true",
-                     help="write what each test cost (setup, call, teardown) into "
-                          "tests/durations.json, which the fast and slow tiers come from")
+                     help="write what each test cost into tests/durations.json, which the "
+                          "fast and slow tiers come from (each module measured replaces its "
+                          "entry: record whole modules)")
     parser.addoption("--slow-guard", action="store_true",
                      help=f"fail the run when a test not marked slow takes more than "
                           f"{guard_seconds():g} s (opt-in, for your own inner loop: a test's "
@@ -265,13 +284,15 @@ def pytest_sessionfinish(session, exitstatus):
         return
     costs = _COSTS
     if config.getoption("--record-durations") and costs:
-        merged = load()
+        measured = {module_of(node) for node in costs}  # these modules' entries are replaced
+        root = Path(str(config.rootpath))
+        merged = {n: c for n, c in load().items()
+                  if module_of(n) not in measured and (root / module_of(n)).is_file()}
         merged.update({node: Cost(s, c, t, bool(shared))
                        for node, (s, c, t, shared, _) in costs.items()})
-        root = Path(str(config.rootpath))
-        merged = {n: c for n, c in merged.items() if (root / module_of(n)).is_file()}
-        save(merged, "pytest --record-durations: seconds of setup, call, teardown; "
-                           "shares a module fixture")
+        save(merged, "pytest --record-durations (tests/helpers/tiers.py): by module, seconds "
+                     "a test (setup + call + teardown; a shared one's without its module "
+                     "fixture, whose setup is counted once)")
     late = sorted(((sum(row[:3]), node) for node, row in costs.items()
                    if sum(row[:3]) > guard_seconds() and not row[4]), reverse=True)
     _LATE[:] = late

@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import functools
 import importlib
 import io
 import re
@@ -67,13 +68,12 @@ def glsl_comments(path: Path) -> list[tuple[int, str]]:
     return out
 
 
-def texts():
-    for path in CODE:
-        for line, text in python_text(path):
-            yield path, line, text
-    for path in SHADERS:
-        for line, text in glsl_comments(path):
-            yield path, line, text
+@functools.cache
+def texts() -> tuple[tuple[Path, int, str], ...]:
+    """Every comment and string of the code and the shaders, read once for the module's four
+    checks (tokenizing app/ is most of each check's time)."""
+    return (tuple((path, line, text) for path in CODE for line, text in python_text(path))
+            + tuple((path, line, text) for path in SHADERS for line, text in glsl_comments(path)))
 
 
 def where(path: Path, line: int) -> str:

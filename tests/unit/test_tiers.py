@@ -107,18 +107,38 @@ def test_the_ci_script_and_the_default_options_never_ask_for_the_guard():
 def test_recorded_durations_mark_slow_and_fast(sample):
     r = _pytest(sample, "--record-durations")
     assert r.returncode == 0, r.stdout
-    recorded = json.loads((sample / "durations.json").read_text())["tests"]
-    assert len(recorded) == 4
-    setup, call, teardown, shared = recorded["test_sample.py::test_sleepy"]
-    assert call >= 0.6 and shared is False
-    assert recorded["test_sample.py::test_uses_shared_a"][0] >= 0.2  # it paid the fixture
-    assert recorded["test_sample.py::test_uses_shared_b"][3] is True
+    recorded = json.loads((sample / "durations.json").read_text())["modules"]
+    assert list(recorded) == ["test_sample.py"]
+    module = recorded["test_sample.py"]  # one number a test, the shared fixture once
+    assert set(module["tests"]) == {"test_quick", "test_sleepy"}
+    assert module["tests"]["test_sleepy"] >= 0.6
+    assert set(module["shared"]) == {"test_uses_shared_a", "test_uses_shared_b"}
+    assert module["fixture"] >= 0.2 and max(module["shared"].values()) < 0.2
     costs = tiers.load(sample / "durations.json")
-    nodes = list(recorded)
+    nodes = list(costs)
+    assert len(nodes) == 4
     fast, predicted = tiers.fast_tier(costs, nodes)
     assert fast == {"test_sample.py::test_quick"} and predicted < 0.05
     r = _pytest(sample, "-m", "fast", "--collect-only")
     assert "test_quick" in r.stdout and "test_sleepy" not in r.stdout, r.stdout
+
+
+def test_a_module_recorded_again_replaces_its_entry_and_keeps_the_others(tmp_path):
+    """A renamed or deleted test leaves no stale entry: recording a module replaces all of it;
+    the modules this run did not measure keep theirs (saved and loaded, rounded to 1 ms)."""
+    path = tmp_path / "durations.json"
+    tiers.save({"a.py::old_name": tiers.Cost(0.0, 1.23456, 0.0),
+                "b.py::kept": tiers.Cost(0.5, 0.25, 0.0, True)}, "note", path)
+    assert tiers.load(path) == {"a.py::old_name": tiers.Cost(0.0, 1.235, 0.0),
+                                "b.py::kept": tiers.Cost(0.5, 0.25, 0.0, True)}
+    (tmp_path / "pytest.ini").write_text("[pytest]\nmarkers =\n    slow: slow\n    fast: fast\n")
+    (tmp_path / "a.py").write_text("def test_new_name():\n    pass\n")
+    (tmp_path / "b.py").write_text("def test_kept():\n    pass\n")
+    r = _pytest(tmp_path, "a.py", "--record-durations")
+    assert r.returncode == 0, r.stdout
+    costs = tiers.load(path)
+    assert set(costs) == {"a.py::test_new_name", "b.py::kept"}
+    assert costs["b.py::kept"] == tiers.Cost(0.5, 0.25, 0.0, True)
 
 
 def test_slow_marks_what_shares_a_costly_module_fixture():
