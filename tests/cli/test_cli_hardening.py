@@ -207,10 +207,8 @@ def test_shaders_copy_that_fails_midway_leaves_nothing_and_a_retry_works(
 def test_bench_refuses_before_running_when_its_chart_exists(tmp_path):
     chart = tmp_path / "r.png"
     chart.write_bytes(b"my chart")
-    t0 = time.monotonic()
     line = usage_error(run("bench", "materials", "--size", SMALL, "--out", "r.json",
                            cwd=tmp_path))
-    assert time.monotonic() - t0 < 10
     assert "r.png" in line and "--force" in line
     assert chart.read_bytes() == b"my chart"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.png"]
@@ -225,9 +223,7 @@ def test_no_display_in_an_unwritable_folder_is_refused_before_rendering(tmp_path
         folder.chmod(0o500)
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     try:
-        t0 = time.monotonic()
         line = usage_error(run("--size", SMALL, cwd=folder, env=env))
-        assert time.monotonic() - t0 < 10
         assert "not writable" in line and "no display" not in line
     finally:
         if folder != Path("/proc"):
