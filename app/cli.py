@@ -1,20 +1,5 @@
-"""``natura`` — the command line.
-
-    natura                      open the window on the default scene (headless PNG without a
-                                display)
-    natura window [SCENE]       the same, for any scene
-    natura render SCENE ...     render headless to PNG or EXR
-    natura scenes               list the scenes and their effects
-    natura params SCENE         list a scene's parameters (name, default, range, unit, doc, section)
-    natura shaders check        compile every program, print file:line errors (exit 1 on any)
-    natura shaders copy DIR     copy the shader folder for editing (then --shaders DIR)
-    natura bench SCENE          time each pass, write JSON
-    natura bench boat           the boat's physics and speed polar (numpy, no GL): JSON, charts
-    natura compare SCENE --a NAME=VALUE... --b NAME=VALUE...
-                                two parameter sets side by side: ms, difference, errors; PNG + JSON
-    natura report SCENE         an HTML handout: the scene's methods side by side, charts, sections
-    natura render|window SCENE --quality auto --error-budget E --ms-budget MS
-                                the cheapest measured settings within the budgets
+"""``natura`` — the command line: one ``_add_*`` function per subcommand (``natura --help``
+lists them; docs/commands.md explains each), then one ``cmd_*`` function per subcommand.
 
 Exit codes: 0 success, 1 shader errors, 2 bad arguments or an output that cannot be written
 (one line naming the culprit and what is allowed), 3 no OpenGL, 70 an internal error (a bug:
@@ -24,6 +9,7 @@ one line, please report), 130 Ctrl-C, 143 SIGTERM (temporary files removed).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import os
 import re
@@ -449,6 +435,7 @@ def _add_exercise(sub: argparse._SubParsersAction) -> None:
                            "(exit 0 or 1), the errors, DIR/difference.png")
     ec.add_argument("dest", metavar="DIR", help="a folder made by natura exercise start")
 
+
 def build_parser() -> argparse.ArgumentParser:
     """The whole command line: one ``_add_*`` function per subcommand, in help order."""
     parser = _Parser(prog="natura",
@@ -481,8 +468,6 @@ def cmd_exercise(args) -> int:
         return exercise.cmd_check(args.dest)
     raise UsageError("exercise: a subcommand is needed: allowed list, start, check")
 
-
-# ---- commands --------------------------------------------------------------------------------
 
 def _nonempty(option: str, value: str | None, allowed: str) -> None:
     """An option given as '' is refused (it would otherwise silently mean its default)."""
@@ -718,17 +703,10 @@ def cmd_params(args) -> int:
     return 0
 
 
-def copy_shaders(dest_arg: str) -> Path:
-    """``natura shaders copy DIR`` (app.teach.editor.copy_shaders: a temporary sibling renamed
-    at the end, nothing left behind on an error)."""
-    from .teach.editor import copy_shaders as copy
-
-    _nonempty("shaders copy DIR", dest_arg, "a new folder name")
-    return copy(dest_arg)
-
-
 def cmd_shaders(args) -> int:
     if args.shaders_command == "copy":
+        from .teach.editor import copy_shaders  # a temporary sibling renamed at the end
+
         dest = copy_shaders(args.dest)
         where = shlex.quote(str(dest))
         print(f"{dest}\nedit there, then: natura --shaders {where} window sky (--shaders goes "
@@ -792,17 +770,9 @@ def program_specs() -> list:
     """Every program the app builds, each variant once: the effects' programs (their
     variants included), the bench's reference pass and the window's display pass."""
     from .bench import TRIVIAL
-    from .scenes import SCENES
     from .ui.display import DISPLAY
 
-    specs: dict = {}
-    for scene in SCENES.values():
-        for effect in scene.effects:
-            for spec in effect.programs:
-                specs.setdefault(spec, effect.name)
-    specs.setdefault(TRIVIAL, "bench")
-    specs.setdefault(DISPLAY, "window")
-    return list(specs)
+    return list(dict.fromkeys([*_spec_effects(), TRIVIAL, DISPLAY]))
 
 
 def _spec_effects() -> dict:
@@ -1149,6 +1119,7 @@ def cmd_compare(args) -> int:
     print(json_path)
     return 0
 
+
 def cmd_report(args) -> int:
     """``natura report SCENE``: every input checked (scene, sets, methods, camera, the folder)
     before anything renders; app.teach.report does the work."""
@@ -1185,8 +1156,6 @@ def cmd_report(args) -> int:
     return 0
 
 
-# ---- main ------------------------------------------------------------------------------------
-
 class Terminated(KeyboardInterrupt):
     """SIGTERM, raised in the main thread so that every ``finally`` runs (temporary files are
     removed) — like Ctrl-C, with exit code 143."""
@@ -1201,10 +1170,8 @@ def _install_sigterm() -> None:
     import threading
 
     if threading.current_thread() is threading.main_thread():
-        try:
+        with contextlib.suppress(ValueError, OSError):
             signal.signal(signal.SIGTERM, _on_sigterm)
-        except (ValueError, OSError):
-            pass
 
 
 class StdoutError(NaturaError):
@@ -1219,41 +1186,36 @@ class _GuardedStdout:
         self._stream = stream
 
     def _failed(self, exc: OSError) -> StdoutError:
-        try:  # drop what it could not write: Python's flush at exit would fail again
+        # drop what it could not write: Python's flush at exit would fail again
+        with contextlib.suppress(OSError, ValueError, AttributeError):
             null = os.open(os.devnull, os.O_WRONLY)
             os.dup2(null, self._stream.fileno())
             os.close(null)
-        except (OSError, ValueError, AttributeError):
-            pass
         return StdoutError(f"cannot write to standard output ({exc.strerror or 'error'}, "
                            f"errno {exc.errno}): allowed an output with room for it (a "
                            "terminal, a pipe, a file on a disk with free space)")
 
-    def write(self, text: str) -> int:
+    def _guarded(self, call, *args):
         try:
-            return self._stream.write(text)
+            return call(*args)
         except BrokenPipeError:
             raise
         except OSError as exc:
             raise self._failed(exc) from None
 
+    def write(self, text: str) -> int:
+        return self._guarded(self._stream.write, text)
+
     def flush(self) -> None:
-        try:
-            self._stream.flush()
-        except BrokenPipeError:
-            raise
-        except OSError as exc:
-            raise self._failed(exc) from None
+        self._guarded(self._stream.flush)
 
     def __getattr__(self, name: str):
         return getattr(self._stream, name)
 
 
 def _say(text: str) -> None:
-    try:
+    with contextlib.suppress(OSError, ValueError):
         print(f"natura: {text}", file=sys.stderr)
-    except (OSError, ValueError):
-        pass
 
 
 #: the commands that render headless (the window too, when there is no display)
@@ -1264,10 +1226,9 @@ def _tolerate_encoding() -> None:
     """Output that cannot carry Unicode (``PYTHONIOENCODING=ascii``, a C locale) still gets
     every line: characters it cannot encode are written as backslash escapes."""
     for stream in (sys.stdout, sys.stderr):
-        try:
+        # AttributeError, ValueError, OSError: not a text stream of ours, or closed
+        with contextlib.suppress(AttributeError, ValueError, OSError):
             stream.reconfigure(errors="backslashreplace")  # type: ignore[union-attr]
-        except (AttributeError, ValueError, OSError):  # not a text stream of ours, or closed
-            pass
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:

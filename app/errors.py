@@ -50,11 +50,12 @@ LINE_LIMIT = 200
 def quote(value, limit: int = QUOTE_LIMIT) -> str:
     """``repr(str(value))``, cut to ``limit`` characters with an ellipsis in the middle (a
     path keeps its file name): a 100 kB argument is named, never echoed."""
-    text = repr(value if isinstance(value, str) else str(value))
-    if len(text) <= limit:
-        return text
+    return _cut(repr(value if isinstance(value, str) else str(value)), limit)
+
+
+def _cut(text: str, limit: int) -> str:
     head = (limit - 1) // 2
-    return text[:head] + "…" + text[-(limit - 1 - head):]
+    return text if len(text) <= limit else text[:head] + "…" + text[-(limit - 1 - head):]
 
 
 def quote_path(path, limit: int = QUOTE_LIMIT) -> str:
@@ -77,11 +78,6 @@ def quote_path(path, limit: int = QUOTE_LIMIT) -> str:
 #: quoted parts, or an apostrophe, is never taken for one
 _QUOTED = re.compile(r"(?<!\w)(?:'(?:[^'\\\n]|\\.){%d,}'|\"(?:[^\"\\\n]|\\.){%d,}\")(?!\w)"
                      % (QUOTE_LIMIT, QUOTE_LIMIT))
-
-
-def _cut(text: str, limit: int) -> str:
-    head = (limit - 1) // 2
-    return text if len(text) <= limit else text[:head] + "…" + text[-(limit - 1 - head):]
 
 
 def one_line(message: str, limit: int = LINE_LIMIT) -> str:

@@ -7,45 +7,8 @@ Effects never name each other. A *producer* fills a slot of the :class:`FrameCon
 produces is refused when it is built, with one line naming both. An optional slot that no active
 effect fills has a documented fallback at its consumer.
 
-The slots (:data:`SLOTS` is the machine-readable list):
-
-``hour``, ``sun``, ``moon``, ``main_light``
-    The time of day and the lights (:class:`~app.sim.daynight.Light`: direction *toward* the
-    light, colour, intensity). ``main_light`` is what lit surfaces use: the sun by day, the moon
-    by night. Filled by a sky (day–night or analytic).
-``environment``
-    An :class:`Environment`: the scene's reflection probe, a cubemap of linear radiance with or
-    without the sun disk, re-rendered by its producer only when it changed.
-``wind``
-    (x, z) wind velocity in m/s over the scene (None until an effect fills it: the scene's
-    ``wind`` effect, or the ocean from its own parameters when none did).
-``water``
-    A :class:`WaterSurface`: height, displacement and normal of the water at world points, and
-    the simulation time those answers describe.
-``wakes``
-    Trails floating objects leave on the water (:class:`app.sim.wake.WakeTrail`: samples in
-    world space, so a wake has inertia); the water draws them as foam.
-``dry_mask``
-    A :class:`DryMask`: window depths of the volumes the water must not enter (a hull and its
-    deck), drawn in the opaque stage; the water discards its fragments inside them.
-``image``
-    The :class:`SceneImage` the frame is drawn into: colour (linear radiance of every stage drawn
-    so far) and depth (window depth of the opaque geometry drawn so far), for effects that
-    composite over it or read it (clouds clip at the depth, water refracts the colour).
-``shadows``
-    Shadow maps by light name (:class:`ShadowMap`), filled in the shadow stage.
-``exposure``
-    A factor on ``output.exposure`` (the atmosphere thesis's "pupil").
-``terrain``
-    A :class:`Terrain`: the height field a scene stands on (the village's island) — heights,
-    normals, where grass grows, its bounds and sea level — for what grows or stands on it.
-``fog``
-    An ``app.sim.fog.FogSettings``: the scene's global fog (mode, density, start and end,
-    colour, the height-fog switch), which every lit surface applies once after its lighting
-    (``glsl/common/fog.glsl``); None: no fog.
-``npcs``
-    The characters a scene's player can talk to (:class:`Npc`: name, role, where their head
-    is), for world-space markers above them.
+The slots are :data:`SLOTS`; docs/architecture.md ("Frame slots") says who fills and reads
+each, and the fallback of an optional one.
 
 Stages (:class:`Stage`) order the passes of a frame: each pass says in which stage it runs, and
 the scene runs them stage by stage (effects in the scene's order within a stage).
@@ -71,26 +34,10 @@ if TYPE_CHECKING:
 
 
 class Stage(IntEnum):
-    """When a pass runs within a frame, in this order.
-
-    * ``SHADOW`` — depth from each shadowed light into ``frame.shadows``;
-    * ``ENVIRONMENT`` — reflection probes, re-rendered only when what they show changed;
-    * ``BACKGROUND`` — what is behind everything (sky): overwrites every pixel;
-    * ``OPAQUE`` — solid geometry, depth-tested and depth-writing;
-    * ``WATER`` — water surfaces seen from above: they read the opaque image (refraction) and
-      are covered by the volumes in front of them;
-    * ``SKY`` — what is behind everything, drawn after the opaque and water stages only where
-      they left the far plane (depth-tested there): the image ``BACKGROUND`` would give, without
-      shading the pixels something covers. A scene with a pass here must have no pass in the
-      opaque or water stages that reads the image (the sky is not in it yet);
-    * ``TRANSPARENT`` — blended surfaces, back to front;
-    * ``VOLUMES`` — ray-marched media composited over the image (clouds), clipped at its depth;
-    * ``FOG`` — participating media in front of everything: distance and height fog, aerial
-      perspective, and the water when the camera is in it or at it (seen from below, the
-      surface is part of the medium the camera is in, so it draws after the volumes and
-      Snell's window shows them): an effect may pick its stage per frame;
-    * ``POST`` — image-space effects on the finished radiance (outlines, bloom);
-    * ``OVERLAY`` — HUD and debug views, drawn last.
+    """When a pass runs within a frame, in this order (docs/architecture.md, "A frame", says
+    what draws in each). A scene with a ``SKY`` pass must have no opaque or water pass that
+    reads the image (the sky is not in it yet); an effect may pick its stage per frame (the
+    water draws in ``FOG`` when the camera is in it, so that Snell's window shows the volumes).
     """
 
     SHADOW = 10

@@ -16,6 +16,8 @@ import contextlib
 import errno
 import os
 import re
+import secrets
+import shutil
 import signal
 import stat
 import time
@@ -47,8 +49,6 @@ class OutputError(UsageError):
         super().__init__(message)
         self.path, self.why, self.allowed = path, why, allowed
 
-
-# ---- permissions and temporary files --------------------------------------------------------
 
 _UMASK: int | None = None
 
@@ -88,8 +88,6 @@ def signals_deferred() -> Iterator[None]:
 def _remove(p: Path) -> None:
     with contextlib.suppress(OSError):
         if p.is_dir() and not p.is_symlink():
-            import shutil
-
             shutil.rmtree(p, ignore_errors=True)
         else:
             p.unlink()
@@ -119,8 +117,6 @@ def _remove_stale_temps(folder: Path) -> None:
 
 def temp_name_in(folder: Path) -> Path:
     """A fresh, unused temporary name in ``folder`` (not created)."""
-    import secrets
-
     return folder / f"{TEMP_PREFIX}{secrets.token_hex(4)}{TEMP_SUFFIX}"
 
 
@@ -197,8 +193,6 @@ def writing(path: Path) -> Iterator[None]:
     except (OSError, RuntimeError, ValueError, MemoryError) as exc:
         raise _write_error(path, exc) from None
 
-
-# ---- paths ---------------------------------------------------------------------------------
 
 def expand(path: str | os.PathLike, what: str = "output") -> Path:
     """``Path(path).expanduser()``, or one line when it names an unknown user's home."""
@@ -359,8 +353,6 @@ def save_figure(fig, path: str | os.PathLike, force: bool = False, dpi: int = 90
     return path
 
 
-# ---- writers and readers -------------------------------------------------------------------
-
 def write_png(path: str | os.PathLike, rgb: np.ndarray, exposure: float = 1.0, mode: str = "aces",
               force: bool = False) -> Path:
     """Tone-map linear radiance ``(h, w, 3|4)`` and write an 8-bit sRGB PNG atomically."""
@@ -394,19 +386,3 @@ def write_image(path: str | os.PathLike, rgb: np.ndarray, exposure: float = 1.0,
         return write_exr(path, rgb, force=force)
     return write_png(path, rgb, exposure, mode, force=force)
 
-
-def read_png(path: str | os.PathLike) -> np.ndarray:
-    from PIL import Image
-
-    with Image.open(path) as im:
-        return np.asarray(im.convert("RGB"))
-
-
-def read_exr(path: str | os.PathLike) -> np.ndarray:
-    import OpenEXR
-
-    with OpenEXR.File(str(path)) as f:
-        channels = f.channels()
-        if "RGB" in channels:
-            return np.asarray(channels["RGB"].pixels, dtype=np.float32)
-        return np.stack([np.asarray(channels[c].pixels, dtype=np.float32) for c in "RGB"], axis=-1)

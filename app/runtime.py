@@ -17,7 +17,7 @@ from .gpu.targets import check_frame_size
 from .params import ParamSet
 from .scenes import get_scene
 from .scenes.base import Scene
-from .sim.camera import Camera
+from .sim.camera import Camera, parse_camera
 
 MAX_SIDE = 16384
 _SIZE = re.compile(r"\s*(\d{1,9})\s*[xX×]\s*(\d{1,9})\s*")
@@ -71,8 +71,6 @@ def placed_camera(scene_name: str, params: ParamSet, view=None,
     """The scene's camera, placed by ``view`` (a ``scenes.views`` view) and then by
     ``camera_text`` (``X,Y,Z[,YAW[,PITCH[,FOV]]]``, checked against the scene's range), either
     of which tells the scene the user placed it (a chase camera lets go)."""
-    from .sim.camera import parse_camera
-
     cls = get_scene(scene_name)
     camera = cls.new_camera()
     if view is not None and view.place(camera):
@@ -108,10 +106,6 @@ def render_frames(session: Session, size: tuple[int, int], frames: int = 1, fps:
     """Yield ``frames`` linear-radiance images ``(h, w, 4)``; time advances 1/fps per frame.
     ``warmup`` frames are rendered first and not yielded (a view that needs the boat to
     settle or a temporal filter to converge)."""
-    if not (isinstance(frames, int) and frames >= 1):
-        raise UsageError(f"frames {frames!r} is out of range: allowed 1 or more")
-    if not (0.0 < fps < float("inf")):
-        raise UsageError(f"fps {fps!r} is out of range: allowed a positive finite number")
     dt = 1.0 / fps
     target = session.gpu.target("output", "scene radiance", size)
     try:

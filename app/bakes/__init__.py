@@ -2,14 +2,9 @@
 (compute shaders where GL ≥ 4.3, one fragment pass per slice elsewhere), cached on disk and
 checked against numpy twins.
 
-* :mod:`.params` — :class:`ShapeBake`, :class:`DetailBake`, :class:`WeatherBake` (frozen
-  dataclasses whose fields are the parameters, groups ``bake_shape``, ``bake_detail``,
-  ``bake_weather``; :func:`bake_params` lists them as ``app.params.Param``);
-* :mod:`.core` — :func:`bake` (and ``bake_shape``/``bake_detail``/``bake_weather``) → :class:`Baked`
-  (RGBA8 texels, path, cache status, timings; ``.texture(gpu, owner)`` for renderers), and
-  :func:`bake_report` (uncached timings of both paths, for the bench);
-* :mod:`.cache` — :class:`BakeCache`, the checked file format, ``$NATURA_CACHE``;
-* :func:`reference` — numpy twins of the bake shaders for small sizes (``app/sim/bakes.py``).
+:mod:`.params` holds the specs (one frozen dataclass per kind, its fields the parameters),
+:mod:`.core` the bake itself (:func:`bake` → :class:`Baked`), :mod:`.cache` the checked file
+format; the numpy twins are ``app/sim/bakes.py`` (:func:`reference`).
 
 Shaders: ``glsl/bakes/cloud_shape.glsl``, ``cloud_detail.glsl``, ``weather_map.glsl`` (headers
 with the equations), driven by ``glsl/common/bake3d_compute.glsl`` / ``bake3d_fragment.glsl``.
@@ -23,11 +18,8 @@ from .core import (
     Baked,
     RawBake,
     bake,
-    bake_detail,
     bake_raw,
     bake_report,
-    bake_shape,
-    bake_weather,
     finish,
     key_for,
     normalized,
@@ -47,8 +39,8 @@ def context_path(caps) -> dict[str, str]:
 
 __all__ = [
     "context_path",
-    "bake", "bake_detail", "bake_params", "bake_raw", "bake_report", "bake_shape",
-    "BAKE_VERSION", "bake_weather", "BakeCache", "Baked", "CACHE_ENV", "default_cache_dir",
+    "bake", "bake_params", "bake_raw", "bake_report",
+    "BAKE_VERSION", "BakeCache", "Baked", "CACHE_ENV", "default_cache_dir",
     "defaults", "DetailBake", "finish", "key_for", "maritime", "normalized", "PROGRAMS",
     "quantize", "RawBake", "reference", "shader_digest", "shader_files", "ShapeBake",
     "WeatherBake",

@@ -30,6 +30,7 @@ created or written turns caching off for that call with one warning per director
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -115,7 +116,6 @@ class BakeCache:
     def path_for(self, kind: str, size: int, key: str) -> Path:
         return self.directory / f"{kind}-{int(size)}-{key[:16]}.bake"
 
-    # -- reading ---------------------------------------------------------------------------
     def load(self, path: Path, key: str, kind: str, shape: tuple[int, ...]) -> CacheRead:
         """The array in ``path`` if the file is whole, ours, current and of the expected shape."""
         try:
@@ -171,7 +171,6 @@ class BakeCache:
         data = np.frombuffer(payload, dtype=np.uint8).reshape(shape).copy()
         return CacheRead(data, "hit", "", header)
 
-    # -- writing ---------------------------------------------------------------------------
     def store(self, path: Path, key: str, kind: str, data: np.ndarray,
               meta: dict[str, Any] | None = None) -> bool:
         """Write ``data`` (uint8) atomically. False, with one warning per directory, when the
@@ -210,41 +209,11 @@ class BakeCache:
             return False
         finally:
             if tmp is not None:
-                try:
+                with contextlib.suppress(OSError):
                     os.unlink(tmp)
-                except OSError:
-                    pass
 
-    # -- housekeeping ----------------------------------------------------------------------
     def files(self) -> list[Path]:
         try:
             return sorted(self.directory.glob("*.bake"))
         except OSError:
             return []
-
-    def prune(self, keep: int = 8) -> list[Path]:
-        """Delete all but the ``keep`` most recently modified files of each kind and size;
-        returns what was deleted (errors are ignored: pruning is best effort)."""
-        groups: dict[str, list[Path]] = {}
-        for f in self.files():
-            groups.setdefault(f.name.rsplit("-", 1)[0], []).append(f)
-        removed = []
-        for members in groups.values():
-            try:
-                members.sort(key=lambda p: p.stat().st_mtime, reverse=True)
-            except OSError:
-                continue
-            for old in members[keep:]:
-                try:
-                    old.unlink()
-                    removed.append(old)
-                except OSError:
-                    pass
-        return removed
-
-    def clear(self) -> None:
-        for f in self.files():
-            try:
-                f.unlink()
-            except OSError:
-                pass

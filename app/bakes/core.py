@@ -28,13 +28,13 @@ import numpy as np
 
 from ..errors import GpuUnavailableError
 from ..gpu.bake import bake_volume, read_volume
-from ..gpu.cache import build_mipmaps
+from ..gpu.device import Gpu
 from ..gpu.programs import ProgramSpec
 from ..gpu.shaders import ShaderLibrary, SourceError, read_source
 from ..render.noise import GradientNoiseTextures
 from ..sim.noise import gradient
 from .cache import BakeCache, cache_key
-from .params import DetailBake, ShapeBake, WeatherBake
+from .params import defaults, maritime
 
 OWNER = "bakes"
 
@@ -97,8 +97,6 @@ def key_for(spec, library: ShaderLibrary) -> str:
         extra["perlin_permutation"] = hashlib.sha256(table).hexdigest()
     return cache_key(spec.kind, spec.values(), shader_digest(library, spec.kind), extra)
 
-
-# ---- the bake itself ------------------------------------------------------------------------
 
 @dataclass
 class RawBake:
@@ -183,8 +181,6 @@ def finish(spec, raw: np.ndarray) -> np.ndarray:
     return out
 
 
-# ---- cached bakes ---------------------------------------------------------------------------
-
 @dataclass
 class Baked:
     """A bake as the app uses it: the RGBA8 texels and how they were obtained.
@@ -243,10 +239,7 @@ class Baked:
             h, w, _ = self.data.shape
             tex = gpu.texture(owner, name, (w, h), 4, data=data, dtype="f1", repeat=True)
         if mipmaps:
-            # the driver's levels, kept for the next session's texture of the same bytes
-            # (app.gpu.cache.build_mipmaps: bit-identical; on llvmpipe generating a 3D
-            # texture's levels costs each session ~40 ms per shape bake)
-            build_mipmaps(tex)
+            tex.build_mipmaps()
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
         else:
             tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
@@ -304,34 +297,14 @@ def bake(gpu, spec, *, cache=None, use_compute: bool | None = None,
                  time.perf_counter() - t0, raw.seconds, renderer)
 
 
-def bake_shape(gpu, spec: ShapeBake | None = None, **kw) -> Baked:
-    """:func:`bake` of a :class:`ShapeBake` (default 128³)."""
-    return bake(gpu, spec or ShapeBake(), **kw)
-
-
-def bake_detail(gpu, spec: DetailBake | None = None, **kw) -> Baked:
-    """:func:`bake` of a :class:`DetailBake` (default 32³)."""
-    return bake(gpu, spec or DetailBake(), **kw)
-
-
-def bake_weather(gpu, spec: WeatherBake | None = None, **kw) -> Baked:
-    """:func:`bake` of a :class:`WeatherBake` (default 512²)."""
-    return bake(gpu, spec or WeatherBake(), **kw)
-
-
-# ---- report for the bench and tools/bake.py -------------------------------------------------
-
 def bake_report(gpu=None, specs=None, paths=("compute", "fragment"), repeat: int = 1) -> list[dict]:
     """Bake each spec (default: the cloud thesis's defaults and the maritime sizes) with each
     path, uncached, and return one row per (spec, path): kind, size, path, seconds (median of
     ``repeat``), texels, MiB (RGBA8), texels per second, renderer. A path the context lacks
     (compute below GL 4.3) is skipped. Programs are compiled by a tiny warm-up bake first, so
     the times are the bakes alone."""
-    from .params import defaults, maritime
-
     own = gpu is None
     if own:
-        from ..gpu.device import Gpu
         gpu = Gpu()
     rows = []
     try:

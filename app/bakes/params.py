@@ -72,11 +72,10 @@ class _BakeSpec:
         values = {f"{self.group}.{f.name}": getattr(self, f.name)
                   for f in dataclasses.fields(self)}
         for j in self.joints:
-            if not j.kept_by(values):
+            if j.broken_by(values) is not None:
                 shown = ", ".join(f"{n}={values[n]}" for n in j.names)
                 raise ParamError(f"{shown}: allowed {j.text}")
 
-    # -- parameters ------------------------------------------------------------------------
     @classmethod
     def param(cls, name: str) -> Param:
         # made once per class and field: a spec is built every frame a texture is asked for,
@@ -116,7 +115,6 @@ class _BakeSpec:
     def replace(self, **changes):
         return dataclasses.replace(self, **changes)
 
-    # -- geometry --------------------------------------------------------------------------
     @property
     def volume_size(self) -> tuple[int, int, int]:
         """(width, height, depth) of the bake as a volume (a 2D map is one slice deep)."""
@@ -132,10 +130,7 @@ class _BakeSpec:
     @property
     def nbytes(self) -> int:
         """Bytes of the RGBA8 texture."""
-        out = 1
-        for s in self.array_shape:
-            out *= s
-        return out
+        return math.prod(self.array_shape)
 
     def uniforms(self) -> dict[str, Any]:
         """The bake shader's uniforms (each kind defines its own)."""

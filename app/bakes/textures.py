@@ -4,6 +4,10 @@ whenever a spec changes, with progress reported through ``gpu.progress`` (the wi
 from __future__ import annotations
 
 from .core import Baked, bake
+from .params import DetailBake, ShapeBake, WeatherBake
+
+#: the spec class of each kind of the default bakes, read from the ``bake_*`` parameters
+KINDS = {"shape": ShapeBake, "detail": DetailBake, "weather": WeatherBake}
 
 
 class BakedTextures:
@@ -26,6 +30,13 @@ class BakedTextures:
             self.last = result
             self.held[kind] = (spec, result, result.texture(self.gpu, self.owner))
         return self.held[kind][2]
+
+    def from_params(self, kind: str, params):
+        """The texture of ``kind`` (shape, detail, weather) as its ``bake_*`` parameters say.
+        One bake per kind is held, replaced on a change: nothing else keeps a ``Baked`` (8 MB
+        of texels for the default shape bake), so live edits do not grow the process."""
+        cls = KINDS[kind]
+        return self.get(cls.from_values(params.values(cls.group)))
 
     def baked(self, kind: str) -> Baked:
         """The :class:`Baked` behind the texture of ``kind`` (its texels, path, cache status)."""

@@ -1,20 +1,12 @@
-"""``natura bench SCENE``: time each pass of a scene, write JSON.
+"""``natura bench SCENE``: time each pass of a scene, write JSON (docs/architecture.md,
+"Measuring", describes the rounds, the references and the pipeline statistics).
 
-Every pass, the whole frame and two references (a trivial full-screen pass with a constant
-shader, and a clear) are timed in the same rounds: each once per round, in a shuffled order,
-``ctx.finish()`` on both sides (``app.gpu.timing.time_interleaved``; docs/architecture.md,
-"Measuring"). The whole frame is the scene's update step and its render, as the window runs
-them. In the same rounds the frame is also run part by part (``app.gpu.timing.FrameClock``):
-the update step (:data:`CPU_PART`), each pass as it runs inside the frame — into the targets
-the frame uses, such as the village's multisampled twin — ending with its own ``ctx.finish()``,
-and the scene's own work between passes (clears, resolves); the report's ``frame_accounting``
-gives each part, their sum beside the whole frame, and the remainder between the two. A pass's
-ratio to the full-screen pass is taken round by round, so machine load
-moves both sides of it together; the report gives the median and quartiles of the times and of
-the ratios. Pipeline-statistics counts (GL_ARB_pipeline_statistics_query) of one run of each
-pass are added where the driver has them, and from them the fragment shader invocations per
-covered pixel and the cost per fragment relative to the constant shader. GPU timer queries are
-added only on a hardware GPU.
+Besides the whole frame, the same rounds run the frame part by part
+(``app.gpu.timing.FrameClock``): the update step (:data:`CPU_PART`), each pass as it runs inside
+the frame — into the targets the frame uses, such as the village's multisampled twin — ending
+with its own ``ctx.finish()``, and the scene's own work between passes (clears, resolves); the
+report's ``frame_accounting`` gives each part, their sum beside the whole frame, and the
+remainder between the two.
 
 ``natura bench boat`` is not a scene: ``NUMPY_BENCHES`` lists such benches (numpy only, no GL
 context), each a few sections with a report, a chart and a summary.
@@ -158,6 +150,21 @@ def per_draw(timing, draws: int) -> None:
     """Turn a reference's times per run of ``draws`` draws into times per draw."""
     timing.wall_ms[:] = [t / draws for t in timing.wall_ms]
     timing.gpu_ms[:] = [t / draws for t in timing.gpu_ms]
+
+
+def ratio_text(q: dict) -> str:
+    """A time ratio's median, quartiles and rounds: ``×1.23 [1.10–1.40] over 9 rounds``."""
+    return f"×{q['median']:.2f} [{q['p25']:.2f}–{q['p75']:.2f}] over {q['n']} rounds"
+
+
+def pyplot():
+    """``matplotlib.pyplot`` on the Agg backend: charts are files, no display is needed."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
 
 
 def write_chart(fig, path, force: bool = False, title: str | None = None) -> None:

@@ -183,8 +183,7 @@ def plot(ax, report: dict) -> None:
             label="the thesis's march of every pixel (jitter at one offset)")
     ax.axhline(report["still_bound"]["mean"], color="k", ls=":", lw=1,
                label="converged-still bound (mean 1/255)")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
+    ax.set(xscale="log", yscale="log")
     ax.set_xlabel(f"ms of the march pass at {report['size'][0]}×{report['size'][1]} "
                   "(steady state)")
     ax.set_ylabel("mean |image − converged reference| (8-bit sRGB)")

@@ -9,8 +9,7 @@ its text.  Figures (the default 8 m hull, app/sim/hull.py; methods of app/sim/bu
    body alone: the heave–pitch modes fitted (:func:`fit_modes`, two free-decay runs) against
    the coupled hydrostatic model M·ẍ + C·x = 0 (C from the BEM tool's panels,
    resources/boat/hydrodynamics.json: the integrator's check); roll against
-   2π·sqrt(I_roll/(m·g·GM)), GM = KB + I_T/V − KG.  (The heave figure was the zero crossings of
-   the keel point, which rides on the beat of the two modes, against the uncoupled formula.)
+   2π·sqrt(I_roll/(m·g·GM)), GM = KB + I_T/V − KG.
 2b. **Modes with added mass and radiation damping** (:func:`modes`) — the heave, pitch and roll
    periods and damping ratios fitted to free-decay runs of each force method with the hull's
    frequency-independent coefficients, against the BEM reference: the coupled heave–pitch model
@@ -50,7 +49,7 @@ import numpy as np
 from ..sim import buoyancy as bu
 from ..sim import hull as hl
 from ..sim.rigid_body import G, quat_from_axis_angle, quat_from_matrix
-from . import write_chart
+from . import pyplot, write_chart
 
 MASSES = (1500.0, 3000.0, 5000.0)
 MASS = 3000.0
@@ -88,10 +87,6 @@ def _crossing_period(t: np.ndarray, y: np.ndarray) -> float:
     return float(np.mean(np.diff(tc))) if len(tc) > 1 else float("nan")
 
 
-# ---------------------------------------------------------------------------------------------
-# 1. Archimedes
-# ---------------------------------------------------------------------------------------------
-
 
 def settle(mesh, mass: float, method: str = "hydrostatic", seconds: float = 14.0,
            probes: int = 8) -> dict:
@@ -123,10 +118,6 @@ def archimedes(mesh=None, masses=MASSES, quick: bool = False) -> dict:
                      "float4": exact})  # the kinematic float puts its points on the water
     return {"rows": rows}
 
-
-# ---------------------------------------------------------------------------------------------
-# 2. Periods
-# ---------------------------------------------------------------------------------------------
 
 
 def fit_modes(t, signals, order: int = 4) -> list[dict]:
@@ -290,10 +281,6 @@ def modes(mesh=None, mass: float = MASS, quick: bool = False) -> dict:
             "source": bu.hydrodynamics_table()["solver"]}
 
 
-# ---------------------------------------------------------------------------------------------
-# 3. Drop test and 4. energy error
-# ---------------------------------------------------------------------------------------------
-
 
 def drop_test(mesh=None, mass: float = MASS, quick: bool = False) -> dict:
     mesh = mesh or hl.make_hull()
@@ -347,10 +334,6 @@ def energy_error(mesh=None, mass: float = MASS, dts=DTS, periods_n: int = 10,
     return {"rows": rows, "period": period, "periods": n}
 
 
-# ---------------------------------------------------------------------------------------------
-# 5. In a sea
-# ---------------------------------------------------------------------------------------------
-
 
 def sea(mesh=None, mass: float = MASS, quick: bool = False,
         storm_minutes: float | None = None) -> dict:
@@ -378,10 +361,6 @@ def sea(mesh=None, mass: float = MASS, quick: bool = False,
                       "finite": bool(np.all(np.isfinite(ys)) and body.finite()),
                       "heave_min": float(ys.min()), "heave_max": float(ys.max())}}
 
-
-# ---------------------------------------------------------------------------------------------
-# 6. Speed against accuracy
-# ---------------------------------------------------------------------------------------------
 
 
 def _poses(n: int, seed: int = 1):
@@ -475,10 +454,6 @@ def time_methods(mesh, mass: float, methods: dict, floater, water, rounds: int =
                 "ms_frame": 1e3 * float(np.median(v["frame"]))} for k, v in samples.items()}
 
 
-# ---------------------------------------------------------------------------------------------
-# The report
-# ---------------------------------------------------------------------------------------------
-
 
 def run(quick: bool = False) -> dict:
     """Every figure of the module's docstring; ``quick``: the reduced run described there."""
@@ -495,10 +470,7 @@ def run(quick: bool = False) -> dict:
 
 def chart(report: dict, path, force: bool = False) -> None:
     """Archimedes, drop test, energy error against dt, sea tracking, speed against accuracy."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, axes = plt.subplots(1, 5, figsize=(25, 4.6))
     ax = axes[0]
@@ -524,10 +496,8 @@ def chart(report: dict, path, force: bool = False) -> None:
     for name, style in (("dropped", "-"), ("pushed", "--")):
         d = report["drop"][name]
         ax.plot(d["t"], np.maximum(np.abs(d["energy"]), 1.0), style, label=f"{name} 2 m")
-    ax.set_yscale("log")
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("|E − E_rest| [J]")
-    ax.set_title("Kerner's drop test: energy above rest")
+    ax.set(yscale="log", xlabel="t [s]", ylabel="|E − E_rest| [J]",
+           title="Kerner's drop test: energy above rest")
     ax.legend(fontsize=8)
     ax = axes[2]
     e = report["energy"]
@@ -537,10 +507,7 @@ def chart(report: dict, path, force: bool = False) -> None:
                 label=f"{'h = dt' if scheme == 'one_step' else 'h ≤ 1/240 s'}: max error")
         ax.plot(dts, [max(abs(r[scheme]["drift"]), 1e-9) for r in e["rows"]], style[0] + ":",
                 label=f"{'h = dt' if scheme == 'one_step' else 'h ≤ 1/240 s'}: drift")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("frame dt [s]")
-    ax.set_ylabel("relative energy error")
+    ax.set(xscale="log", yscale="log", xlabel="frame dt [s]", ylabel="relative energy error")
     ax.set_title(f"undamped heave, {e['periods']} periods", fontsize=9)
     ax.legend(fontsize=7)
     ax = axes[3]
@@ -559,10 +526,8 @@ def chart(report: dict, path, force: bool = False) -> None:
         ax.plot([r["ms_eval"]], [max(r["force_error"], 1e-6)], "o")
         ax.annotate(r["method"], (r["ms_eval"], max(r["force_error"], 1e-6)), fontsize=8,
                     textcoords="offset points", xytext=(4, 4))
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("ms per force evaluation")
-    ax.set_ylabel("force error / weight vs 16× hydrostatic")
+    ax.set(xscale="log", yscale="log", xlabel="ms per force evaluation",
+           ylabel="force error / weight vs 16× hydrostatic")
     ax.set_title("speed against accuracy (sine sea, λ 12 m)", fontsize=9)
     write_chart(fig, path, force, title="natura bench boat")
 

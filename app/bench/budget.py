@@ -35,8 +35,6 @@ REFERENCES = ("reference.fullscreen", "reference.clear")
 TOP = 5
 
 
-# ---- the view ---------------------------------------------------------------------------------
-
 def set_string(sets: dict[str, Any], current: dict[str, Any]) -> str:
     """``--set name=value`` for each value that differs from ``current``."""
     changed = [f"--set {k}={format_value(v)}" for k, v in sets.items()

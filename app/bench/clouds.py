@@ -34,7 +34,7 @@ import numpy as np
 
 from ..gpu.timing import time_call, time_interleaved
 from ..teach.sweeps import THESIS_MARCH
-from . import amortise, at_most, write_chart
+from . import amortise, at_most, pyplot, ratio_text, write_chart
 
 PRESETS = ("cumulus", "stratocumulus", "stratus")
 DEFAULT_SIZES = ((256, 256), (512, 512), (800, 800), (1920, 1080))
@@ -247,10 +247,7 @@ def _in_group(config: str, prefix: str) -> bool:
 
 
 def chart(report: dict, path, force: bool = False) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     s = report["sweep"]
     fig, axes = plt.subplots(1, 3 if "amortised" in s else 2,
@@ -279,9 +276,9 @@ def chart(report: dict, path, force: bool = False) -> None:
     for r in s["accuracy"]["rows"]:
         if not any(_in_group(r["config"], p) for p in groups):
             ax.plot([r["ms"]], [max(r["mean"], 1e-6)], "^", label=r["config"])
-    ax.set_yscale("log")
-    ax.set_xlabel(f"ms per frame at {s['accuracy']['size'][0]}×{s['accuracy']['size'][1]}")
-    ax.set_ylabel("mean |layer − 512-step reference|")
+    ax.set(yscale="log",
+           xlabel=f"ms per frame at {s['accuracy']['size'][0]}×{s['accuracy']['size'][1]}",
+           ylabel="mean |layer − 512-step reference|")
     eq = s["accuracy"]["equal_error"]
     title = (f"time against error (equal-error speed-up ×{eq['speedup']:.1f})"
              if eq["speedup"] else "time against error")
@@ -299,9 +296,7 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.bar(x - 0.2, [r["thesis_ms"] for r in rows], 0.4, label="thesis marcher (64 uniform steps)")
     ax.bar(x + 0.2, [r["speed_work_ms"] for r in rows], 0.4, label="speed work")
     ax.set_xticks(x, labels, fontsize=6, rotation=60)
-    ax.set_ylabel("ms per frame")
-    ax.set_yscale("log")
-    ax.set_title("the cloud thesis's Table 6.1 layout")
+    ax.set(ylabel="ms per frame", yscale="log", title="the cloud thesis's Table 6.1 layout")
     ax.legend(fontsize=8)
     if "amortised" in s:
         amortise.plot(axes[2], s["amortised"])
@@ -338,8 +333,7 @@ def summary(report: dict) -> str:
                      "(one interleaved run)")
         for r in ch["rows"]:
             q = r["ratio"]
-            lines.append(f"  {r['size'][0]}x{r['size'][1]}: time ×{q['median']:.2f} "
-                         f"[{q['p25']:.2f}–{q['p75']:.2f}] over {q['n']} rounds "
+            lines.append(f"  {r['size'][0]}x{r['size'][1]}: time {ratio_text(q)} "
                          f"({r['before_ms']:.1f} → {r['after_ms']:.1f} ms); error mean "
                          f"{r['before']['mean']:.2e} → {r['after']['mean']:.2e}, p99 "
                          f"{r['before']['p99']:.2e} → {r['after']['p99']:.2e}")

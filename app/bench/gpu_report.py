@@ -133,38 +133,27 @@ def _tables(plan: Plan, session_of, ctx, progress) -> dict:
     from ..gpu.device import Gpu
     from . import clouds, ocean, planet, village_grass
 
-    out: dict = {}
-    t0 = time.perf_counter()
-    s = session_of("planet")
-    try:
-        out["planet"] = planet.thesis_table(s, plan.planet_sizes, plan.warmup, plan.planet_repeat)
-    finally:
-        s.release()
-    progress(f"planet table ({time.perf_counter() - t0:.1f} s)")
-    t0 = time.perf_counter()
-    s = session_of("clouds")
-    try:
-        out["clouds"] = clouds.table(s, plan.cloud_sizes, plan.warmup, max(2, plan.rounds // 3))
-    finally:
-        s.release()
-    progress(f"clouds Table 6.1 ({time.perf_counter() - t0:.1f} s)")
-    t0 = time.perf_counter()
-    gpu = Gpu(ctx)
-    try:
-        out["grass"] = village_grass.speed_table(gpu, plan.grass_counts, plan.grass_size,
-                                                 rounds=plan.rounds, budget_s=plan.budget_s * 4)
-    finally:
-        gpu.release()
-    progress(f"grass methods ({time.perf_counter() - t0:.1f} s)")
-    t0 = time.perf_counter()
-    s = session_of("ocean")
-    try:
-        out["ocean_fft"] = ocean.fft_sweep(s, plan.size, plan.fft_sizes, plan.fft_cascades,
-                                           plan.warmup, plan.rounds)
-    finally:
-        s.release()
-    progress(f"FFT sizes ({time.perf_counter() - t0:.1f} s)")
-    return out
+    def table(label: str, open_, measure):
+        t0 = time.perf_counter()
+        held = open_()
+        try:
+            out = measure(held)
+        finally:
+            held.release()
+        progress(f"{label} ({time.perf_counter() - t0:.1f} s)")
+        return out
+
+    return {
+        "planet": table("planet table", lambda: session_of("planet"), lambda s: planet.thesis_table(
+            s, plan.planet_sizes, plan.warmup, plan.planet_repeat)),
+        "clouds": table("clouds Table 6.1", lambda: session_of("clouds"), lambda s: clouds.table(
+            s, plan.cloud_sizes, plan.warmup, max(2, plan.rounds // 3))),
+        "grass": table("grass methods", lambda: Gpu(ctx), lambda gpu: village_grass.speed_table(
+            gpu, plan.grass_counts, plan.grass_size, rounds=plan.rounds,
+            budget_s=plan.budget_s * 4)),
+        "ocean_fft": table("FFT sizes", lambda: session_of("ocean"), lambda s: ocean.fft_sweep(
+            s, plan.size, plan.fft_sizes, plan.fft_cascades, plan.warmup, plan.rounds)),
+    }
 
 
 def _ms(entry: dict, key: str = "median_ms") -> str:

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from . import amortise, at_most, write_chart
+from . import amortise, at_most, pyplot, write_chart
 
 #: the sweep's size, never above the bench's ``--size``
 SWEEP_SIZE = (320, 180)
@@ -133,10 +133,7 @@ def wake_angle(ctx, shader_root=None, size=WAKE_SIZE) -> dict:
 
 
 def chart(report: dict, path, force: bool = False) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, ax = plt.subplots(1, 1, figsize=(8, 5))
     amortise.plot(ax, report["sweep"]["amortised"])

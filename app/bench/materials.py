@@ -31,7 +31,7 @@ from ..effects.materials.effect import (
     Materials,
 )
 from ..gpu.timing import time_call, time_interleaved
-from . import write_chart
+from . import pyplot, ratio_text, write_chart
 
 TOP_VIEW = np.array([[2.0, 0, 0, 0], [0, 0, -2.0, 0], [0, 0, 0, 0], [0, 0, 0, 1.0]])
 BAKE_SIZES = (8, 16, 32, 64, 128)
@@ -199,10 +199,7 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
 
 def chart(report: dict, path, force: bool = False) -> None:
     """Time against error: baked sizes and per-pixel noise; octave cost; ring filtering."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     sweep_ = report["sweep"]
     fig, axes = plt.subplots(1, 4, figsize=(20, 4.6))
@@ -216,19 +213,17 @@ def chart(report: dict, path, force: bool = False) -> None:
         for r, x, y in zip(rows, xs, ys):
             ax.annotate("per pixel" if r["size"] is None else f"{r['size']}³", (x, y), fontsize=8,
                         textcoords="offset points", xytext=(4, 4))
-    ax.set_yscale("log")
-    ax.set_xlabel("ms per frame")
-    ax.set_ylabel(f"error vs per-pixel noise (floor {floor:g})")
-    ax.set_title("wood noise: baked 3D texture vs per pixel")
+    ax.set(yscale="log", xlabel="ms per frame",
+           ylabel=f"error vs per-pixel noise (floor {floor:g})",
+           title="wood noise: baked 3D texture vs per pixel")
     ax.legend(fontsize=8)
     ax = axes[1]
     oc = sweep_["octave_cost"]
     for kind, style in (("value", "o-"), ("gradient", "s-")):
         ax.plot(range(1, 9), oc[kind]["ms_by_depth"], style,
                 label=f"{kind}: {oc[kind]['ms_per_octave']:.3f} ms/octave")
-    ax.set_xlabel("octaves (RecDepth)")
-    ax.set_ylabel("ms per frame")
-    ax.set_title(f"noise cost, {oc['size'][0]}×{oc['size'][1]} cross-section")
+    ax.set(xlabel="octaves (RecDepth)", ylabel="ms per frame",
+           title=f"noise cost, {oc['size'][0]}×{oc['size'][1]} cross-section")
     ax.legend(fontsize=8)
     ax = axes[2]
     re_ = sweep_["ring_edges"]
@@ -236,9 +231,8 @@ def chart(report: dict, path, force: bool = False) -> None:
         ax.plot([re_[name]["median_ms"]], [re_[name]["mean_error"]], marker, markersize=9,
                 label=f"{name}: mean {re_[name]['mean_error']:.3f}, "
                       f"p99 {re_[name]['p99_error']:.3f}")
-    ax.set_xlabel("ms per frame")
-    ax.set_ylabel("error vs 8×8 supersampling")
-    ax.set_title("ring edges: hard (thesis) vs box-filtered")
+    ax.set(xlabel="ms per frame", ylabel="error vs 8×8 supersampling",
+           title="ring edges: hard (thesis) vs box-filtered")
     ax.legend(fontsize=8)
     ax = axes[3]
     tess = sweep_.get("tessellation")
@@ -257,8 +251,8 @@ def chart(report: dict, path, force: bool = False) -> None:
         ax.axhline(1.0, color="k", lw=0.8, ls=":")
         ax.set_xticks(x, [f"{r['size'][0]}×{r['size'][1]}" for r in rows])
         ax.set_ylim(0, max(1.3, max(med) * 1.5))
-        ax.set_ylabel("time ratio, one interleaved run")
-        ax.set_title(f"tessellation: auto (edges ≈ {tess['edge_pixels']:g} px) vs fixed 48×96")
+        ax.set(ylabel="time ratio, one interleaved run",
+               title=f"tessellation: auto (edges ≈ {tess['edge_pixels']:g} px) vs fixed 48×96")
         ax.legend(fontsize=8, loc="lower right")
     write_chart(fig, path, force, title=f"natura bench materials — {report['renderer']}")
 
@@ -286,8 +280,7 @@ def summary(report: dict) -> str:
                      "one interleaved run per size:")
         for r in tess["rows"]:
             q = r["ratio"]
-            lines.append(f"  {r['size'][0]}x{r['size'][1]}: time ×{q['median']:.2f} "
-                         f"[{q['p25']:.2f}–{q['p75']:.2f}] over {q['n']} rounds, triangles "
+            lines.append(f"  {r['size'][0]}x{r['size'][1]}: time {ratio_text(q)}, triangles "
                          f"{r['triangles_auto']} / {r['triangles_fixed']}, pixels changing "
                          f"> {tess['threshold']:g}: {100 * r['changed_share']:.2f} %, "
                          f"mean |Δ| {r['mean_abs_diff']:.5f}")

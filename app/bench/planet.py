@@ -1,43 +1,24 @@
 """Speed and accuracy of the four atmosphere methods: ms per frame and error against a reference.
+docs/commands.md (``natura bench planet``) and docs/theory/002-atmosphere.md describe the report.
 
-* **The thesis's table** (spec/002 §5): methods 1–3 (and Hillaire as a fourth row) × sizes
-  (800×600, 1280×720, 1920×1080 by default; ``--sizes`` scales it down for slow renderers) ×
-  a ground view and a space view, as ms per frame (median, ``ctx.finish()`` around each frame,
-  static sun so the shadow map is not redrawn) and as ratios to method 1 in the same cell.
-* **Accuracy**: each method's in-scattered radiance ("in-scattering on black") and transmittance
-  ("out-scattering on white") against :func:`app.sim.atmosphere.reference` — the same single-
-  scattering integral in float64 with thousands of steps and exact optical depths — on a small
-  subsampled ground view, as its quality knob changes: N_STEPS (methods 1–3), the optical-depth
-  LUT size (method 2), the shadow-map size (method 3, against the same method with an 8192² map:
-  the reference has no shadows), Hillaire's LUT sizes (method 4; it adds multiple scattering, so
-  its error against a single-scattering reference includes that physics on purpose). Method 1
-  with its own knobs at their defaults gets a field of its own, ``method_1_defaults``, with the
-  in-scattering's error also relative to the reference's mean (``in_rel_mean``).
+* **The thesis's table** (spec/002 §5, :func:`thesis_table`): methods 1–4 × sizes × a ground and
+  a space view, ms per frame (median, ``ctx.finish()`` around each frame, static sun so the
+  shadow map is not redrawn) and ratios to method 1 in the same cell.
+* **Accuracy** (:func:`accuracy`): each method's in-scattered radiance ("in-scattering on
+  black") and transmittance ("out-scattering on white") against
+  :func:`app.sim.atmosphere.reference` on a small ground view, as its quality knob changes
+  (method 3's shadow-map size against the same method with an 8192² map: the reference has no
+  shadows; Hillaire's error includes multiple scattering on purpose).
 * **Changes** (:func:`changes`): each change to the fixed per-pixel work against its earlier
-  path, timed in one interleaved run (``app.gpu.timing.time_interleaved``: per-round ratios,
-  median [p25–p75], robust to the machine's load) with the image difference it makes beside it —
-  the hardware shadow compares (``planet.shadow_compare``: hardware against manual, method 3,
-  relative difference) and the baked ground noise (``planet.ground_noise``: baked against live,
-  methods 1 and 2, mean and max |Δ| of the linear image on the ground and the space view), the
-  ground pass (``planet.ground_pass``: the analytic ground and the background shaded once into
-  the G-buffer against in the scattering pass, the same image), and the LUT method's speed-up
-  over brute force on the ground view at N = 30 before and after each (the thesis's 3.3–7×,
-  spec/002 §5), per frame and for the scattering pass alone; and the reduced-resolution march
-  (``planet.march_scale``: half and quarter against full, method 3, the ground view and a
-  light-shaft view: the scattering pass's and the frame's time ratio beside the 8-bit image
-  difference, mean, p99 and max, and the share of pixels that marched their own ray).
-* **Multiple scattering** (:func:`multiple_scattering`, numpy only, its own chart
-  ``FILE-multiple.png``): Hillaire's sky (method 4's numpy twin: exact single scattering plus
-  σ_s Ψ_ms from its multiple-scattering LUT) against the multi-order reference of
-  :mod:`app.sim.multiple_scattering` (Bruneton & Neyret 2008 / Bruneton 2017, orders 1–10, full
-  phase functions), per view elevation 1°–90° toward and away from the sun, for suns at 3°, 10°
-  and 45°, from 2 m up: relative error per direction and channel, the worst per sun elevation,
-  the reference's own figures (orders ≥ 5 share, truncation tail, the change when its grid is
-  halved) and Hillaire's LUT variants side by side (the paper's 32² LUT with 64 directions, a
-  64² LUT with 256, the true phase for the LUT's first scattering event).
-* The thesis's table and the accuracy sweep time and grade the thesis's per-pixel march
-  (``planet.march_scale = full``, :data:`PER_PIXEL`): every pixel its own ray, as the thesis's
-  methods; the reduced march is graded against it in "changes".
+  path (``planet.shadow_compare``, ``planet.ground_noise``, ``planet.ground_pass``,
+  ``planet.march_scale``), timed in one interleaved run (``app.gpu.timing.time_interleaved``:
+  per-round ratios, median [p25–p75], robust to the machine's load) beside the image
+  difference it makes.
+* **Multiple scattering** (:func:`multiple_scattering`, numpy only, ``FILE-multiple.png``):
+  Hillaire's sky against the multi-order reference of :mod:`app.sim.multiple_scattering`, with
+  the reference's own figures and Hillaire's LUT variants side by side.
+* The table and the accuracy sweep grade the thesis's per-pixel march (:data:`PER_PIXEL`); the
+  reduced march is graded against it in "changes".
 """
 
 from __future__ import annotations
@@ -48,7 +29,7 @@ from ..gpu.timing import time_call, time_interleaved
 from ..sim import atmosphere as atm
 from ..teach.sweeps import HILLAIRE_SIZES  # noqa: F401 - defined there, read by the picker
 from ..teach.sweeps import scale_hillaire as _scale_hillaire
-from . import at_most, write_chart
+from . import at_most, pyplot, write_chart
 
 DEFAULT_SIZES = ((800, 600), (1280, 720), (1920, 1080))
 #: the charts: the thesis's table and the accuracy sweep, then multiple scattering
@@ -122,8 +103,6 @@ def thesis_table(session, sizes=DEFAULT_SIZES, warmup: int = 2, repeat: int = 5,
                              "scattering_ratio_to_method_1": base_s / scatter[method]})
     return {"rows": rows, "n_steps": p["planet.n_steps"]}
 
-
-# ---- accuracy ------------------------------------------------------------------------------
 
 def _render_debug(session, size, view: str) -> tuple[np.ndarray, np.ndarray]:
     """(in-scatter image, transmittance image), each (h, w, 3) linear, row 0 at the top."""
@@ -275,8 +254,6 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
     return {"size": list(size), "time_size": list(time_size), "reference_steps": ref_steps,
             "rows": rows, "method_1_defaults": method_1}
 
-
-# ---- changes: before/after in one interleaved run ------------------------------------------
 
 def _final_image(session, size, view: str) -> np.ndarray:
     """The final linear image (h, w, 3) of ``view`` at ``size``."""
@@ -544,10 +521,7 @@ def _final_image_at(session, size) -> np.ndarray:
 
 
 def chart(report: dict, path, force: bool = False) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     s = report["sweep"]
     fig, axes = plt.subplots(1, 2, figsize=(14, 5))
@@ -564,8 +538,7 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.set_yscale("log")
     ax.set_xlabel(f"ms per frame at "
                   f"{s['accuracy']['time_size'][0]}×{s['accuracy']['time_size'][1]}")
-    ax.set_ylabel("mean |in-scatter − reference| (linear radiance)")
-    ax.set_title("time against error")
+    ax.set(ylabel="mean |in-scatter − reference| (linear radiance)", title="time against error")
     ax.legend(fontsize=7)
     ax = axes[1]
     rows = s["table"]["rows"]
@@ -577,8 +550,7 @@ def chart(report: dict, path, force: bool = False) -> None:
               for lab in labels]
         ax.bar(np.arange(len(labels)) + (i - 1.5) * width, ys, width, label=method)
     ax.set_xticks(range(len(labels)), [f"{v}\n{w}×{h}" for v, (w, h) in labels], fontsize=8)
-    ax.set_ylabel("ms per frame")
-    ax.set_title("the thesis's table layout (spec/002 §5)")
+    ax.set(ylabel="ms per frame", title="the thesis's table layout (spec/002 §5)")
     ax.legend(fontsize=8)
     write_chart(fig, path, force, title=f"natura bench planet — {report['renderer']}")
     ms = s.get("multiple_scattering")
@@ -592,10 +564,7 @@ def chart(report: dict, path, force: bool = False) -> None:
 def multiple_chart(ms: dict, path, force: bool = False) -> None:
     """Hillaire's relative error against the multi-order reference (green channel) per view
     elevation, one panel per sun elevation, each LUT variant toward (solid) and away (dashed)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     suns = list(next(iter(ms["variants"].values()))["suns"])
     fig, axes = plt.subplots(1, len(suns), figsize=(5 * len(suns), 4.5), sharey=True)
@@ -614,9 +583,7 @@ def multiple_chart(ms: dict, path, force: bool = False) -> None:
                     label=f"bound: best isotropic Ψ (reference averaged), {side}")
         ax.axhspan(-5, 5, color="0.9", zorder=0)
         ax.axhline(0, color="k", lw=0.5)
-        ax.set_xscale("log")
-        ax.set_xlabel("view elevation (°)")
-        ax.set_title(f"sun {float(se):g}° up")
+        ax.set(xscale="log", xlabel="view elevation (°)", title=f"sun {float(se):g}° up")
     np.atleast_1d(axes)[0].set_ylabel("Hillaire / reference − 1 (%, green)")
     np.atleast_1d(axes)[0].legend(fontsize=6)
     write_chart(fig, path, force, title=f"Hillaire 2020 against orders 1–{ms['orders']} "

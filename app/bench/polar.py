@@ -15,13 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..sim.sailing import KNOT, speed_polar
-from . import write_chart
-
-
-def polar_report(wind_speeds=(4.0, 8.0, 12.0), angles=None, boat=None) -> dict:
-    """``speed_polar`` with its arguments (the default 8 m boat, 0…180° in 2° steps)."""
-    return speed_polar(wind_speeds, angles, boat)
-
+from . import pyplot, write_chart
 
 #: the true wind angles' step [degrees]: the full polar's, and ``--quick``'s (the no-go angle is
 #: refined by bisection to 0.1° either way; the VMG angles are on the coarser grid)
@@ -31,17 +25,14 @@ STEP, QUICK_STEP = 2.0, 5.0
 def run(quick: bool = False) -> dict:
     """The polar of ``natura bench boat``: 4, 8 and 12 m/s, every 2° (5° when ``quick``)."""
     step = QUICK_STEP if quick else STEP
-    return {**polar_report(angles=np.arange(0.0, 180.0 + step / 2, step)), "quick": quick,
+    return {**speed_polar(angles=np.arange(0.0, 180.0 + step / 2, step)), "quick": quick,
             "step": step}
 
 
 def chart(report: dict, path, force: bool = False) -> None:
     """The polar (polar axes, one curve per wind speed, no-go wedge shaded), written through
     ``app.imageio.save_figure`` (atomic; an existing file is kept unless ``force``)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     twa = np.radians(np.asarray(report["twa"], dtype=np.float64))
     fig = plt.figure(figsize=(7.0, 8.5))

@@ -42,7 +42,7 @@ from ..gpu.timing import time_interleaved
 from ..sim import lab_meshes, surface_maps
 from ..sim.camera import Camera
 from ..sim.parallax import error_grid, parallax_error, parallax_uv, view_at
-from . import surfaces_speed, write_chart
+from . import pyplot, surfaces_speed, write_chart
 from .shading_outlines import outline_sweep
 from .shading_outlines import summary_lines as outline_summary
 
@@ -320,8 +320,6 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None, angles=AN
     return out
 
 
-# ---- report ------------------------------------------------------------------------------
-
 def _rows(report: dict, angle: float, method: str) -> list[dict]:
     rows = report["sweep"]["parallax"][0]["rows"]
     return sorted((r for r in rows if r["angle"] == angle and r["method"] == method),
@@ -331,10 +329,7 @@ def _rows(report: dict, angle: float, method: str) -> list[dict]:
 def chart(report: dict, path, force: bool = False) -> None:
     """Per angle: error against ms (top) and against n with the thesis's 10–20 band (bottom);
     the last column: the lighting/toon cost and the critical-angle difference."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     s = report["sweep"]
     par = s["parallax"][0]
@@ -374,9 +369,8 @@ def chart(report: dict, path, force: bool = False) -> None:
         (ref,) = _rows(report, angle, "reference")
         top.plot([off["median_ms"]], [max(off["mean_px"], floor)], "kx", markersize=9,
                  label=f"off ({off['median_ms']:.2f} ms)")
-        top.set_yscale("log")
-        top.set_xlabel("ms, shading pass (interleaved)")
-        top.set_ylabel(f"mean UV error vs reference [texels] (floor {floor:g})")
+        top.set(yscale="log", xlabel="ms, shading pass (interleaved)",
+                ylabel=f"mean UV error vs reference [texels] (floor {floor:g})")
         view = par["views"][col]
         top.set_title(f"{angle:g}° view (field {view['elevation_min']:.1f}–"
                       f"{view['elevation_max']:.1f}°); ringed: n in {lo}–{hi}\n"
@@ -384,9 +378,7 @@ def chart(report: dict, path, force: bool = False) -> None:
         top.legend(fontsize=7)
         bottom.axvspan(lo, hi, color="gold", alpha=0.3, label=f"thesis: n {lo}–{hi}")
         bottom.set_xscale("log", base=2)
-        bottom.set_yscale("log")
-        bottom.set_xlabel("layers n")
-        bottom.set_ylabel("UV error vs reference [texels]")
+        bottom.set(yscale="log", xlabel="layers n", ylabel="UV error vs reference [texels]")
         bottom.set_title(f"{angle:g}°: error against n", fontsize=9)
         bottom.legend(fontsize=7)
     ax = axes[0, -1]
@@ -410,9 +402,8 @@ def chart(report: dict, path, force: bool = False) -> None:
         ax.plot([r["angle"] for r in rs], [max(r["p99_colour"], floor) for r in rs], "s:",
                 color=c, label=f"{method} p99")
     ax.axhline(VISIBLE, color="k", ls="--", lw=0.8, label="2/255")
-    ax.set_yscale("log")
-    ax.set_xlabel("view angle above the wall [°]")
-    ax.set_ylabel(f"albedo |Δ|, n = {CRITICAL_PAIR[0]} vs {CRITICAL_PAIR[1]}")
+    ax.set(yscale="log", xlabel="view angle above the wall [°]",
+           ylabel=f"albedo |Δ|, n = {CRITICAL_PAIR[0]} vs {CRITICAL_PAIR[1]}")
     ax.set_title("the critical angle (spec/003 §2.3)", fontsize=9)
     ax.legend(fontsize=7)
     if outlines:
@@ -423,8 +414,7 @@ def chart(report: dict, path, force: bool = False) -> None:
                 ax.scatter(r["contour_ms"], r["iou"], s=30)
                 ax.annotate(f"{r['method']} ({r['gaps']} gaps)", (r["contour_ms"], r["iou"]),
                             fontsize=7, xytext=(3, 3), textcoords="offset points")
-            ax.set_xlabel("contour pass [ms]")
-            ax.set_ylabel("IoU against the analytic silhouette band")
+            ax.set(xlabel="contour pass [ms]", ylabel="IoU against the analytic silhouette band")
             ax.set_ylim(0.0, 1.05)
             ax.set_title(f"outlines on the {obj} (spec/003 §2.13)", fontsize=9)
         for k in range(2, len(angles) + 1):

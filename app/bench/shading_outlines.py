@@ -44,13 +44,32 @@ def _cameras():
     return {"sphere": sphere, "table": table}
 
 
+def draw_white(gpu, owner: str, objects, view, proj, camera, ramp) -> None:
+    """Draw ``objects`` ((vbo, ibo, mesh, model) each) white into the bound target: the lab's
+    surface program lit by an ambient of 1 alone, depth-tested; ``ramp`` a 1×1 texture."""
+    import moderngl
+
+    prog = gpu.program(owner, SURFACE)
+    lights = lt.Lights(sun_radiance=(0.0, 0.0, 0.0), ambient=(1.0, 1.0, 1.0))
+    prog.set_many({**lt.Shading(lighting_model=0, specularity=0.0).uniforms(),
+                   **lights.uniforms(), "uViewProj": proj @ view,
+                   "uCameraPos": camera.position, "uAlbedo": (1.0, 1.0, 1.0),
+                   "uUseMasks": False, "uUseMaps": False, "uUseAlbedoMap": False,
+                   "uTime": 0.0})
+    for k, rows in lights.arrays().items():
+        prog.set_array(k, rows)
+    prog.bind_textures({"uRamp": ramp, "uMasks": ramp})
+    gpu.ctx.enable(moderngl.DEPTH_TEST)
+    for vbo, ibo, _mesh, model in objects:
+        prog.set("uModel", model)
+        prog.vao([(vbo, *FORMAT)], ibo).render(moderngl.TRIANGLES)
+    gpu.ctx.disable(moderngl.DEPTH_TEST)
+
+
 class _Lab:
     """The objects, the surface program and an Outlines of its own (red, width 4 px)."""
 
     def __init__(self, gpu, size):
-        import moderngl
-
-        self.moderngl = moderngl
         self.gpu = gpu
         self.size = size
         self.params = ParamSet(outline_params())
@@ -70,25 +89,9 @@ class _Lab:
 
     def objects_pass(self, name, camera):
         view, proj = camera.view_matrix(), camera.projection_matrix(self.size[0] / self.size[1])
-        target = self.target
-        target.use()
-        target.clear((0.0, 0.0, 0.0, 1.0))
-        prog = self.gpu.program(OWNER, SURFACE)
-        lights = lt.Lights(sun_radiance=(0.0, 0.0, 0.0), ambient=(1.0, 1.0, 1.0))
-        prog.set_many({**lt.Shading(lighting_model=0, specularity=0.0).uniforms(),
-                       **lights.uniforms(), "uViewProj": proj @ view,
-                       "uCameraPos": camera.position, "uAlbedo": (1.0, 1.0, 1.0),
-                       "uUseMasks": False, "uUseMaps": False, "uUseAlbedoMap": False,
-                       "uTime": 0.0})
-        for k, rows in lights.arrays().items():
-            prog.set_array(k, rows)
-        prog.bind_textures({"uRamp": self.tex, "uMasks": self.tex})
-        ctx = self.gpu.ctx
-        ctx.enable(self.moderngl.DEPTH_TEST)
-        vbo, ibo, _mesh, model = self.objects[name]
-        prog.set("uModel", model)
-        prog.vao([(vbo, *FORMAT)], ibo).render(self.moderngl.TRIANGLES)
-        ctx.disable(self.moderngl.DEPTH_TEST)
+        self.target.use()
+        self.target.clear((0.0, 0.0, 0.0, 1.0))
+        draw_white(self.gpu, OWNER, [self.objects[name]], view, proj, camera, self.tex)
         return view, proj
 
     def contour(self, name, camera, method):

@@ -1,29 +1,12 @@
 """Speed against accuracy for the surfaces lab (spec/003 §2.4–2.8), each section against an
-exact reference of the same analytic scene (app.sim.surfaces_scene):
+exact reference of the same analytic scene (app.sim.surfaces_scene); each section's module
+docstring says what it measures:
 
-1. **shadows** (app/bench/surfaces_shadows.py) — the shadow mismatch rate (acne, Peter
-   Panning, aliasing) of the shared shadow module against the ray-cast visibility, per map
-   size, bias setting, cascades and filter, against ms; the soft shadow of a disc light, ray
-   cast in numpy (its error stated), against PCF, PCSS and VSM over all floor points and over
-   the penumbra (the 256 jittered hard maps of the former reference beside it, with their own
-   error); PCSS's penumbra over fit radii 5, 10 and 20 m; chart ``NAME.png``;
-2. **transparency** (surfaces_transparency.py) — sorted blending, ZWrite off, weighted blended
-   OIT and peeling with k layers against an A-buffer (each blended quad's fragments sorted per
-   pixel in numpy), on every pixel and on the pixels with ≥ 2 layers, on the intersecting
-   panes, the blue pane over the fence, the smoke and two views through several layers,
-   against ms; the cutoff sweep and the
-   alpha-to-coverage edge counts; chart ``NAME-transparency.png``;
-3. **reflections** (surfaces_reflections.py) — each correction of the probe's lookup (cube,
-   box projection, quadratic stretch, perfect sphere) against ray-cast reflections on the
-   mirror floor and the mirror sphere, against ms; the thesis's metallic/dielectric weights
-   against the split-sum GGX reference; chart ``NAME-reflections.png``;
-4. **fresnel** (surfaces_fresnel.py, numpy) — Schlick against exact Fresnel for n = 1.31, 1.52
-   and 2.42 (the thesis's Fig. 67 as numbers), and from inside the medium; chart
-   ``NAME-fresnel.png``;
-5. **speed** (surfaces_speed.py) — the lab's own frame at the bench's size: the reference
-   (4× MSAA, the full shadow taps, the one generic program) against each speed knob and the
-   defaults this renderer gets, ms in interleaved rounds against the 8-bit picture error;
-   chart ``NAME-speed.png``.
+1. **shadows** (app/bench/surfaces_shadows.py), chart ``NAME.png``;
+2. **transparency** (surfaces_transparency.py), chart ``NAME-transparency.png``;
+3. **reflections** (surfaces_reflections.py), chart ``NAME-reflections.png``;
+4. **fresnel** (surfaces_fresnel.py, numpy), chart ``NAME-fresnel.png``;
+5. **speed** (surfaces_speed.py), chart ``NAME-speed.png``.
 
 ``natura bench surfaces --repeat N`` with N ≤ :data:`QUICK_REPEAT` runs every section's quick
 variant (fewer sizes and samples, the same figures); sections 1–4 render at their own sizes,

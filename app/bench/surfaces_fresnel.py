@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from ..sim import optics as op
-from . import write_chart
+from . import pyplot, write_chart
 
 INDICES = (1.31, 1.52, 2.42)
 NAMES = {1.31: "water (thesis 1.31)", 1.52: "glass", 2.42: "diamond"}
@@ -62,10 +62,7 @@ def run(quick: bool = False) -> dict:
 
 def chart(report: dict, path, force: bool = False) -> None:
     """Fig. 67's curves (air → n), Schlick − exact, and the inside-the-medium case."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     th = np.asarray(report["theta_deg"])
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))

@@ -25,7 +25,7 @@ from ..effects.surfaces.reflections import PROBE_EVAL, PositionScene, Reflection
 from ..gpu.timing import time_call
 from ..sim import reflections as rf
 from ..sim import surfaces_scene as ss
-from . import write_chart
+from . import pyplot, write_chart
 
 OWNER = "bench-reflections"
 EYE = np.array([-1.2, 1.7, 3.4])  # sees the mirror sphere past the glass one
@@ -209,10 +209,7 @@ def run(gpu, size=(128, 128), quick: bool = False) -> dict:
 
 def chart(report: dict, path, force: bool = False) -> None:
     """(a) angular error against ms per correction, floor and sphere; (b) thesis vs GGX."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
     colours = {"cube": "tab:red", "box": "tab:blue", "approximation": "tab:orange",
@@ -223,9 +220,8 @@ def chart(report: dict, path, force: bool = False) -> None:
                         yerr=[[0], [max(r["angle_deg_p90"] - r["angle_deg_median"], 0)]],
                         fmt="o", color=colours[r["mode"]], label=f"{r['mode']} "
                         f"({r['hit_error_m_median']:.3f} m)")
-        ax.set_yscale("log")
-        ax.set_xlabel("ms, lookup pass over the points")
-        ax.set_ylabel("angular error vs ray cast [°] (median, bar to p90)")
+        ax.set(yscale="log", xlabel="ms, lookup pass over the points",
+               ylabel="angular error vs ray cast [°] (median, bar to p90)")
         ax.set_title(f"mirror {surface}: probe lookup vs exact reflection", fontsize=9)
         ax.legend(fontsize=7)
     ax = axes[2]
@@ -237,8 +233,7 @@ def chart(report: dict, path, force: bool = False) -> None:
                 color=c, label=f"metallic {m:g}: |thesis − GGX|")
         ax.plot([r["smoothness"] for r in rs], [r["ggx_mean"] for r in rs], ":", color=c,
                 label=f"metallic {m:g}: GGX mean radiance")
-    ax.set_xlabel("smoothness")
-    ax.set_ylabel("mean radiance")
+    ax.set(xlabel="smoothness", ylabel="mean radiance")
     ax.set_title("thesis weights (spec/003 eq. 5.18) vs split-sum GGX on the dielectric sphere",
                  fontsize=9)
     ax.legend(fontsize=7)

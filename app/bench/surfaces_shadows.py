@@ -308,12 +308,9 @@ def soft_shadows(scene, shadows, probe, cas, cam, p, n, depth, base: ShadowSetti
 
 def chart(report: dict, path, force: bool = False) -> None:
     """Mismatch against ms (every map size × bias × filter) and soft-shadow error against ms."""
-    import matplotlib
+    from . import pyplot, write_chart
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from . import write_chart
+    plt = pyplot()
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
     for bias in BIASES:
@@ -323,8 +320,7 @@ def chart(report: dict, path, force: bool = False) -> None:
             a.annotate(f"{r['size']} {r['filter']} c{r['cascades']}",
                        (r["ms"], 100 * r["mismatch"]), fontsize=6, xytext=(3, 2),
                        textcoords="offset points")
-    a.set_xlabel("map + receiver ms")
-    a.set_ylabel("mismatch % of floor points")
+    a.set(xlabel="map + receiver ms", ylabel="mismatch % of floor points")
     a.set_yscale("symlog", linthresh=0.1)
     a.legend(fontsize=7)
     for r in report["soft"]:
@@ -337,8 +333,7 @@ def chart(report: dict, path, force: bool = False) -> None:
               label=f"penumbra ({100 * report['truth']['penumbra_fraction']:.1f} % of the floor)")
     b.set_yscale("log")
     b.legend(fontsize=7)
-    b.set_xlabel("ms")
-    b.set_ylabel("mean |V − ray-cast truth|")
+    b.set(xlabel="ms", ylabel="mean |V − ray-cast truth|")
     a.set_title("mismatch (acne + Peter Panning + aliasing) against the ray cast", fontsize=9)
     b.set_title(f"soft shadow of a disc light (θ = {report['light_radius']} rad) against the "
                 "ray cast", fontsize=9)

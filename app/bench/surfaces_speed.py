@@ -190,20 +190,17 @@ def chart_axes(ax, report: dict, title: str) -> None:
     for r in report["rows"]:
         ax.annotate(r["variant"], (r["ms"], r["p99_levels"]), fontsize=7, xytext=(3, 3),
                     textcoords="offset points")
-    ax.set_xlabel(f"ms of {' + '.join(report['passes'])} ({report['rounds']} rounds)")
-    ax.set_ylabel(f"8-bit levels off the {report['reference']}")
+    ax.set(xlabel=f"ms of {' + '.join(report['passes'])} ({report['rounds']} rounds)",
+           ylabel=f"8-bit levels off the {report['reference']}")
     ax.set_yscale("symlog", linthresh=1.0)
     ax.legend(fontsize=7)
     ax.set_title(title, fontsize=9)
 
 
 def chart(report: dict, path, force: bool = False, title: str = "the lab's frame") -> None:
-    import matplotlib
+    from . import pyplot, write_chart
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from . import write_chart
+    plt = pyplot()
 
     fig, ax = plt.subplots(figsize=(6, 4))
     chart_axes(ax, report, f"{title} at {report['size'][0]}×{report['size'][1]}: speed "

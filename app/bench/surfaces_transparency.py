@@ -38,7 +38,7 @@ from ..gpu.timing import time_interleaved
 from ..params import ParamSet
 from ..sim import surfaces_scene as ss
 from ..sim import transparency as tw
-from . import write_chart
+from . import pyplot, write_chart
 
 OWNER = "bench-surfaces-transparency"
 BG = (0.3, 0.3, 0.35)
@@ -294,10 +294,7 @@ def summary(report: dict) -> list[str]:
 
 def chart(report: dict, path, force: bool = False) -> None:
     """Per view, RMS error (log) against ms of each method."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     views = list(dict.fromkeys(r["view"] for r in report["rows"]))
     fig, axes = plt.subplots(1, len(views), figsize=(4 * len(views), 3.4), squeeze=False)
@@ -309,9 +306,7 @@ def chart(report: dict, path, force: bool = False) -> None:
             if r.get("rms_multi") is not None:  # the pixels with ≥ 2 layers: open markers
                 ax.scatter(r["ms"], max(r["rms_multi"], 1e-5), facecolors="none",
                            edgecolors=colour)
-        ax.set_yscale("log")
-        ax.set_xlabel("ms")
-        ax.set_ylabel("RMS error vs A-buffer (open: ≥ 2 layers)")
+        ax.set(yscale="log", xlabel="ms", ylabel="RMS error vs A-buffer (open: ≥ 2 layers)")
         ax.set_title(view, fontsize=9)
     write_chart(fig, path, force=force, title="transparency: error against cost "
                 "(spec/003 §2.4)")

@@ -40,7 +40,7 @@ from ..gpu.programs import ProgramSpec
 from ..gpu.timing import time_interleaved
 from ..sim import fog as fs
 from ..sim.camera import Camera
-from . import write_chart
+from . import pyplot, write_chart
 
 SURFACE = ProgramSpec("fog/bench_surface")
 OWNER = "bench-fog"
@@ -212,10 +212,7 @@ def _run(rig: _Rig, cfg: dict, quick: bool) -> dict:
 def chart(report: dict, path, force: bool = False) -> None:
     """Left: the per-vertex error against the cell size, each mode (max solid, mean dashed);
     right: the ms of both paths (exp2) and of the height fog on the 1 m ground."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from matplotlib.ticker import ScalarFormatter
 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 4.8))
@@ -233,9 +230,8 @@ def chart(report: dict, path, force: bool = False) -> None:
     ax.axhline(1.0, color="grey", lw=0.8, ls=":")
     ax.text(cells[0], 1.08, "1 level", fontsize=7, color="grey")
     ax.set_xscale("log", base=2)
-    ax.set_yscale("log")
-    ax.set_xlabel("ground cell [m] (256 m: the whole ground in 2 triangles)")
-    ax.set_ylabel("|f_vertex − f_pixel| · 255  [8-bit levels]")
+    ax.set(yscale="log", xlabel="ground cell [m] (256 m: the whole ground in 2 triangles)",
+           ylabel="|f_vertex − f_pixel| · 255  [8-bit levels]")
     ax.set_title("per-vertex fog factor (the thesis's) vs per pixel, village camera", fontsize=9)
     ax.legend(fontsize=6, ncol=3)
     t = report["times"]
@@ -253,8 +249,7 @@ def chart(report: dict, path, force: bool = False) -> None:
     bx.set_yscale("log")
     for axis in (ax.xaxis, bx.xaxis):
         axis.set_major_formatter(ScalarFormatter())
-    bx.set_xlabel("ground cell [m]")
-    bx.set_ylabel("ms per draw (median, quartiles)")
+    bx.set(xlabel="ground cell [m]", ylabel="ms per draw (median, quartiles)")
     bx.set_title(f"cost, {report['size'][0]}×{report['size'][1]}, {report['rounds']} "
                  "interleaved rounds", fontsize=9)
     bx.legend(fontsize=7)

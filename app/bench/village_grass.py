@@ -38,7 +38,7 @@ from ..sim import grass as gs
 from ..sim.camera import Camera
 from ..sim.daynight import Light
 from ..sim.village import Island
-from . import write_chart
+from . import pyplot, write_chart
 
 OWNER = "bench-village-grass"
 COUNTS = (10_000, 30_000, 100_000, 300_000, 1_000_000)
@@ -177,10 +177,7 @@ def run(gpu, quick: bool = False) -> dict:
 def chart(section_report: dict, path, force: bool = False) -> None:
     """Left: net ms against blades per method (log–log); right: side-view coverage against
     the number of crossed planes, rendered and twin, both angle layouts."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     r = section_report
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.4))
@@ -191,10 +188,8 @@ def chart(section_report: dict, path, force: bool = False) -> None:
         a.fill_between(xs, [max(x["p25_ms"] - x["clear_ms"], 1e-3) for x in rows],
                        [max(x["p75_ms"] - x["clear_ms"], 1e-3) for x in rows], color=colour,
                        alpha=0.15)
-    a.set_xscale("log")
-    a.set_yscale("log")
-    a.set_xlabel("blades (equal for every method)")
-    a.set_ylabel("ms per pass (clear subtracted; quartile band)")
+    a.set(xscale="log", yscale="log", xlabel="blades (equal for every method)",
+          ylabel="ms per pass (clear subtracted; quartile band)")
     a.set_title(f"speed, {r['size'][0]}×{r['size'][1]}, {r['renderer'][:28]}", fontsize=9)
     a.grid(True, which="both", alpha=0.3)
     a.legend(fontsize=8)
@@ -209,8 +204,7 @@ def chart(section_report: dict, path, force: bool = False) -> None:
                label=f"{layout} angles, numpy twin (orthographic)")
     doc = cov["layouts"]["document"]["change_3_to_4"]
     b.set_xticks(cov["planes"])
-    b.set_xlabel("crossed planes per unit n")
-    b.set_ylabel("side-view coverage ÷ one plane's")
+    b.set(xlabel="crossed planes per unit n", ylabel="side-view coverage ÷ one plane's")
     b.set_title(f"coverage of a row of units; n = 3 → 4: {100 * doc:+.1f} % (document)",
                 fontsize=9)
     b.grid(True, alpha=0.3)

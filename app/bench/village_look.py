@@ -153,12 +153,9 @@ def run(gpu, quick: bool = False) -> dict:
 
 
 def chart(report: dict, path, force: bool = False) -> None:
-    import matplotlib
+    from . import pyplot, write_chart
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from . import write_chart
+    plt = pyplot()
 
     names = list(report["looks"])
     looks = report["looks"]

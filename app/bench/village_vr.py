@@ -34,7 +34,7 @@ from ..render.stereo import eye_size
 from ..runtime import scene_params
 from ..scenes import get_scene
 from ..sim.camera import Camera
-from . import write_chart
+from . import pyplot, write_chart
 
 SCENE = "village"
 #: a head before Lord Barus's hall: near geometry, the ring, the characters' markers
@@ -120,10 +120,7 @@ def _sun_map(scene):
 def chart(section_report: dict, path, force: bool = False) -> None:
     """ms of the pair against the render scale (quartile bars), the mono frame as a band; the
     ratio stereo/mono and the pixel ratio S² on a second axis."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     r = section_report
     rows = r["stereo"]
@@ -136,8 +133,7 @@ def chart(section_report: dict, path, force: bool = False) -> None:
     mono = r["mono"]
     ax.axhline(mono["median_ms"], color="k", lw=1.0, label="mono frame")
     ax.axhspan(mono["p25_ms"], mono["p75_ms"], color="k", alpha=0.1)
-    ax.set_xlabel("eye render scale (of each half)")
-    ax.set_ylabel("ms per frame (median, quartiles)")
+    ax.set(xlabel="eye render scale (of each half)", ylabel="ms per frame (median, quartiles)")
     ax.set_ylim(bottom=0.0)
     ax2 = ax.twinx()
     ax2.plot(scales, [row["ratio_to_mono"]["median"] for row in rows], "s--", color="tab:red",

@@ -36,7 +36,7 @@ from ..sim import toon_water as tw
 from ..sim.camera import Camera
 from ..sim.daynight import Light
 from ..sim.sky import cubemap_face_direction
-from . import write_chart
+from . import pyplot, write_chart
 
 OWNER = "bench-water"
 #: a white light straight above, no ambient: the water's lit colour is toon_water.color itself
@@ -161,7 +161,6 @@ class WaterRig:
         """The image's window depth after the last render (h, w), row 0 at the top."""
         return self.target.read_depth()
 
-    # -- timing ----------------------------------------------------------------------------
     def save(self) -> None:
         """Keep the image as it is now (the backdrop): :meth:`restore` puts it back."""
         if self._saved is None:
@@ -284,10 +283,7 @@ def run(gpu, quick: bool = False) -> dict:
 def chart(report: dict, path, force: bool = False) -> None:
     """Left: the net ms of each variant (interquartile bars). Right: the ramp's error against
     the formula per width (1/255 marked), and the GPU's ramp − pow5."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(13, 4.5))
     names = [n for n in report["cost"] if n != "restore"]
@@ -315,8 +311,7 @@ def chart(report: dict, path, force: bool = False) -> None:
     b.axhline(1 / 255, color="k", ls=":", label="1/255 (criterion 20)")
     b.axhline(max(r["gpu_ramp_vs_pow5_max"], 1e-6), color="C3", ls="--",
               label=f"GPU, width {r['width']}: ramp − pow5 max {r['gpu_ramp_vs_pow5_max']:.1e}")
-    b.set_xlabel("ramp width [texels]")
-    b.set_ylabel("largest |error|")
+    b.set(xlabel="ramp width [texels]", ylabel="largest |error|")
     b.set_title(f"Fresnel ramp: {r['ramp_ms']:.3f} ms vs pow5 {r['pow5_ms']:.3f} ms\n"
                 f"(per-round ratio {r['ramp_over_pow5']:.2f}, quartiles "
                 f"{r['ramp_over_pow5_p25']:.2f}–{r['ramp_over_pow5_p75']:.2f})", fontsize=9)

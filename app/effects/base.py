@@ -84,7 +84,6 @@ class Effect:
     #: frame slots the effect reads: slot name → "required" or "optional"
     consumes: ClassVar[dict[str, str]] = {}
 
-    # -- parameters ------------------------------------------------------------------------
     @classmethod
     def python_params(cls) -> list[Param]:
         return []
@@ -194,7 +193,6 @@ class Effect:
     def declare(cls, library: ShaderLibrary) -> list[Param]:
         return with_joints(cls.python_params() + cls.glsl_params(library), cls.joints)
 
-    # -- life ------------------------------------------------------------------------------
     def __init__(self, gpu: Gpu, params: ParamSet):
         self.gpu = gpu
         self.params = params

@@ -64,16 +64,8 @@ class Caps:
 
 def caps_of(ctx: moderngl.Context) -> Caps:
     info = ctx.info
-    try:
-        samples = int(ctx.max_samples)
-    except Exception:  # pragma: no cover - a context that cannot say
-        samples = 0
-    try:
-        extensions = frozenset(ctx.extensions)
-    except Exception:  # pragma: no cover
-        extensions = frozenset()
     return Caps(ctx.version_code, str(info.get("GL_RENDERER", "?")),
-                str(info.get("GL_VENDOR", "?")), samples, extensions)
+                str(info.get("GL_VENDOR", "?")), int(ctx.max_samples), frozenset(ctx.extensions))
 
 
 def platform_backend() -> str:
@@ -98,29 +90,13 @@ def _mark(ctx: moderngl.Context, backend: str) -> moderngl.Context:
     return ctx
 
 
-#: (backend, required version, the environment, moderngl's creator) → the version the last
-#: context was made at: the newer ones failed, and fail again while the driver's environment
-#: (``MESA_GL_VERSION_OVERRIDE`` on a capped 4.1 run) is the same, so the next context starts
-#: there (each failed attempt costs ~2.5 ms on llvmpipe, two on every 4.1 session)
-_MADE_AT: dict[tuple, int] = {}
-
-
 def _try(versions, require: int, **kw) -> tuple[moderngl.Context | None, Exception | None]:
     last: Exception | None = None
-    key = (kw.get("backend"), require, tuple(sorted(os.environ.items())),
-           moderngl.create_context)
-    order = [v for v in versions if v >= require]
-    known = _MADE_AT.get(key)
-    if known in order:
-        order = order[order.index(known):]
-    for version in order:
+    for version in (v for v in versions if v >= require):
         try:
-            ctx = moderngl.create_context(standalone=True, require=version, **kw)
+            return moderngl.create_context(standalone=True, require=version, **kw), None
         except Exception as exc:  # moderngl and glcontext raise plain Exception subclasses
             last = exc
-            continue
-        _MADE_AT[key] = version
-        return ctx, None
     return None, last
 
 

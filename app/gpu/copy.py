@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+import moderngl
+
 if TYPE_CHECKING:
     from .device import Gpu
 
@@ -33,8 +35,6 @@ class ColourCopy:
 
     def of(self, target: Any) -> Any:
         """Copy ``target``'s colour (and depth) now and return the colour's texture."""
-        import moderngl
-
         depth = self.with_depth and getattr(target, "depth", None) is not None
         key = (tuple(target.size), depth)
         if self.texture is None or self._key != key:

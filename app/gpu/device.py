@@ -4,17 +4,19 @@ not use, and the panel can list what a scene holds)."""
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import gc
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator
 
 import moderngl
+import numpy as np
 
 from .context import Caps, caps_of, create_headless_context
 from .programs import ProgramSpec
+from .rawgl import CubeFaceCopy
 from .shaders import Program, ShaderLibrary
 from .targets import RenderTarget
 
@@ -35,17 +37,14 @@ class Gpu:
         self.caps: Caps = caps_of(self.ctx)
         # Seamless cubemap filtering (core since GL 3.2, off by default): without it the blurred
         # mip levels of the sky's environment cubemap show the face edges as lines in reflections.
-        try:
-            self.ctx.enable_direct(0x884F)  # GL_TEXTURE_CUBE_MAP_SEAMLESS
-        except Exception:  # pragma: no cover - a context without it still renders
-            pass
+        self.ctx.enable_direct(0x884F)  # GL_TEXTURE_CUBE_MAP_SEAMLESS
         self.shaders = ShaderLibrary(self.ctx, shader_root)
         self.allocations: list[Allocation] = []
         #: progress(label, fraction) for long GPU jobs such as bakes; the window draws a bar
         self.progress = None
         self._cube_face_copy: Any = None
 
-    @contextmanager
+    @contextlib.contextmanager
     def keep_framebuffer(self) -> Iterator[None]:
         """Work that binds framebuffers of its own while a caller's is bound — a producer that
         renders on request, in the middle of its consumer's pass (the sky's cubemap by fragment
@@ -68,8 +67,6 @@ class Gpu:
         """The bound framebuffer's lower-left ``size``² into ``cube``'s ``face`` at mip
         ``level``, on the GPU (``app.gpu.rawgl.CubeFaceCopy``)."""
         if self._cube_face_copy is None:
-            from .rawgl import CubeFaceCopy
-
             self._cube_face_copy = CubeFaceCopy(self.ctx)
         self._cube_face_copy(cube, face, level, size)
 
@@ -103,6 +100,13 @@ class Gpu:
         tex.filter = filter
         tex.repeat_x = tex.repeat_y = repeat
         return self._record(owner, "texture", name, tex)
+
+    def array_texture(self, owner: str, name: str, data, repeat: bool = True) -> moderngl.Texture:
+        """A 2D texture of an (h, w, c) array: 8-bit normalised from uint8, else float32."""
+        data = np.ascontiguousarray(data)
+        h, w = data.shape[:2]
+        return self.texture(owner, name, (w, h), data.shape[2], data=data.tobytes(),
+                            dtype="f1" if data.dtype == np.uint8 else "f4", repeat=repeat)
 
     def texture_cube(self, owner: str, name: str, size: int, components: int = 4,
                      dtype: str = "f2"):
@@ -144,30 +148,17 @@ class Gpu:
 
     def free(self, obj: Any) -> None:
         """Release one resource and forget it (a buffer: with the vertex arrays the programs
-        cached for it, see :meth:`_drop_vertex_arrays`)."""
+        cached for it, see ``Program.forget_buffer``)."""
         for a in list(self.allocations):
             if a.obj is obj:
                 self.allocations.remove(a)
         if isinstance(obj, (RenderTarget, moderngl.Framebuffer)):
             self._park()
         if isinstance(obj, moderngl.Buffer):
-            self._drop_vertex_arrays(obj)
+            for prog in self.shaders.programs():
+                prog.forget_buffer(obj)
         if not isinstance(obj, Program):  # programs are shared through the library
             obj.release()
-
-    def _drop_vertex_arrays(self, buffer: moderngl.Buffer) -> None:
-        """Release every vertex array a program cached for ``buffer`` (``Program.vao``: keyed
-        by the buffers' ids, each array keeping its buffers in ``extra``). A deleted buffer
-        still attached to a vertex array keeps its storage in the driver until the array is
-        deleted too, so without this every mesh rebuilt on a live change (the village's
-        terrain on each ``village.resolution``, a walking person each frame) stayed in
-        memory with its arrays, without bound."""
-        for prog in self.shaders.programs():
-            prog.forget_buffer(buffer)
-
-    def vertex_arrays(self) -> int:
-        """How many vertex arrays the programs hold (cached by ``Program.vao``)."""
-        return sum(prog.vertex_array_count for prog in self.shaders.programs())
 
     def _park(self) -> None:
         """Bind a 1×1 framebuffer of our own before a framebuffer is deleted: deleting the bound
@@ -211,21 +202,12 @@ _releases = 0
 def _return_freed_memory() -> None:
     """Hand the driver's freed heap back to the system: llvmpipe's per-context allocations
     otherwise stay in glibc's arenas as fragments, and RSS creeps up by a few MB per released
-    session although nothing leaks.
-
-    What a released session leaves in reference cycles (its effects, their parameters and
-    :class:`~app.gpu.cache.Keyed` values, this Gpu: ~130 small objects, no arrays, no GL names
-    — its context is gone) is collected at every :data:`RELEASES_PER_COLLECT`-th release, not
-    at each: a full collection walks the whole heap (5 ms in a script, 40–47 ms in a test
-    process, 350 ms in a 2-million-object one) to find a few tens of kB, and the session being
-    released is still referenced then, so even a collection at each release only ever took the
-    sessions before it. At most that many sessions' cycles wait (~0.1 MB; Python's own
-    collector may take them sooner): a constant, not growth."""
+    session although nothing leaks. A released session's reference cycles (~130 small objects)
+    are collected at every :data:`RELEASES_PER_COLLECT`-th release, not at each: a full
+    collection walks the whole heap (40–47 ms in a test process) to find a few tens of kB."""
     global _releases
     _releases += 1
     if _releases % RELEASES_PER_COLLECT == 0:
         gc.collect()
-    try:
+    with contextlib.suppress(OSError, AttributeError):  # not glibc (musl, macOS): no trim
         ctypes.CDLL(None).malloc_trim(0)
-    except (OSError, AttributeError):  # not glibc (musl, macOS): nothing to trim
-        pass

@@ -146,23 +146,11 @@ class GpuFFT:
     def path(self) -> str:
         return "compute" if self.use_compute else "fragment"
 
-    # -- data ------------------------------------------------------------------------------
-    def upload(self, index: int, data) -> None:
-        """Write texture ``index``: an (N, N, 4) float array, or a pair of complex (N, N) arrays."""
-        if isinstance(data, (tuple, list)):
-            a, b = (np.asarray(x) for x in data)
-            data = np.stack([a.real, a.imag, b.real, b.imag], axis=-1)
-        arr = np.ascontiguousarray(data, dtype=np.float32)
-        if arr.shape != (self.n, self.n, 4):
-            raise ParamError(f"fft.upload: shape {arr.shape} is not ({self.n}, {self.n}, 4)")
-        self.textures[index].write(arr.tobytes())
-
     def read(self, index: int) -> np.ndarray:
         """(N, N, 4) float32 contents of texture ``index``, indexed [iz, ix]."""
         raw = self.textures[index].read()
         return np.frombuffer(raw, dtype=np.float32).reshape(self.n, self.n, 4).copy()
 
-    # -- the transform ---------------------------------------------------------------------
     def inverse(self) -> None:
         """Replace every texture by its unnormalised inverse 2D FFT (N²·ifft2)."""
         if self.use_compute:

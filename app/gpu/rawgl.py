@@ -1,13 +1,11 @@
 """The few GL entry points moderngl does not wrap, loaded through the context's own loader.
 
 moderngl makes its contexts with glcontext, whose backend for the platform (EGL, GLX, WGL,
-CGL) knows how that platform hands out GL functions: ``eglGetProcAddress`` for every core
-function on EGL, ``wglGetProcAddress`` with ``opengl32.dll`` for the GL 1.1 ones on Windows,
-the OpenGL framework's symbols on macOS. Going through it (``ctx.mglo._context.load``) instead
-of opening ``libGL``/``libOpenGL``/``libEGL`` by name is what makes a raw call safe on every
-platform. A window's context (moderngl-window's, detected by moderngl) carries moderngl's own
-loader instead, which asks the current context the same way (``wglGetProcAddress`` with
-``opengl32.dll``, ``eglGetProcAddress`` or ``glXGetProcAddress``, the OpenGL framework).
+CGL) knows how that platform hands out GL functions (``eglGetProcAddress``,
+``wglGetProcAddress`` with ``opengl32.dll`` for the GL 1.1 ones, the OpenGL framework's
+symbols). Going through it (``ctx.mglo._context.load``; a window's context carries moderngl's
+own loader, which asks the current context the same way) instead of opening
+``libGL``/``libOpenGL``/``libEGL`` by name is what makes a raw call safe on every platform.
 
 Two users: :class:`CubeFaceCopy` — the bound framebuffer copied into one face and mip level of
 a cubemap on the GPU (``glCopyTexSubImage2D``, GL 1.1: moderngl can attach neither a cube face

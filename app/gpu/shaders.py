@@ -1,52 +1,28 @@
 """The shader library: GLSL programs by name, with includes, defines, mapped errors and live
-reload.
+reload (docs/architecture.md, "Shaders", and docs/commands.md say what a user sees).
 
-* A program is named by its path under the shader root without extension, e.g.
-  ``materials/material`` for ``glsl/materials/material.vert`` +
-  ``glsl/materials/material.frag``; each stage can also be given explicitly (a full-screen pass
-  reuses ``common/fullscreen.vert``).
-* ``#include "file"`` resolves relative to the including file, then ``glsl/common``, then the
-  root; each file is included once per stage (later includes of it are dropped). An include
-  must stay inside the shader root (the ``--shaders`` folder, or ``glsl/``) or Natura's own
-  ``glsl/`` (a folder mounted into a root by a link): an absolute path, a ``..`` that leads out,
-  or a link (of the file or of a folder on its way) that points out is refused at the
-  ``#include`` line, naming it, and what it points to is never read — students share folders,
-  and a link to another user's file or to ``/etc`` must not end up in a compiler message. A link
-  whose target stays inside is followed. An included file that is empty (or only blank lines)
-  is an error at its ``#include`` line: the code the file was included for is missing. A
-  program's own stage files are named by the program, not by an include: a link there is
-  followed wherever it points (a test mounts an example's folder into a root that way), but a
-  link that loops is an error at that file's line 1.
-* Defines are injected right after ``#version``.
+* A program is named by its path under the shader root without extension
+  (``materials/material`` for ``glsl/materials/material.vert`` + ``.frag``); each stage can
+  also be given explicitly (a full-screen pass reuses ``common/fullscreen.vert``).
+* An include must stay inside the shader root or Natura's own ``glsl/``: an absolute path, a
+  ``..`` or a link that leads out is refused at the ``#include`` line and never read (students
+  share folders: another user's file or ``/etc`` must not end up in a compiler message). A
+  program's own stage files are named by the program: a link there is followed wherever it
+  points (a test mounts an example's folder into a root that way).
 * Every file gets an integer source id in ``#line`` directives (Mesa rejects file names there),
-  and its lines are numbered from ``id * LINE_STRIDE`` (Mesa reports some errors — e.g. an
-  undeclared identifier — with source id 0 whatever ``#line`` said, but with the right line, so
-  the file is recovered from the line number); compiler messages in Mesa (``0:12(5):``),
-  NVIDIA (``0(12) :``) and AMD (``ERROR: 0:12:``) formats are mapped back to
-  ``glsl/<file>:<line>: message``. A link error (no line of its own) is shown at the
-  declaration of the identifier it names (the most recently saved file that declares it), or
-  else at the fragment stage's ``void main`` line.
-* Only regular files are read (a folder, a named pipe or a device in their place is an error at
-  line 1, and a pipe is never opened for a blocking read), at most :data:`MAX_SOURCE_BYTES`
-  each; a file that is not UTF-8 is an error at the line of its first bad byte, a NUL byte an
-  error at its line. User ``#line`` directives are dropped (they would break the mapping).
-* :meth:`ShaderLibrary.poll` checks the stamps of each program's whole include set (on the main
-  thread): file type, modification time, size, inode and a hash of the content (so an edit of
-  the same size within one tick of the file system's clock is seen). A file that vanished is
-  given one poll (editors that save by moving the original away); if it is still missing at the
-  next poll the program recompiles and lists the error. A failed compile keeps watching what it
-  could not find (every place a missing include may appear) and the previous include set, so
-  restoring a file recompiles. poll() never raises: every failure becomes a
-  :class:`ShaderError` on that program (``internal: ...`` for the unexpected), the last good
-  program keeps running, and the user's file is never touched.
-* :meth:`Program.set` converts a value to the uniform's GLSL type when it can (float → int by
-  rounding, bool → int or float, a scalar → every component of a vector) and otherwise skips
-  it and lists an error at the uniform's declaration: a uniform whose type changed in the GLSL
-  never raises into a render.
+  and its lines are numbered from ``id * LINE_STRIDE``: Mesa reports some errors with source id
+  0 whatever ``#line`` said, but with the right line, so the file is recovered from the line.
+  Mesa (``0:12(5):``), NVIDIA (``0(12) :``) and AMD (``ERROR: 0:12:``) messages are mapped back
+  to ``glsl/<file>:<line>: message``; user ``#line`` directives are dropped.
+* :meth:`ShaderLibrary.poll` never raises: every failure becomes a :class:`ShaderError` on its
+  program (``internal: ...`` for the unexpected), the last good program keeps running, and the
+  user's file is never touched. A file that vanished is given one poll (editors that save by
+  moving the original away).
 """
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import hashlib
 import os
@@ -190,8 +166,6 @@ class SourceError(Exception):
         self.stamp = stamp
 
 
-# ---- reading files -------------------------------------------------------------------------
-
 def _kind(mode: int) -> str:
     if stat.S_ISDIR(mode):
         return "a folder"
@@ -206,10 +180,6 @@ def _kind(mode: int) -> str:
 
 def _stat_part(st: os.stat_result) -> tuple:
     return (stat.S_IFMT(st.st_mode), st.st_mtime_ns, st.st_size, st.st_ino)
-
-
-def _digest(data: bytes) -> bytes:
-    return hashlib.blake2b(data, digest_size=16).digest()
 
 
 def _read_bytes(path: Path) -> tuple[bytes, Any]:
@@ -257,7 +227,7 @@ def _read_bytes(path: Path) -> tuple[bytes, Any]:
     finally:
         os.close(fd)
     data = b"".join(chunks)
-    stamp = (stamp0, _digest(data))
+    stamp = (stamp0, hashlib.blake2b(data, digest_size=16).digest())
     if len(data) > MAX_SOURCE_BYTES:
         raise SourceError(1, f"is over {MAX_SOURCE_BYTES >> 20} MiB: allowed at most "
                              f"{MAX_SOURCE_BYTES >> 20} MiB of GLSL", stamp)
@@ -315,7 +285,6 @@ class ShaderLibrary:
         self.root = Path(root or DEFAULT_SHADER_ROOT).resolve()
         self._programs: dict[tuple, Program] = {}
 
-    # -- names -----------------------------------------------------------------------------
     def display(self, path: Path, follow: bool = True) -> str:
         """How a file is named in messages: ``glsl/sky/sky.frag`` for the project's shaders.
         ``follow=False`` names a link itself, not where it leads."""
@@ -354,7 +323,6 @@ class ShaderLibrary:
             raise UsageError(f"program {name!r} lacks a {' and '.join(missing)} stage")
         return out
 
-    # -- preprocessing ---------------------------------------------------------------------
     def preprocess(self, path: Path, defines: dict[str, Any] | None = None) -> Source:
         """Expand includes and inject defines; raise :class:`PreprocessError` on a bad include
         or a file that cannot be read as text (with the file and line to blame).
@@ -528,7 +496,6 @@ class ShaderLibrary:
                                   "(restore it)") from None
             out.append(f"#line {base + i + 2} {sid}")
 
-    # -- errors ----------------------------------------------------------------------------
     def map_errors(self, message: str, files: list[Path],
                    stage_file: Path | None = None) -> list[ShaderError]:
         """Turn a driver log into ``file:line`` errors through the id → file table. A line
@@ -591,7 +558,6 @@ class ShaderLibrary:
                            f"{'void main line' if main > 1 else 'first line'} of the fragment "
                            "stage)")
 
-    # -- programs --------------------------------------------------------------------------
     def program(self, name: str, defines: dict[str, Any] | None = None,
                 **stages: str | None) -> "Program":
         """The program ``name`` (compiled on first use, then shared). Raises
@@ -836,8 +802,6 @@ def _glsl_literal(value: Any) -> str:
         return text if ("." in text or "e" in text) else text + ".0"
     return str(value)
 
-
-# ---- uniform values ------------------------------------------------------------------------
 
 _FLOAT_TYPES = {0x1406: "float", 0x8B50: "vec2", 0x8B51: "vec3", 0x8B52: "vec4"}
 _INT_TYPES = {0x1404: "int", 0x8B53: "ivec2", 0x8B54: "ivec3", 0x8B55: "ivec4"}
@@ -1089,7 +1053,6 @@ class Program:
             errors.extend(self.library.map_errors("\n".join(lines), files, stage_file))
         return errors
 
-    # -- use -------------------------------------------------------------------------------
     def __contains__(self, uniform: str) -> bool:
         return self.program is not None and uniform in self.program
 
@@ -1104,7 +1067,7 @@ class Program:
         if prog is None or uniform not in prog:
             return
         member = prog[uniform]
-        try:
+        with contextlib.suppress(Exception):  # converted below, or listed
             if isinstance(value, np.ndarray) and value.ndim == 2:
                 # numpy row-major → GL column-major
                 data = np.ascontiguousarray(value.T, dtype="f4").tobytes()
@@ -1120,15 +1083,11 @@ class Program:
             else:
                 member.value = value
             return
-        except Exception:  # noqa: BLE001 - converted below, or listed
-            pass
-        try:
+        with contextlib.suppress(Exception):  # listed below
             converted = _convert(member, value)
             if converted is not None:
                 member.value = converted
                 return
-        except Exception:  # noqa: BLE001 - listed below
-            pass
         self._bad_uniform(uniform, value, member)
 
     def _bad_uniform(self, uniform: str, value: Any, member: Any) -> None:
@@ -1243,11 +1202,6 @@ class Program:
                 and (buffer is vao.extra[1] or any(buffer is b for b in vao.extra[0]))]
         for key in dead:
             self._vaos.pop(key).release()
-
-    @property
-    def vertex_array_count(self) -> int:
-        """How many vertex arrays this program holds (cached by :meth:`vao`)."""
-        return len(self._vaos)
 
     def release(self) -> None:
         for vao in self._vaos.values():

@@ -13,17 +13,15 @@ between stages is caught as well; only when that run fails is each stage compile
 to say which file and line are to blame.
 
 Where the caller gives a folder (``accepted_dir``; the command line gives
-``<bake cache>/strict``), a program glslang accepted is remembered there (:class:`Accepted`: an
-empty file named by the SHA-256 of the validator's identity — its path, size and
-modification time — its arguments and every stage's preprocessed bytes), so the same bytes are
-not judged again by the same binary: ``natura doctor`` and ``natura shaders check --strict``
-run the same ~240 stages, at ~45 ms of process start and built-in symbol tables per program.
-Only acceptances are kept (a rejection is always rerun, for its messages and lines); a cache
-that cannot be read or written is no cache.
+``<bake cache>/strict``), a program glslang accepted is remembered there (:class:`Accepted`;
+docs/architecture.md, "Caches", has what it keys on and its win). Only acceptances are kept (a
+rejection is always rerun, for its messages and lines); a cache that cannot be read or written
+is no cache.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 import re
@@ -183,11 +181,9 @@ class Accepted:
     def remember(self) -> None:
         if self.path is None:
             return
-        try:  # an empty file: created whole or not at all
+        with contextlib.suppress(OSError):  # an empty file: created whole or not at all
             self.path.parent.mkdir(parents=True, exist_ok=True)
             self.path.touch()
-        except OSError:
-            pass
 
 
 def _run(argv: list[str]) -> str | None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import moderngl
@@ -9,9 +10,8 @@ import numpy as np
 
 from ..errors import UsageError
 
-#: bytes per pixel of a frame's float colour target (RGBA32F) and its depth
+#: bytes per pixel of a frame's float colour target (RGBA32F)
 COLOUR_BYTES = 16
-DEPTH_BYTES = 4
 #: a target smaller than this is not probed before use (every renderer holds a few MiB)
 PROBE_BYTES = 64 * 2**20
 #: bytes per pixel the host needs to read a frame back: the float read, its flipped copy and the
@@ -88,13 +88,11 @@ def _largest_held(ctx: moderngl.Context, size: tuple[int, int]) -> tuple[int, in
 
 def _available_memory() -> int | None:
     """The host's available memory in bytes (Linux's MemAvailable), None where unknown."""
-    try:
-        with open("/proc/meminfo", encoding="ascii") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
+    with contextlib.suppress(OSError, ValueError, IndexError), \
+            open("/proc/meminfo", encoding="ascii") as f:
+        for line in f:
+            if line.startswith("MemAvailable:"):
+                return int(line.split()[1]) * 1024
     return None
 
 

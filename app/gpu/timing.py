@@ -8,6 +8,8 @@ reported beside wall time, never instead of it.
 
 from __future__ import annotations
 
+import ctypes
+import random
 import statistics
 import time
 from dataclasses import dataclass, field
@@ -16,6 +18,7 @@ from typing import Any, Callable
 import moderngl
 
 from ..errors import NaturaError
+from .rawgl import gl_function
 
 
 @dataclass
@@ -43,25 +46,10 @@ class Timing:
 
 def time_call(ctx: moderngl.Context, name: str, fn: Callable[[], None], warmup: int = 3,
               repeat: int = 15, gpu_queries: bool = False) -> Timing:
-    """Run ``fn`` ``warmup`` times, then ``repeat`` times with ``ctx.finish()`` on both sides."""
-    timing = Timing(name)
-    for _ in range(max(0, warmup)):
-        fn()
-    ctx.finish()
-    query = ctx.query(time=True) if gpu_queries else None
-    for _ in range(max(1, repeat)):
-        ctx.finish()
-        t0 = time.perf_counter()
-        if query is not None:
-            with query:
-                fn()
-        else:
-            fn()
-        ctx.finish()
-        timing.wall_ms.append((time.perf_counter() - t0) * 1e3)
-        if query is not None:
-            timing.gpu_ms.append(query.elapsed / 1e6)
-    return timing
+    """Run ``fn`` ``warmup`` times, then ``repeat`` times with ``ctx.finish()`` on both sides
+    (:func:`time_interleaved` with one variant)."""
+    return time_interleaved(ctx, {name: fn}, warmup, repeat,
+                            gpu_queries=gpu_queries).timings[name]
 
 
 @dataclass
@@ -114,8 +102,6 @@ def time_interleaved(ctx: moderngl.Context, variants: dict[str, Callable[[], Non
     timer query is wrapped around each run too (hardware GPUs only; beside wall time). With
     ``budget_s``, no round starts once the rounds have taken that long and at least
     ``min_rounds`` are done (a slow scene then reports fewer rounds, never fewer than that)."""
-    import random
-
     rng = random.Random(seed)
     names = list(variants)
     for name in names:
@@ -147,8 +133,6 @@ def time_interleaved(ctx: moderngl.Context, variants: dict[str, Callable[[], Non
                 timings[name].gpu_ms.append(query.elapsed / 1e6)
     return Interleaved(timings, done)
 
-
-# ---- one frame, part by part ----------------------------------------------------------------
 
 #: the part of a frame that is the scene's own work between its passes: clearing the target,
 #: resolving a multisampled twin, composing eyes, and the Python between two passes
@@ -213,8 +197,6 @@ class FrameClock:
         return dict(self.parts)
 
 
-# ---- pipeline-statistics queries (GL_ARB_pipeline_statistics_query, raw GL via ctypes) ------
-
 PIPELINE_EXTENSION = "GL_ARB_pipeline_statistics_query"
 #: query targets of GL_ARB_pipeline_statistics_query (and GL_SAMPLES_PASSED, GL 1.5)
 PIPELINE_COUNTERS = {
@@ -255,9 +237,6 @@ class PipelineStatistics:
         self.available = True
 
     def _load(self) -> None:
-        import ctypes
-
-        from .rawgl import gl_function
 
         uint, sizei, p_uint = ctypes.c_uint, ctypes.c_int, ctypes.POINTER(ctypes.c_uint)
         protos: dict[str, tuple[Any, ...]] = {
@@ -274,8 +253,6 @@ class PipelineStatistics:
         """Run ``fn`` once with every counter's query active around it; the counts."""
         if not self.available:
             return None
-        import ctypes
-
         n = len(PIPELINE_COUNTERS)
         ids = (ctypes.c_uint * n)()
         f = self._fns

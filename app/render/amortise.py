@@ -113,6 +113,14 @@ def amortise_params(group: str, section: str = SECTION) -> list[Param]:
     ]
 
 
+def context_line(caps, params: ParamSet, group: str) -> str:
+    """The context-path line of ``<group>``'s amortised march (``context_paths``)."""
+    kind = "software renderer" if caps.software else "GPU"
+    return (f"{params[f'{group}.reprojection']}: scale {params[f'{group}.march_scale']}, "
+            f"refresh {params[f'{group}.refresh']} (auto: from the frame budget, planned "
+            f"for a {kind})")
+
+
 def amortised(params: ParamSet, group: str, interactive: bool) -> bool:
     """Whether ``<group>.reprojection`` amortises this frame."""
     mode = params[f"{group}.reprojection"]
@@ -164,13 +172,6 @@ class LayerHistory:
         """(h, w, 4) float32, row 0 at the top: rgb premultiplied radiance, a transmittance."""
         w, h = self.size
         data = np.frombuffer(self.color.read(), dtype=np.float32).reshape(h, w, 4)
-        return data[::-1].copy()
-
-    def read_aux(self) -> np.ndarray:
-        """(h, w, 4) float32, row 0 at the top: cloud distance, clipped scene distance, marched
-        fraction (1: the pixel's own march; 0: filled from its neighbours), 0."""
-        w, h = self.size
-        data = np.frombuffer(self.aux.read(), dtype=np.float32).reshape(h, w, 4)
         return data[::-1].copy()
 
     def free(self, gpu) -> None:
@@ -230,8 +231,8 @@ class Amortiser:
         self.last_reset: str | None = None  # why the last reset happened
         self.last_schedule: Schedule | None = None
         self.last_path: int | None = None  # the resolve's AMORTISE_PATH of the last step
+        self._full = None  # the full-size target of the thesis's march (:meth:`full_layer`)
 
-    # -- resources -----------------------------------------------------------------------
     def blue_noise(self):
         """The 64² blue-noise texture (R32F, nearest, repeating)."""
         if self._noise is None:
@@ -282,6 +283,7 @@ class Amortiser:
 
     def forget(self) -> None:
         """Drop every reference without freeing (the owner's resources were released)."""
+        self._full = None
         self._pair = []
         self._grids = {}
         self._noise = None
@@ -293,7 +295,28 @@ class Amortiser:
         """The last resolved layer (None before the first step)."""
         return self._pair[0] if self._pair else None
 
-    # -- marching ------------------------------------------------------------------------
+    def full_layer(self, size):
+        """The full-size target of the thesis's march (RGBA32F, no depth: rgb premultiplied
+        radiance, a transmittance), made again when ``size`` changes."""
+        size = tuple(int(v) for v in size)
+        if self._full is None or self._full.size != size:
+            if self._full is not None:
+                self.gpu.free(self._full)
+            self._full = self.gpu.target(self.owner, "cloud layer", size, dtype="f4", depth=False)
+        return self._full
+
+    def render(self, frame, size, params: ParamSet, schedule: Callable[[Any], Schedule],
+               state: Callable[[Any], LayerState], march: Callable[[MarchGrid], None],
+               scene_depth=None, phase: float = 0.0):
+        """This frame's layer of the owner's group: :meth:`step` when its reprojection
+        amortises the frame (``schedule(size)`` and ``state(frame)`` asked then only), else the
+        thesis's march of every pixel into :meth:`full_layer` at jitter phase ``phase``."""
+        if amortised(params, self.owner, frame.interactive):
+            return self.step(frame, size, schedule(size), state(frame), march, scene_depth)
+        layer = self.full_layer(size)
+        march(self.direct(layer.fbo, size, phase))
+        return layer
+
     def direct(self, fbo, size, phase: float = 0.0) -> MarchGrid:
         """A grid for marching every pixel of ``size`` into ``fbo`` (no amortisation: the
         thesis's march), the jitter phase ``phase``."""
@@ -328,7 +351,6 @@ class Amortiser:
         self.steps += 1
         return g
 
-    # -- a frame -------------------------------------------------------------------------
     def step(self, frame, size, schedule: Schedule, state: LayerState,
              march: Callable[[MarchGrid], None], scene_depth=None,
              still: bool | None = None) -> LayerHistory:

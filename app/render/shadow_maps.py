@@ -94,10 +94,6 @@ class _Map:
         w, h = self.depth.size
         return np.frombuffer(self.depth.read(), np.float32).reshape(h, w).copy()
 
-    def read_colour(self) -> np.ndarray:
-        w, h = self.colour.size
-        return np.frombuffer(self.colour.read(), np.float32).reshape(h, w, 2).copy()
-
 
 class DirectionalShadow(_Map):
     """The sun's orthographic map: one over ``settings.fixed_centre``/``fixed_radius`` (0
@@ -244,10 +240,6 @@ class SpotShadow(_Map):
 
     def render(self, casters: Casters, position, direction, half_angle_deg: float,
                light_range: float, settings: ShadowSettings, revision: int = 0) -> bool:
-        if not (0.0 < half_angle_deg < 89.0):
-            raise ValueError(f"spot half-angle {half_angle_deg}: allowed (0, 89) degrees")
-        if light_range <= 0:
-            raise ValueError(f"spot range {light_range}: allowed > 0")
         self.settings = settings
         if not settings.spot_enabled:
             return False
@@ -309,8 +301,6 @@ class PointShadow(_Map):
 
     def render(self, casters: Casters, position, light_range: float, settings: ShadowSettings,
                revision: int = 0) -> bool:
-        if light_range <= 0:
-            raise ValueError(f"point light range {light_range}: allowed > 0")
         self.settings = settings
         if not settings.point_enabled:
             return False
@@ -344,12 +334,6 @@ class PointShadow(_Map):
         self.fbo.viewport = (0, 0, 3 * face, 2 * face)
         self.renders += 1
         return True
-
-    def read_face(self, f: int) -> np.ndarray:
-        """Face f's stored (|l| + bias)/range, (face, face), row 0 at v = 0."""
-        c = self.read_colour()[..., 0]
-        face = c.shape[0] // 2
-        return c[(f // 3) * face:(f // 3 + 1) * face, (f % 3) * face:(f % 3 + 1) * face]
 
     def bind(self, program) -> dict[str, Any]:
         s = self.settings

@@ -55,8 +55,6 @@ def configure_compare(tex, mode: str = "hardware") -> None:
     for a ``sampler2D`` that reads depths (``texelFetch``) and compares them itself."""
     import moderngl
 
-    if mode not in COMPARE_MODES:
-        raise ValueError(f"shadow compare mode {mode!r}: allowed {', '.join(COMPARE_MODES)}")
     if mode == "hardware":
         tex.compare_func = "<="
         tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
@@ -122,8 +120,6 @@ SHADOW_SECTION = "spec/003 §2.8"
 #: (:meth:`ShadowSettings.taps_code`)
 SHADOW_TAPS = ("full", "fast")
 TAPS_CHOICES = ("auto", *SHADOW_TAPS)
-#: the PCF radius of each tap set (glsl/common/shadow.glsl ShadowPcfRadius)
-TAPS_PCF_RADIUS = {"full": PCF_RADIUS, "fast": 1}
 
 
 @dataclass(frozen=True)
@@ -156,14 +152,6 @@ class ShadowSettings:
     taps: str = "full"
 
     def __post_init__(self):
-        if self.cascades not in (0, 2, 4):
-            raise ValueError(f"shadow cascades {self.cascades}: allowed 0, 2, 4")
-        if self.filter not in SHADOW_FILTERS:
-            raise ValueError(f"shadow filter {self.filter!r}: allowed {', '.join(SHADOW_FILTERS)}")
-        if not (16 <= self.map_size <= 8192):
-            raise ValueError(f"shadow map size {self.map_size}: allowed 16..8192")
-        if self.taps not in TAPS_CHOICES:
-            raise ValueError(f"shadow taps {self.taps!r}: allowed {', '.join(TAPS_CHOICES)}")
         if not (self.distance > 0 and self.fixed_radius > 0):
             raise ValueError(f"shadow distance {self.distance} / fixed radius "
                              f"{self.fixed_radius}: allowed > 0")

@@ -19,7 +19,6 @@ some texels).
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Any, Callable
 
 import moderngl
@@ -42,8 +41,6 @@ def eye_camera(camera: Camera, ipd: float, eye: str) -> Camera:
     """The camera of one eye: ``camera`` moved by ∓ipd/2 along its right vector (left eye to
     the left), same orientation, field of view and planes."""
     _check_eye(eye)
-    if not (isinstance(ipd, (int, float, np.floating)) and math.isfinite(ipd) and ipd >= 0.0):
-        raise ValueError(f"interpupillary distance {ipd!r}: allowed a finite number ≥ 0 m")
     right, _, _ = camera.basis()
     sign = -1.0 if eye == "left" else 1.0
     pos = np.asarray(camera.position, np.float64) + sign * 0.5 * float(ipd) * right
@@ -53,13 +50,6 @@ def eye_camera(camera: Camera, ipd: float, eye: str) -> Camera:
 
 def eye_cameras(camera: Camera, ipd: float) -> tuple[Camera, Camera]:
     return eye_camera(camera, ipd, "left"), eye_camera(camera, ipd, "right")
-
-
-def _check_scale(render_scale: float) -> float:
-    s = float(render_scale)
-    if not (math.isfinite(s) and s > 0.0):
-        raise ValueError(f"render scale {render_scale!r}: allowed a finite number > 0")
-    return s
 
 
 def eye_viewport(size: tuple[int, int], eye: str) -> tuple[int, int, int, int]:
@@ -75,7 +65,7 @@ def eye_size(size: tuple[int, int], render_scale: float = 1.0,
              eye: str = "left") -> tuple[int, int]:
     """The render texture of one eye: its half of the frame (:func:`eye_viewport`) times
     ``render_scale``, rounded, at least 1 × 1."""
-    s = _check_scale(render_scale)
+    s = float(render_scale)
     _, _, w, h = eye_viewport(size, eye)
     return max(1, int(round(w * s))), max(1, int(round(h * s)))
 
@@ -103,8 +93,8 @@ class StereoRenderer:
                render_eye: Callable[[object, object], None]) -> None:
         """Each eye's ``render_eye(eye_frame, eye_target)`` — ``frame`` with the eye's camera
         and size, ``eye`` set, ``image`` unset (the scene sets it to the eye's target) — then
-        both composed into ``target``. Bad ``ipd`` or ``render_scale``: ValueError."""
-        _check_scale(render_scale)
+        both composed into ``target`` (``ipd`` and ``render_scale``: the ranges of the vr.ipd
+        and vr.render_scale Params)."""
         eyes = {}
         shown = [e for e in EYES if eye_viewport(target.size, e)[2] > 0]
         for eye in shown:

@@ -22,16 +22,18 @@ DEFAULT_SCENE = "maritime"
 _NOT_SCENES = {"base", "keymaps", "views"}
 
 
+def _scenes_in(module_name: str) -> list[type[Scene]]:
+    """The named Scene subclasses ``app/scenes/<module_name>.py`` defines."""
+    module = importlib.import_module(f"{__name__}.{module_name}")
+    return [value for value in vars(module).values()
+            if isinstance(value, type) and issubclass(value, Scene) and value is not Scene
+            and value.__module__ == module.__name__ and value.name]
+
+
 def _discover() -> dict[str, type[Scene]]:
-    found: list[type[Scene]] = []
-    for info in pkgutil.iter_modules(__path__):
-        if info.name in _NOT_SCENES or info.name.startswith("_"):
-            continue
-        module = importlib.import_module(f"{__name__}.{info.name}")
-        for value in vars(module).values():
-            if (isinstance(value, type) and issubclass(value, Scene) and value is not Scene
-                    and value.__module__ == module.__name__ and value.name):
-                found.append(value)
+    found = [cls for info in pkgutil.iter_modules(__path__)
+             if info.name not in _NOT_SCENES and not info.name.startswith("_")
+             for cls in _scenes_in(info.name)]
     found.sort(key=lambda cls: (cls.order, cls.name))
     scenes: dict[str, type[Scene]] = {}
     for cls in found:
@@ -92,12 +94,7 @@ def _own_module(name: object) -> type[Scene] | None:
         return None
     if not any(info.name == name for info in pkgutil.iter_modules(__path__)):
         return None
-    module = importlib.import_module(f"{__name__}.{name}")
-    for value in vars(module).values():
-        if (isinstance(value, type) and issubclass(value, Scene) and value is not Scene
-                and value.__module__ == module.__name__ and value.name == name):
-            return value
-    return None
+    return next((cls for cls in _scenes_in(name) if cls.name == name), None)
 
 
 SCENES: MutableMapping[str, type[Scene]] = _Registry()

@@ -175,9 +175,6 @@ class Scene:
                 return e
         raise KeyError(f"scene {self.name!r} has no effect {name!r}")
 
-    def has_effect(self, name: str) -> bool:
-        return any(e.name == name for e in self.instances)
-
     def frame(self, size: tuple[int, int], dt: float = 0.0) -> FrameContext:
         """Advance the simulation by ``dt`` seconds and return this frame's context."""
         self.time += dt

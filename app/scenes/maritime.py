@@ -34,6 +34,7 @@ from ..effects.sky import Sky
 from ..effects.wind import Wind
 from ..frame import FrameContext
 from ..params import Param, ParamSet
+from ..sim.maths import compass_degrees, wrap_degrees
 from .base import Scene
 from .keymaps import FLY, KeyMap
 
@@ -98,14 +99,6 @@ class HudState:
     playing: bool
     weather: str
     camera: str
-
-
-def wrap180(angle: float) -> float:
-    """An angle in degrees folded into (−180, 180]."""
-    a = math.fmod(angle + 180.0, 360.0)
-    if a <= 0.0:
-        a += 360.0
-    return a - 180.0
 
 
 class MaritimeScene(Scene):
@@ -214,7 +207,7 @@ class MaritimeScene(Scene):
         bow = np.array([math.sin(psi), 0.0, -math.cos(psi)])
         eye = np.array([x, max(height, 0.5), z]) - back * bow
         look = np.array([x, self.params["maritime.chase_aim"], z]) - eye
-        yaw = math.degrees(math.atan2(look[0], -look[2])) % 360.0  # compass, as the camera
+        yaw = compass_degrees(look[0], look[2])  # compass, as the camera
         pitch = math.degrees(math.atan2(look[1], math.hypot(look[0], look[2])))
         self.camera.set(position=tuple(eye), yaw=yaw, pitch=pitch)
         self._placed = (self.camera.yaw, self.camera.pitch)
@@ -229,7 +222,7 @@ class MaritimeScene(Scene):
         st = self.boat().sail_state
         return HudState(heading=heading, speed=speed, wind_speed=p["wind.speed"],
                         wind_direction=p["wind.direction"],
-                        wind_relative=wrap180(p["wind.direction"] - heading),
+                        wind_relative=wrap_degrees(p["wind.direction"] - heading),
                         apparent_angle=math.degrees(st.awa) if st is not None else 0.0,
                         helm=p["boat.helm"], sails=p["boat.sails"], throttle=p["boat.throttle"],
                         hour=p["time.hour"], playing=p["time.playing"],

@@ -108,7 +108,6 @@ class VillageScene(Scene):
         assert isinstance(effect, Village)
         return effect
 
-    # -- the cameras -----------------------------------------------------------------------
     def camera_mode(self) -> str:
         mode = self.params["village.camera"]
         if mode == "third" and self.params["vr.enabled"]:
@@ -155,7 +154,6 @@ class VillageScene(Scene):
         self.camera.set(position=tuple(eye), yaw=heading)
         self._placed = (float(eye[0]), float(eye[2]), heading)
 
-    # -- drawing ---------------------------------------------------------------------------
     def render(self, frame: FrameContext, target) -> None:
         if self.params["vr.enabled"]:
             # the shadow maps and the probes once, from the head (the eyes, 3.2 cm either side,

@@ -46,22 +46,14 @@ segment C→O::
 with A where the sun ray from P leaves the atmosphere, V the shadow-map visibility (§2.5), and
 ``L_out = L_0 · e^(−τ(C O))`` (§1.4). The sun is white with radiance ``sun_intensity``.
 
-Errata of the thesis fixed here (and in the GPU code; see also spec/002 §6)
----------------------------------------------------------------------------
-1. Out-scattering multiplies by the transmittance e^(−τ), not by τ (§1.4 printed ``* τ``).
-2. The Earth normal is ``normalize(P − C_earth)`` (§2.3's ``point − cEarth / length(...)``).
-3. The Rayleigh *scattering* coefficient ``betaSR`` is β^s_R (§2.2 listed β^s_M twice).
-4. **P0 is applied consistently**: the printed inner (sun) loop sums ``exp(−h/H)`` without
-   ``P0`` while the outer loop's density has it, so for P0 ≠ 1 the two halves of τ disagree.
-   Here every optical depth is ``P0 · D``.
-5. **Phase-function constant.** §1.2 writes Cornette–Shanks as
-   ``1/(4π) · 3(1−g²)/(2(2+g²)) · (1+μ²)/(1+g²−2gμ)^{3/2}``, while the §2.3 code writes
-   ``3/(8π) · (1−g²)(1+μ²)/((2+g²)(1+g²−2gμ)^{3/2})``. They are the same function:
-   1/(4π) · 3/2 = 3/(8π). Both integrate to 1 over the sphere and equal the Rayleigh phase
-   3/(16π)(1+μ²) at g = 0. Nothing to fix; :func:`phase_mie` uses the §1.2 form.
-6. **A sun ray that hits the planet carries no sunlight** (P is in the planet's shadow). The
-   thesis's ``calculateAtmospherePoint`` ignores the ground; here the exact optical depth of such
-   a ray is +inf, the LUT returns :data:`OPTICAL_DEPTH_GROUND_M`, and the transmittance is 0.
+Errata of the thesis fixed here (and in the GPU code; docs/theory/002-atmosphere.md §6 lists them)
+--------------------------------------------------------------------------------------------------
+Out-scattering multiplies by the transmittance e^(−τ), not by τ; the Earth normal is
+``normalize(P − C_earth)``; ``betaSR`` is β^s_R; every optical depth is ``P0 · D`` (the printed
+inner loop has no P0); a sun ray that hits the planet carries no sunlight (its exact optical
+depth is +inf, the LUT returns :data:`OPTICAL_DEPTH_GROUND_M`, the transmittance is 0). The two
+Cornette–Shanks forms of §1.2 and §2.3 are the same function (1/(4π) · 3/2 = 3/(8π)):
+:func:`phase_mie` uses the §1.2 form.
 
 One deliberate improvement over the printed loop, selectable for twin comparisons: the thesis
 accumulates ``dPC += ρ ds`` *before* using it, so τ(PC) at the sample P_k includes the whole
@@ -79,7 +71,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
-from functools import lru_cache
 from typing import Callable, NamedTuple
 
 import numpy as np
@@ -119,9 +110,7 @@ OZONE_COLUMN_M = 0.5 * (OZONE_TOP_M - OZONE_BOTTOM_M)
 OZONE_ABSORPTION = (0.650e-6, 1.881e-6, 0.085e-6)
 
 
-# =============================================================================================
-# Constants and parameters (spec/002 §1.3, §7, §9)
-# =============================================================================================
+# ==== Constants and parameters (spec/002 §1.3, §7, §9) =======================================
 
 def _rgb(name: str, value) -> _RGB:
     arr = np.broadcast_to(np.asarray(value, dtype=np.float64), (3,)) if np.ndim(value) == 0 \
@@ -184,7 +173,6 @@ class AtmosphereParams:
                                      "is not a number: allowed a finite number") from None
         self.validate()
 
-    # -- validation --------------------------------------------------------------------------
     def validate(self) -> "AtmosphereParams":
         """Raise :class:`ParamError` (one line: name, value, what is allowed) or return self."""
 
@@ -349,9 +337,7 @@ def from_params(paramset) -> AtmosphereParams:
 AtmosphereParams.from_params = staticmethod(from_params)  # type: ignore[attr-defined]
 
 
-# =============================================================================================
-# Phase functions (spec/002 §1.2)
-# =============================================================================================
+# ==== Phase functions (spec/002 §1.2) ========================================================
 
 def phase_mie(mu, g):
     """The Cornette–Shanks phase of :mod:`app.sim.optics` (§1.2) for the atmosphere's g:
@@ -367,9 +353,7 @@ def phase_mie(mu, g):
     return phase_mie_cornette_shanks(mu, g)
 
 
-# =============================================================================================
-# Geometry (spec/002 §1.7, §2.4 item 2; criterion 6)
-# =============================================================================================
+# ==== Geometry (spec/002 §1.7, §2.4 item 2; criterion 6) =====================================
 
 def local_to_planet(position, params: AtmosphereParams | None = None) -> np.ndarray:
     """Scene-local position (origin on the sea surface, y up) → planet-centred, m."""
@@ -453,9 +437,7 @@ def atmosphere_segment(cam, dirs, max_dist, params: AtmosphereParams,
     return Segment(np.where(hit, t0, 0.0), np.where(hit, t1, 0.0), hit)
 
 
-# =============================================================================================
-# Density and optical depth (spec/002 §1.3, §1.7, §1.8)
-# =============================================================================================
+# ==== Density and optical depth (spec/002 §1.3, §1.7, §1.8) ==================================
 
 def density(h, H, p0: float = 1.0):
     """ρ(h) = P0 · exp(−h/H) (§1.3); heights below 0 are clamped to sea level (as the GPU's
@@ -536,7 +518,6 @@ def sun_ray_hits_ground(h, cos_phi, params: AtmosphereParams):
 _GL_ROWS = 1024
 
 
-@lru_cache(maxsize=16)
 def _gauss_legendre(n: int):
     x, w = np.polynomial.legendre.leggauss(n)
     return (x + 1.0) / 2.0, w / 2.0
@@ -693,9 +674,7 @@ def _atmosphere_exit(h, mu, params: AtmosphereParams):
     return np.where(mu > 0.0, np.where(np.isfinite(pos), pos, 0.0), sq - r * mu)
 
 
-# =============================================================================================
-# The optical-depth lookup table — the thesis's "Chapman function" (spec/002 §1.8)
-# =============================================================================================
+# ==== The optical-depth lookup table — the thesis's "Chapman function" (spec/002 §1.8) =======
 #
 # What a texel holds. The thesis stores, per particle type, the density integral D(h, Φ) from the
 # point to the top of the atmosphere. Stored as is, D varies like exp(−h/H) along the height axis,
@@ -905,9 +884,7 @@ class OpticalDepthLut:
         d = self.optical_depth_to_sun(h, cos_phi, 1.0)
         return d[..., 0], d[..., 1]
 
-# =============================================================================================
-# Exposure (spec/002 §1.6)
-# =============================================================================================
+# ==== Exposure (spec/002 §1.6) ===============================================================
 
 def pupil(cos_gamma):
     """The thesis's variable exposure ``clamp(1 − cos γ / 4, 0, 1)`` with
@@ -920,9 +897,7 @@ def final_colour(x, pupil=1.0):
     return 1.0 - np.exp(-np.asarray(pupil, dtype=np.float64) * np.asarray(x, dtype=np.float64))
 
 
-# =============================================================================================
-# Single scattering (spec/002 §1.5, §1.7, §2.3–2.5) and the reference
-# =============================================================================================
+# ==== Single scattering (spec/002 §1.5, §1.7, §2.3–2.5) and the reference ====================
 
 class Scattering(NamedTuple):
     """Per ray, linear RGB (N, 3): in-scattered radiance (the thesis's "in-scattering on black"),
@@ -1096,9 +1071,6 @@ def convergence(cam, dirs, sun_dir, params: AtmosphereParams, ns=(10, 20, 30), n
     return out
 
 
-# =============================================================================================
-# Sky irradiance (beyond the thesis): the sky's light on the ground and the city
-# =============================================================================================
 #
 # The thesis lights surfaces with the sun and a constant ambient k_a × texture colour (§3.3).
 # The sky's own light on a surface of normal n is the irradiance E(n) = ∫ L_sky(ω) max(n·ω, 0) dω

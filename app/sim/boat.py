@@ -121,9 +121,7 @@ class BoatSim:
         self.controls = Controls()
         self.wake = WakeTrail(params=wake or WakeParams(), beam=p.beam)
         self.stern_z = float(self.mesh.vertices[:, 2].min())
-        self.last_forces = {"buoyancy": np.zeros(3), "sail": np.zeros(3)}
 
-    # -- methods ---------------------------------------------------------------------------
     @property
     def hydrodynamics(self) -> bool:
         """Whether the body has the hull's added mass and radiation damping."""
@@ -167,7 +165,6 @@ class BoatSim:
                                                                   rotation_stiffness)
                 m.probe_distance = probe_distance
 
-    # -- state -----------------------------------------------------------------------------
     @property
     def heading(self) -> float:
         """Compass heading of the bow [rad]."""
@@ -200,7 +197,6 @@ class BoatSim:
         v[deck, 1] += BULWARK
         return v
 
-    # -- stepping --------------------------------------------------------------------------
     def _apply_controls(self) -> None:
         c = self.controls
         nav = self.sailing.navigation
@@ -262,7 +258,6 @@ class BoatSim:
                 with _without_surge(b):
                     fb, tb = method.forces(b, water, time)
                 fs, ts = self._sail_forces(b, wind)
-                self.last_forces = {"buoyancy": fb, "sail": fs}
                 return fb + fs, tb + ts
             body.step(dt, forces)
         if not body.finite():  # never hand a NaN to the renderer: back to rest, upright

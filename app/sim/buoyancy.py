@@ -31,7 +31,6 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -62,10 +61,6 @@ from .rigid_body import (
 from .vec import cross, length, norm
 
 NU_SEA = 1.19e-6  # kinematic viscosity of sea water at 15 °C [m²/s] (ITTC)
-
-# ---------------------------------------------------------------------------------------------
-# Water surfaces
-# ---------------------------------------------------------------------------------------------
 
 
 def water_at(water: Any, t: float | None) -> Any:
@@ -272,10 +267,6 @@ class DelayedWater:
         return self._now().water(x, z, iterations)
 
 
-# ---------------------------------------------------------------------------------------------
-# Set-up helpers
-# ---------------------------------------------------------------------------------------------
-
 
 def boat_body(mesh: HullMesh, mass: float, com_height: float | None = None,
               rho: float = RHO_SEA, inertia_scale: float = 1.0, hydrodynamics: bool = False,
@@ -299,15 +290,12 @@ def boat_body(mesh: HullMesh, mass: float, com_height: float | None = None,
     return RigidBody(mass, inertia, com=com, **kwargs)
 
 
-# ---------------------------------------------------------------------------------------------
-# Added mass and radiation damping (docs/theory/000-maritime.md#added-mass)
-# ---------------------------------------------------------------------------------------------
+# ---- Added mass and radiation damping (docs/theory/000-maritime.md#added-mass) --------------
 
 #: the committed coefficients, written by ``tools/added_mass.py`` (capytaine)
 HYDRODYNAMICS_FILE = RESOURCES / "boat" / "hydrodynamics.json"
 
 
-@lru_cache(maxsize=4)
 def hydrodynamics_table(path: str | Path = HYDRODYNAMICS_FILE) -> dict:
     """The committed table (see tools/added_mass.py): per tabulated mass the frequency-dependent
     coefficients, the coupled reference modes and the constant matrices the runtime applies."""
@@ -395,10 +383,6 @@ def probe_layout(mesh: HullMesh, n: int, draft: float) -> tuple[np.ndarray, np.n
     return np.array(pts, float), np.array(areas, float)
 
 
-# ---------------------------------------------------------------------------------------------
-# 1. The thesis's floating object (kinematic)
-# ---------------------------------------------------------------------------------------------
-
 
 @dataclass
 class ProbeFloat:
@@ -469,10 +453,6 @@ class ProbeFloat:
         body.momentum = np.zeros(3)
         return {"normal": normal, "displacement": disp}
 
-
-# ---------------------------------------------------------------------------------------------
-# 2. Force probes
-# ---------------------------------------------------------------------------------------------
 
 
 @dataclass
@@ -551,9 +531,7 @@ def _limit_drag(drag: np.ndarray, v: np.ndarray, w: np.ndarray, body: RigidBody)
     return drag * np.minimum(1.0, 1.0 / np.maximum(rate, 1e-300))[:, None]
 
 
-# ---------------------------------------------------------------------------------------------
-# 3. Kerner's hydrostatic pressure integration
-# ---------------------------------------------------------------------------------------------
+# ---- 3. Kerner's hydrostatic pressure integration -------------------------------------------
 
 
 @dataclass
@@ -708,10 +686,6 @@ def _limit_body_drag(fd: np.ndarray, td: np.ndarray, body: RigidBody):
         td = td * (ll / ang)
     return fd, td
 
-
-# ---------------------------------------------------------------------------------------------
-# Energy
-# ---------------------------------------------------------------------------------------------
 
 
 def hydrostatic_energy(mesh: HullMesh, body: RigidBody, rho: float = RHO_SEA, g: float = G,

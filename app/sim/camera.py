@@ -52,7 +52,6 @@ class Camera:
             self.fov = float(fov)
         return self
 
-    # -- basis -----------------------------------------------------------------------------
     def forward(self) -> np.ndarray:
         y, p = math.radians(self.yaw), math.radians(self.pitch)
         return np.array([math.sin(y) * math.cos(p), math.sin(p), -math.cos(y) * math.cos(p)])
@@ -71,7 +70,6 @@ class Camera:
         yaw = math.degrees(math.atan2(d[0], -d[2]))
         return self.set(yaw=yaw, pitch=pitch)
 
-    # -- motion ----------------------------------------------------------------------------
     def move(self, forward: float = 0.0, right: float = 0.0, up: float = 0.0) -> None:
         r, _, f = self.basis()
         p = np.asarray(self.position) + f * forward + r * right + np.array([0.0, up, 0.0])
@@ -81,7 +79,6 @@ class Camera:
         self.yaw = (self.yaw + dyaw) % 360.0
         self.pitch = max(-89.9, min(89.9, self.pitch + dpitch))
 
-    # -- matrices (numpy, row-vector-free: M @ v) -----------------------------------------
     def view_matrix(self) -> np.ndarray:
         r, u, f = self.basis()
         eye = np.asarray(self.position)

@@ -114,13 +114,11 @@ SAIL_DEFAULTS: dict[str, Any] = {
 }
 #: defaults for the flag: large ripples along its length, no belly
 FLAG_DEFAULTS: dict[str, Any] = {
-    "time_step": 1.0,
-    "time_offset": 0.0,
+    **SAIL_DEFAULTS,
     "wave_height": 0.06,
     "wave_speed": 1.6,
     "wave_size": 2.0,
     "gradient_weight": (0.05, 0.02, 0.08),
-    "holes": 0.0,
     "camber": 0.0,
     "taut": 1.0,
     "translucency": 0.5,
@@ -200,8 +198,6 @@ def defaults_values(defaults: Mapping[str, Any] | None = None) -> dict[str, Any]
     return out
 
 
-# ---- the patch ------------------------------------------------------------------------------
-
 def patch(corners: np.ndarray, uv: np.ndarray) -> np.ndarray:
     """P(u, v) of the bilinear patch with ``corners`` (4, 3) in the order P00, P10, P01, P11;
     ``uv`` (..., 2). Returns (..., 3)."""
@@ -237,8 +233,6 @@ def pinned_weight(uv: np.ndarray, band: Any) -> np.ndarray:
             w = w * (1.0 - (1.0 - r) ** 2)
     return w
 
-
-# ---- the displacement -----------------------------------------------------------------------
 
 def cloth_time(t: Any, params: Mapping[str, Any]) -> Any:
     """T = TimeStep · t + TimeOffset."""

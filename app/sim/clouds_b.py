@@ -78,7 +78,6 @@ class ModelB:
         values.update(kw)
         return cls(**values)
 
-    # -- density ---------------------------------------------------------------------------
     def edge_weight(self, p) -> np.ndarray:
         p = np.asarray(p, dtype=np.float64)
         lo, hi = np.asarray(self.bounds_min), np.asarray(self.bounds_max)
@@ -132,7 +131,6 @@ class ModelB:
         return np.where(volume_density > 0.0,
                         volume_density - detail_density * self.density_multiplier, 0.0)
 
-    # -- light -----------------------------------------------------------------------------
     def light_at_pos(self, p, toward_sun) -> np.ndarray:
         """spec/000 §A.6: lightAtPos with the fix (L passed to rayBoxDistance itself); p (…, 3)."""
         p = np.array(p, dtype=np.float64)

@@ -70,7 +70,6 @@ def world_to_moon(moon_dir: np.ndarray, ecliptic) -> np.ndarray:
     return np.stack([right, up, f])
 
 
-# ---- the sun's colour through the air ------------------------------------------------------------
 # Beyond the thesis (its _SunCol is one constant colour, spec/000 §1.7): the direct sunlight
 # through m air masses keeps exp(−τ·m) of its value outside the atmosphere (Beer–Lambert), per
 # channel, τ the zenith optical depth at sea level: Rayleigh + aerosol at one wavelength each.
@@ -140,8 +139,6 @@ class Light:
     def radiance(self) -> np.ndarray:
         return np.asarray(self.color) * self.intensity
 
-
-# ---- keyframes --------------------------------------------------------------------------------
 
 @dataclass
 class Keyframe:
@@ -244,7 +241,6 @@ class Keyframes:
             lines.append(f"gradient = [{stops}]")
         return "\n".join(lines) + "\n"
 
-    # -- interpolation by hour -------------------------------------------------------------
     def bracket(self, hour: float) -> tuple[int, int, float]:
         """Indices of the keyframes before and after ``hour`` (wrapping midnight) and the
         blend weight of the second."""
@@ -302,8 +298,6 @@ class Keyframes:
 
         return (1 - t) * row(i0) + t * row(i1)
 
-
-# ---- the controller ---------------------------------------------------------------------------
 
 @dataclass
 class DayNightState:

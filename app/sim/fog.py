@@ -252,8 +252,6 @@ def fog_apply(colour: ArrayLike, factor: ArrayLike, fog_colour: ArrayLike) -> np
     return np.asarray(fog_colour, np.float64) * (1.0 - f) + np.asarray(colour, np.float64) * f
 
 
-# ---- the colour of the fog under the day–night sky --------------------------------------------
-
 def luminance(rgb: ArrayLike) -> float:
     return float(np.dot(np.asarray(rgb, np.float64), LUMINANCE))
 
@@ -276,8 +274,6 @@ def sky_fog_colour(colour: ArrayLike, ambient: ArrayLike | None, tint: float = 0
     out = bright * ((1.0 - t) * c + t * chroma)
     return tuple(float(x) for x in out)
 
-
-# ---- the thesis's FogGenerator ----------------------------------------------------------------
 
 @dataclass(frozen=True)
 class FogGenerator:
@@ -323,10 +319,6 @@ class FogGenerator:
     def plane_cutoff(self, time: ArrayLike) -> np.ndarray:
         """The plane's cutoff at ``time`` [s]: saturate((1 − I)·_SinTime.x)."""
         return plane_cutoff(1.0 - self.intensity, time)
-
-    def plane_scroll(self, time: float, direction=(0.0, 1.0)) -> np.ndarray:
-        """The plane's UV offset at ``time`` for a constant ``direction`` (unit (u, v))."""
-        return plane_scroll(self.speed, time, direction)
 
     def settings(self, colour=(0.5, 0.55, 0.6), per_pixel: bool = False, height: bool = False,
                  height_density: float = 0.15, height_falloff: float = 0.35,
@@ -391,17 +383,3 @@ def fog_texture(size: int = 256, seed: int = 7, cells: int = 4) -> np.ndarray:
     grey = np.clip(0.88 + 0.12 * shade, 0.0, 1.0)
     rgb = np.stack([grey * 0.97, grey * 0.985, grey], axis=-1)
     return np.concatenate([rgb, alpha[..., None]], axis=-1).astype(np.float32)
-
-
-def texture_centroid(alpha: np.ndarray) -> np.ndarray:
-    """The circular centroid (u, v) in [0, 1) of a tileable texture's alpha (each axis's mean
-    angle of the alpha mass): the measure the plane's scroll moves (spec/003 §6 criterion 34)."""
-    a = np.asarray(alpha, np.float64)
-    h, w = a.shape
-    out = []
-    for axis, n in ((1, w), (0, h)):
-        ang = 2.0 * math.pi * (np.arange(n) + 0.5) / n
-        mass = a.sum(axis=1 - axis)
-        z = np.sum(mass * np.exp(1j * ang))
-        out.append((math.atan2(z.imag, z.real) / (2.0 * math.pi)) % 1.0)
-    return np.array(out)

@@ -66,7 +66,6 @@ RIPENESS_TINTS = np.array([[1.0, 1.0, 1.0], [1.0, 0.92, 0.016], [1.0, 0.75, 0.25
 TILE = 8.0
 
 
-# ---- the wind ---------------------------------------------------------------------------------
 def wind_intensity(speed: ArrayLike) -> Array:
     """The thesis's w_i ∈ [0, 1] of a wind speed [m/s]: min(speed / FULL_WIND, 1)."""
     return np.clip(np.asarray(speed, np.float64) / FULL_WIND, 0.0, 1.0)
@@ -108,7 +107,6 @@ def grass_wind(slot: Any, direction_deg: float, intensity: float) -> GrassWind:
     return GrassWind(tuple(float(c) for c in d), i, i * FULL_WIND)
 
 
-# ---- (a) the geometry-shader blade --------------------------------------------------------------
 def gs_phase(px: ArrayLike, pz: ArrayLike) -> Array:
     """spec/003 eq. 7.1: φ = |P_x + P_z| mod 2π (P the blade's centroid in object space)."""
     s = np.abs(np.asarray(px, np.float64) + np.asarray(pz, np.float64))
@@ -204,7 +202,6 @@ def gs_blade(tri: ArrayLike, height: float, sections: int, direction: ArrayLike,
     return arr, _outward(arr, np.asarray(axis))
 
 
-# ---- (b) crossed billboards -------------------------------------------------------------------
 def billboard_up(mode: str, camera_up: ArrayLike) -> Array:
     """The plane's y vector for Billboard Y ``mode``: the camera's up u, the world's (0, 1, 0),
     or ŷ = u + (0, 1, 0) (spec/003 eq. 7.7) normalised (spec/003 eq. 7.8)."""
@@ -366,7 +363,6 @@ def make_units(roots: ArrayLike, seed: int, variety: float, wellness: float) -> 
     return Units(r, s, np.abs(r[:, 0] + r[:, 2]), tex.astype(np.float64), RIPENESS_TINTS[ripe])
 
 
-# ---- the placement ---------------------------------------------------------------------------
 def meadow_cells(terrain: Any, cell: float | None = None) -> tuple[Array, float]:
     """Lower corners (C, 2) of the square cells of side ``cell`` that may hold grass: the
     terrain's grass_density sampled at half a cell, dilated by one cell (a sliver of meadow
@@ -488,7 +484,6 @@ def grid_triangles(terrain: Any, count: int, seed: int) -> Array:
     return _on_ground(terrain, tri)
 
 
-# ---- the generated tuft textures --------------------------------------------------------------
 def _bezier2(p0: Array, p1: Array, p2: Array, t: Array) -> Array:
     s = 1.0 - t
     return (s * s)[:, None] * p0 + (2 * s * t)[:, None] * p1 + (t * t)[:, None] * p2
@@ -588,7 +583,6 @@ def side_coverage(alpha: ArrayLike, angles_deg: ArrayLike, cutoff: float = 0.2,
     return float(covered.mean())
 
 
-# ---- (c) instanced Bézier blades ----------------------------------------------------------------
 def blade_strip(segments: int) -> NDArray[np.float32]:
     """The instanced blade mesh as a triangle strip (2·segments + 1, 2): (t along the blade,
     side −1/+1), the tip a single vertex (side 0) — 2·segments − 1 triangles."""
@@ -699,7 +693,6 @@ def draw_runs(tiles: Tiles, lods: ArrayLike, lod: int,
     return runs
 
 
-# ---- budgets ---------------------------------------------------------------------------------
 def triangles(method: str, blades: int, sections: int = 3, planes: int = 3,
               segments: int = 6) -> int:
     """Triangles drawn for ``blades`` blades, every blade drawn (no culling)."""

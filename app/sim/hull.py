@@ -122,14 +122,6 @@ class HullMesh:
         normal = heel_trim_rotation(heel, trim).T @ np.array([0.0, 1.0, 0.0])
         return submerged_below_plane(self, np.array([0.0, draft, 0.0]), normal)
 
-    def edges_shared(self) -> np.ndarray:
-        """How many triangles share each distinct undirected edge (2 everywhere when closed)."""
-        t = self.triangles
-        e = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
-        e.sort(axis=1)
-        _, counts = np.unique(e, axis=0, return_counts=True)
-        return counts
-
 
 @dataclass
 class Submerged:
@@ -150,10 +142,6 @@ def heel_trim_rotation(heel: float, trim: float) -> np.ndarray:
     rx = np.array([[1.0, 0.0, 0.0], [0.0, ct, -st], [0.0, st, ct]])
     return rx @ rz
 
-
-# ---------------------------------------------------------------------------------------------
-# The shape
-# ---------------------------------------------------------------------------------------------
 
 
 def _plan(p: HullParams, s: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -264,10 +252,6 @@ def subdivide(mesh: HullMesh, k: int) -> HullMesh:
     deck = np.repeat(mesh.deck, len(sub_t))
     return HullMesh(vertices, tris, deck, mesh.params)
 
-
-# ---------------------------------------------------------------------------------------------
-# Exact integrals
-# ---------------------------------------------------------------------------------------------
 
 
 def tetra_moments(corners: np.ndarray, origin: np.ndarray) -> tuple[float, np.ndarray]:

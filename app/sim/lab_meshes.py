@@ -127,9 +127,6 @@ class LabMesh:
                 f"bounds {fmt(lo)}–{fmt(hi)}, size {fmt(size)}")
 
 
-# ---------------------------------------------------------------------------------------------
-# shared geometry helpers
-
 
 def _corner_angles(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
     """(T, 3) interior angle at each corner of each triangle (0 at a collapsed corner)."""
@@ -455,9 +452,6 @@ def _capsule(builder: _Builder, bottom, top, radius: float, segments: int = 16,
     builder.grid(p, n, uv)
 
 
-# ---------------------------------------------------------------------------------------------
-# the test objects
-
 
 def sphere(radius: float = 0.5, rings: int = 24, segments: int = 48) -> LabMesh:
     """A smooth UV sphere of ``radius`` centred at y = radius: 2,208 triangles by default
@@ -589,9 +583,6 @@ TEST_OBJECTS: dict[str, Callable[[], LabMesh]] = {
     "figure": figure,
 }
 
-
-# ---------------------------------------------------------------------------------------------
-# raw triangles → LabMesh
 
 
 def _pair_sums(gid: np.ndarray, fn: np.ndarray, ok: np.ndarray, face: np.ndarray,

@@ -27,14 +27,6 @@ def wood_value(radius) -> np.ndarray:
     return ease_in(np.mod(radius, 1.0))
 
 
-def wood_value_filtered(radius, width) -> np.ndarray:
-    def F(x):
-        return (np.floor(x) + np.mod(x, 1.0) ** 3) / 3.0
-
-    a, b = radius - 0.5 * width, radius + 0.5 * width
-    return np.where(width < 1e-6, wood_value(radius), (F(b) - F(a)) / np.maximum(b - a, 1e-12))
-
-
 def wood_colour(pos: np.ndarray, noise: ValueNoise | None = None, rec_depth: int = 3,
                 vol_tex_scale=(1, 1, 1, 10), noise_grid_size=(0.2, 1, 1, 10),
                 distor_factor=(1, 1, 1, 0.5),

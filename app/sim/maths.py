@@ -22,7 +22,6 @@ TWO_PI = 2.0 * math.pi
 HALF_PI = 0.5 * math.pi
 
 
-# ---- ramps ------------------------------------------------------------------------------------
 def saturate(x):
     """Twin of ``saturate`` (math.glsl, spec/001 eq. 4.2): clamp(x, 0, 1), as float64."""
     return np.clip(np.asarray(x, dtype=np.float64), 0.0, 1.0)
@@ -43,7 +42,6 @@ def smoothstep_down(hi, lo, x):
     return 1.0 - smoothstep(lo, hi, x)
 
 
-# ---- normalisers ------------------------------------------------------------------------------
 def normalize(v, axis: int | None = -1) -> np.ndarray:
     """``v`` over its length along ``axis`` (``axis=None``: the whole vector, √(v·v), as
     ``numpy.linalg.norm(v)``). Failure case: a zero vector gives NaN, as GLSL ``normalize``;
@@ -73,7 +71,6 @@ def safe_normalize(v, fallback=None, eps: float = 1e-10) -> np.ndarray:
     return unit_vectors(v, fallback, eps)[0]
 
 
-# ---- angles -----------------------------------------------------------------------------------
 def wrap_two_pi(angle):
     """``angle`` [rad] wrapped into [0, 2π): angle − 2π ⌊angle / 2π⌋ (GLSL ``mod(a, TWO_PI)``)."""
     return angle - TWO_PI * np.floor(angle / TWO_PI)
@@ -86,7 +83,6 @@ def wrap_degrees(angle):
     return float(out) if out.ndim == 0 else out
 
 
-# ---- the compass (wind) convention ------------------------------------------------------------
 def compass_xz(degrees: float) -> np.ndarray:
     """The unit (x, z) vector toward compass ``degrees`` (0 = north = −z, 90 = east = +x): the
     direction a wind of that direction blows toward."""
@@ -105,7 +101,6 @@ def compass_degrees(x: float, z: float) -> float:
     return math.degrees(compass_radians(x, z)) % 360.0
 
 
-# ---- matrices ---------------------------------------------------------------------------------
 def rotation_y(theta: float) -> np.ndarray:
     """spec/003 eq. 7.9: R_y(θ) = [[cos θ, 0, sin θ], [0, 1, 0], [−sin θ, 0, cos θ]] [θ in rad]."""
     c, s = math.cos(theta), math.sin(theta)

@@ -70,9 +70,6 @@ class Geometry:
     moved: bool = False
 
 
-# ---------------------------------------------------------------------------------------------
-# OBJ
-
 
 class _Tokens:
     """The whitespace-separated tokens of a text as (start, end) byte offsets, with the line
@@ -445,9 +442,6 @@ def _fan(counts: np.ndarray) -> np.ndarray:
     return out
 
 
-# ---------------------------------------------------------------------------------------------
-# STL
-
 STL_HEADER = 84
 STL_RECORD = np.dtype([("normal", "<f4", (3,)), ("vertices", "<f4", (3, 3)), ("attr", "<u2")])
 
@@ -543,9 +537,6 @@ def read_ascii_stl(data: bytes, max_triangles: int | None = None) -> list[Geomet
                             faces=np.arange(len(mine), dtype=np.int64).reshape(-1, 3)))
     return out
 
-
-# ---------------------------------------------------------------------------------------------
-# glTF and GLB
 
 _GLB_MAGIC = b"glTF"
 _CHUNK_JSON = 0x4E4F534A

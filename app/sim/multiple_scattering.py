@@ -82,10 +82,6 @@ class Grid:
                     s(self.n_phi), s(self.steps), self.sub)
 
 
-# =============================================================================================
-# The model's pieces
-# =============================================================================================
-
 class _Model:
     def __init__(self, p: atm.AtmosphereParams):
         self.p = p
@@ -115,7 +111,6 @@ class _Model:
             ext = ext + atm.ozone_density(h)[..., None] * self.e_o
         return ext
 
-    # -- sun transmittance: exact optical depths on a fine (x_μ, x_r) table, bilinear -------
     def _coords(self, h, mu):
         R, T = self.R, self.top
         r = R + np.clip(h, 0.0, self.H)
@@ -156,7 +151,6 @@ class _Model:
         dark = atm.sun_ray_hits_ground(np.clip(h, 0.0, self.H), mu_s, self.p)
         return np.where(dark[..., None], 0.0, out)
 
-    # -- geometry -----------------------------------------------------------------------
     def segment_length(self, h, mu):
         """Distance from altitude h along μ to the top, or to the ground if the ray hits it."""
         r = self.R + np.asarray(h, dtype=float)
@@ -208,10 +202,6 @@ def _j1(m: _Model, h, mu_s, nu):
                                            + sm * phase_mie_cornette_shanks(nu, m.p.g)[..., None])
 
 
-# =============================================================================================
-# The reference: tables of J_n order by order
-# =============================================================================================
-
 class Reference:
     """J_n tables for orders 2 … ``orders`` on :class:`Grid` ``grid`` (see the module notes).
 
@@ -245,7 +235,6 @@ class Reference:
             if n < orders:
                 l_prev = self._march_nodes(self.j[n])
 
-    # -- the sphere integral: phase matrices ------------------------------------------------
     def _phase_matrices(self) -> None:
         g = self.grid
         k = g.sub
@@ -282,7 +271,6 @@ class Reference:
         out = jr * sr[:, None, None, :] + jm * sm[:, None, None, :]
         return out.reshape(g.n_h, g.n_mu_s, g.n_mu, g.n_phi, 3)
 
-    # -- L_n at the nodes: march every node's ray ---------------------------------------------
     def _march_nodes(self, j_table: np.ndarray | None) -> np.ndarray:
         g, m = self.grid, self.m
         out = np.zeros((g.n_h, g.n_mu_s, g.n_mu, g.n_phi, 3))
@@ -307,7 +295,6 @@ class Reference:
             out[i, ks] = (src * w).sum(-2)
         return out
 
-    # -- reading the tables -------------------------------------------------------------------
     def lookup(self, table, h, mu_s, mu, phi):
         """4-linear read of a node table at (h, μ_s, μ, φ) (broadcast), clamped."""
         g = self.grid
@@ -334,7 +321,6 @@ class Reference:
             out = out + flat[lin] * w[..., None]
         return out
 
-    # -- the camera's sky -----------------------------------------------------------------------
     def averaged(self, over: str) -> dict[int, np.ndarray]:
         """The J_n tables averaged over the sphere of directions (``over="sphere"``: the best
         any isotropic source σ_s Ψ(h, μ_s) — Hillaire's form — can do) or over the azimuth
@@ -395,9 +381,7 @@ def _view(elevation_deg, azimuth_deg, sun_elevation_deg):
     return mu, np.full(mu.shape, mu_s), nu
 
 
-# =============================================================================================
-# Hillaire 2020's Ψ_ms, its numpy twin (converged integrals)
-# =============================================================================================
+# ==== Hillaire 2020's Ψ_ms, its numpy twin (converged integrals) =============================
 
 def hillaire_ms_lut(params: atm.AtmosphereParams, size: int = 32, directions: int = 8,
                     steps: int = 200, infinite: bool = True, model: _Model | None = None,
@@ -465,10 +449,6 @@ def hillaire_multiple(params, table, h_cam: float, elevation_deg, azimuth_deg,
     src = (sr + sm) * ms_lookup(table, m.H, h, mu_s_t)
     return params.sun_intensity * (src * trans * dt[..., None]).sum(1)
 
-
-# =============================================================================================
-# The comparison the bench charts
-# =============================================================================================
 
 #: the chart's view elevations (degrees) and sun elevations
 ELEVATIONS = (1.0, 2.0, 3.0, 5.0, 7.0, 10.0, 15.0, 20.0, 30.0, 45.0, 60.0, 75.0, 90.0)

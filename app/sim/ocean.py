@@ -8,50 +8,39 @@ rad/m, angular frequencies in rad/s; ``g`` = 9.81 m/s².
 
 What each function implements
 -----------------------------
-* ``sine_wave_height`` / ``sine_wave_normal`` — the sine wave of spec/000 §1.1(a):
-  P = (x, A·sin(kx + ωt), z) (spec/000 eq. 2.1), T = (1, kA·cos(kx+ωt), 0), B = ẑ,
-  N = (−kA·cos(kx+ωt), 1, 0) normalised (spec/000 eq. 2.2).
-* ``gerstner`` — spec/000 §1.1(c) summed over waves: A = s/k, f = k·(D·(x,z)) − ω·t (+ phase);
-  P = (x + Σ D_x·A·cos f, Σ A·sin f, z + Σ D_z·A·cos f) (spec/000 eq. 2.5); T (spec/000 eq. 2.7),
-  B (spec/000 eq. 2.8); the normal is **B × T** (spec/000 eq. 2.4 prints T × B, which points
-  down in a right-handed y-up frame — erratum);
-  the horizontal Jacobian det ∂(X,Z)/∂(x,z) (= 1 − s·sin f for one wave: loops where < 0).
-  ``check_gerstner_steepness`` enforces 0 ≤ s ≤ 1 per wave (the thesis's bound; for several
-  waves loops are only excluded when Σ s ≤ 1 — the Jacobian shows it).
-* ``dispersion_omega`` — ω² = g·k·tanh(k·d) (the thesis prints *tan*: erratum), deep-water
-  limit ω² = g·k for d = ∞; ``dispersion_domega_dk`` (group speed), ``phase_speed`` = ω/k.
-* Frequency spectra S(ω) [m²·s/rad]: ``pierson_moskowitz`` (α = 8.1e-3, ω_p = 0.877·g/U, U at
-  19.5 m: Hs = 0.209·U²/g), ``jonswap`` (Hasselmann et al. 1973 with fetch:
-  α = 0.076·(U²/(F·g))^0.22, ω_p = 22·(g²/(U·F))^(1/3), σ = 0.07/0.09, peak enhancement γ),
-  ``tma_correction`` (Kitaigorodskii depth factor in Thompson & Vincent's piecewise form, as
-  Horvath 2015 and gasgiant's FFT-Ocean use it; applied to JONSWAP and PM alike).
+Each function's docstring gives its equation; what they share, and where the thesis is wrong:
+
+* the sine wave (spec/000 §1.1(a)) and ``gerstner`` (spec/000 §1.1(c)): the normal is
+  **B × T** (spec/000 eq. 2.4 prints T × B, which points down in a right-handed y-up frame —
+  erratum); the horizontal Jacobian det ∂(X,Z)/∂(x,z) (= 1 − s·sin f for one wave: loops where
+  < 0). ``check_gerstner_steepness`` enforces 0 ≤ s ≤ 1 per wave (the thesis's bound; for
+  several waves loops are only excluded when Σ s ≤ 1 — the Jacobian shows it).
+* ``dispersion_omega`` — ω² = g·k·tanh(k·d) (the thesis prints *tan*: erratum).
+* Frequency spectra S(ω) [m²·s/rad]: ``pierson_moskowitz`` (U at 19.5 m: Hs = 0.209·U²/g),
+  ``jonswap`` (Hasselmann et al. 1973 with fetch), ``tma_correction`` (Kitaigorodskii depth
+  factor in Thompson & Vincent's piecewise form, as Horvath 2015 and gasgiant's FFT-Ocean use
+  it; applied to JONSWAP and PM alike).
 * Directional spreading D(θ, ω), ∫D dθ = 1 over (−π, π]: ``spreading_hasselmann`` — the
   documented choice: Longuet-Higgins cos^{2s}(θ/2) with Hasselmann et al. 1980's s(ω/ω_p)
   (s ≈ 7–10 at the peak, falling above it: long waves follow the wind, short ones spread, as the
   thesis says).  ``spreading_cos2s`` is the same with a fixed s.
-* ``phillips`` — Tessendorf's Phillips spectrum as a wavenumber spectrum, scaled physically:
-  Ψ(k) = ½·α·k⁻⁴·exp(−1/(k·L_w)²)·cos²θ·(1 or ``against_wind`` behind the wind)/norm,
-  L_w = U²/g (its k⁻³ tail then equals Pierson–Moskowitz's).
-* ``directional_spectrum`` — any of the three as a wavenumber spectrum Ψ(k_x, k_z) [m⁴],
-  ∫Ψ d²k = variance of η: Ψ = S(ω(k))·D(θ, ω)·(dω/dk)/k (the Jacobian factor of spec/000 eq. 2.10,
-  with the finite-depth dispersion), times TMA when ``depth`` is finite, times the short-wave
-  fade exp(−(k·ℓ)²) (Tessendorf's small-wave suppression; ℓ = ``short_wave_fade``, 0 = off).
-* ``initial_amplitudes`` — spec/000 eq. 2.10, seeded: h₀(k) = (ξ₁ + iξ₂)/√2 · sqrt(½·Ψ(−k)·Δk²).
-  Two deliberate differences from the printed equation: (1) the factor is ½, not 2 — with the
-  Hermitian pair below, var η = Σ(|h₀(k)|² + |h₀(−k)|²) must equal ∫Ψ d²k; with the printed 2
-  Hs would come out twice too large (the Hs test checks this); (2) Ψ is sampled at −k because
-  with η = Σ h·e^{ik·x} the term h₀(k)·e^{iωt} travels towards −k̂ — so the energy travels
-  down-wind.  The k = 0 mode and the Nyquist row/column are zero (so i·k·h stays Hermitian).
-* ``evolve_amplitudes`` — spec/000 eq. 2.11 with the conjugate the thesis dropped:
-  h(k,t) = h₀(k)·e^{iωt} + conj(h₀(−k))·e^{−iωt} (Tessendorf 2001 eq. 26): the field is real.
-* ``synthesize`` — inverse FFT (numpy.fft, η = N²·ifft2(h)) of the height, the choppy
-  displacement D = Σ i·(k/|k|)·h·e^{ik·x} (spec/000 §1.1(d), displaced point x + λ·D — crests
-  sharpen), the slopes ∂η/∂x = Σ i·k_x·h·e^{ik·x} (spectral derivatives), ∂D_x/∂x, ∂D_z/∂z,
-  ∂D_x/∂z, and the Jacobian J = (1 + λ·D_x,x)(1 + λ·D_z,z) − λ²·D_x,z² that drives foam.
-* ``surface_normals`` — the thesis's slope formula s = (η_,x/(1 + λD_x,x), η_,z/(1 + λD_z,z)),
-  n = (−s_x, 1, −s_z)/‖·‖.  Guard: the denominators are clamped to ≥ 1e-3 (they reach 0 where
-  the surface folds, J ≤ 0; the normal is then steep but finite and still has n.y > 0).
-* ``foam_step`` — foam accumulates where J < threshold and decays exponentially elsewhere.
+* ``phillips`` — Tessendorf's Phillips spectrum scaled physically (L_w = U²/g: its k⁻³ tail
+  then equals Pierson–Moskowitz's).
+* ``directional_spectrum`` — any of the three as a wavenumber spectrum Ψ(k_x, k_z) [m⁴]:
+  Ψ = S(ω(k))·D(θ, ω)·(dω/dk)/k (the Jacobian factor of spec/000 eq. 2.10, with the
+  finite-depth dispersion), times TMA when ``depth`` is finite, times the short-wave fade
+  exp(−(k·ℓ)²) (Tessendorf's small-wave suppression; ℓ = ``short_wave_fade``, 0 = off).
+* ``initial_amplitudes`` — spec/000 eq. 2.10, with two deliberate differences: (1) the factor
+  is ½, not 2 — with the Hermitian pair below, var η = Σ(|h₀(k)|² + |h₀(−k)|²) must equal
+  ∫Ψ d²k; with the printed 2 Hs would come out twice too large (the Hs test checks this); (2) Ψ
+  is sampled at −k because with η = Σ h·e^{ik·x} the term h₀(k)·e^{iωt} travels towards −k̂ — so
+  the energy travels down-wind.
+* ``evolve_amplitudes`` — spec/000 eq. 2.11 with the conjugate the thesis dropped (Tessendorf
+  2001 eq. 26): the field is real.
+* ``synthesize`` — the choppy displacement of spec/000 §1.1(d) (displaced point x + λ·D:
+  crests sharpen) and the Jacobian J that drives foam (``foam_step``); ``surface_normals`` clamps
+  its slope formula's denominators to ≥ 1e-3 (they reach 0 where the surface folds, J ≤ 0; the
+  normal is then steep but finite and still has n.y > 0).
 * ``cascade_bands`` / ``FFTOcean`` — 1–4 cascades (defaults N = 256, L = 250 / 17 / 5 m, the
   upstream's).  Band split: cascade i keeps |k| ∈ [k_i, k_{i+1}) with k_0 = 0,
   k_i = min(``boundary_factor``·2π/L_i, π·N/L_{i−1}) (default factor 6: the finest waves a
@@ -60,14 +49,10 @@ What each function implements
   and the last upper edge the last cascade's Nyquist π·N/L.  Every edge must lie inside the
   range the cascade can represent (ParamError otherwise), so bands never overlap and never
   leave a gap.  Defaults: [0, 2.218), [2.218, 7.540), [7.540, 160.8] rad/m.
-* ``sample_periodic_bilinear`` — bilinear lookup of periodic grids at world points.
-* ``invert_horizontal_displacement`` — spec/000 §1.3 / fig. 3.2 (gasgiant's GetWaterHeight):
-  x₀ ← x_q − D_xz(x₀), starting from x₀ = x_q; 3 corrections plus a final read by default;
-  returns the residual |x_q − (x₀ + D_xz(x₀))| after each step.  ``FFTOcean.water_height``
-  gives height, displacement and normal at world points.
-* ``floating_points_pose`` — fig. 3.1 read as edge vectors on the displaced surface (spec
-  inference): Nᵢ = (P(pᵢ+ẑ) − P(pᵢ)) × (P(pᵢ+x̂) − P(pᵢ)) (upward), averaged and normalised;
-  displacement averaged over the points.
+* ``invert_horizontal_displacement`` (spec/000 §1.3 / fig. 3.2, gasgiant's GetWaterHeight) and
+  ``floating_points_pose`` (fig. 3.1 read as edge vectors on the displaced surface: a spec
+  inference) answer the buoyancy's queries; ``FFTOcean.water_height`` gives height,
+  displacement and normal at world points.
 """
 
 from __future__ import annotations
@@ -85,9 +70,7 @@ G = 9.81  # m/s²
 SPECTRA = ("phillips", "pierson_moskowitz", "jonswap")
 
 
-# ---------------------------------------------------------------------------------------------
-# Sine wave (spec/000 §1.1(a))
-# ---------------------------------------------------------------------------------------------
+# ---- Sine wave (spec/000 §1.1(a)) -----------------------------------------------------------
 
 
 def sine_wave_height(x, t: float, amplitude: float, wavenumber: float, omega: float):
@@ -103,10 +86,6 @@ def sine_wave_normal(x, t: float, amplitude: float, wavenumber: float, omega: fl
     n = np.stack([-sx, np.ones_like(sx), np.zeros_like(sx)], axis=-1)
     return n / np.linalg.norm(n, axis=-1, keepdims=True)
 
-
-# ---------------------------------------------------------------------------------------------
-# Dispersion
-# ---------------------------------------------------------------------------------------------
 
 
 def _tanh_kd(k, depth):
@@ -144,9 +123,7 @@ def phase_speed(k, depth: float = math.inf, g: float = G):
     return np.where(k > 0, c, k0)
 
 
-# ---------------------------------------------------------------------------------------------
-# Gerstner waves (spec/000 §1.1(c))
-# ---------------------------------------------------------------------------------------------
+# ---- Gerstner waves (spec/000 §1.1(c)) ------------------------------------------------------
 
 
 @dataclass(frozen=True)
@@ -223,10 +200,6 @@ def gerstner(x, z, t: float, waves: Sequence[GerstnerWave], *, depth: float = ma
     jac = txx * bzz - xz * xz
     return GerstnerSurface(np.stack([px, py, pz], axis=-1), tangent, binormal, n, jac)
 
-
-# ---------------------------------------------------------------------------------------------
-# Spectra
-# ---------------------------------------------------------------------------------------------
 
 
 def pierson_moskowitz_peak(wind_speed: float, g: float = G) -> float:
@@ -401,10 +374,6 @@ def directional_spectrum(kx, kz, p: SpectrumParams):
         psi = psi * np.exp(-((k * p.short_wave_fade) ** 2))
     return psi
 
-
-# ---------------------------------------------------------------------------------------------
-# Tessendorf FFT ocean
-# ---------------------------------------------------------------------------------------------
 
 
 def wavenumber_grid(n: int, patch_size: float):
@@ -636,10 +605,6 @@ def sample_cascade_groups(groups, x, z, channels: int | None = None):
     return out
 
 
-# ---------------------------------------------------------------------------------------------
-# Cascades
-# ---------------------------------------------------------------------------------------------
-
 
 def cascade_bands(n: int, patch_sizes: Sequence[float], boundary_factor: float = 6.0):
     """Non-overlapping |k| bands [lo, hi) [rad/m], one per cascade (see the module docstring)."""
@@ -764,18 +729,6 @@ class FFTOcean:
         self.cascades: list[Cascade] = [Cascade(*a) for a in arrays]
         self.time = None
 
-    @classmethod
-    def from_cascades(cls, params: SpectrumParams, cascades: Sequence[Cascade],
-                      choppiness: float = 1.0) -> "FFTOcean":
-        """The ocean of these cascades as they are (each on its own grid, e.g. cropped to what
-        a view resolves: :func:`crop_cascade`), of the sea ``params``."""
-        held = tuple((c.patch_size, c.band, c.kx, c.kz, c.omega, c.h0) for c in cascades)
-        ocean = cls(params, n=int(np.shape(cascades[0].h0)[-1]),
-                    patch_sizes=[c.patch_size for c in cascades], choppiness=choppiness,
-                    build=lambda *_: held)
-        ocean.n = max(int(np.shape(c.h0)[-1]) for c in cascades)
-        return ocean
-
     def update(self, t: float) -> None:
         for c in self.cascades:
             c.fields = synthesize(evolve_amplitudes(c.h0, c.omega, t), c.kx, c.kz,
@@ -836,10 +789,6 @@ def floating_points_pose(query: Callable, points_x, points_z, probe_distance: fl
     return nm / length(nm), q0.displacement.reshape(-1, 3).mean(axis=0)
 
 
-# ---------------------------------------------------------------------------------------------
-# Spectrum statistics and Gerstner wave sets drawn from a spectrum
-# ---------------------------------------------------------------------------------------------
-
 
 def polar_spectrum(p: SpectrumParams, k_lo: float, k_hi: float, nk: int = 1200, nth: int = 360):
     """Ψ on a polar grid: (k (nk,), θ (nth,), Ψ (nk, nth), Δk (nk,), Δθ), k log-spaced."""
@@ -861,21 +810,6 @@ def spectrum_moments(p: SpectrumParams, k_max: float = 1.0e3, k_min: float = 1.0
     mss = float(np.sum(e_k * k * k * dk))
     kp = float(k[int(np.argmax(e_k))]) if m0 > 0 else float("nan")
     return {"m0": m0, "hs": 4.0 * math.sqrt(m0), "mss": mss, "k_peak": kp}
-
-
-def wavenumber_from_omega(omega, depth: float = math.inf, g: float = G):
-    """Inverse dispersion: k with ω(k) = ω (Newton on ω² = g·k·tanh(k·d); deep: ω²/g)."""
-    w = np.asarray(omega, dtype=float)
-    k = w * w / g
-    if math.isinf(depth):
-        return k
-    k = np.maximum(k, w / math.sqrt(g * depth))  # shallow-water start, above the root
-    for _ in range(50):
-        th = np.tanh(k * depth)
-        f = g * k * th - w * w
-        df = g * th + g * k * depth * (1.0 - th * th)
-        k = np.maximum(k - f / df, 1e-12)
-    return k
 
 
 def gerstner_waves_from_spectrum(p: SpectrumParams, count: int, *, seed: int = 0,
@@ -942,10 +876,8 @@ def gerstner_moments(waves: Sequence[GerstnerWave]) -> dict:
     return {"m0": m0, "hs": 4.0 * math.sqrt(m0), "mss": float(np.sum(s * s) / 2.0)}
 
 
-# ---------------------------------------------------------------------------------------------
-# What the view resolves: each cascade's grid from the screen footprint of its wavelengths, and
+# ---- What the view resolves: each cascade's grid from the screen footprint of its wavelengths, and
 # how often a slow cascade needs a new snapshot
-# ---------------------------------------------------------------------------------------------
 
 
 def crop_cascade(c: Cascade, n: int) -> Cascade:

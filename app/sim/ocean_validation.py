@@ -118,8 +118,6 @@ def summary(report: dict) -> str:
     return "\n".join(lines)
 
 
-# ---- metrics of a sea against its spectrum (natura bench ocean) ------------------------------
-
 def spectrum_peak_period(sp: oc.SpectrumParams, k_peak: float) -> float | None:
     """Tp = 2π/ω_p of the spectrum: S(ω)'s peak for JONSWAP and Pierson–Moskowitz, ω(k_peak)
     of the omnidirectional E(k) for Phillips (which has no frequency form)."""

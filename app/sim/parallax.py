@@ -121,23 +121,24 @@ def _layers(layers: int) -> int:
     return int(np.clip(int(layers), 1, MAX_LAYERS))
 
 
+def _steep(height, uv, v, scale: float, n: int):
+    """The search over ``n`` layers: (uv, the UV step per layer, i, a, b) (see ``_search``)."""
+    uv, v = _broadcast(uv, v)
+    delta = _delta(v, scale, n)
+    return (uv, delta, *_search(height, uv, delta, n))
+
+
 def parallax_steep(height: np.ndarray, uv: np.ndarray, v: np.ndarray, scale: float,
                    layers: int) -> np.ndarray:
     """Steep parallax: the UV of the first of ``layers`` layers the height field reaches."""
-    uv, v = _broadcast(uv, v)
-    n = _layers(layers)
-    delta = _delta(v, scale, n)
-    i, _, _ = _search(height, uv, delta, n)
+    uv, delta, i, _, _ = _steep(height, uv, v, scale, _layers(layers))
     return uv - i[..., None] * delta
 
 
 def parallax_occlusion(height: np.ndarray, uv: np.ndarray, v: np.ndarray, scale: float,
                        layers: int) -> np.ndarray:
     """Parallax occlusion: the steep search, then ``mix(uv_i, uv_(i−1), a/(a − b))``."""
-    uv, v = _broadcast(uv, v)
-    n = _layers(layers)
-    delta = _delta(v, scale, n)
-    i, a, b = _search(height, uv, delta, n)
+    uv, delta, i, a, b = _steep(height, uv, v, scale, _layers(layers))
     cur = uv - i[..., None] * delta
     denom = np.where(i > 0, a - b, 1.0)
     w = np.where(i > 0, a / denom, 0.0)[..., None]
@@ -147,10 +148,8 @@ def parallax_occlusion(height: np.ndarray, uv: np.ndarray, v: np.ndarray, scale:
 def parallax_reference(height: np.ndarray, uv: np.ndarray, v: np.ndarray,
                        scale: float) -> np.ndarray:
     """The ground truth: the search with 1024 layers, then 12 bisections of the last step."""
-    uv, v = _broadcast(uv, v)
     n = REFERENCE_LAYERS
-    delta = _delta(v, scale, n)
-    i, _, _ = _search(height, uv, delta, n)
+    uv, delta, i, _, _ = _steep(height, uv, v, scale, n)
     lo = np.maximum(i - 1, 0).astype(np.float64)
     hi = i.astype(np.float64)
     for _ in range(REFERENCE_BISECTIONS):

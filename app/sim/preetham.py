@@ -74,7 +74,6 @@ XYZ_TO_SRGB = np.array([
 
 #: wavelengths (μm) the sun's colour is evaluated at for linear R, G, B
 SUN_WAVELENGTHS_UM = np.array([0.680, 0.550, 0.440])
-TURBIDITY_RANGE = (2.0, 10.0)
 MIN_COS_THETA = 1e-3
 TWILIGHT_DEGREES = 6.0
 

@@ -195,11 +195,6 @@ def probe_mip_level(smoothness, mip_count: float):
     return np.minimum(r * (1.7 - 0.7 * r) * LOD_STEPS, max(mip_count - 1.0, 0.0))
 
 
-def prefiltered_level(roughness, mip_count: float):
-    """The prefiltered cube's level of a perceptual roughness: roughness · (mip_count − 1)."""
-    return np.clip(roughness, 0.0, 1.0) * max(mip_count - 1.0, 0.0)
-
-
 def split_sum(prefiltered_rgb, ab, f0):
     """PrefilteredSpecular's combination (Karis 2013 eq. 2): prefiltered × (F0·A + B)."""
     ab = np.asarray(ab, float)

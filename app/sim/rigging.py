@@ -46,9 +46,6 @@ from .cloth import pinned_weight
 #: the vertex format of a cloth mesh's interleaved data and its attributes
 CLOTH_FORMAT = "3f 3f 2f 1f"
 CLOTH_ATTRIBUTES = ("in_position", "in_normal", "in_uv", "in_pinned")
-#: the vertex format of a solid mesh (mast, boom)
-SOLID_FORMAT = "3f 3f 2f"
-SOLID_ATTRIBUTES = ("in_position", "in_normal", "in_uv")
 
 
 @dataclass
@@ -144,8 +141,6 @@ class Rig:
 RIG = Rig()
 
 
-# ---- frames ---------------------------------------------------------------------------------
-
 def _frame(origin: np.ndarray, x: np.ndarray, y: np.ndarray, swing: float) -> np.ndarray:
     """boat ← local: columns x', y, z' with z = x × y and the swing δ: x' = cos δ x + sin δ z."""
     z = np.cross(x, y)
@@ -183,8 +178,6 @@ def flag_transform(angle: float = 0.0, rig: Rig = RIG) -> np.ndarray:
     origin = np.array([0.0, rig.masthead_y + rig.flag_staff, rig.mast_z])
     return _frame(origin, np.array([0.0, 0.0, -1.0]), np.array([0.0, 1.0, 0.0]), angle)
 
-
-# ---- cloth ----------------------------------------------------------------------------------
 
 def cloth_patch(corners: Any, nu: int, nv: int, pin_band: Any, frame: str,
                 transform: np.ndarray) -> ClothMesh:
@@ -242,8 +235,6 @@ def flag(rig: Rig = RIG, nu: int = 32, nv: int = 16) -> ClothMesh:
     return cloth_patch(corners, nu, nv, FLAG_PIN_BAND, "flag", flag_transform(0.0, rig))
 
 
-# ---- spars ----------------------------------------------------------------------------------
-
 def cylinder(a: Any, b: Any, radius: float, segments: int = 16, caps: bool = True) -> Mesh:
     """A closed cylinder from ``a`` to ``b`` (outward normals, counter-clockwise from
     outside); uv = (angle / 2π, position along the axis / length)."""
@@ -295,8 +286,6 @@ def boom(rig: Rig = RIG, segments: int = 12) -> Mesh:
     m.frame, m.transform = "boom", boom_transform(0.0, rig)
     return m
 
-
-# ---- textures -------------------------------------------------------------------------------
 
 def _grid(size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
     """Texel centres (u, v), each (height, width); row 0 at v = 0."""

@@ -64,10 +64,6 @@ class Hydrodynamics:
                 raise ParamError(f"hydrodynamics.{name}: not finite: allowed finite numbers")
 
 
-# ---------------------------------------------------------------------------------------------
-# Quaternions (w, x, y, z), unit, body → world
-# ---------------------------------------------------------------------------------------------
-
 
 def _components(q):
     """A single float64 quaternion or vector as Python floats (numpy scalars cost several times
@@ -189,10 +185,6 @@ def quat_between(u, v) -> np.ndarray:
     return q / length(q)
 
 
-# ---------------------------------------------------------------------------------------------
-# The body
-# ---------------------------------------------------------------------------------------------
-
 
 class RigidBody:
     """A rigid body (see the module docstring for the state and the integrator)."""
@@ -256,8 +248,6 @@ class RigidBody:
         g = self._filter @ (f - self._hydrodynamics.damping @ nu)
         return rot @ g[:3], rot @ g[3:]
 
-    # -- state -------------------------------------------------------------------------------
-
     @property
     def position(self) -> np.ndarray:
         """World position of the body frame's origin."""
@@ -295,9 +285,6 @@ class RigidBody:
         """Body-frame points (..., 3) → world."""
         return np.asarray(points_body, float) @ self.rotation.T + self.position
 
-    def to_body(self, points_world) -> np.ndarray:
-        return (np.asarray(points_world, float) - self.position) @ self.rotation
-
     def point_velocity(self, points_world) -> np.ndarray:
         """Velocity of world points (..., 3) moving with the body: v + ω × (p − x_com)."""
         r = np.asarray(points_world, float) - self.com_world
@@ -323,8 +310,6 @@ class RigidBody:
         b.__dict__ = {k: (v.copy() if isinstance(v, np.ndarray) else v)
                       for k, v in self.__dict__.items()}
         return b
-
-    # -- integration -------------------------------------------------------------------------
 
     def substeps(self, dt: float) -> int:
         """How many equal substeps a frame of ``dt`` is cut into: ceil(dt / max_substep)."""

@@ -77,7 +77,7 @@ What each part implements
   leeway angle λ, C_L = min(a·λ, C_Lmax) with the lift slope a = 2π·AR/(AR + 2) (Prandtl's
   lifting-line slope of an elliptic wing; AR the effective aspect ratio, about twice the
   geometric one under a hull), induced drag C_Di = C_L²/(π·AR); past the stall a flat plate
-  toward 1.2 sideways. Default 8 m boat: LWL 7 m, 2.5 t, 30 m² of sail with its centre of
+  toward 1.2 sideways. Default 8 m boat: LWL 7.27 m, 2.5 t, 30 m² of sail with its centre of
   effort 3.8 m up, keel 1 m² of effective aspect ratio 2, GM 1 m, windage 3.5 m² — values
   chosen so that the polar has a cruiser's no-go zone (≈ 32–35°) and best VMG angle (≈ 42–46°).
 * ``speed_polar`` — the steady boat speed against TWA for each true wind speed with the sail
@@ -191,8 +191,6 @@ def clamp_input(value) -> float:
     return min(1.0, max(-1.0, x))
 
 
-# ---- directions -----------------------------------------------------------------------------
-
 def _horizontal(x, z) -> np.ndarray:
     """The world vectors (x, 0, z) (…, 3) of float64 components of one shape: np.stack([x,
     zeros, z], axis=-1) filled in by component (np.stack's checks cost more than the maths)."""
@@ -279,8 +277,6 @@ def _cw90(v: np.ndarray) -> np.ndarray:
     return _horizontal(-v[..., 2], v[..., 0])
 
 
-# ---- the wind ----------------------------------------------------------------------------
-
 @dataclass(frozen=True)
 class Wind:
     """The global wind (``Wind.cs``, spec/000 §1.4): ``speed`` [m/s] toward ``direction``
@@ -306,12 +302,6 @@ class Wind:
         v = self.vector()
         return float(v[0]), float(v[2])
 
-    def angle_off(self, psi: float) -> float:
-        """TWA [rad] seen from heading ψ (``wind_angle``)."""
-        return float(wind_angle(self.vector(), psi))
-
-
-# ---- the state a rigid body hands over ------------------------------------------------------
 
 @dataclass
 class BoatState:
@@ -376,8 +366,6 @@ def _yaw_torque(n: float) -> np.ndarray:
     """A world torque turning the bow to starboard by ``n`` [N·m] (about −y)."""
     return np.array([0.0, -n, 0.0])
 
-
-# ---- NavigableObject ------------------------------------------------------------------------
 
 NAVIGATION_MODES = ("thesis", "rudder")
 
@@ -446,22 +434,7 @@ class Navigation:
         s = s + (self.target_speed() - s) * (1.0 - math.exp(-dt / self.response_time))
         return psi, min(self.max_speed, max(-self.max_speed, s))
 
-    def limit_velocity(self, velocity) -> np.ndarray:
-        """A world velocity with its horizontal speed clamped to Max. Speed (the thesis's
-        clamp, for a rigid body that wants criterion 12 exactly)."""
-        v = np.array(velocity, dtype=np.float64)
-        h = math.hypot(v[0], v[2])
-        if h > self.max_speed:
-            v[0] *= self.max_speed / h
-            v[2] *= self.max_speed / h
-        return v
-
     # forces for a rigid body
-    def rudder_turn_rate(self, surge: float) -> float:
-        """Steady yaw rate of full rudder in ``"rudder"`` mode at forward speed u: the turning
-        circle of radius max speed / max turn speed, |r| = max turn speed·|u|/max speed."""
-        return self.max_turn_speed * abs(surge) / self.max_speed
-
     def forces(self, state: BoatState) -> tuple[np.ndarray, np.ndarray]:
         """(force (3,), torque (3,)) in world axes, about the boat's centre.
 
@@ -498,8 +471,6 @@ class Navigation:
             n += -i / tau * (r - math.copysign(limit, r))
         return force, _yaw_torque(n)
 
-
-# ---- the hull -------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
 class Hull:
@@ -562,10 +533,6 @@ class Hull:
         stalled = self.keel_cl_max + (1.2 - self.keel_cl_max) * s * s
         return np.sign(lam) * np.minimum(attached, stalled)
 
-    def righting_moment(self, heel):
-        """Δ·g·GM·sin φ [N·m]."""
-        return self.displacement * G * self.gm * np.sin(heel)
-
     def forces(self, state: BoatState) -> tuple[np.ndarray, np.ndarray]:
         """Water forces on the moving hull: resistance against the surge, keel lift against the
         sway (at ``clr_depth`` below the waterline reference, so it heels the boat against the
@@ -587,8 +554,6 @@ class Hull:
             torque = np.zeros(3)
         return force, torque
 
-
-# ---- SailObject ---------------------------------------------------------------------------
 
 SAIL_MODES = ("lift", "thesis")
 
@@ -793,8 +758,6 @@ class Boat:
             force, torque = force + f, torque + t
         return force, torque
 
-
-# ---- the speed polar ----------------------------------------------------------------------
 
 def _heel(side_force, hull: Hull, arm: float):
     """Heel φ where the heeling moment F·arm·cos²φ meets Δ·g·GM·sin φ: with a = F·arm/(Δ·g·GM),

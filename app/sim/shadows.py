@@ -16,8 +16,6 @@ from __future__ import annotations
 
 import numpy as np
 
-#: one uniform int selects the receiver's filter (glsl/common/shadow.glsl uShadowFilter)
-FILTERS = ("hard", "four_tap", "pcf", "pcss", "vsm")
 #: texels per unit of each bias setting: one unit of normal bias is 4 texels (times sin(l, n)),
 #: one of linear bias 10 texels, so the thesis's settings behave as in its figures (Fig. 86:
 #: 0.3 + 0.01 clean; Fig. 87: linear 0.6 Peter Panning) at any map size
@@ -25,7 +23,6 @@ NORMAL_BIAS_TEXELS = 4.0
 LINEAR_BIAS_TEXELS = 10.0
 
 
-# -- cascades ----------------------------------------------------------------------------------
 def cascade_splits(near: float, far: float, count: int, lam: float = 0.5) -> np.ndarray:
     """The far ends of ``count`` cascades over [near, far] by the practical split scheme
     (Zhang et al.): z_i = λ · n (f/n)^(i/N) + (1 − λ) (n + (f − n) i/N), i = 1..N
@@ -140,7 +137,6 @@ def project(m: np.ndarray, points) -> np.ndarray:
     return ndc * 0.5 + 0.5
 
 
-# -- biases -----------------------------------------------------------------------------------
 def normal_bias_offset(normal, toward_light, normal_bias: float, texel_world: float):
     """The caster's inward push −n · sin(l, n) · normal_bias · texel (spec/003 §2.8:
     UnityClipSpaceShadowCasterPos; sin from cos = n·l, clamped so it is never NaN)."""
@@ -157,7 +153,6 @@ def linear_bias_offset(toward_light, linear_bias: float, texel_world: float):
     return -np.asarray(toward_light, np.float64) * linear_bias * LINEAR_BIAS_TEXELS * texel_world
 
 
-# -- filters ----------------------------------------------------------------------------------
 def hard(depths: np.ndarray, uv, depth) -> np.ndarray:
     """One comparison with the nearest texel: 1 lit, 0 shadowed (rows at v)."""
     n = depths.shape[0]
@@ -228,7 +223,6 @@ def chebyshev(mean, mean_sq, depth, bleed: float = 0.2, min_variance: float = 1e
     return np.where(d <= 0, 1.0, p)
 
 
-# -- point lights ------------------------------------------------------------------------------
 def point_encode(distance, linear_bias: float, light_range: float):
     """What a point light's cube map stores: (|l| + linear_bias) / range (spec/003 §2.8,
     UnityEncodeCubeShadowDepth of _LightPositionRange.w): 0 at the light, 1 at the range."""
@@ -237,7 +231,6 @@ def point_encode(distance, linear_bias: float, light_range: float):
     return (np.asarray(distance, np.float64) + linear_bias) / light_range
 
 
-# -- dithered semitransparent shadows ----------------------------------------------------------
 BAYER4 = np.array([[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]], np.int64)
 
 

@@ -133,7 +133,6 @@ def default_scene() -> SurfacesScene:
                     (0.2, 0.8, 0.3), "solid", 0.5)])
 
 
-# -- textures ----------------------------------------------------------------------------------
 def alpha_texture(kind: str, size: int = 256) -> np.ndarray:
     """A size² RGBA float32 texture (row 0 at v = 0): white RGB (the quad's albedo tints it)
     and the alpha of ``kind`` — solid 1; gradient α = u (the cutoff test's ramp, spec/003 §2.4);
@@ -168,7 +167,6 @@ def alpha_texture(kind: str, size: int = 256) -> np.ndarray:
     return out
 
 
-# -- meshes ------------------------------------------------------------------------------------
 def _cylinder(c: Cylinder, segments: int = 48) -> LabMesh:
     b = lab_meshes._Builder()
     base = np.asarray(c.base, float)
@@ -220,7 +218,6 @@ def mesh(obj) -> LabMesh:
     raise TypeError(f"no mesh for {type(obj).__name__}: allowed Sphere, Box, Cylinder, Quad, Room")
 
 
-# -- exact ray casting (the references) --------------------------------------------------------
 def _hit_sphere(o, d, s: Sphere):
     """Nearest t > 0 of |o + t d − C| = r for any direction length: a t² + 2 b t + c = 0."""
     oc = o - np.asarray(s.centre)

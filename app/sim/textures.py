@@ -37,12 +37,6 @@ MAGIC = b"NATTEX1\n"
 _PREFIX = struct.Struct("<8sI")
 _DIGEST = 32
 _MAX_HEADER = 1 << 16
-#: (kind, params) -> the read-only array this process uses, the most recently used last
-_MEMO: dict[tuple, np.ndarray] = {}
-#: how many arrays :data:`_MEMO` keeps (the least recently used goes first): the moon, the
-#: planet's stars and a few of the sky's seeds; every seed visited on the window's slider was
-#: kept otherwise, 2 MB of stars each
-MEMO_ENTRIES = 8
 _SOURCE_DIGEST: str | None = None
 
 
@@ -161,20 +155,15 @@ def decode_texture(blob: bytes, kind: str, params: dict[str, Any]) -> tuple[np.n
 
 
 def cached_texture(kind: str, directory: str | os.PathLike | None, **params: Any) -> np.ndarray:
-    """``GENERATORS[kind](**params)``, read-only: this process's copy (one of the
-    :data:`MEMO_ENTRIES` most recently used), else the cache file in ``directory`` (effects pass
-    :func:`app.bakes.default_cache_dir`; None: no file), else generated and written there."""
-    memo_key = (kind, tuple(sorted(params.items())))
-    arr = _MEMO.pop(memo_key, None)
-    if arr is None:
-        if directory is None:
-            arr = np.ascontiguousarray(GENERATORS[kind](**params))
-        else:
-            arr = load_or_build(kind, params, directory)[0]
-        arr.setflags(write=False)
-    _MEMO[memo_key] = arr  # now the most recently used
-    while len(_MEMO) > MEMO_ENTRIES:
-        del _MEMO[next(iter(_MEMO))]
+    """``GENERATORS[kind](**params)``, read-only: the cache file in ``directory`` (effects pass
+    :func:`app.bakes.default_cache_dir`; None: no file), else generated and written there. An
+    effect asks once per session (its texture is keyed), so nothing is kept in the process: a
+    read costs 4 ms (the moon) to 9 ms (the stars) against 165 and 22 ms to generate them."""
+    if directory is None:
+        arr = np.ascontiguousarray(GENERATORS[kind](**params))
+    else:
+        arr = load_or_build(kind, params, directory)[0]
+    arr.setflags(write=False)
     return arr
 
 

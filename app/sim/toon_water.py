@@ -15,6 +15,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .maths import saturate
 from .optics import schlick_fresnel
 from .staircase import staired_value
 
@@ -24,7 +25,6 @@ Array = NDArray[np.float64]
 WATER_F0 = 0.018
 #: the exact value before the thesis's rounding
 WATER_F0_EXACT = ((1.0 - 1.31) / (1.0 + 1.31)) ** 2
-REFRACTION_DISTORTION = 0.025
 REPOSITORY_FOG_FACTOR = 31.0
 UNITY_TIME_X = 0.05
 #: the depth fog's methods (toon_water.fog_method), in uFogMethod's order
@@ -40,10 +40,6 @@ PLANE_SEGMENTS = 24
 
 def _f(x: ArrayLike) -> Array:
     return np.asarray(x, dtype=np.float64)
-
-
-def saturate(x: ArrayLike) -> Array:
-    return np.clip(_f(x), 0.0, 1.0)
 
 
 def screen_uv(frag_coord: ArrayLike, viewport: ArrayLike, flip_y: bool) -> Array:
@@ -78,11 +74,6 @@ def wave_normal(tex1: ArrayLike, tex2: ArrayLike, intensity: float) -> Array:
     n = np.stack([xy[..., 0], z, -xy[..., 1]], axis=-1)
     length = np.linalg.norm(n, axis=-1, keepdims=True)
     return np.where(length > 1e-10, n / np.maximum(length, 1e-300), [0.0, 1.0, 0.0])
-
-
-def refraction_offset(n: ArrayLike, intensity: float) -> Array:
-    """``RefractionOffset``: Wave Intensity·0.025·n.xz."""
-    return intensity * REFRACTION_DISTORTION * _f(n)[..., [0, 2]]
 
 
 def view_depth(d: ArrayLike, near: float, far: float) -> Array:

@@ -92,7 +92,6 @@ def draw_order(queues: Sequence[int], centres, camera_pos) -> list[int]:
     return [k[2] for k in sorted(keys)]
 
 
-# -- alpha test -----------------------------------------------------------------------------
 def cutout_kept(alpha, cutoff: float) -> np.ndarray:
     """``clip(alpha − Cutoff)``: a fragment is discarded when alpha − Cutoff < 0 (spec/003 §2.4),
     so Cutoff 0 keeps every fragment and Cutoff 1 discards every alpha below 1."""
@@ -110,14 +109,6 @@ def discarded_fraction(alpha, cutoff: float) -> float:
     return float(1.0 - cutout_kept(a, cutoff).mean()) if a.size else 0.0
 
 
-def coverage_levels(alpha, samples: int = 4) -> np.ndarray:
-    """The fraction of ``samples`` an alpha-to-coverage mask keeps, to first order
-    round(α · samples) / samples (the exact dither pattern is the driver's)."""
-    a = np.clip(np.asarray(alpha, np.float64), 0.0, 1.0)
-    return np.round(a * samples) / samples
-
-
-# -- lighting of the quads -----------------------------------------------------------------------
 def quad_radiance(albedo, tex_rgb, normal, to_camera, light_dir, radiance, ambient) -> np.ndarray:
     """albedo × texture × (ambient + radiance · max(n·l, 0)), two-sided: n faces the viewer."""
     n = np.asarray(normal, np.float64)
@@ -129,7 +120,6 @@ def quad_radiance(albedo, tex_rgb, normal, to_camera, light_dir, radiance, ambie
             * (np.asarray(ambient, np.float64) + np.asarray(radiance, np.float64) * ndl))
 
 
-# -- compositing -----------------------------------------------------------------------------
 def _layers(colours, alphas, depths=None):
     c = np.asarray(colours, np.float64)
     a = np.asarray(alphas, np.float64)
@@ -249,7 +239,6 @@ def errors(image, reference, mask=None) -> dict:
     return {"rms": float(np.sqrt(np.mean(d ** 2))), "max": float(d.max())}
 
 
-# -- the A-buffer: an exact reference for the compositing ---------------------------------------
 #: a fragment counts as a layer of its pixel when its alpha is above this (one 8-bit step is
 #: 0.0039; below 1e-3 a layer changes the composite by less than 1e-3 of its contrast)
 LAYER_ALPHA = 1e-3

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -77,7 +77,6 @@ def island_height(x: ArrayLike, z: ArrayLike) -> np.ndarray:
     return h - 0.35 * land * (1.0 - land) * 4.0 * (1.0 - flat)
 
 
-# ---- the layout ------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class House:
     name: str
@@ -118,7 +117,6 @@ class VillageLayout:
     path_width: float
     hero: tuple[float, float, float]  # (x, z, facing)
     garden: tuple[tuple[float, float], tuple[float, float]]  # fenced rectangle (lo, hi)
-    extra_clear: tuple[tuple[float, float, float], ...] = field(default=())  # (x, z, r)
 
 
 def _around(radius: float, compass_deg: float) -> tuple[float, float]:
@@ -213,7 +211,6 @@ def _inside_house(x, z, h: House, margin: float) -> np.ndarray:
     return (np.abs(u) < h.size[0] / 2 + margin) & (np.abs(v) < h.size[1] / 2 + margin)
 
 
-# ---- the sampled field ------------------------------------------------------------------------
 class Island:
     """The island as a :class:`~app.frame.Terrain`: the analytic field sampled on a
     ``resolution`` × ``resolution`` grid over [-HALF, HALF]², answered on the mesh's own
@@ -237,7 +234,6 @@ class Island:
         xx, zz = np.meshgrid(axis, axis)  # [row j (z), column i (x)]
         self.heights = island_height(xx, zz)
 
-    # -- Terrain ---------------------------------------------------------------------------
     def _cell(self, x, z):
         n = self.resolution - 1
         fx = np.clip((np.asarray(x, np.float64) + HALF) / self.cell, 0.0, n - 1e-9)
@@ -301,7 +297,6 @@ class Island:
             d = np.where(np.hypot(x - lx, z - lz) < 0.6, 0.0, d)
         return np.clip(d, 0.0, 1.0)
 
-    # -- the mesh --------------------------------------------------------------------------
     def mesh_arrays(self, uv_per_metre: float = 0.25) -> tuple[np.ndarray, np.ndarray,
                                                                np.ndarray, np.ndarray]:
         """(positions (N, 3), normals (N, 3), uvs (N, 2), triangles (M, 3)) of the grid, split

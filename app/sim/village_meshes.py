@@ -94,7 +94,6 @@ class _Collector:
                      np.concatenate(self.tris).astype(np.uint32))
 
 
-# ---- placing local meshes in the world --------------------------------------------------------
 def rotation_y(compass_deg: float) -> np.ndarray:
     """The 3 × 3 rotation that turns a local mesh facing +z to face the compass direction
     ``compass_deg`` (0 north = −z, 90 east = +x)."""
@@ -175,7 +174,6 @@ def cone(radius: float, height: float, segments: int = 8) -> lab_meshes.LabMesh:
     return b.mesh("cone")
 
 
-# ---- the island ------------------------------------------------------------------------------
 #: linear albedos of the terrain's splat
 MEADOW = (0.16, 0.36, 0.08)
 SAND = (0.72, 0.62, 0.40)
@@ -225,7 +223,6 @@ def terrain_batch(island: Island) -> Batch:
     return c.batch()
 
 
-# ---- houses ----------------------------------------------------------------------------------
 def window_mask(size: int = 64) -> np.ndarray:
     """The walls' mask texture (RGBA float, one bay wide and one storey high, repeating along
     u): R the emission mask — a window pane in the middle of each bay — and G the specular mask
@@ -309,7 +306,6 @@ def house_meshes(h: House, ground: float, walls: _Collector, solids: _Collector)
         solids.add(placed(mesh, h.facing, offset), colour)
 
 
-# ---- props -----------------------------------------------------------------------------------
 WOOD = (0.40, 0.24, 0.11)
 DARK_WOOD = (0.22, 0.13, 0.06)
 IRON = (0.20, 0.20, 0.22)
@@ -392,7 +388,6 @@ def _lifted(mesh: lab_meshes.LabMesh, dy: float) -> lab_meshes.LabMesh:
                               mesh.tangents, mesh.indices)
 
 
-# ---- lights: lamps and the bonfire -------------------------------------------------------------
 def lamp_meshes(x: float, z: float, ground: float, height: float, solids: _Collector,
                 lanterns: _Collector) -> None:
     """A street lamp: a post with an arm, and a lantern whose glass glows when lit."""
@@ -424,7 +419,6 @@ def bonfire_meshes(x: float, z: float, ground: float, solids: _Collector,
               (1.0, 0.0))
 
 
-# ---- people ----------------------------------------------------------------------------------
 SKIN = (0.80, 0.55, 0.40)
 TROUSERS = (0.18, 0.16, 0.14)
 
@@ -445,7 +439,6 @@ def person_mesh(person: Person, ground: float, facing: float | None = None
     return verts, moved.indices.astype(np.uint32)
 
 
-# ---- drawing the terrain by chunks -------------------------------------------------------------
 @dataclass(frozen=True)
 class Chunks:
     """A batch's triangles sorted into square chunks of the ground plane: chunk k holds the
@@ -526,7 +519,6 @@ def chunk_runs(chunks: Chunks, picked) -> list[tuple[int, int]]:
     return runs
 
 
-# ---- the whole village -----------------------------------------------------------------------
 def village_batches(island: Island) -> dict[str, Batch]:
     """Every static batch of the village (the terrain, the houses' walls, the solids, the
     lanterns, the flame), in world space."""

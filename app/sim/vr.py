@@ -44,7 +44,6 @@ role (:func:`marker_icon`, premultiplied alpha on a round badge).
 
 from __future__ import annotations
 
-import math
 from typing import Sequence
 
 import numpy as np
@@ -66,7 +65,6 @@ SHOW_MODES = ("vr", "always", "off")
 ICON_ROLES = ("missions", "shop", "villager")
 
 
-# -- the ring: vertex stage ---------------------------------------------------------------------
 def _aspect_form(form: str) -> str:
     if form not in ASPECT_FORMS:
         raise ValueError(f"ring aspect form {form!r}: allowed {', '.join(ASPECT_FORMS)}")
@@ -126,7 +124,6 @@ def ring_half_extent_px(size: float, width: float, height: float,
     return float(d[0] * width / 2.0), float(d[1] * height / 2.0)
 
 
-# -- the ring: fragment stage -------------------------------------------------------------------
 def ring_angle(e: ArrayLike, mode: str = "full") -> np.ndarray:
     """The angle of e (..., 2) in degrees, counter-clockwise from +x: in [0, 360) by quadrant
     (``full``, the repository's fix) or the document's acos(ê·(1, 0)) in [0, 180] (``acos``);
@@ -240,19 +237,6 @@ def ring_image(width: int, height: int, screen_x: float, screen_y: float, size: 
     return frag[..., :3] * a + bg * (1.0 - a)
 
 
-def ring_centroid(alpha: np.ndarray) -> tuple[float, float]:
-    """The alpha-weighted centroid of an image (h, w) in window pixels (y up)."""
-    h, w = alpha.shape
-    total = float(alpha.sum())
-    if total <= 0.0:
-        return float("nan"), float("nan")
-    ys, xs = np.mgrid[0:h, 0:w]
-    cx = float((alpha * (xs + 0.5)).sum() / total)
-    cy_top = float((alpha * (ys + 0.5)).sum() / total)
-    return cx, h - cy_top
-
-
-# -- markers ------------------------------------------------------------------------------------
 def icon_index(role: str) -> int:
     """The index of a role's icon in :data:`ICON_ROLES` (unknown roles: the villager's)."""
     return ICON_ROLES.index(role) if role in ICON_ROLES else ICON_ROLES.index("villager")
@@ -318,16 +302,3 @@ def marker_icon(role: str, size: int = 64) -> np.ndarray:
     out[..., :3] = colour * alpha[..., None]  # premultiplied
     out[..., 3] = alpha
     return out
-
-
-# -- stereo -------------------------------------------------------------------------------------
-def focal_length_px(height: float, fov_deg: float) -> float:
-    """The focal length in pixels of a perspective view ``height`` pixels tall."""
-    return 0.5 * float(height) / math.tan(math.radians(fov_deg) * 0.5)
-
-
-def disparity_px(depth: ArrayLike, ipd: float, height: float, fov_deg: float) -> np.ndarray:
-    """Horizontal disparity (left eye's x − right eye's x, pixels) of a point at planar
-    ``depth`` metres in a parallel-axis pair ``ipd`` apart: ipd·f/depth (0 at infinity)."""
-    z = np.asarray(depth, np.float64)
-    return float(ipd) * focal_length_px(height, fov_deg) / z

@@ -32,6 +32,7 @@ The reference
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import io
 import json
@@ -45,13 +46,18 @@ import numpy as np
 
 from ..colour import LUMINANCE, linear_to_srgb, to_srgb8
 from ..errors import ParamError, UsageError, one_line, quote
+from ..gpu.shaders import resolve_shader_root
+from ..gpu.timing import time_interleaved
+from ..imageio import write_bytes_atomic, write_text_atomic
 from ..params import ParamSet
+from ..runtime import open_session, scene_params
+from ..scenes import get_scene
+from ..sim.camera import Camera, parse_camera
+from .sweeps import format_value
 
-#: default and bounds of the timed rounds
+#: the timed rounds by default
 DEFAULT_ROUNDS = 5
-MAX_ROUNDS = 1000
 LAYOUTS = ("side", "wipe")
-#: Rec. 709 luminance weights (linear RGB)
 #: the percentile of |B − A| the heat map's gain maps to full colour
 GAIN_PERCENTILE = 99.0
 #: a supersampled reference renders at most this many pixels (its factor is lowered to fit)
@@ -61,8 +67,6 @@ HEAT_POSITIVE = np.array([1.0, 0.25, 0.05])
 HEAT_NEGATIVE = np.array([0.1, 0.4, 1.0])
 HEAT_CAPTION = "heat map: black = equal, red = B brighter, blue = B darker"
 
-
-# ---- data ------------------------------------------------------------------------------------
 
 @dataclass
 class Side:
@@ -118,8 +122,6 @@ class Comparison:
                     "radiance)",
                 "caption": list(self.caption), "command": self.command}
 
-
-# ---- references ------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
 class Reference:
@@ -198,25 +200,12 @@ def reference_of(scene_name: str) -> Reference | None:
     return REFERENCES.get(scene_name)
 
 
-# ---- parameters ------------------------------------------------------------------------------
-
-def arg_value(value: Any) -> str:
-    """A parameter value as ``--set`` takes it back: true/false, comma-separated vectors."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (tuple, list)):
-        return ",".join(arg_value(v) for v in value)
-    if isinstance(value, float):
-        return repr(value) if not value.is_integer() or abs(value) >= 1e15 else str(int(value))
-    return str(value)
-
-
 def normalize_sets(sets: Iterable[str] | Mapping[str, Any] | None) -> list[str]:
     """``NAME=VALUE`` strings from a list of them or a ``{name: value}`` mapping."""
     if sets is None:
         return []
     if isinstance(sets, Mapping):
-        return [f"{k}={arg_value(v)}" for k, v in sets.items()]
+        return [f"{k}={format_value(v)}" for k, v in sets.items()]
     if isinstance(sets, str):
         return [sets]
     return [str(s) for s in sets]
@@ -249,8 +238,6 @@ def side_params(base: ParamSet, sets: Iterable[str], what: str) -> ParamSet:
 def label_of(sets: list[str]) -> str:
     return " ".join(sets) if sets else "base (no changes)"
 
-
-# ---- images ----------------------------------------------------------------------------------
 
 def luminance(rgb: np.ndarray) -> np.ndarray:
     """Luminance of linear radiance ``(h, w, 3|4)``; NaN and infinities count as 0."""
@@ -296,8 +283,6 @@ def _supersample_factor(size: tuple[int, int], wanted: int, max_side: int) -> in
     return s
 
 
-# ---- the comparison --------------------------------------------------------------------------
-
 def _camera_arg(cam) -> str:
     x, y, z = cam.position
     return ",".join(f"{v:.6g}" for v in (x, y, z, cam.yaw, cam.pitch, cam.fov))
@@ -310,7 +295,7 @@ def _command(scene_name: str, base: ParamSet, defaults: ParamSet, camera, defaul
     parts = ["natura", "compare", scene_name, "--size", f"{size[0]}x{size[1]}"]
     for name, value in base.values().items():
         if name in defaults and defaults[name] != value:
-            parts += ["--set", f"{name}={arg_value(value)}"]
+            parts += ["--set", f"{name}={format_value(value)}"]
     if camera is not None and _camera_arg(camera) != _camera_arg(default_camera):
         parts += ["--camera", _camera_arg(camera)]
     if a_sets:
@@ -364,8 +349,6 @@ def caption_lines(cmp: Comparison) -> list[str]:
 
 
 def _open_side(scene_name, params, root, ctx, camera, start_time, setup):
-    from ..runtime import open_session
-
     session = open_session(scene_name, params, root, ctx=ctx, camera=copy.deepcopy(camera))
     session.scene.time = start_time
     if setup is not None:
@@ -390,19 +373,10 @@ def compare(scene_name: str | None, a_sets=(), b_sets=(), *, size=(320, 180), ba
     caller binds its own framebuffer again). ``setup(scene)`` runs on each side's scene (a
     user mesh). ``reference=False`` skips the reference renders. Every set is checked before
     anything is rendered: a bad one is one :class:`UsageError` line naming it."""
-    from ..gpu.shaders import resolve_shader_root
-    from ..gpu.timing import time_interleaved
-    from ..runtime import scene_params
-    from ..scenes import SCENES, get_scene
-    from ..sim.camera import Camera, parse_camera
-
     say = progress or (lambda text: None)
     start_time = 0.0
     if session is not None:
-        scene_name = scene_name or session.scene.name
-        if scene_name != session.scene.name:
-            raise UsageError(f"compare: scene {scene_name!r} is not the session's "
-                             f"({session.scene.name!r}): allowed the session's own scene")
+        scene_name = session.scene.name
         ctx = session.gpu.ctx
         root = session.gpu.shaders.root
         if params is None:
@@ -412,11 +386,6 @@ def compare(scene_name: str | None, a_sets=(), b_sets=(), *, size=(320, 180), ba
         start_time = float(session.scene.time)
     else:
         root = resolve_shader_root(shader_root)
-    if scene_name not in SCENES:
-        raise UsageError(f"unknown scene {quote(str(scene_name), 40)}: allowed "
-                         f"{', '.join(SCENES)}")
-    if not (isinstance(rounds, int) and 1 <= rounds <= MAX_ROUNDS):
-        raise UsageError(f"--rounds {rounds!r} is out of range: allowed 1..{MAX_ROUNDS}")
     w, h = (int(size[0]), int(size[1]))
     cls = get_scene(scene_name)
     # -- every input checked before any GL work
@@ -491,11 +460,9 @@ def compare(scene_name: str | None, a_sets=(), b_sets=(), *, size=(320, 180), ba
         for s in reversed(sessions):
             s.release()
         if session is not None:  # leave no dead framebuffer bound in the window's context
-            try:
+            with contextlib.suppress(Exception):  # a context without a screen: none bound
                 if ctx.screen is not None:
                     ctx.screen.use()
-            except Exception:  # noqa: BLE001 — a context without a screen: nothing bound
-                pass
 
     ya, yb = luminance(images["A"]), luminance(images["B"])
     diff = (yb - ya).astype(np.float32)
@@ -572,8 +539,6 @@ def _reference_errors(ref: Reference, sides: dict, images: dict, size, say,
         errors[name] = d / mean_ref if mean_ref > 0 else (0.0 if d == 0 else None)
     return errors, labels
 
-
-# ---- the composite ---------------------------------------------------------------------------
 
 #: characters the fallback bitmap font may lack, and what the image shows instead
 _ASCII = str.maketrans({"−": "-", "–": "-", "—": "-", "×": "x", "Δ": "d", "τ": "tau",
@@ -687,11 +652,12 @@ def compose(cmp: Comparison, layout: str = "side", wipe: float = 0.5) -> np.ndar
     return np.concatenate([top, strip], axis=0)
 
 
-def encode_png(pixels: np.ndarray) -> bytes:
+def encode_png(pixels: np.ndarray, optimize: bool = False) -> bytes:
     from PIL import Image
 
     buf = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(pixels), "RGB").save(buf, format="PNG")
+    Image.fromarray(np.ascontiguousarray(pixels), "RGB").save(buf, format="PNG",
+                                                             optimize=optimize)
     return buf.getvalue()
 
 
@@ -699,8 +665,6 @@ def write(cmp: Comparison, png_path, json_path=None, layout: str = "side", wipe:
           force: bool = False) -> tuple[Path, Path | None]:
     """Write the composite PNG and (``json_path``) every figure as JSON, atomically, nothing
     overwritten without ``force`` (the caller checks both names before comparing)."""
-    from ..imageio import write_bytes_atomic, write_text_atomic
-
     pixels = compose(cmp, layout, wipe)
     png = write_bytes_atomic(png_path, encode_png(pixels), force=force)
     out_json = None

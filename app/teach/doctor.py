@@ -1,11 +1,8 @@
 """``natura doctor``: the driver report a teacher pastes into a course forum, on one screen.
 
-What it says, a few lines each: the context Natura gets (renderer, vendor, version, how it was
-made) and what it offers (compute shaders, MSAA, GPU timers, pipeline statistics); which
-path every scene will take on it where there is a choice (``Effect.context_paths``: compute
-or fragment FFT, deferred or forward ocean, how the sky's cubemap and the bakes are made); the
-shader compiler's verdict over every program, the driver's and — where it is installed — the
-Khronos reference compiler's; and what is missing for the window and for the tests.
+docs/commands.md ("Platforms and drivers") shows one: the context and what it offers, the path
+each scene takes on it (``Effect.context_paths``), both compilers' verdicts, and what the window
+and the tests lack.
 
 The command line gives it the programs to compile and the window's display problem (both live
 in higher layers); everything else it finds itself.
@@ -23,6 +20,11 @@ from typing import Callable, Iterable, TextIO
 
 from .. import __version__ as NATURA_VERSION
 from ..errors import NaturaError
+from ..gpu import context as gl_context
+from ..gpu.context import caps_of, describe_context
+from ..gpu.shaders import ShaderLibrary
+from ..runtime import scene_params
+from ..scenes import SCENES
 
 WIDTH = 100
 LABEL = 9  # the labels' column
@@ -40,23 +42,18 @@ def _version(package: str) -> str:
         return "missing"
 
 
-class _Writer:
-    def __init__(self, out: TextIO):
-        self.out = out
-
-    def __call__(self, label: str, text: str) -> None:
+def _writer(out: TextIO) -> Callable[[str, str], None]:
+    def say(label: str, text: str) -> None:
         lines = textwrap.wrap(text, WIDTH - LABEL - 1, break_on_hyphens=False) or [""]
         for i, line in enumerate(lines):
-            print(f"{label if i == 0 else '':<{LABEL}} {line}", file=self.out)
+            print(f"{label if i == 0 else '':<{LABEL}} {line}", file=out)
+    return say
 
 
 def paths_by_scene(caps, params_of: Callable | None = None) -> dict[str, list[tuple[str, str]]]:
     """What → [(path, scenes)] over every scene's effects at the scenes' default parameters
     (``params_of(scene)`` gives them where the caller has them declared already: the GPU
     report opens its sessions with the same ones; else ``app.runtime.scene_params``)."""
-    from ..runtime import scene_params
-    from ..scenes import SCENES
-
     found: dict[str, dict[str, list[str]]] = {}
     for name, scene in SCENES.items():
         params = (params_of or scene_params)(name)
@@ -74,7 +71,7 @@ def run(specs: Iterable, display_problem: str | None, out: TextIO | None = None,
     ``strict_check(library, specs)`` → (programs passing, programs, stages, validator) runs the
     reference compiler when given and installed."""
     out = out or sys.stdout
-    say = _Writer(out)
+    say = _writer(out)
     print(f"natura doctor — Natura {NATURA_VERSION}, Python {platform.python_version()} on "
           f"{platform.system()} {platform.machine()}", file=out)
     say("packages", " · ".join(f"{p} {_version(p)}" for p in PACKAGES))
@@ -92,12 +89,10 @@ def run(specs: Iterable, display_problem: str | None, out: TextIO | None = None,
     return code
 
 
-def _gl_part(say: _Writer, specs: list, strict_check: Callable | None) -> int:
-    from ..gpu.context import caps_of, create_headless_context, describe_context
-    from ..gpu.shaders import ShaderLibrary
-
+def _gl_part(say: Callable[[str, str], None], specs: list,
+             strict_check: Callable | None) -> int:
     try:
-        ctx = create_headless_context()
+        ctx = gl_context.create_headless_context()
     except NaturaError as exc:
         say("context", f"none: {exc}")
         return 3

@@ -9,6 +9,7 @@ poll, as it does for any editor's save.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 import shutil
@@ -17,7 +18,7 @@ from pathlib import Path
 
 from .. import DEFAULT_SHADER_ROOT
 from ..errors import UsageError, quote
-from ..gpu.shaders import ShaderError, ShaderLibrary, read_source
+from ..gpu.shaders import ShaderError, ShaderLibrary, read_source, resolve_shader_root
 from ..imageio import (
     _LIVE,
     _can_create_in,
@@ -73,22 +74,6 @@ def program_trees(library: ShaderLibrary) -> list[ProgramTree]:
     return out
 
 
-def program_files(library: ShaderLibrary) -> list[Path]:
-    """Every file any program of the library reads, once each, in program order."""
-    files: list[Path] = []
-
-    def walk(node: Node) -> None:
-        if node.path not in files:
-            files.append(node.path)
-        for child in node.children:
-            walk(child)
-
-    for tree in program_trees(library):
-        for stage in tree.stages:
-            walk(stage)
-    return files
-
-
 def markers(errors, library: ShaderLibrary, path: Path) -> dict[int, str]:
     """The errors that blame ``path``, as {zero-based line: the whole messages of that line}
     (an error without a line goes on the first)."""
@@ -138,13 +123,7 @@ def save(open_file: OpenFile, text: str, overwrite_disk_change: bool = False) ->
     overwritten unless ``overwrite_disk_change`` (one line says so); inside Natura's own
     shaders nothing is written."""
     path = open_file.path
-    root_guard = DEFAULT_SHADER_ROOT.resolve()
-    try:
-        path.resolve().relative_to(root_guard)
-        inside_own = True
-    except ValueError:
-        inside_own = False
-    if inside_own:
+    if path.resolve().is_relative_to(DEFAULT_SHADER_ROOT.resolve()):
         raise UsageError(f"{quote(str(path))} is one of Natura's own shaders: allowed a save "
                          "into a copy (natura shaders copy DIR)")
     if not overwrite_disk_change and open_file.changed_on_disk():
@@ -155,10 +134,8 @@ def save(open_file: OpenFile, text: str, overwrite_disk_change: bool = False) ->
     except OSError:
         mode = file_mode()
     write_text_atomic(path, text, force=True)
-    try:
+    with contextlib.suppress(OSError):
         os.chmod(path, mode)
-    except OSError:
-        pass
     open_file.text = text
     open_file.disk_digest = digest(text)
     return path
@@ -168,8 +145,6 @@ def copy_shaders(dest_arg: str, source: Path | None = None) -> Path:
     """Copy the shader folder ``source`` (default: the one ``--shaders`` / ``$NATURA_SHADERS``
     / Natura's own resolve to) to a new folder ``dest_arg``: into a temporary sibling first,
     renamed at the end, so an error (full disk, Ctrl-C) leaves nothing and a retry works."""
-    from ..gpu.shaders import resolve_shader_root
-
     allowed = "allowed a new folder name in an existing, writable folder"
     if dest_arg is not None and not dest_arg.strip():
         raise UsageError(f"shaders copy DIR {quote(dest_arg)} is empty: allowed a new folder "

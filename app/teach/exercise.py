@@ -1,21 +1,12 @@
 """Graded exercises: ``natura exercise list | start NAME DIR | check DIR``.
 
-An exercise is one TOML file, ``resources/exercises/<name>.toml`` (the format is documented in
-docs/exercises.md): the tagged GLSL function a student writes (a file under ``glsl/`` and the
-function's name), the theory page's section that explains it (an equation or section tag that
-resolves to an anchor of ``docs/theory/``), the view that shows it (scene, size, view, camera,
-parameters), the tolerances, optionally a GLSL probe (an expression evaluated at a grid of
-points, compared with Natura's own function: a render can hide what a probe shows), and the
-known wrong answers, each with its hint.
-
-``start`` copies the shader library into ``DIR/glsl`` (``app.teach.editor.copy_shaders``), puts a
-stub in place of the function's body (it compiles and returns a neutral value; a comment points
-at the theory page and says what to write), and renders the expected picture with Natura's own
-shaders (``DIR/expected.png``). ``check`` renders the view with the student's shaders and with
-Natura's own on one context, compares them (mean and 99th percentile of the per-pixel error of
-the displayed image, and the probe's worst error), writes ``DIR/difference.png`` (expected,
-yours, and the signed difference as a heat map), prints PASS or FAIL with the figures and, when
-the student's function behaves as a known wrong answer does, that answer's hint.
+An exercise is one TOML file, ``resources/exercises/<name>.toml``, in the format of
+docs/exercises.md. ``start`` copies the shader library into ``DIR/glsl``, puts a stub in place
+of the function's body (it compiles and returns a neutral value) and renders
+``DIR/expected.png`` with Natura's own shaders; ``check`` renders the view with the student's
+shaders and with Natura's own on one context, and compares them (mean and 99th percentile of
+the displayed image's per-pixel error, and the probe's worst error: a render can hide what a
+probe shows).
 """
 
 from __future__ import annotations
@@ -24,26 +15,42 @@ import os
 import re
 import shutil
 import tempfile
+import textwrap
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
+import moderngl
 import numpy as np
 
 from .. import DEFAULT_SHADER_ROOT, PROJECT_ROOT, RESOURCES
-from ..errors import UsageError, quote
+from ..colour import srgb_to_linear, to_srgb8
+from ..errors import NaturaError, UsageError, quote
+from ..gpu import context as gl_context
+from ..gpu.device import Gpu
+from ..imageio import (
+    _LIVE,
+    _can_create_in,
+    expand,
+    temp_name_in,
+    write_bytes_atomic,
+    write_text_atomic,
+)
+from ..runtime import open_session, parse_size, placed_camera, render_frames, scene_params
+from ..scenes import SCENES
+from ..scenes.views import get_view
+from . import theory
+from .compare import LUMINANCE, choose_gain, encode_png, heat_map
+from .editor import copy_shaders
 
 EXERCISES = RESOURCES / "exercises"
-THEORY = PROJECT_ROOT / "docs" / "theory"
 #: the file in DIR that says which exercise DIR holds (a copy of the exercise's TOML)
 MARKER = "exercise.toml"
 #: the largest view an exercise may ask for (checks must stay quick on a software renderer)
 MAX_SIDE = 512
 #: the largest probe grid
 MAX_POINTS = 4096
-_TAG = re.compile(r"^spec/(\d{3}) (?:eq\. ((?:[A-Z]\.)?\d+(?:\.\d+)?)"
-                  r"|§ ?((?:[A-Z]|\d+)(?:\.(?:[A-Z]|\d+))*(?: [a-z])?))$")
 _NAME = re.compile(r"^[a-z0-9][a-z0-9-]{0,39}$")
 _TOP_KEYS = {"title", "tag", "file", "function", "task", "expected", "stub", "view",
              "tolerance", "probe", "wrong"}
@@ -110,16 +117,14 @@ class Exercise:
         return " ".join(parts)
 
 
-# ---- the exercise files -------------------------------------------------------------------
-
 def theory_anchor(tag: str, what: str) -> tuple[Path, str]:
     """(page, anchor) of a tag in docs/theory; a one-line error when it resolves to none."""
-    m = _TAG.match(tag) if isinstance(tag, str) else None
+    m = theory.TAG.fullmatch(tag) if isinstance(tag, str) else None
     if m is None:
         raise UsageError(f"{what} {quote(str(tag), 40)} is not a tag: allowed 'spec/NNN eq. X' "
                          "or 'spec/NNN §X' (e.g. 'spec/003 eq. 5.27')")
-    anchor = f"eq-{m.group(2)}" if m.group(2) else "s-" + m.group(3).replace(" ", "-")
-    pages = sorted(THEORY.glob(f"{m.group(1)}-*.md"))
+    anchor = theory.anchor_of(m.group(2), m.group(3))
+    pages = sorted(theory.THEORY.glob(f"{m.group(1)}-*.md"))
     if not pages or f'<a id="{anchor}"></a>' not in pages[0].read_text(encoding="utf-8"):
         raise UsageError(f"{what} {quote(tag, 40)} has no anchor {anchor!r} in "
                          f"docs/theory/{m.group(1)}-*.md: allowed a tag the theory pages "
@@ -176,8 +181,6 @@ def load(path: Path, name: str | None = None) -> Exercise:
     view = _get(data, "view", dict, where)
     vwhere = f"{where}: [view]"
     scene = _get(view, "scene", str, vwhere)
-    from ..runtime import parse_size
-
     size = parse_size(_get(view, "size", str, vwhere, "96x54"), f"{vwhere} size")
     if max(size) > MAX_SIDE:
         raise UsageError(f"{vwhere} size {size[0]}x{size[1]} is too large: allowed at most "
@@ -237,8 +240,6 @@ def all_exercises() -> list[Exercise]:
 def find(name: str) -> Exercise:
     """An exercise by name, or a teacher's own TOML file by path."""
     if name.endswith(".toml"):
-        from ..imageio import expand
-
         path = expand(name, "exercise file")
         if not path.is_file():
             raise UsageError(f"exercise file {quote(name, 60)} does not exist: allowed a TOML "
@@ -251,8 +252,6 @@ def find(name: str) -> Exercise:
                          "an exercise's .toml file")
     return load(path)
 
-
-# ---- GLSL functions -----------------------------------------------------------------------
 
 def _code_mask(text: str) -> str:
     """``text`` with comments blanked (same length), so braces in comments do not count."""
@@ -306,13 +305,6 @@ def replace_bodies(text: str, name: str, body: Callable[[str], str]) -> str:
     return text
 
 
-def reference_body(ex: Exercise) -> str:
-    """The body of Natura's own function (of its first definition)."""
-    text = (DEFAULT_SHADER_ROOT / ex.file).read_text(encoding="utf-8")
-    _, start, end = function_spans(text, ex.function)[0]
-    return text[start:end]
-
-
 def stub_body(ex: Exercise, dest: Path) -> Callable[[str], str]:
     def body(ret: str) -> str:
         lines = [f"Exercise {ex.name}: {ex.title}.",
@@ -326,8 +318,6 @@ def stub_body(ex: Exercise, dest: Path) -> Callable[[str], str]:
 
 
 def _wrap(text: str, width: int = 88) -> list[str]:
-    import textwrap
-
     return textwrap.wrap(" ".join(text.split()), width) or [""]
 
 
@@ -339,22 +329,14 @@ def write_body(root: Path, ex: Exercise, body: str) -> None:
     path.write_text(replace_bodies(text, ex.function, lambda ret: body), encoding="utf-8")
 
 
-# ---- rendering and probing ----------------------------------------------------------------
-
 def render_view(ex: Exercise, root: Path, ctx) -> np.ndarray:
     """The exercise's view rendered with the shaders of ``root``, as displayed: (h, w, 3) in
     [0, 1] (tone-mapped sRGB). A compile error raises ShaderCompileError (file:line lines)."""
-    from ..colour import to_srgb8
-    from ..runtime import open_session, placed_camera, render_frames, scene_params
-    from ..scenes import SCENES
-
     if ex.scene not in SCENES:
         raise UsageError(f"exercise {ex.name}: unknown scene {quote(ex.scene, 40)}: allowed "
                          f"{', '.join(SCENES)}")
     view = None
     if ex.view is not None:
-        from ..scenes.views import get_view
-
         view = get_view(ex.scene, ex.view)
     params = scene_params(ex.scene, root, ex.sets, None, view)
     camera = placed_camera(ex.scene, params, view, ex.camera)
@@ -387,9 +369,6 @@ void main() {{
 
 def run_probe(ex: Exercise, root: Path, ctx, scratch: Path) -> np.ndarray:
     """The probe's expression at its points with the shaders of ``root``: (n, 4)."""
-    import moderngl
-
-    from ..gpu.device import Gpu
 
     assert ex.probe is not None
     pts = ex.probe.points()
@@ -438,16 +417,11 @@ def probe_error(mine: np.ndarray, ref: np.ndarray) -> tuple[float, int]:
 
 def difference_image(ref: np.ndarray, mine: np.ndarray) -> np.ndarray:
     """expected | yours | the signed difference (red: yours brighter, blue: darker)."""
-    from ..colour import srgb_to_linear
-    from .compare import LUMINANCE, choose_gain, heat_map
-
     diff = (srgb_to_linear(mine) - srgb_to_linear(ref)) @ LUMINANCE
     gain, _ = choose_gain(diff)
     gap = np.full((ref.shape[0], 2, 3), 255, np.uint8)
     return np.concatenate([_as8(ref), gap, _as8(mine), gap, heat_map(diff, gain)], axis=1)
 
-
-# ---- the commands -------------------------------------------------------------------------
 
 def cmd_list() -> int:
     for ex in all_exercises():
@@ -459,18 +433,6 @@ def cmd_list() -> int:
 def cmd_start(name: str, dest_arg: str) -> int:
     """Copy the shaders to DEST/glsl with the function blanked, and render DEST/expected.png;
     all in a temporary sibling renamed at the end (nothing is left behind on an error)."""
-    from ..gpu.context import create_headless_context
-    from ..imageio import (
-        _LIVE,
-        _can_create_in,
-        expand,
-        temp_name_in,
-        write_bytes_atomic,
-        write_text_atomic,
-    )
-    from .compare import encode_png
-    from .editor import copy_shaders
-
     ex = find(name)
     if not dest_arg.strip():
         raise UsageError(f"exercise start DIR {quote(dest_arg)} is empty: allowed a new folder "
@@ -485,7 +447,7 @@ def cmd_start(name: str, dest_arg: str) -> int:
                          "writable folder: allowed a new folder name in an existing, writable "
                          "folder")
     shown = dest if dest.is_absolute() else Path(dest_arg)
-    ctx = create_headless_context()
+    ctx = gl_context.create_headless_context()
     expected = render_view(ex, DEFAULT_SHADER_ROOT, ctx)  # before anything is written
     tmp = temp_name_in(parent)
     _LIVE.add(tmp)  # removed on an error, Ctrl-C or SIGTERM
@@ -549,10 +511,6 @@ def _exercise_of(folder: Path, shown: str) -> Exercise:
 
 
 def cmd_check(dir_arg: str) -> int:
-    from ..gpu.context import create_headless_context
-    from ..imageio import expand, write_bytes_atomic
-    from .compare import encode_png
-
     if not dir_arg.strip():
         raise UsageError(f"exercise check DIR {quote(dir_arg)} is empty: allowed a folder made "
                          "by natura exercise start")
@@ -562,7 +520,7 @@ def cmd_check(dir_arg: str) -> int:
                          "exercise start NAME DIR")
     ex = _exercise_of(folder, dir_arg)
     root = folder / "glsl"
-    ctx = create_headless_context()
+    ctx = gl_context.create_headless_context()
     mine = render_view(ex, root, ctx)  # a compile error stops here, as file:line lines
     ref = render_view(ex, DEFAULT_SHADER_ROOT, ctx)
     mean, p99 = image_errors(mine, ref)
@@ -608,8 +566,6 @@ def _known_mistake(ex: Exercise, ctx, scratch: Path, mine: np.ndarray,
                    probe_mine: np.ndarray | None) -> str | None:
     """The hint of the first known wrong answer the student's function behaves like: same probe
     values (where there is a probe), else the same picture, within the tolerances."""
-    from ..errors import NaturaError
-
     for i, wrong in enumerate(ex.wrong):
         root = scratch / f"wrong-{i}"
         shutil.copytree(DEFAULT_SHADER_ROOT, root)

@@ -21,7 +21,8 @@ import math
 
 import numpy as np
 
-from ..colour import LUMINANCE
+from ..colour import LUMINANCE, to_srgb8
+from ..runtime import open_session, placed_camera, render_frames, scene_params
 
 #: rows of the horizon bands, as a share of the image height
 BAND = 0.06
@@ -75,9 +76,6 @@ def figures(srgb8: np.ndarray, camera=None) -> dict[str, float | int | None]:
 def render_view(view, size: tuple[int, int], ctx=None) -> tuple[np.ndarray, dict]:
     """A view rendered as ``natura render SCENE --view NAME`` renders it: the 8-bit sRGB image
     and its :func:`figures`, plus ``nonfinite``: NaN or Inf values in the linear radiance."""
-    from ..colour import to_srgb8
-    from ..runtime import open_session, placed_camera, render_frames, scene_params
-
     params = scene_params(view.scene, view=view)
     camera = placed_camera(view.scene, params, view)
     session = open_session(view.scene, params, ctx=ctx, camera=camera)

@@ -42,6 +42,10 @@ class Axis:
                 for value, title in self.choices]
 
 
+#: the ocean's wave models (the ocean and maritime scenes)
+_WAVE_MODELS = (("fft", "FFT (Tessendorf cascades)"), ("gerstner", "Gerstner waves"),
+                ("sine", "sine waves"))
+
 AXES: dict[str, Axis] = {a.scene: a for a in (
     Axis("planet", "planet.method", (
         ("brute_force", "1 · brute force"),
@@ -50,17 +54,9 @@ AXES: dict[str, Axis] = {a.scene: a for a in (
         ("hillaire", "4 · Hillaire 2020, multiple scattering"),
     ), "the thesis's three single-scattering approximations, each faster than the last, "
        "against Hillaire's LUT-based multiple scattering"),
-    Axis("ocean", "ocean.model", (
-        ("fft", "FFT (Tessendorf cascades)"),
-        ("gerstner", "Gerstner waves"),
-        ("sine", "sine waves"),
-    ), "three wave models of the same sea: the spectrum's FFT, a set of Gerstner waves drawn "
-       "from it, and plain sine waves"),
-    Axis("maritime", "ocean.model", (
-        ("fft", "FFT (Tessendorf cascades)"),
-        ("gerstner", "Gerstner waves"),
-        ("sine", "sine waves"),
-    ), "the sea under the boat in each wave model"),
+    Axis("ocean", "ocean.model", _WAVE_MODELS, "three wave models of the same sea: the "
+         "spectrum's FFT, a set of Gerstner waves drawn from it, and plain sine waves"),
+    Axis("maritime", "ocean.model", _WAVE_MODELS, "the sea under the boat in each wave model"),
     Axis("clouds", "scene.model", (
         ("a", "A · the cloud thesis (spec/001)"),
         ("b", "B · the maritime thesis (spec/000 §1.6)"),
@@ -97,18 +93,13 @@ def axis_of(scene_name: str) -> Axis | None:
     return AXES.get(scene_name)
 
 
-def default_method(scene_name: str) -> Method:
-    """The one side of a scene without methods: its defaults."""
-    return Method("default", "the scene's defaults", ())
-
-
 def select(scene_name: str, names: str | None = None) -> list[Method]:
     """The methods to show: all of the scene's, or those ``names`` lists (comma-separated
     values of its method parameter, in the order given; the first is the comparison base).
     One line naming the culprit for an unknown or repeated value."""
     axis = axis_of(scene_name)
-    if names is None:
-        return axis.methods if axis is not None else [default_method(scene_name)]
+    if names is None:  # a scene without competing methods: one side, its defaults
+        return axis.methods if axis else [Method("default", "the scene's defaults", ())]
     if axis is None:
         with_methods = ", ".join(AXES)
         raise UsageError(f"--methods: scene {scene_name!r} has one method (its handout shows "

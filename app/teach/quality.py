@@ -3,15 +3,10 @@
 setting whose *measured* error stays within the budget — from the sweeps the benches already
 measure (``natura bench SCENE`` writes them into its JSON report), not from a model of cost.
 
-**Families.** A family is one knob of one effect measured by one sweep, each point a setting
-with its ms and its error against that sweep's reference: planet — N_STEPS of methods 1, 2
-(with either τ(PC) rule) and 3, the optical-depth LUT size (method 2), the shadow-map size
-(method 3), Hillaire's LUT sizes (method 4); clouds — view steps and light samples of each
-march the sweep measured; ocean — FFT size × cascades, Gerstner wave count; materials — the
-ring edges (hard or filtered); shading — parallax layers (steep, occlusion); surfaces —
-shadow-map size per filter, depth-peeling layers. A family applies only when the scene runs the
-method it was measured with (``planet.method``, ``ocean.model``, the cloud march's switches,
-``shading.parallax_mode``...); the others are skipped, each with its reason.
+**Families.** A family is one knob of one effect measured by one sweep (the extractors below:
+:data:`EXTRACT`), each point a setting with its ms and its error against that sweep's reference.
+A family applies only when the scene runs the method it was measured with (``planet.method``,
+``ocean.model``...); the others are skipped, each with its reason.
 
 **Units.** Each family's error is its sweep's own metric (printed with it: radiance for the
 planet and the clouds, a relative spectrum figure for the ocean, texels for parallax, a share
@@ -39,30 +34,28 @@ A tighter error budget therefore never chooses a cheaper point, and a looser ms 
 less accurate one (tests/unit/test_quality.py checks both). The values given with ``--set``
 win over the picker: a family whose knob the user set is left as set, and its line says what
 the picker would have chosen. Each family's error was measured with the other knobs at the
-sweep's settings: the errors of two families' picks do not simply add.
-
-Where the sweeps come from: ``--sweeps FILE`` (a ``natura bench SCENE`` report); else the
-newest ``bench-results/SCENE-NNNN.json`` in the current folder that has sweeps (your own
-machine's run); else the measured run shipped in ``docs/`` (``bench-planet.json`` and the
-like, llvmpipe). A scene with none of these keeps its settings and says so in one line.
-
-No GL here: the picker reads JSON; :func:`chart_png` draws with matplotlib (Agg) and
-:func:`plot_arrays` gives the window's ImPlot chart plain arrays.
+sweep's settings: the errors of two families' picks do not simply add. Where the sweeps come
+from: :func:`load_sweeps`. No GL here.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
 import re
 import statistics
+import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable
 
 from .. import PROJECT_ROOT
 from ..errors import UsageError, quote
+from ..imageio import check_output_path, save_figure
+from ..runtime import scene_params
+from . import sweeps
 from .sweeps import _finite, _size, format_value, hillaire_scaled, ocean_error, same
 
 #: the shipped measured runs (llvmpipe): docs/ (bench-planet.json and the like)
@@ -77,8 +70,6 @@ NOISE_SHARE = 0.05
 
 MODES = ("fixed", "auto")
 
-
-# ---- data ------------------------------------------------------------------------------------
 
 @dataclass
 class Point:
@@ -291,8 +282,6 @@ def _ms(value: float) -> str:
     return f"{value:.3g}" if value < 1000 else f"{value:.0f}"
 
 
-# ---- parameters ------------------------------------------------------------------------------
-
 _MISSING = object()
 #: the requirements compared as the setting takes effect, not as it is written
 _DERIVED = ("planet.pc_rule", "clouds.reprojection")
@@ -348,19 +337,6 @@ def parse_error_budget(text: str | float) -> float | Relative:
         raise UsageError(f"--error-budget {quote(raw)} is out of range: {allowed}")
     return Relative(value) if relative else value
 
-
-def check_ms_budget(value: float | None, hi: float = 100_000.0) -> float | None:
-    """``--ms-budget``: a positive finite number of ms at most ``hi``."""
-    if value is None:
-        return None
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (
-            math.isfinite(value) and 0.0 < value <= hi):
-        raise UsageError(f"--ms-budget {quote(str(value))} is out of range: allowed a number "
-                         f"of ms in (0, {hi:g}]")
-    return float(value)
-
-
-# ---- where the sweeps come from --------------------------------------------------------------
 
 @dataclass
 class Sweeps:
@@ -444,18 +420,14 @@ def load_sweeps(scene_name: str, sweeps: str | os.PathLike | dict | None = None)
         if report.get("scene") == scene_name and report.get("sweep"):
             return Sweeps(report, f"{path} (your run; --sweeps FILE for another)")
     shipped = SHIPPED / f"bench-{scene_name}.json"
-    try:
+    with contextlib.suppress(OSError, ValueError):
         report = _read_report(shipped)
         if report.get("scene") == scene_name and report.get("sweep"):
             return Sweeps(report, f"{_shown(shipped)} (shipped)")
-    except (OSError, ValueError):
-        pass
     return Sweeps(None, "", f"no measured sweeps for {scene_name} (none shipped in "
                   f"docs/bench-{scene_name}.json, none of yours in {RESULTS}/; natura bench "
                   f"{scene_name} measures them where its bench has sweeps, or --sweeps FILE)")
 
-
-# ---- per-scene families ----------------------------------------------------------------------
 
 def _planet(report: dict, source: str) -> tuple[list[Family], list[str]]:
     from ..effects.planet.effect import resolve_pc_rule
@@ -514,8 +486,6 @@ def _planet(report: dict, source: str) -> tuple[list[Family], list[str]]:
         if r["method"] == "hillaire" and r["knob"] == "lut scale":
             try:
                 if scratch is None:
-                    from ..runtime import scene_params
-
                     scratch = scene_params("planet")
                 pts.append(Point(f"LUT scale {float(r['value']):g}",
                                  hillaire_scaled(float(r["value"]), scratch), r["ms"],
@@ -541,8 +511,6 @@ _CLOUD_ROW = re.compile(r"(?:uniform (?P<uniform>\d+) steps \(thesis marcher\)"
 
 
 def _clouds(report: dict, source: str) -> tuple[list[Family], list[str]]:
-    from ..runtime import scene_params
-
     acc = report["sweep"]["accuracy"]
     size = _size(acc["size"])
     preset = acc.get("preset", "?")
@@ -638,16 +606,12 @@ def _ocean(report: dict, source: str) -> tuple[list[Family], list[str]]:
 
 
 def _materials(report: dict, source: str) -> tuple[list[Family], list[str]]:
-    rings = report["sweep"].get("ring_edges", {})
-    pts = []
-    for key, value in (("hard", False), ("filtered", True)):
-        r = rings.get(key)
-        if r and _finite(r.get("median_ms"), r.get("mean_error")):
-            pts.append(Point(f"{key} ring edges", {"materials.filter_rings": value},
-                             r["median_ms"], r["mean_error"], _size(rings["size"])))
+    # the same ring-edge rows as natura bench --budget reads
+    pts = [Point(o.label, o.sets, o.ms, o.error, o.size)
+           for o in sweeps.EXTRACT["materials"](report["sweep"], {}).options]
     fams = []
     if pts:
-        s = _size(rings["size"])
+        s = pts[0].size
         fams.append(Family("materials", "materials", "ring edges",
                            "mean |display − 8×8 supersampled| of fine wood rings", pts, source,
                            {"materials.material": "wood"},
@@ -728,8 +692,6 @@ EXTRACT = {"planet": _planet, "clouds": _clouds, "ocean": _ocean, "materials": _
 def _valid(fams: list[Family], scene_name: str) -> tuple[list[Family], list[str]]:
     """Drop the points whose settings this version's parameters refuse (a renamed knob, a
     value out of range), saying so."""
-    from ..runtime import scene_params
-
     params = scene_params(scene_name)
     out, notes = [], []
     for fam in fams:
@@ -792,8 +754,6 @@ def families(scene_name: str, sweeps=None) -> list[Family]:
     return _families(scene_name, load_sweeps(scene_name, sweeps))[0]
 
 
-# ---- the pick --------------------------------------------------------------------------------
-
 def choose(family: Family, error_budget: float | None = None, ms_budget: float | None = None,
            size: tuple[int, int] | None = None, current: Point | None = None) -> Choice:
     """The pick of one family under absolute budgets (the module's rules); no applicability or
@@ -813,6 +773,11 @@ def choose(family: Family, error_budget: float | None = None, ms_budget: float |
 
     within = [p for p in pts if error_budget is None or p.error <= error_budget]
     fits = [p for p in pts if ms_budget is None or c.ms(p) <= ms_budget]
+    if ms_budget is not None and not fits:
+        fast = min(pts, key=cheap)
+        c.reason = (f"no measured setting fits {ms_budget:g} ms (the fastest: {fast.label}, "
+                    f"{_ms(c.ms(fast))} ms)")
+        return c
     if ms_budget is None:
         if not within:
             best = min(pts, key=accurate)
@@ -822,11 +787,6 @@ def choose(family: Family, error_budget: float | None = None, ms_budget: float |
         c.point, c.status = min(within, key=cheap), "chosen"
         c.reason = "cheapest within the error budget"
     elif error_budget is None:
-        if not fits:
-            fast = min(pts, key=cheap)
-            c.reason = (f"no measured setting fits {ms_budget:g} ms (the fastest: {fast.label}, "
-                        f"{_ms(c.ms(fast))} ms)")
-            return c
         c.point, c.status = min(fits, key=accurate), "chosen"
         c.reason = f"most accurate within {ms_budget:g} ms"
     else:
@@ -835,10 +795,6 @@ def choose(family: Family, error_budget: float | None = None, ms_budget: float |
         if both:
             c.point, c.status = min(both, key=cheap), "chosen"
             c.reason = f"cheapest within the error budget that fits {ms_budget:g} ms"
-        elif not fits:
-            fast = min(pts, key=cheap)
-            c.reason = (f"no measured setting fits {ms_budget:g} ms (the fastest: {fast.label}, "
-                        f"{_ms(c.ms(fast))} ms)")
         else:
             c.point, c.status = min(fits, key=accurate), "over"
             if within:
@@ -870,13 +826,10 @@ def pick(scene_name: str, error_budget=None, ms_budget=None, sweeps=None, *, par
     set); ``interactive``: the window (clouds.reprojection ``window`` is then on)."""
     if error_budget is not None and not isinstance(error_budget, Relative):
         error_budget = parse_error_budget(error_budget)
-    ms_budget = check_ms_budget(ms_budget)
     if error_budget is None and ms_budget is None:
         raise UsageError("--quality auto needs a budget: allowed --error-budget E and/or "
                          "--ms-budget MS")
     if params is None:
-        from ..runtime import scene_params
-
         params = scene_params(scene_name)
     found = load_sweeps(scene_name, sweeps)
     fams, notes = _families(scene_name, found)
@@ -924,8 +877,6 @@ def pick(scene_name: str, error_budget=None, ms_budget=None, sweeps=None, *, par
     return picks
 
 
-# ---- charts ----------------------------------------------------------------------------------
-
 def plot_arrays(family: Family, choice: Choice | None = None, params=None,
                 size: tuple[int, int] | None = None) -> dict[str, Any]:
     """Plain arrays for the window's ImPlot time-against-error chart: ``ms`` and ``error``
@@ -971,8 +922,6 @@ def chart_png(family: Family, choice: Choice | None, path, force: bool = False) 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..imageio import check_output_path, save_figure
-
     path = check_output_path(path, force=force, suffixes=(".png",))
     a = plot_arrays(family, choice)
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
@@ -1008,6 +957,4 @@ def chart_png(family: Family, choice: Choice | None, path, force: bool = False) 
 
 
 def _wrap(text: str, width: int) -> str:
-    import textwrap
-
     return "\n".join(textwrap.wrap(text, width))

@@ -1,12 +1,7 @@
 """``natura report SCENE --out DIR``: a handout a teacher can hand out.
 
-One HTML page, ``DIR/index.html``, with the scene's methods side by side (each image with its
-median ms and quartiles, its time relative to the first method measured in the same
-interleaved rounds, its error against the scene's reference, and the ``natura render``
-command that reproduces it), the difference of each method against the first (a signed,
-magnified heat map), the scene's time-against-error charts from the bench sweeps, and every
-parameter grouped by the thesis section it comes from, with that section's title and digest
-paragraph. ``DIR/report.json`` holds the same figures for scripts.
+What the page shows is in docs/commands.md ("Handouts"); ``DIR/report.json`` holds the same
+figures for scripts.
 
 The images are inline (``data:`` URIs), not files beside the page: the page alone is the
 handout — it can be mailed, uploaded to a course site or moved without its images breaking,
@@ -39,8 +34,25 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from .. import __version__
+from .. import __version__, imageio
 from ..errors import UsageError, quote
+from ..gpu import context as gl_context
+from ..imageio import (
+    _LIVE,
+    _can_create_in,
+    _remove,
+    check_output_path,
+    expand,
+    name_max,
+    next_free_path,
+    refuse_overwrite,
+    signals_deferred,
+    temp_name_in,
+)
+from ..runtime import scene_params
+from ..scenes import get_scene
+from . import quality, sections
+from .compare import compare, encode_png
 from .methods import Method, axis_of
 
 PAGE = "index.html"
@@ -48,8 +60,6 @@ DATA = "report.json"
 DEFAULT_SIZE = (320, 180)
 DEFAULT_ROUNDS = 5
 
-
-# ---- what the page shows ---------------------------------------------------------------------
 
 @dataclass
 class Shot:
@@ -125,8 +135,6 @@ class Handout:
     command: str                          # the `natura report` line that made the page
 
 
-# ---- commands a reader can paste -------------------------------------------------------------
-
 def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "-", text).strip("-") or "default"
 
@@ -155,8 +163,6 @@ def render_command(scene: str, sets: Iterable[str], size: tuple[int, int], out: 
                    hour: float | None = None, shaders: str | None = None) -> str:
     """The ``natura render`` line that makes the same image (each word shell-quoted): from the
     scene's defaults, so ``--view none`` where the scene opens on a view of its own."""
-    from ..scenes import get_scene
-
     plain = ["--view", "none"] if get_scene(scene).default_view is not None else []
     words = ["natura", "render", scene, *_shaders_words(shaders), *plain,
              *_scene_words(preset, hour, camera, sets),
@@ -176,14 +182,10 @@ def report_command(scene: str, out: str, size: tuple[int, int], rounds: int,
     return " ".join(shlex.quote(w) for w in words)
 
 
-# ---- thesis sections -------------------------------------------------------------------------
-
 def param_groups(params, varies: str | None = None, spec: str = "") -> list[SectionGroup]:
     """Every parameter under the thesis section it comes from, as the window's panel groups
     them (:func:`sections.group_params`: the digests' order, citations outside the theses
     next, those without a section last), with the section's title, thesis and digest."""
-    from . import sections
-
     out = []
     for g in sections.group_params(list(params), spec):
         sec, page = g.section, ""
@@ -221,8 +223,6 @@ def _theses(description: str, spec_title: Callable[[str], str]) -> list[tuple[st
     return [(s, spec_title(s)) for s in specs]
 
 
-# ---- measuring -------------------------------------------------------------------------------
-
 def _say(text: str) -> None:
     print(f"report: {text}", file=sys.stderr, flush=True)
 
@@ -234,18 +234,12 @@ def collect(scene_name: str, methods: list[Method], *, size: tuple[int, int] = D
             progress: Callable[[str], None] = _say) -> Handout:
     """Render and time every method against the first (one :func:`compare.compare` per other
     method, sharing one GL context), make the charts, look up the sections."""
-    from ..gpu.context import caps_of, create_headless_context
-    from ..runtime import scene_params
-    from ..scenes import get_scene
-    from . import sections
-    from .compare import compare
-
     base_sets = list(base_sets)
     cls = get_scene(scene_name)
     axis = axis_of(scene_name)
-    ctx = create_headless_context()
+    ctx = gl_context.create_headless_context()
     try:
-        renderer = caps_of(ctx).describe()
+        renderer = gl_context.caps_of(ctx).describe()
         first = methods[0]
         others = methods[1:] or [first]  # one method: compared with itself, for its timing
         comparisons = []
@@ -307,8 +301,6 @@ def _charts(scene_name: str, progress: Callable[[str], None]) -> tuple[list[Char
     """The scene's time-against-error charts, one per knob family (made in a scratch folder
     and read back: the page holds them inline), and a sentence on where the sweeps came from
     (or why there are none)."""
-    from . import quality
-
     found = quality.load_sweeps(scene_name)
     families = quality.families(scene_name)
     if not families:
@@ -326,17 +318,6 @@ def _charts(scene_name: str, progress: Callable[[str], None]) -> tuple[list[Char
                                 path.read_bytes(), len(fam.points),
                                 " ".join(f"{k}={v}" for k, v in requires.items())))
     return charts, f"Measured by {found.source}{found.about}."
-
-
-# ---- the page --------------------------------------------------------------------------------
-
-def png_bytes(pixels: np.ndarray) -> bytes:
-    from PIL import Image
-
-    buf = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(pixels, dtype=np.uint8)[..., :3], "RGB").save(
-        buf, format="PNG", optimize=True)
-    return buf.getvalue()
 
 
 def _data_uri(png: bytes) -> str:
@@ -418,7 +399,7 @@ def _shot_html(h: Handout, shot: Shot, first: bool) -> str:
                      else "no reference"))
     dl = "".join(f"<dt>{_e(k)}</dt><dd>{_e(v)}</dd>" for k, v in rows)
     sets = " ".join(m.sets) or "the defaults"
-    return (f"<figure>{_img(png_bytes(shot.png), h.size, m.title)}<figcaption>"
+    return (f"<figure>{_img(encode_png(shot.png, optimize=True), h.size, m.title)}<figcaption>"
             f"<b>{_e(m.title)}</b><span class=\"sets\">{_e(sets)}</span>"
             f"<dl class=\"figures\">{dl}</dl><pre>{_e(shot.command)}</pre>"
             "</figcaption></figure>")
@@ -429,7 +410,7 @@ def _heat_html(h: Handout, shot: Shot) -> str:
     first = h.shots[0].method
     gain = f", magnified ×{shot.gain:.3g}" if shot.gain is not None else ""
     alt = f"{shot.method.label} − {first.label}"
-    return (f"<figure>{_img(png_bytes(shot.heat), h.size, alt)}<figcaption>"
+    return (f"<figure>{_img(encode_png(shot.heat, optimize=True), h.size, alt)}<figcaption>"
             f"<b>{_e(shot.method.title)} − {_e(first.title)}</b>"
             f"<span class=\"sets\">signed luminance difference{_e(gain)}</span>"
             "</figcaption></figure>")
@@ -573,12 +554,8 @@ def report_data(h: Handout) -> dict:
     }
 
 
-# ---- the folder ------------------------------------------------------------------------------
-
 def default_out(scene_name: str) -> Path:
     """``SCENE-report-NNNN`` here, the first number not taken."""
-    from ..imageio import next_free_path
-
     return next_free_path(Path("."), f"{scene_name}-report", "")
 
 
@@ -586,8 +563,6 @@ def check_out_dir(out: str | os.PathLike, force: bool = False) -> Path:
     """Validate ``--out DIR`` before any work: a new folder in an existing writable one, an
     empty folder, or (with ``force``) a folder whose index.html and report.json may be
     replaced (nothing else in it is touched)."""
-    from ..imageio import _can_create_in, check_output_path, expand, name_max
-
     path = expand(out, "--out")
     shown = quote(str(path))
     allowed = "allowed a new or empty folder, or an existing one with --force"
@@ -625,19 +600,10 @@ def write_handout(h: Handout, out: Path, force: bool = False) -> Path:
     """Write index.html and report.json: into a new folder under a temporary name renamed at
     the end (an error or Ctrl-C leaves nothing), or atomically file by file into an existing
     one. Returns the page's path."""
-    from ..imageio import (
-        _LIVE,
-        _remove,
-        refuse_overwrite,
-        signals_deferred,
-        temp_name_in,
-        write_text_atomic,
-    )
-
     files = {PAGE: render_html(h), DATA: json.dumps(report_data(h), indent=2) + "\n"}
     if out.is_dir():
         for name, text in files.items():
-            write_text_atomic(out / name, text, force=force)
+            imageio.write_text_atomic(out / name, text, force=force)
         return out / PAGE
     parent = out.parent if str(out.parent) else Path(".")
     tmp = temp_name_in(parent)
@@ -646,7 +612,7 @@ def write_handout(h: Handout, out: Path, force: bool = False) -> Path:
         _LIVE.add(tmp)
     try:
         for name, text in files.items():
-            write_text_atomic(tmp / name, text)
+            imageio.write_text_atomic(tmp / name, text)
         try:
             os.rename(tmp, out)  # onto nothing, or onto a folder made empty meanwhile
         except OSError as exc:
@@ -660,11 +626,3 @@ def write_handout(h: Handout, out: Path, force: bool = False) -> Path:
         if tmp in _LIVE:
             _remove(tmp)
     return out / PAGE
-
-
-def make_report(scene_name: str, out: str | os.PathLike, methods: list[Method], *,
-                force: bool = False, **kwargs) -> Path:
-    """Check ``out``, measure (:func:`collect`), write (:func:`write_handout`)."""
-    path = check_out_dir(out, force)
-    h = collect(scene_name, methods, out_name=str(out), **kwargs)
-    return write_handout(h, path, force=force)

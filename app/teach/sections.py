@@ -13,11 +13,8 @@ holds the whole section). Its math stays TeX (``$…$``) in the file and is show
 (:attr:`Section.text`, the panel) or MathML (:func:`section_html`, the handouts). Equations are
 entries too: ``spec/003 eq. 7.18``. A section's sub-letter reads ``§2.9(b)`` here.
 
-The panel's model is here too, free of ImGui so that it is tested without a window:
-:func:`build_headers` groups a scene's parameters as the theses group them (one
-:class:`Header` per parameter group — an effect, its extra groups, Time, Output — and inside
-it one :class:`Group` per thesis section, in section order, "Other" last), and
-:func:`filter_headers` keeps what a search matches.
+The panel's model (:func:`build_headers`, :func:`filter_headers`) is here too, free of ImGui so
+that it is tested without a window.
 """
 
 from __future__ import annotations
@@ -40,8 +37,6 @@ FORMAT = 2
 
 OTHER = "Other"
 
-
-# ---- sections ---------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
 class Section:
@@ -234,8 +229,6 @@ def citation(spec: str) -> str:
     return index().specs.get(spec.strip(), {}).get("citation", "")
 
 
-# ---- refs in Param.section --------------------------------------------------------------------
-
 _TOKEN = re.compile(r"(spec/\d{3})|§\s?(\d+(?:\.\d+)*)(?:\s?\(([a-z])\)|\s([a-z])\b)?")
 
 
@@ -267,17 +260,6 @@ def refs(section: str, default_spec: str = "") -> list[str]:
                 out.append(ref)
     return out
 
-
-def section_of(param: Param, default_spec: str = "") -> Section | None:
-    """The first digest section of ``param`` that the index knows (None: none)."""
-    for ref in refs(param.section, default_spec):
-        s = lookup(ref)
-        if s is not None:
-            return s
-    return None
-
-
-# ---- the panel's model ------------------------------------------------------------------------
 
 @dataclass
 class Group:
@@ -456,8 +438,6 @@ def notes_without(lesson: str | None, notes: Sequence[str]) -> list[str]:
         return list(notes)
     return [n for n in notes if not (n.strip() and lesson.strip().startswith(n.strip()))]
 
-
-# ---- reading the theory pages (tools/sections.py) ----------------------------------------------
 
 def build_index(root: Path = theory.THEORY) -> Index:
     """Every anchored section and equation of the pages under ``root`` as an :class:`Index`."""

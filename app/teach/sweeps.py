@@ -1,16 +1,8 @@
-"""What the benches' sweeps measured, read back from a bench report (``natura bench SCENE``'s
-JSON, ``report["sweep"]``): each measured variant as an :class:`Option` — the parameter
-assignment the sweep set, its ms per frame at the size the sweep timed it, and its error
-against the sweep's reference.
-
-Both ``natura bench SCENE --budget MS`` (app/bench/budget.py, which lists the options that fit
-a frame budget) and the quality picker (app/teach/quality.py, which groups them per knob) read
-the sweeps through this module, so the settings the benches measure with live here too: the
-thesis's cloud marcher (:data:`THESIS_MARCH`, app/bench/clouds.py's ``THESIS``) and the
-Hillaire LUT sizes the planet sweep scales together (:data:`HILLAIRE_SIZES`,
-:func:`scale_hillaire`). app.bench imports them from here (app.teach may not import app.bench).
-
-Everything here reads the report dict only: no GL, no session.
+"""The benches' sweeps read back from a bench report (``report["sweep"]``) as the
+:class:`Option` s of ``natura bench SCENE --budget MS`` (app/bench/budget.py says what they
+are); the quality picker (app/teach/quality.py) shares the helpers. The settings the benches
+measure with live here too (:data:`THESIS_MARCH`, :data:`HILLAIRE_SIZES`): app.bench imports
+them from here, as app.teach may not import app.bench. No GL, no session.
 """
 
 from __future__ import annotations
@@ -18,6 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from typing import Any, Callable
+
+from ..runtime import scene_params
 
 #: the thesis's cloud marcher (spec/001 §3): uniform 64 steps, 6 light samples, the naive sum,
 #: no reprojection — the base of the cloud sweep's "uniform N steps" and "light samples" rows
@@ -78,7 +72,7 @@ def _finite(*values) -> bool:
 
 
 def format_value(value: Any) -> str:
-    """A value as ``--set`` takes it."""
+    """A parameter value as ``--set`` takes it back: true/false, comma-separated vectors."""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, (list, tuple)):
@@ -101,8 +95,6 @@ def same(a: Any, b: Any) -> bool:
     return str(a) == str(b)
 
 
-# ---- per-scene extraction ---------------------------------------------------------------------
-
 def _clouds(sweep: dict) -> SceneOptions:
     acc = sweep["accuracy"]
     base = dict(THESIS_MARCH)
@@ -124,8 +116,6 @@ def hillaire_scaled(scale: float, params=None) -> dict[str, Any]:
     """The Hillaire LUT sizes the planet sweep's "lut scale" knob set (defaults × scale);
     ``params``: a planet ParamSet to work on (its sizes are overwritten)."""
     if params is None:
-        from ..runtime import scene_params
-
         params = scene_params("planet", None, [], None)
     if scale == 1.0:
         return {name: params.spec(name).default for name in HILLAIRE_SIZES}

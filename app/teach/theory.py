@@ -39,8 +39,6 @@ ANCHOR = re.compile(r'^<a id="([^"]+)"></a>\s*$')
 HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
 
 
-# ---- TeX → Unicode ---------------------------------------------------------------------------
-
 GREEK = {
     "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "epsilon": "ϵ", "varepsilon": "ε",
     "zeta": "ζ", "eta": "η", "theta": "θ", "vartheta": "ϑ", "iota": "ι", "kappa": "κ",
@@ -402,8 +400,6 @@ def tex_to_unicode(tex: str) -> str:
     return render(reader.sequence())
 
 
-# ---- math inside text ------------------------------------------------------------------------
-
 #: math in a body: ``$$…$$`` (a display, one line) or ``$…$``; ``\\$`` is a dollar sign
 MATH = re.compile(r"\$\$(.+?)\$\$|(?<!\\)\$((?:[^$\\\n]|\\.)+?)\$")
 
@@ -421,10 +417,8 @@ def math_to_unicode(text: str) -> str:
 def math_to_html(text: str) -> str:
     """A body as HTML: text escaped, math as MathML (``latex2mathml``), Unicode where the
     converter refuses a formula."""
-    try:
-        import latex2mathml.converter as l2m
-    except ImportError:  # a declared dependency; without it, the Unicode text
-        return html.escape(math_to_unicode(text), quote=True)
+    import latex2mathml.converter as l2m
+
     out, pos = [], 0
     for m in MATH.finditer(text):
         out.append(html.escape(text[pos:m.start()].replace("\\$", "$"), quote=True))
@@ -438,8 +432,6 @@ def math_to_html(text: str) -> str:
     out.append(html.escape(text[pos:].replace("\\$", "$"), quote=True))
     return "".join(out)
 
-
-# ---- markdown → a body -----------------------------------------------------------------------
 
 _SPANS = re.compile(r"`+[^`]*?`+|\$\$.+?\$\$|(?<!\\)\$(?:[^$\\\n]|\\.)+?\$")
 
@@ -566,8 +558,6 @@ def strip_markdown(lines: list[str]) -> str:
     text = re.sub(r"\n{3,}", "\n\n", text)
     return text.strip("\n")
 
-
-# ---- pages -----------------------------------------------------------------------------------
 
 @dataclass
 class Entry:
@@ -708,13 +698,6 @@ def section_body(page: Page, entry: Entry) -> str:
     headings included (math as $TeX$)."""
     return strip_markdown(page.lines[entry.line:entry.end - 1])
 
-
-def contained(page: Page, entry: Entry) -> list[Entry]:
-    """The anchored sections inside ``entry``'s (deeper headings before its end)."""
-    return [e for e in page.entries.values() if entry.line < e.line < entry.end]
-
-
-# ---- tags ------------------------------------------------------------------------------------
 
 def anchor_of(eq: str | None, section: str | None) -> str:
     if eq:

@@ -1,12 +1,7 @@
-"""The window's A/B comparison (F3, or the panel's "Compare A/B" button).
-
-Two parameter sets of the running scene — typed as ``NAME=VALUE`` lines, or picked from the
-scene's methods (app/teach/methods.py) — are rendered from the current camera and time by
-app/teach/compare.py: each in a scene of its own on the window's GL context, timed in
-interleaved rounds, with the signed difference B − A as a magnified heat map and each side's
-error against the scene's reference where it has one. The result shows side by side or as a
-wipe (drag the slider), with both timings, their ratio and the errors; "Save PNG" writes what
-``natura compare`` writes, under a free name. The live scene is not touched.
+"""The window's A/B comparison (F3, or the panel's "Compare A/B" button): docs/commands.md
+("Teaching tools") says what it shows. The sides are typed as ``NAME=VALUE`` lines or picked
+from the scene's methods (app/teach/methods.py) and rendered by app/teach/compare.py on the
+window's GL context; the live scene is not touched.
 """
 
 from __future__ import annotations
@@ -20,6 +15,7 @@ import numpy as np
 from imgui_bundle import imgui
 
 from ..errors import NaturaError
+from ..imageio import next_free_path
 from ..teach import compare as cmp_logic
 from ..teach import methods as methods_logic
 from . import panel
@@ -62,7 +58,6 @@ class ComparePane:
             self.a_text = f"{axis.param}={axis.choices[1][0]}"
             self.b_text = f"{axis.param}={axis.choices[-1][0]}"
 
-    # -- running ----------------------------------------------------------------------------
     def run(self, session, register, progress=None) -> bool:
         """Compare now (blocking: seconds on a software renderer)."""
         try:
@@ -105,8 +100,6 @@ class ComparePane:
         self.textures.clear()
 
     def save_png(self, folder: Path) -> Path | None:
-        from ..imageio import next_free_path
-
         if self.result is None:
             return None
         folder.mkdir(parents=True, exist_ok=True)
@@ -125,7 +118,6 @@ class ComparePane:
             return png
         return None
 
-    # -- drawing ----------------------------------------------------------------------------
     def draw(self, session, register, size, save_folder=Path(".")) -> None:
         if not self.shown:
             return

@@ -1,25 +1,17 @@
 """The window's shader editor (F2, or the panel's "Shader editor" button).
 
-Left: the running scene's programs, each with the include tree of its stage files (a file with
-errors in red). Right: the open file in imgui-bundle's colour text editor (GLSL highlighting,
-line numbers, undo, find), the lines the compiler blames marked, the whole message shown when the
-pointer is over the line or its number, and the file's errors listed below, wrapped. Ctrl+S (or
-Save) writes the file atomically; the library's poll recompiles what includes it within a
-quarter of a second, and a broken edit keeps the last good program running. A typed bracket gets
-its closer, and typing that closer steps over it (``type_chars``, at any frame rate: every
-character a slow frame queued); a dialog opens only once the keys pressed before it was asked
-for have gone to the text, which had the keyboard when they were pressed.
-
-Natura's own shaders are never written: the first save offers a copy (``natura shaders copy``
-semantics: a new folder, made whole or not at all), moves the running programs there and saves
-into it — the window then runs as ``natura --shaders DIR`` would. A file changed on disk while
-open reloads by itself when the editor holds no unsaved change, and otherwise asks.
+What a user sees is in docs/commands.md ("Teaching tools"). A typed bracket gets its closer,
+and typing that closer steps over it (``type_chars``, at any frame rate: every character a slow
+frame queued); a dialog opens only once the keys pressed before it was asked for have gone to
+the text, which had the keyboard when they were pressed. A file changed on disk while open
+reloads by itself when the editor holds no unsaved change, and otherwise asks.
 
 The logic without ImGui (trees, markers, saving, the copy) is app/teach/editor.py.
 """
 
 from __future__ import annotations
 
+import contextlib
 import time
 from pathlib import Path
 from typing import Callable
@@ -74,7 +66,6 @@ class ShaderEditorPane:
         self.modal_open = False
         self._ask_after = 0  # a dialog opens once the keys pressed before it was asked are out
 
-    # -- files ------------------------------------------------------------------------------
     def open(self, path: Path) -> bool:
         try:
             f = logic.OpenFile.open(Path(path))
@@ -155,10 +146,8 @@ class ShaderEditorPane:
             return
         self._last_disk_check = now
         if self.file.changed_on_disk() and not self.modified:
-            try:
+            with contextlib.suppress(Exception):  # a vanished file stays open as it was
                 self.reload_from_disk()
-            except Exception:  # noqa: BLE001 - a vanished file stays open as it was
-                pass
 
     def update_markers(self, library, errors) -> None:
         if self.file is None:
@@ -172,7 +161,6 @@ class ShaderEditorPane:
                                    message)
         self.marked = marks
 
-    # -- typing -----------------------------------------------------------------------------
     def _state(self) -> tuple:
         pos = self.editor.get_current_cursor_position()
         return self.editor.get_undo_index(), pos.line, pos.index
@@ -226,7 +214,6 @@ class ShaderEditorPane:
             e.set_cursor(TextEditor.DocPos(line, col + 1))
             self._closers.append((line, col + 1))
 
-    # -- drawing ----------------------------------------------------------------------------
     def draw(self, library, errors, size: tuple[float, float]) -> None:
         if not self.shown:
             return

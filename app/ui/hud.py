@@ -1,19 +1,11 @@
 """The maritime thesis's HUD (spec/000 §2), drawn with ImGui for a scene that has a ``hud()``
-method (the window duck-types on it and names no scene).
+method (the window duck-types on it and names no scene): the ship panel (fig. 4.1), the weather
+and time panel (fig. 4.2) and the pause menu, as docs/commands.md ("Window controls",
+maritime) describes them. The wind dial's true-wind arrow is the scene's ``wind_relative``
+(wind direction − heading, criterion 36).
 
-* the ship panel, top right (fig. 4.1): the helm, the sails and the throttle (sliders that write
-  the parameters through :meth:`ParamSet.set`), the heading and the speed, and the wind dial —
-  the boat's bow up, an arrow for where the true wind blows relative to the heading (the
-  scene's ``wind_relative``: wind direction − heading, criterion 36) and a thinner one for the
-  apparent wind;
-* the weather and time panel below it (fig. 4.2): the time of day (readout, slider,
-  play / pause), the forced weather states, the wind's speed and direction;
-* the pause menu (Esc): a centred "Paused" window with Resume and Quit.
-
-In the UI mode the panels take the mouse; in free navigation they are passive (no inputs, more
-transparent) and say which mode is on. The figures come from the scene's ``HudState`` (plain
-numbers); the geometry of the dial is :func:`dial_point` / :func:`dial_arrow`, tested without a
-window.
+The figures come from the scene's ``HudState`` (plain numbers); the geometry of the dial is
+:func:`dial_point` / :func:`dial_arrow`, tested without a window.
 """
 
 from __future__ import annotations

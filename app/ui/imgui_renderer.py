@@ -125,7 +125,6 @@ class ImguiRenderer:
             self.prog, [(self._vbo, "2f 2f 4f1", "in_position", "in_uv", "in_colour")],
             index_buffer=self._ibo, index_element_size=imgui.INDEX_SIZE)
 
-    # -- textures --------------------------------------------------------------------------
     def register_texture(self, texture: moderngl.Texture) -> None:
         """Let ImGui draw an application texture (``imgui.image(ImTextureRef(tex.glo), …)``)."""
         self._textures[texture.glo] = texture
@@ -173,7 +172,6 @@ class ImguiRenderer:
         if gl_tex is not None:
             gl_tex.release()
 
-    # -- drawing ---------------------------------------------------------------------------
     def render(self, draw_data) -> None:
         """Draw one frame's draw data into the bound framebuffer (the window's)."""
         self.update_textures()
@@ -237,7 +235,6 @@ class ImguiRenderer:
         for obj in (self._vao, self._vbo, self._ibo, self.prog):
             obj.release()
 
-    # -- input (moderngl-window's event signatures) ------------------------------------------
     def resize(self, width: int, height: int) -> None:
         self.io.display_size = (float(width), float(height))
         bw, bh = self.wnd.buffer_size
@@ -266,27 +263,23 @@ class ImguiRenderer:
             if c.isprintable():
                 self.io.add_input_character(ord(c))
 
-    def _button(self, button) -> int | None:
-        m = self.wnd.mouse
-        return {m.left: 0, m.right: 1, m.middle: 2}.get(button)
-
     def mouse_position_event(self, x, y, dx, dy) -> None:
         self.io.add_mouse_pos_event(float(x), float(y))
 
-    def mouse_drag_event(self, x, y, dx, dy) -> None:
+    mouse_drag_event = mouse_position_event
+
+    def _mouse_button(self, x, y, button, down: bool) -> None:
         self.io.add_mouse_pos_event(float(x), float(y))
+        m = self.wnd.mouse
+        b = {m.left: 0, m.right: 1, m.middle: 2}.get(button)
+        if b is not None:
+            self.io.add_mouse_button_event(b, down)
 
     def mouse_press_event(self, x, y, button) -> None:
-        self.io.add_mouse_pos_event(float(x), float(y))
-        b = self._button(button)
-        if b is not None:
-            self.io.add_mouse_button_event(b, True)
+        self._mouse_button(x, y, button, True)
 
     def mouse_release_event(self, x, y, button) -> None:
-        self.io.add_mouse_pos_event(float(x), float(y))
-        b = self._button(button)
-        if b is not None:
-            self.io.add_mouse_button_event(b, False)
+        self._mouse_button(x, y, button, False)
 
     def mouse_scroll_event(self, dx, dy) -> None:
         self.io.add_mouse_wheel_event(float(dx), float(dy))

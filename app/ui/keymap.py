@@ -51,39 +51,9 @@ def key_names(keys, pyglet_key=None) -> dict[int, str]:
 # actions held down while the key is pressed
 HELD = {"forward", "back", "left", "right", "up", "down", "turn_left", "turn_right", "pitch_up",
         "pitch_down", "sun_up", "sun_down", "fast"}
-#: one-shot actions the controller carries out itself
-CONTROLLER_ACTIONS = {"toggle_turbo", "turbo_faster", "turbo_slower", "turbo_faster_100",
-                      "turbo_slower_100", "toggle_controls"}
-#: one-shot actions the window carries out (:meth:`app.ui.window.NaturaWindow.run_events`)
-WINDOW_ACTIONS = {"quit", "screenshot", "toggle_time", "time_back", "time_forward",
-                  "toggle_mouse", "toggle_panel", "reset_camera", "print_gl_version",
-                  "print_camera", "toggle_ui", "pause_menu"}
-#: actions on a parameter, by prefix: ``set:NAME=VALUE``, ``toggle:NAME``, ``cycle:NAME`` (a
-#: choice steps to its next choice, wrapping), ``hold:NAME=RATE`` (held: RATE per second)
-PARAM_PREFIXES = ("set:", "toggle:", "cycle:", "hold:")
-
-
-def action_kind(action: str) -> str | None:
-    """What kind of action ``action`` is — "held", "controller", "window", or its parameter
-    prefix ("set", "toggle", "cycle", "hold") — or None for an action nothing carries out."""
-    if action in HELD:
-        return "held"
-    if action in CONTROLLER_ACTIONS:
-        return "controller"
-    if action in WINDOW_ACTIONS:
-        return "window"
-    for prefix in PARAM_PREFIXES:
-        if action.startswith(prefix) and len(action) > len(prefix):
-            return prefix[:-1]
-    return None
-
-
-def action_parameter(action: str) -> str | None:
-    """The parameter a ``set:`` / ``toggle:`` / ``cycle:`` / ``hold:`` action names."""
-    for prefix in PARAM_PREFIXES:
-        if action.startswith(prefix):
-            return action[len(prefix):].partition("=")[0]
-    return None
+#: what each turbo key does to the turbo speed: × the first, ÷ the second
+TURBO_STEPS = {"turbo_faster": (2.0, 1.0), "turbo_slower": (1.0, 2.0),
+               "turbo_faster_100": (100.0, 1.0), "turbo_slower_100": (1.0, 100.0)}
 
 
 def parse_hold(action: str) -> tuple[str, float]:
@@ -119,17 +89,9 @@ class Controller:
             self.held.add(action)
         elif action == "toggle_turbo":
             self.turbo = not self.turbo
-        elif action == "turbo_faster":
-            self.turbo_speed *= 2.0
-            self.events.append(("print", f"turbo speed {self.turbo_speed:g} m/s"))
-        elif action == "turbo_slower":
-            self.turbo_speed /= 2.0
-            self.events.append(("print", f"turbo speed {self.turbo_speed:g} m/s"))
-        elif action == "turbo_faster_100":
-            self.turbo_speed *= 100.0
-            self.events.append(("print", f"turbo speed {self.turbo_speed:g} m/s"))
-        elif action == "turbo_slower_100":
-            self.turbo_speed /= 100.0
+        elif action in TURBO_STEPS:
+            times, over = TURBO_STEPS[action]
+            self.turbo_speed = self.turbo_speed * times / over
             self.events.append(("print", f"turbo speed {self.turbo_speed:g} m/s"))
         elif action == "toggle_controls":
             self.controls_enabled = not self.controls_enabled

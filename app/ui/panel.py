@@ -197,20 +197,14 @@ def _wrapped_in(colour, text: str) -> None:
     imgui.pop_style_color()
 
 
-# ---- the scene's panel ------------------------------------------------------------------------
-
-def _headers_key(params: ParamSet, scene) -> tuple:
-    return (getattr(scene, "name", ""), id(params),
-            tuple((p.name, p.section, p.doc) for p in params))
-
-
 def scene_panel(params: ParamSet, scene, state: PanelState,
                 skip: set[str] | frozenset[str] = frozenset({"time.hour"})) -> None:
     """The window's parameter panel for ``scene`` (its effect instances give the lessons and
     the notes; an effect a selector has switched off says so); ``state`` is kept by the
     window between frames. Draws inside the current ImGui window, plus the thesis section's
     side window when one is open."""
-    key = _headers_key(params, scene)
+    key = (getattr(scene, "name", ""), id(params),
+           tuple((p.name, p.section, p.doc) for p in params))
     if not state._headers or state._headers[0] != key:
         state._headers = (key, ts.build_headers(params, scene.instances, skip))
     headers = state._headers[1]

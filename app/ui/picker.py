@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .. import PROJECT_ROOT
+from ..scenes import SCENES
 
 GALLERY = PROJECT_ROOT / "docs" / "gallery"
 TITLE = "Natura — choose a scene"
@@ -36,8 +37,6 @@ class Tile:
 
 def tiles(default: str) -> list[Tile]:
     """One tile per registered scene, ``default`` first, then the registry's order."""
-    from ..scenes import SCENES
-
     try:
         index = json.loads((GALLERY / "index.json").read_text(encoding="utf-8"))
     except (OSError, ValueError):

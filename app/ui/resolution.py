@@ -1,10 +1,8 @@
 """Dynamic resolution for the window: the 3D scene's internal scale per side, chosen from the
 frame times against ``output.frame_budget_ms`` (pure Python, no GL: tested without a window).
 
-The window renders the scene into a target of ``internal_size(window)`` and enlarges it to the
-window in the display pass (``output.upscale``); the ImGui panel and the HUD are drawn after
-that, at the window's own resolution, so they stay sharp. Headless renders never come here:
-``natura render``, the gallery and the tests always render at full scale.
+What a user sees is in docs/commands.md ("Dynamic resolution"); headless renders never come
+here.
 
 The rule (``output.scale=auto``), with hysteresis so that the scale does not oscillate:
 
@@ -20,9 +18,8 @@ The rule (``output.scale=auto``), with hysteresis so that the scale does not osc
   millisecond scales with the pixel count) stays under :data:`UP_MARGIN` of the budget. A frame
   of fixed cost F plus P per scaled pixel then lands, after the step, under the budget it was
   lowered for: F + P·s'² ≤ (F + P·s²)·(s'/s)² ≤ UP_MARGIN·budget.
-
-``output.scale`` pins the scale (1: full, or any value in [0.5, 1]); a scene whose frame is
-bound by the CPU stays at 0.5 over its budget: a smaller image would not be faster.
+A scene whose frame is bound by the CPU stays at 0.5 over its budget: a smaller image would
+not be faster.
 """
 
 from __future__ import annotations

@@ -1,54 +1,33 @@
 """The desktop window: moderngl-window (pyglet) + an ImGui panel mirroring the theses' inspectors.
 
-Controls come from the scene's key map (app/ui/keymap.py; docs/commands.md and the panel's
-"Controls" section list them). The default map:
-
-=================  =========================================================
-W A S D            fly forward / left / back / right
-Q / E              down / up
-Shift              4× faster; mouse wheel changes the base speed
-right mouse drag   look around;  M toggles mouse look without a button
-Space              pause / resume time
-[ / ]              time of day −/+ 15 minutes
-Up / Down          sun up / down (planet scene)
-R                  reset the camera to the scene's default
-P or F12           screenshot (scene only, tone-mapped): screenshots/SCENE-NNNN.png,
-                   never overwrites
-F1                 hide / show the panel
-Esc                quit
-=================  =========================================================
-
-A scene's map may also bind ``cycle:NAME`` (a choice steps to its next one), ``hold:NAME=RATE``
-(app/ui/keymap.py), ``toggle_ui`` (the maritime thesis's Space: the UI mode, where the HUD and
-the panel take the mouse, or free navigation with mouse look) and ``pause_menu`` (Esc opens a
-centred "Paused" window with Resume and Quit, time and the world stop; Esc again quits). A scene
-with a ``hud()`` method gets the HUD of app/ui/hud.py.
-
-Shader files are polled every 0.25 s: saving one recompiles what includes it; a broken edit
-keeps the last good program running and lists ``file:line`` errors in the panel.
-
-Dynamic resolution (app/ui/resolution.py): when frames exceed ``output.frame_budget_ms``, the
-3D scene renders at a lower internal scale (down to 0.5 per side) and the display pass enlarges
-it to the window (``output.upscale``); the panel and the HUD are drawn after it, at the
-window's resolution. ``output.scale`` pins the scale; a screenshot is always rendered at the
-window's full size.
+The keys come from the scene's key map (app/ui/keymap.py; docs/commands.md, "Window controls",
+lists them). Shader files are polled every 0.25 s: a broken edit keeps the last good program
+running and lists ``file:line`` errors in the panel. Dynamic resolution: app/ui/resolution.py
+(the panel and the HUD are drawn after the enlarged scene, at the window's resolution).
 """
 
 from __future__ import annotations
 
 import collections
+import contextlib
 import os
 import sys
 import time
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
-from ..errors import OutputExistsError, UsageError
+from ..errors import GpuUnavailableError, OutputExistsError
+from ..gpu.context import describe_context
 from ..imageio import next_free_path, write_png, write_text_atomic
-from ..params import ParamSet
+from ..params import Inspector, ParamSet
+from ..runtime import open_session, scene_params
+from ..scenes.views import views_of
 from ..sim.camera import Camera
+from ..sim.daynight import Keyframes, hour_label
 from .keymap import CHARACTER_KEYS, CHARACTERS, Controller, cycle_value, key_names
+from .resolution import DynamicResolution, scale_line
 
 POLL_SECONDS = 0.25
 MOVE_SPEED = 5.0  # m/s
@@ -64,23 +43,18 @@ WINDOW_KEYS_HELP = (("F2", "shader editor"), ("F3", "compare A/B"),
 def _key_names(keys) -> dict:
     """Window key code → key name (``keys.W`` → "W"), for the key maps (see
     :func:`app.ui.keymap.key_names`: the ``[`` ``]`` keys need pyglet's own codes)."""
-    try:
-        from pyglet.window import key as pyglet_key
-    except Exception:  # another window backend: its own table only
-        pyglet_key = None
+    from pyglet.window import key as pyglet_key  # the window is always pyglet's
+
     return key_names(keys, pyglet_key)
 
 
 def _fallback_font() -> Path | None:
     """matplotlib's DejaVu Sans (a dependency already): the maths signs and arrows of the digests
     (∈ ‖ ⌊ ⌋ ⟨ ⟩ ℝ ² …) that DroidSans and Inconsolata lack."""
-    try:
-        import matplotlib
+    import matplotlib
 
-        path = Path(matplotlib.get_data_path()) / "fonts" / "ttf" / "DejaVuSans.ttf"
-        return path if path.is_file() else None
-    except Exception:  # noqa: BLE001 - no fallback: missing glyphs show as "?"
-        return None
+    path = Path(matplotlib.get_data_path()) / "fonts" / "ttf" / "DejaVuSans.ttf"
+    return path if path.is_file() else None  # without it, missing glyphs show as "?"
 
 
 def _load_font(imgui):
@@ -89,7 +63,7 @@ def _load_font(imgui):
     Inconsolata for the shader editor, each with DejaVu Sans merged in for what it lacks.
     Returns the monospace font (None without it); without the files, the default font stays."""
     mono = None
-    try:
+    with contextlib.suppress(Exception):  # a font problem must not keep the window from opening
         import imgui_bundle
 
         fonts = Path(imgui_bundle.__file__).parent / "assets" / "fonts"
@@ -108,8 +82,6 @@ def _load_font(imgui):
         if (fonts / "Inconsolata-Medium.ttf").is_file():
             mono = atlas.add_font_from_file_ttf(str(fonts / "Inconsolata-Medium.ttf"), 15.0)
             merge_fallback()
-    except Exception:  # a font problem must not keep the window from opening
-        pass
     return mono
 
 
@@ -130,11 +102,6 @@ def display_problem() -> str | None:
     except Exception:
         return f"the X display {display!r} does not answer"
     return None
-
-
-def display_available() -> bool:
-    """True when a window can be opened (an X display answers). pyglet 2.1 needs X11."""
-    return display_problem() is None
 
 
 def _one_line(exc: BaseException) -> str:
@@ -161,8 +128,6 @@ def _create_window(size, title, vsync: bool = True):
             continue
         mglw.activate_context(window=wnd)
         return wnd
-    from ..errors import GpuUnavailableError
-
     raise GpuUnavailableError(f"could not create an OpenGL 3.3+ window: {last}")
 
 
@@ -191,7 +156,6 @@ class NaturaWindow:
                  keyframes_dir: str | os.PathLike = ".", quality=None, vsync: bool = True):
         from imgui_bundle import imgui
 
-        from ..runtime import open_session
         from .imgui_renderer import ImguiRenderer
 
         self.imgui = imgui
@@ -202,12 +166,8 @@ class NaturaWindow:
         self.scene = self.session.scene
         self.scene.interactive = True
         #: the scene's starting values (what a view is applied over) and the view shown
-        from ..runtime import scene_params
-
         self.start_values = dict(scene_params(scene_name, shader_root).values())
         self.current_view: str | None = None
-        from ..gpu.context import describe_context
-
         print(f"natura: context: {describe_context(self.ctx)}", file=sys.stderr, flush=True)
         self.params = params
         self.home = Camera(**{k: getattr(camera, k) for k in ("position", "yaw", "pitch", "fov")})
@@ -251,8 +211,6 @@ class NaturaWindow:
         self._last_poll = 0.0
         self.target = None  # the scene's radiance, at the internal size (dynamic resolution)
         self.window_size: tuple[int, int] = (0, 0)  # the window's framebuffer, pixels
-        from .resolution import DynamicResolution
-
         self.resolution = DynamicResolution()
         self._rendering = False  # inside render_scene (a resize then waits for its end)
         self._resize_pending: tuple[int, int] | None = None
@@ -276,7 +234,6 @@ class NaturaWindow:
         self.quality = QualityView(quality)
         self.on_resize(*self.wnd.buffer_size)
 
-    # -- events ----------------------------------------------------------------------------
     def _ui_wants_keyboard(self) -> bool:
         return self.imgui.get_io().want_capture_keyboard
 
@@ -488,7 +445,6 @@ class NaturaWindow:
         if self.window_size[0] > 0:
             self._fit_target()
 
-    # -- frame -----------------------------------------------------------------------------
     def poll_shaders(self) -> None:
         now = time.perf_counter()
         if now - self._last_poll < POLL_SECONDS:
@@ -576,42 +532,21 @@ class NaturaWindow:
             return f"cannot make the folder {folder}: {exc.strerror or _one_line(exc)}"
         return None
 
-    def save_screenshot(self) -> Path | None:
-        """The scene, tone-mapped, as the first free ``SCENE-NNNN.png``; never overwrites. A
-        folder that cannot be written is a message, not a crash."""
-        folder = self.screenshot_dir
-        problem = self._folder_problem(folder)
-        if problem:
-            self._fail(f"screenshot not saved: {problem}")
-            return None
-        for _ in range(100):  # another process may take the name between the check and the link
-            path = next_free_path(folder, self.scene.name, ".png")
-            try:
-                write_png(path, self.target.read(), self.scene.exposure(),
-                          self.params["output.tonemap"])
-            except (FileExistsError, OutputExistsError):
-                continue
-            except Exception as exc:
-                self._fail(f"screenshot not saved in {folder}: {_one_line(exc)}")
-                return None
-            self.screenshots.append(path)
-            self.messages.append(f"saved {path}")
-            return path
-        self._fail(f"screenshot not saved: no free name in {folder} after 100 tries")
-        return None
-
-    def _save_text(self, what: str, folder: Path, stem: str, text: str) -> Path | None:
+    def _save(self, what: str, folder: Path, stem: str, suffix: str,
+              write: Callable[[Path], object]) -> Path | None:
+        """``write(path)`` into the first free ``STEM-NNNN.SUFFIX`` of ``folder``; never
+        overwrites. A folder that cannot be written is a message, not a crash."""
         problem = self._folder_problem(folder)
         if problem:
             self._fail(f"{what} not saved: {problem}")
             return None
-        for _ in range(100):
-            path = next_free_path(folder, stem, ".toml")
+        for _ in range(100):  # another process may take the name between the check and the link
+            path = next_free_path(folder, stem, suffix)
             try:
-                write_text_atomic(path, text)
+                write(path)
             except (FileExistsError, OutputExistsError):
                 continue
-            except (OSError, UsageError) as exc:
+            except Exception as exc:  # noqa: BLE001 - a message; the window goes on
                 self._fail(f"{what} not saved in {folder}: {_one_line(exc)}")
                 return None
             self.messages.append(f"saved {path}")
@@ -619,19 +554,28 @@ class NaturaWindow:
         self._fail(f"{what} not saved: no free name in {folder} after 100 tries")
         return None
 
+    def save_screenshot(self) -> Path | None:
+        """The scene, tone-mapped, as the first free ``SCENE-NNNN.png``."""
+        path = self._save("screenshot", self.screenshot_dir, self.scene.name, ".png",
+                          lambda p: write_png(p, self.target.read(), self.scene.exposure(),
+                                              self.params["output.tonemap"]))
+        if path is not None:
+            self.screenshots.append(path)
+        return path
+
     def save_preset(self) -> Path | None:
-        return self._save_text("preset", self.preset_dir, self.scene.name,
-                               self.params.preset_text(f"scene {self.scene.name}"))
+        text = self.params.preset_text(f"scene {self.scene.name}")
+        return self._save("preset", self.preset_dir, self.scene.name, ".toml",
+                          lambda p: write_text_atomic(p, text))
 
     def save_keyframes(self, keyframes) -> Path | None:
-        return self._save_text("keyframes", self.keyframes_dir, "keyframes",
-                               keyframes.to_toml())
+        text = keyframes.to_toml()
+        return self._save("keyframes", self.keyframes_dir, "keyframes", ".toml",
+                          lambda p: write_text_atomic(p, text))
 
     def views_panel(self) -> None:
         """The scene's views (one folder per scene under resources/presets/views/): a list to
         pick one from, with what it shows and teaches."""
-        from ..scenes.views import views_of
-
         imgui = self.imgui
         try:
             views = views_of(self.scene.name)
@@ -695,8 +639,6 @@ class NaturaWindow:
         ms = np.array(self.frame_ms, dtype=np.float32)
         self.frame_text = frame_line(ms)
         imgui.text(self.frame_text)
-        from .resolution import scale_line
-
         imgui.text(scale_line(self.resolution, tuple(self.target.size), self.window_size,
                               self.params.get("output.frame_budget_ms", 33.0)))
         self.frame_plot(ms)
@@ -714,8 +656,6 @@ class NaturaWindow:
             if imgui.button("Pause" if playing else "Resume"):
                 self.params.set("time.playing", not playing)
             imgui.same_line()
-            from ..sim.daynight import hour_label
-
             imgui.text(hour_label(self.params["time.hour"]))
             changed, hour = imgui.slider_float("time of day##scrub", self.params["time.hour"],
                                                0.0, 24.0, "%.2f h")
@@ -749,9 +689,6 @@ class NaturaWindow:
                                    if self.quality.picks else 0):
             self.quality.draw(self.scene.name, self.params, tuple(self.target.size))
         panel.scene_panel(self.params, self.scene, self.panel_state)
-        from ..params import Inspector
-        from ..sim.daynight import Keyframes
-
         for effect in self.scene.active_instances():
             for item in effect.panel_items():  # editors an effect offers besides its parameters
                 if (isinstance(item, Keyframes)

@@ -1,23 +1,21 @@
-"""``natura bench SCENE --window``: frames per second in a real window, as a user gets them.
-
-The scene runs in the desktop window (the panel shown, as it opens; vsync off, so the figure is
-what the machine can do, not the display's refresh) with simulated time following the wall
-clock, as ``natura window`` does. After ``warmup`` untimed frames (the programs compile, the
-bakes and histories fill, dynamic resolution settles), ``frames`` frames are timed from the
-start of one to the start of the next — everything a user waits for: the scene, the display
-pass, the panel, the swap and the window's events. The report gives the median and quartiles of
-those times, the fps they make, and the internal scale each frame rendered at
-(app/ui/resolution.py): the scale reached at the end and the share of frames at each.
+"""``natura bench SCENE --window``: frames per second in a real window, as a user gets them
+(docs/architecture.md, "Measuring", says what is timed: vsync off, frames timed start to start
+after untimed ones, with dynamic resolution at work).
 
 Reported, never asserted: no test compares these numbers with anything.
 """
 
 from __future__ import annotations
 
+import os
 import platform
 import time
 
 import numpy as np
+
+from ..errors import UsageError
+from ..gpu.context import describe_context
+from .window import NaturaWindow
 
 #: ``natura bench --window``'s default timed and untimed frames
 WINDOW_FRAMES, WINDOW_WARMUP = 100, 10
@@ -35,9 +33,6 @@ def bench_window(scene_name: str, params, camera, size: tuple[int, int],
                  setup=None, progress=None) -> dict:
     """Open the window on ``scene_name`` at ``size``, run ``warmup`` then ``frames`` frames and
     return the report (a dict, JSON-ready). ``progress(text)`` hears about each phase."""
-    from ..gpu.context import describe_context
-    from .window import NaturaWindow
-
     say = progress or (lambda text: None)
     win = NaturaWindow(scene_name, params, camera, size, shader_root, vsync=False)
     if setup is not None:
@@ -78,8 +73,6 @@ def bench_window(scene_name: str, params, camera, size: tuple[int, int],
     finally:
         win.close()
     if not times:
-        from ..errors import UsageError
-
         raise UsageError("the window closed before a frame was timed: allowed a window left "
                          "open until the bench ends")
     stats = _quartiles(times)
@@ -124,8 +117,6 @@ def bench_window(scene_name: str, params, camera, size: tuple[int, int],
 
 
 def _cores() -> int:
-    import os
-
     try:
         return len(os.sched_getaffinity(0))
     except (AttributeError, OSError):

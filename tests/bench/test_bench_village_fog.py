@@ -11,15 +11,9 @@ import math
 import pytest
 
 from app.bench import village_fog as vf
-from tests.helpers.readme import lane_fixture, village_section
+from tests.helpers.readme import village_report
 
-
-@pytest.fixture(scope="module")
-@lane_fixture
-def report(tmp_path_factory):
-    """The section as the README's `natura bench village` example wrote it (run once per test
-    run, tests/helpers/readme.py): what a user's JSON holds."""
-    return village_section(tmp_path_factory, "fog")
+report = village_report("fog")
 
 
 def rows(report, mode):

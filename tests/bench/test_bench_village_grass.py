@@ -11,15 +11,9 @@ import pytest
 
 from app.bench import village_grass as vg
 from app.sim import grass as gs
-from tests.helpers.readme import lane_fixture, village_section
+from tests.helpers.readme import village_report
 
-
-@pytest.fixture(scope="module")
-@lane_fixture
-def report(tmp_path_factory):
-    """The section as the README's `natura bench village` example wrote it (run once per test
-    run, tests/helpers/readme.py): what a user's JSON holds."""
-    return village_section(tmp_path_factory, "grass")
+report = village_report("grass")
 
 
 def test_every_method_at_every_count_with_sane_times(report):

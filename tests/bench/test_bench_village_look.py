@@ -7,18 +7,10 @@ from __future__ import annotations
 
 import json
 
-import pytest
-
 from app.bench import village_look
-from tests.helpers.readme import lane_fixture, village_section
+from tests.helpers.readme import village_report
 
-
-@pytest.fixture(scope="module")
-@lane_fixture
-def report(tmp_path_factory):
-    """The section as the README's `natura bench village` example wrote it (run once per test
-    run, tests/helpers/readme.py): what a user's JSON holds."""
-    return village_section(tmp_path_factory, "look")
+report = village_report("look")
 
 
 def test_criterion_37_fewer_levels_and_no_less_saturation(report):

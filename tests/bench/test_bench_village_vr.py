@@ -17,19 +17,14 @@ from PIL import Image
 
 from app.bench import village_vr
 from app.runtime import open_session, render_frames, scene_params
-from tests.helpers.readme import lane_fixture, village_section
+from tests.helpers.readme import village_report
 
 #: the section's run between the caller's two renders: what it does to the caller's scene does
 #: not depend on the size, the scales or the rounds (two scales: the eye targets are remade)
 TINY = {"size": (32, 18), "scales": (0.5, 1.0), "rounds": 1, "budget_s": 0.0, "min_rounds": 1}
 
 
-@pytest.fixture(scope="module")
-@lane_fixture
-def report(tmp_path_factory):
-    """The section as the README's `natura bench village` example wrote it: what a user's JSON
-    holds."""
-    return village_section(tmp_path_factory, "vr")
+report = village_report("vr")
 
 
 def test_the_figures_are_finite_and_consistent(report):

@@ -12,15 +12,9 @@ import math
 import pytest
 
 from app.bench import village_water as vw
-from tests.helpers.readme import lane_fixture, village_section
+from tests.helpers.readme import village_report
 
-
-@pytest.fixture(scope="module")
-@lane_fixture
-def report(tmp_path_factory):
-    """The section as the README's `natura bench village` example wrote it (run once per test
-    run, tests/helpers/readme.py): what a user's JSON holds."""
-    return village_section(tmp_path_factory, "water")
+report = village_report("water")
 
 
 def test_every_variant_is_timed(report):

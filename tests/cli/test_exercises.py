@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.imageio import read_png
 from app.teach import exercise as ex_mod
 from tests.helpers.cli import messages, run, usage_error
+from tests.helpers.images import read_png
 
 NAMES = ex_mod.names()
 
@@ -21,6 +21,13 @@ NAMES = ex_mod.names()
 def _solve(folder: Path, ex: ex_mod.Exercise, body: str) -> None:
     """What a student does: write a body into the copy's function (every overload)."""
     ex_mod.write_body(folder / "glsl", ex, body)
+
+
+def _reference_body(ex: ex_mod.Exercise) -> str:
+    """The body of Natura's own function (of its first definition)."""
+    text = (ex_mod.DEFAULT_SHADER_ROOT / ex.file).read_text(encoding="utf-8")
+    _, start, end = ex_mod.function_spans(text, ex.function)[0]
+    return text[start:end]
 
 
 def _words(text: str) -> str:
@@ -50,12 +57,12 @@ def test_the_reference_body_passes_and_a_wrong_one_fails_with_its_hint(tmp_path,
     folder = tmp_path / "work"
     assert f"work/glsl/{ex.file}:" in r.stdout and ex.theory() in r.stdout
     blanked = (folder / "glsl" / ex.file).read_text(encoding="utf-8")
-    assert ex_mod.reference_body(ex) not in blanked  # the function really is blank
+    assert _reference_body(ex) not in blanked  # the function really is blank
     assert f"Theory: {ex.theory()}" in blanked
     expected = read_png(folder / "expected.png")
     assert expected.shape == (ex.size[1], ex.size[0], 3) and expected.std() > 2.0
 
-    _solve(folder, ex, ex_mod.reference_body(ex))
+    _solve(folder, ex, _reference_body(ex))
     r = run("exercise", "check", "work", cwd=tmp_path)
     assert r.returncode == 0, (r.stdout, r.stderr)
     assert f"exercise {name}: PASS" in r.stdout and "mean error 0.0000" in r.stdout

@@ -183,7 +183,7 @@ def test_the_handout_opens_in_chromium_every_image_decodes_no_console_error(tmp_
     assert words[:2] == ["natura", "render"]
     r = run(*words[1:], cwd=tmp_path)
     assert r.returncode == 0, r.stderr
-    from app.imageio import read_png
+    from tests.helpers.images import read_png
 
     rendered = read_png(tmp_path / "materials-value.png").astype(int)
     import base64

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from PIL import Image
 
-from app.sim import vr
+from tests.helpers import measures
 from tests.helpers.cli import run, usage_error
 
 SIZE = (96, 54)
@@ -36,7 +36,7 @@ def test_render_village_vr_writes_a_pair_whose_halves_differ_with_the_ring(tmp_p
     for x0 in (0, 48):  # the ring at (ScreenX, ScreenY) of each eye's 48 × 54 image
         band = diff[:, x0:x0 + 48] > 0.03  # where the ring covers (full or empty sections)
         assert band.sum() > 40
-        cx, cy = vr.ring_centroid(band.astype(float))
+        cx, cy = measures.ring_centroid(band.astype(float))
         assert abs(cx - 0.666 * 48) <= 1.0 and abs(cy - 0.579 * 54) <= 1.0, (x0, cx, cy)
 
 

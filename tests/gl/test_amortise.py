@@ -13,6 +13,7 @@ from app.gpu.programs import draw_fullscreen, fullscreen
 from app.render.amortise import Amortiser
 from app.sim.amortise import LayerState, Schedule, block_position, fill, fill_nearest
 from app.sim.camera import Camera
+from tests.helpers.images import read_aux
 
 PROBE = fullscreen("tests/amortise_probe")
 SIZE = (37, 23)  # not a multiple of any block: the last grid rows and columns lie off the image
@@ -107,7 +108,7 @@ def bilinear(pixel, fresh, block, sub):
 def test_reset_fill_matches_the_twin_and_does_not_bleed(rig):
     schedule = Schedule(4, 1)
     layer = gl_rows(rig.step(schedule, interactive=True).read())  # the first frame: a reset
-    aux = gl_rows(rig.amortiser.layer.read_aux())
+    aux = gl_rows(read_aux(rig.amortiser.layer))
     fresh, fresh_aux = rig.grid(4)
     worst_bleed = 0.0
     for y in range(SIZE[1]):
@@ -149,10 +150,10 @@ def test_window_converges_after_one_cycle_of_a_still_camera(rig):
     full = rig.full()
     for _ in range(schedule.cycle - 2):
         rig.step(schedule, interactive=True)
-    marched = gl_rows(rig.amortiser.layer.read_aux())[..., 2]
+    marched = gl_rows(read_aux(rig.amortiser.layer))[..., 2]
     assert 0 < (marched == 0.0).sum() < marched.size // 8  # a pixel of each 4×4 block to go
     layer = gl_rows(rig.step(schedule, interactive=True).read())
-    assert np.all(gl_rows(rig.amortiser.layer.read_aux())[..., 2] == 1.0)
+    assert np.all(gl_rows(read_aux(rig.amortiser.layer))[..., 2] == 1.0)
     assert np.array_equal(layer, full)
     assert rig.amortiser.resets == 1
 
@@ -171,7 +172,7 @@ def test_disocclusion_rejects_the_history(rig):
     # fresh march of the nearest-depth grid point (twin: fill_nearest), a sky one
     assert rig.amortiser.resets == 1 and rig.amortiser.last_path == 1
     assert np.all(revealed[..., 3] < 0.75)
-    aux = gl_rows(rig.amortiser.layer.read_aux())
+    aux = gl_rows(read_aux(rig.amortiser.layer))
     block = schedule.block
     fresh, fresh_aux = rig.grid(block)
     sub = block_position(rig.amortiser.counter, block)

@@ -35,7 +35,7 @@ def shoot(gl_ctx, scene: str, sets=(), size=SIZE, layer: bool = False):
     session = open_session(scene, params, ctx=gl_ctx)
     try:
         image = next(iter(render_frames(session, size)))[..., :3]
-        clouds = session.scene.effect("clouds").layer.read() if layer else None
+        clouds = session.scene.effect("clouds")._layer.read() if layer else None
         srgb = to_srgb8(image, session.scene.exposure(), params["output.tonemap"])
         dirs = session.scene.camera.ray_directions(*size)
     finally:

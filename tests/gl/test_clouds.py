@@ -438,7 +438,7 @@ def test_clouds_behind_opaque_geometry_are_hidden(gl_ctx):
         frame = scene.frame(SIZE)
         scene.render(frame, target)
         image = target.read()
-        layer = scene.effect("clouds").layer.read()
+        layer = scene.effect("clouds")._layer.read()
         left = np.zeros(SIZE[::-1], bool)
         left[:, : SIZE[0] // 2] = True
         # the wall (view depth 500 m: at most 1 km along any ray of this 70° view) is nearer than
@@ -449,7 +449,7 @@ def test_clouds_behind_opaque_geometry_are_hidden(gl_ctx):
         # a wall far behind the clouds leaves them in front of it
         Wall.distance = 150000.0
         scene.render(scene.frame(SIZE), target)
-        layer_far = scene.effect("clouds").layer.read()
+        layer_far = scene.effect("clouds")._layer.read()
         assert (alpha(layer_far[left]) > 0.1).mean() > 0.1
         assert finite(target.read())
     finally:

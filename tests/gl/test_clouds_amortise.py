@@ -13,6 +13,7 @@ import pytest
 
 from app.colour import to_srgb8
 from app.runtime import open_session, scene_params
+from tests.helpers.images import read_aux
 
 SIZE = (128, 72)
 PHASES = 8  # the reference: the full-resolution march at PHASES jitter offsets, averaged
@@ -138,7 +139,7 @@ def test_the_mast_takes_no_cloud_from_its_neighbours(rig):
     r.render(r.s.scene.frame(SIZE, 0.0))
     a = r.eff.amortiser
     assert a.last_path == 0
-    layer, aux = a.layer.read(), a.layer.read_aux()
+    layer, aux = a.layer.read(), read_aux(a.layer)
     near = aux[..., 1] < r.eff.layer_state(r.frame).near  # the boat, its mast, the near sea
     boat = near & (np.arange(SIZE[1])[:, None] < SIZE[1] // 2)  # above the horizon: the mast
     assert boat.sum() >= 3

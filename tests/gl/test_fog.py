@@ -32,6 +32,7 @@ from app.gpu.shaders import ShaderLibrary
 from app.params import ParamSet
 from app.sim import fog as fs
 from app.sim.camera import Camera
+from tests.helpers import measures
 from tests.helpers.glsl_eval import evaluate_points
 
 PROBE = "tests/fog_probe"
@@ -354,7 +355,7 @@ def test_criterion_34_centroid_moves_linearly_with_time_and_speed(gpu, speed):
         def centroid(dt, wind=(3.0, 0.0)):
             rig.fog.scroll = np.zeros(2)
             rig.time = t0
-            return fs.texture_centroid(rig.render(t0 + dt, wind=wind)[..., 0])
+            return measures.texture_centroid(rig.render(t0 + dt, wind=wind)[..., 0])
 
         c0 = centroid(0.0)
         shifts = np.array([(centroid(dt) - c0 + 0.5) % 1.0 - 0.5 for dt in (3.0, 6.0, 12.0)])

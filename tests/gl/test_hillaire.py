@@ -240,7 +240,7 @@ def test_static_luts_rebuild_only_when_the_model_changes(gl_ctx):
         r.update(uP0=1.2)
         assert b["transmittance"] == 3
         r.update(altitude=10 * TOP)  # far in space: only the static LUTs are read
-        assert b["skyview"] == 4 and r.luts.space_weight == 1.0
+        assert b["skyview"] == 4 and r.luts._space_weight == 1.0
     finally:
         r.release()
 

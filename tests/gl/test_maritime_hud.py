@@ -11,8 +11,9 @@ import math
 import pytest
 
 from app.runtime import open_session, scene_params
-from app.scenes.maritime import WEATHER, wrap180
+from app.scenes.maritime import WEATHER
 from app.sim.daynight import hour_label
+from app.sim.maths import wrap_degrees as wrap180
 
 SIZE = (32, 18)
 SMALL = ["clouds_b.volume_resolution=16", "clouds_b.detail_resolution=8",

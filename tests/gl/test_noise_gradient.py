@@ -2,7 +2,7 @@
 their fractal sums, the GLSL library against its numpy twin, and the properties the theses ask
 of each (spec/001 §1.1 and criteria B2–B5, spec/000 §6 criterion 14).
 
-GLSL runs through ``glsl/tests/noise_probe.comp`` (app.render.noise.NoiseProbe) at the same float32
+GLSL runs through ``glsl/tests/noise_probe.comp`` (tests/helpers/noise_probe.py) at the same float32
 points the twin gets; the twin computes in float64. Tolerances: 1e-5 absolute for single noises
 (float32 rounding of the fade polynomial and the distance sums gives about 1e-6), 2e-5 for
 fractal sums with lacunarity 2 (p·2^i is exact in float32), 1e-4 for lacunarity 2.5 on |p| < 2
@@ -17,9 +17,10 @@ import numpy as np
 import pytest
 
 from app.gpu.device import Gpu
-from app.render.noise import PERMUTATION_UNIFORM, GradientNoiseTextures, NoiseProbe
+from app.render.noise import PERMUTATION_UNIFORM, GradientNoiseTextures
 from app.sim.noise import cellular, fractal, gradient
 from tests.helpers.noise import HUGE_EXPR, _huge_twin, _reference_noise, f32, glsl
+from tests.helpers.noise_probe import NoiseProbe
 
 RNG = np.random.default_rng(20021)
 

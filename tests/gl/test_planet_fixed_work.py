@@ -32,7 +32,7 @@ def test_hardware_compares_give_the_manual_filters_image(planet):
             hw = planet.shoot(cam, (96, 54), {**sets, "planet.shadow_compare": "hardware"})
             rel = np.abs(hw.rgb - manual.rgb) / np.maximum(np.abs(manual.rgb), 1e-6)
             assert rel.max() < 1e-5, (cam.position, filtered, rel.max())
-    assert planet.effect.shadow_texture.compare_func == "<="
+    assert planet.effect._shadow.value[0].compare_func == "<="
 
 
 def test_baked_ground_noise_keeps_the_image(planet):
@@ -47,11 +47,11 @@ def test_baked_ground_noise_keeps_the_image(planet):
         assert d.mean() <= mean_tol, (cam.position, d.mean(), d.max())
         if cam is SPACE:
             assert d.max() < 0.2 and d.mean() > 0.0   # the bake is used and only moves coasts
-    builds = effect.ground_noise_builds
+    builds = effect._ground_noise.builds
     planet.shoot(SPACE, (64, 36), {"planet.method": "brute_force"})
-    assert effect.ground_noise_builds == builds
+    assert effect._ground_noise.builds == builds
     planet.shoot(SPACE, (64, 36), {"planet.method": "lut", "planet.ground_noise_size": 256})
-    assert effect.ground_noise_builds == builds + 1
+    assert effect._ground_noise.builds == builds + 1
 
 
 def test_ground_pass_keeps_the_image_and_leaves_the_scattering_pass_the_atmosphere(planet):

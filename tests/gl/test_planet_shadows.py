@@ -36,7 +36,7 @@ from tests.helpers.planet import (
 # ---- the shadow map, read back: twin of glsl/planet/shadow.glsl ----------------------------------
 
 def shadow_depths(effect) -> np.ndarray:
-    tex = effect.shadow_texture
+    tex = effect._shadow.value[0]  # the shadow map's depth texture
     n = tex.size[0]
     return np.frombuffer(tex.read(), dtype=np.float32).reshape(n, n).astype(np.float64)
 

@@ -8,32 +8,28 @@ without it the floor lights up); the hull's geometry shader emits one triangle p
 triangle; the hull's width grows with shading.contour_width and is nothing at 0; bloom spreads a
 bright spot and leaves a dark image dark; no NaN.
 
-Standalone harness: the objects are drawn white (ambient 1, no sun) with
-ProgramSpec("shading/surface") on black, the outline colour is pure red, so the outline mask is
-the set of pixels near red; 128 × 128 float targets, fixed perspective cameras.
+Standalone harness: the objects are drawn white (ambient 1, no sun) by
+``app.bench.shading_outlines.draw_white`` on black, the outline colour is pure red, so the
+outline mask is the set of pixels near red; 128 × 128 float targets, fixed perspective cameras.
 """
 
 from __future__ import annotations
 
-import moderngl
 import numpy as np
 import pytest
 
+from app.bench.shading_outlines import draw_white
 from app.effects.shading.outlines import Outlines, outline_params
 from app.gpu.device import Gpu
-from app.gpu.programs import ProgramSpec
 from app.params import ParamSet
 from app.sim import lab_meshes
-from app.sim import lighting as lt
 from app.sim import outline_metrics as om
 from app.sim.camera import Camera
 
 OWNER = "test-shading-outlines"
-SURFACE = ProgramSpec("shading/surface")
 SIZE = (128, 128)
 RED = np.array([1.0, 0.0, 0.0])
 ATTRIBUTES = ("position", "normal", "uv", "tangent")
-FORMAT = ("3f 3f 2f 4f", "in_position", "in_normal", "in_uv", "in_tangent")
 SPHERE_CAMERA = Camera(position=(0.0, 0.5, 3.0), yaw=0.0, pitch=0.0, fov=40.0)
 TABLE_CAMERA = Camera(position=(1.7, 1.9, 2.3), fov=45.0).look_at_direction(
     np.array([0.0, 0.42, 0.0]) - np.array([1.7, 1.9, 2.3]))
@@ -68,21 +64,7 @@ class Harness:
         target = self.gpu.target(OWNER, "image", size)
         target.use()
         target.clear((0.0, 0.0, 0.0, 1.0))
-        prog = self.gpu.program(OWNER, SURFACE)
-        lights = lt.Lights(sun_radiance=(0.0, 0.0, 0.0), ambient=(1.0, 1.0, 1.0))
-        prog.set_many({**lt.Shading(lighting_model=0, specularity=0.0).uniforms(),
-                       **lights.uniforms(), "uViewProj": proj @ view,
-                       "uCameraPos": camera.position, "uAlbedo": (1.0, 1.0, 1.0),
-                       "uUseMasks": False, "uTime": 0.0})
-        for k, rows in lights.arrays().items():
-            prog.set_array(k, rows)
-        prog.bind_textures({"uRamp": self.tex, "uMasks": self.tex})
-        ctx = self.gpu.ctx
-        ctx.enable(moderngl.DEPTH_TEST)
-        for vbo, ibo, _mesh, model in objects:
-            prog.set("uModel", model)
-            prog.vao([(vbo, *FORMAT)], ibo).render(moderngl.TRIANGLES)
-        ctx.disable(moderngl.DEPTH_TEST)
+        draw_white(self.gpu, OWNER, objects, view, proj, camera, self.tex)
         self.outlines.draw(target, view, proj, objects)
         img = target.read()
         self.gpu.free(target)

@@ -9,11 +9,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from app.errors import ParamError
 from app.gpu.device import Gpu
 from app.render.shadow_maps import MeshCasters, ShadowProbe, ShadowSet
 from app.render.shadows import ShadowSettings
+from app.runtime import scene_params
 from app.sim import surfaces_scene as ss
 from app.sim.camera import Camera
+from tests.helpers.images import read_face
 
 LIGHT = np.array([0.5, 1.0, 0.3]) / np.linalg.norm([0.5, 1.0, 0.3])
 SCENE = ss.SurfacesScene(boxes=[ss.Box("floor", (0, -0.05, 0), (4, 0.05, 4)),
@@ -119,10 +122,10 @@ def test_point_light_faces(rig):
     gpu, cas, shadows, probe = rig
     pos = np.array([2.0, 1.0, 0.0])
     shadows.point.render(cas, pos, 10.0, replace(BASE, linear_bias=0.0, normal_bias=0.0))
-    down = shadows.point.read_face(3)  # −y
+    down = read_face(shadows.point, 3)  # −y
     centre = down[down.shape[0] // 2, down.shape[1] // 2]
     assert centre == pytest.approx(0.1, abs=0.01)
-    up = shadows.point.read_face(2)  # +y: nothing above
+    up = read_face(shadows.point, 2)  # +y: nothing above
     assert np.all(up == 1.0)
     shadows.point.render(cas, pos, 10.0, BASE)
     pts = np.array([[-1.5, 0.0, 0.0], [3.0, 0.0, 1.0]])
@@ -139,8 +142,9 @@ def test_spot_light_matches_exact(rig):
     to = (pos - p).reshape(-1, 3)
     truth = ss.occluded(SCENE, p.reshape(-1, 3) + [0, 1e-3, 0], to, max_t=1.0).reshape(v.shape)
     assert ((v < 0.5) != truth).mean() < 0.02
-    with pytest.raises(ValueError, match="half-angle"):
-        shadows.spot.render(cas, pos, -pos, 95.0, 20.0, BASE)
+    for bad in ("surfaces.spot_angle=95", "surfaces.spot_range=0", "surfaces.lamp_range=0"):
+        with pytest.raises(ParamError, match="out of range"):  # before any map is rendered
+            scene_params("surfaces", sets=[bad])
 
 
 @pytest.mark.parametrize("alpha", [0.25, 0.5, 0.75])

@@ -15,6 +15,7 @@ from app.gpu.device import Gpu
 from app.params import ParamSet
 from app.sim import vr
 from app.sim.camera import Camera
+from tests.helpers import measures
 
 SIZE = (160, 120)
 CAMERA = Camera(position=(0.0, 1.7, 6.0), yaw=0.0, pitch=-3.0, fov=60.0, near=0.1, far=200.0)
@@ -64,7 +65,7 @@ def test_each_marker_sits_where_the_head_projects_at_its_size_in_its_roles_colou
     assert [p.name for p in passes] == ["vr markers"]
     alpha = 1.0 - (white - black).mean(-1)
     lift, size = 0.55, 0.5
-    focal = vr.focal_length_px(SIZE[1], CAMERA.fov)
+    focal = measures.focal_length_px(SIZE[1], CAMERA.fov)
     for npc in NPCS:
         x, y, depth = _project(vr.marker_centre(npc.head, lift))
         half = 0.5 * size * focal / depth
@@ -72,7 +73,7 @@ def test_each_marker_sits_where_the_head_projects_at_its_size_in_its_roles_colou
         c0, c1 = int(x - half - 3), int(x + half + 3)
         window = np.zeros_like(alpha)
         window[max(r0, 0):r1, max(c0, 0):c1] = alpha[max(r0, 0):r1, max(c0, 0):c1]
-        cx, cy = vr.ring_centroid(window)
+        cx, cy = measures.ring_centroid(window)
         assert abs(cx - x) <= 1.0 and abs(cy - y) <= 1.0, (npc.name, (cx, cy), (x, y))
         cols = np.nonzero((window > 0.5).any(axis=0))[0]
         # the badge is a disc of radius 0.46 of the icon

@@ -20,6 +20,7 @@ from app.gpu.device import Gpu
 from app.params import ParamSet
 from app.sim import vr
 from app.sim.camera import Camera
+from tests.helpers import measures
 
 SIZE = (200, 150)
 RING = {"vr.lives": 8, "vr.remaining": 3.0, "vr.visibility": 0.5, "vr.element_size": 0.05,
@@ -124,7 +125,7 @@ def test_visibility_scales_alpha_and_zero_hides_the_ring(rig):
 
 
 def _centre_and_extent(alpha: np.ndarray):
-    cx, cy = vr.ring_centroid(alpha)
+    cx, cy = measures.ring_centroid(alpha)
     rows, cols = np.nonzero(alpha > 1e-3)
     return (cx, cy), (cols.max() - cols.min() + 1, rows.max() - rows.min() + 1)
 

@@ -1,7 +1,7 @@
 """The stereo pair of app/render/stereo.py (spec/003 §2.15, criterion 35) on a tiny test scene
 (glsl/tests/vr_boxes.*: flat-coloured squares facing the head, a near red one and a far blue
 one, over grey): the two eyes are rendered with IPD-offset view matrices; a near object's
-horizontal disparity exceeds a far one's and equals ipd·f/depth (app.sim.vr.disparity_px);
+horizontal disparity exceeds a far one's and equals ipd·f/depth (measures.disparity_px);
 the halves differ; each half is exactly a mono render from that eye's camera at the eye's
 size (odd widths too), and below or above render scale 1 the same mono render resampled; the
 eye textures follow the render scale."""
@@ -12,12 +12,15 @@ import moderngl
 import numpy as np
 import pytest
 
+from app.errors import ParamError
 from app.frame import FrameContext
 from app.gpu.device import Gpu
 from app.gpu.programs import ProgramSpec
 from app.render.stereo import StereoRenderer, eye_camera, eye_size, eye_viewport
+from app.runtime import scene_params
 from app.sim import vr
 from app.sim.camera import Camera
+from tests.helpers import measures
 
 PROBE = ProgramSpec("tests/vr_boxes")
 GREY = (0.3, 0.3, 0.3)
@@ -108,8 +111,9 @@ def test_a_near_objects_disparity_exceeds_a_far_ones_and_is_ipd_f_over_depth(box
     far = _centroid_x(pair["left"], 2) - _centroid_x(pair["right"], 2)
     assert near > far + 1.0
     h = size[1]
-    assert near == pytest.approx(float(vr.disparity_px(NEAR_DEPTH, ipd, h, HEAD.fov)), abs=1.0)
-    assert far == pytest.approx(float(vr.disparity_px(FAR_DEPTH, ipd, h, HEAD.fov)), abs=1.0)
+    want = [float(measures.disparity_px(d, ipd, h, HEAD.fov)) for d in (NEAR_DEPTH, FAR_DEPTH)]
+    assert near == pytest.approx(want[0], abs=1.0)
+    assert far == pytest.approx(want[1], abs=1.0)
     assert not np.array_equal(pair["left"], pair["right"])
 
 
@@ -178,9 +182,9 @@ def test_zero_ipd_gives_identical_halves(boxes):
     assert np.abs(pair["left"] - pair["right"]).max() < 1e-5
 
 
-def test_bad_ipd_or_scale_is_a_one_line_error(boxes):
-    for ipd, scale, match in ((-0.01, 1.0, "interpupillary distance"),
-                              (0.064, 0.0, "render scale")):
-        with pytest.raises(ValueError, match=match) as info:
-            render_pair(boxes, (32, 16), ipd=ipd, scale=scale)
+def test_bad_ipd_or_scale_is_a_one_line_error():
+    """The vr.ipd and vr.render_scale Params refuse them before any eye is rendered."""
+    for assignment, match in (("vr.ipd=-0.01", "vr.ipd"), ("vr.render_scale=0", "render_scale")):
+        with pytest.raises(ParamError, match=match) as info:
+            scene_params("village", sets=[assignment])
         assert "\n" not in str(info.value)

@@ -14,6 +14,7 @@ from app.render.stereo import eye_size, eye_viewport
 from app.runtime import open_session, scene_params
 from app.sim import vr
 from app.sim.camera import Camera
+from tests.helpers import measures
 
 SIZE = (128, 72)
 HEAD = Camera(position=(0.0, 3.2, -11.0), yaw=0.0, pitch=-5.0, fov=60.0, near=0.1, far=2000.0)
@@ -88,7 +89,7 @@ def test_the_ring_is_at_screen_x_y_of_each_eye_over_opaque_geometry(village, pai
     diff = np.abs(img - bare).max(-1)
     for eye in ("left", "right"):
         x0, _, w, h = eye_viewport(SIZE, eye)
-        cx, cy = vr.ring_centroid(_half(diff, eye))
+        cx, cy = measures.ring_centroid(_half(diff, eye))
         assert abs(cx - 0.4 * w) <= 1.0 and abs(cy - 0.45 * h) <= 1.0, (eye, cx, cy)
         depth = village.scene._stereo.targets[eye].read_depth()
         row, col = int(h - 0.45 * h), int(0.4 * w)
@@ -125,7 +126,7 @@ def test_barus_marker_is_where_his_head_projects_in_each_eye(village, pair):
         rows, cols = np.nonzero(diff > 0.05)
         near = (np.abs(cols + 0.5 - x) < 6) & (np.abs(h - rows - 0.5 - y) < 6)
         assert near.sum() >= 4, (eye, x, y)
-        cx, cy = vr.ring_centroid(np.where(diff > 0.05, diff, 0.0) * (
+        cx, cy = measures.ring_centroid(np.where(diff > 0.05, diff, 0.0) * (
             (np.abs(np.arange(w)[None, :] + 0.5 - x) < 6)
             & (np.abs(h - np.arange(h)[:, None] - 0.5 - y) < 6)))
         assert abs(cx - x) <= 1.0 and abs(cy - y) <= 1.5, (eye, (cx, cy), (x, y))

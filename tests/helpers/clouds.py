@@ -43,7 +43,7 @@ class Rig:
         target = self.target(size)
         self.scene.render(frame, target)
         image = target.read()
-        layer = self.scene.effect("clouds").layer.read()
+        layer = self.scene.effect("clouds")._layer.read()  # the last cloud layer
         if not background:
             return image, layer
         target.use()

@@ -53,7 +53,7 @@ class Rig:
         if prepare is not None:
             prepare(target)
         self.fx.render(frame, target)
-        return target.read()[..., :3], self.fx.read_layer()
+        return target.read()[..., :3], self.fx._layer.read()
 
 
 def luminance(rgb):

@@ -10,9 +10,9 @@ from app.bakes import CACHE_ENV
 from app.effects.preetham import Preetham
 from app.gpu.device import Gpu
 from app.params import ParamSet
-from app.render.noise import NoiseProbe
 from app.sim import atmosphere as atm
 from tests.helpers import clouds, clouds_b, hillaire, ocean, preetham
+from tests.helpers.noise_probe import NoiseProbe
 
 
 @pytest.fixture(scope="module")

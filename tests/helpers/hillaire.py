@@ -5,6 +5,8 @@ tests/stability/test_hillaire_stability.py: a Gpu, small static LUTs and the pro
 
 from __future__ import annotations
 
+import math
+
 import moderngl
 import numpy as np
 
@@ -42,7 +44,9 @@ class Rig:
                **overrides):
         self.camera = Camera(position=(0, 0, 0), yaw=yaw, pitch=pitch, fov=fov)
         self.u = model_uniforms(altitude, sun_el, sun_az, **overrides)
-        self.frame = CameraFrame.from_camera(self.camera, SIZE[0] / SIZE[1])
+        r, u, f = self.camera.basis()
+        self.frame = CameraFrame(tuple(r), tuple(u), tuple(f),
+                                 math.tan(math.radians(self.camera.fov) / 2.0), SIZE[0] / SIZE[1])
         self.luts.update(self.u, self.frame)
         return self
 

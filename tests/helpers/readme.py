@@ -28,6 +28,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+import pytest
+
 from app import PROJECT_ROOT
 from app.cli import NUMPY_BENCH_NAMES
 from tests.helpers.cli import NATURA
@@ -201,6 +203,18 @@ def bench_lane(tmp_path_factory, command: str) -> tuple[Path, Ran]:
 #: docs/commands.md's village bench: its five sections (app/bench/village.py) run quick once,
 #: for the walk-through and for each section's own tests
 VILLAGE_EXAMPLE = "natura bench village --repeat 2 --size 160x90"
+
+
+def village_report(key: str):
+    """A module's ``report`` fixture: section ``key`` as the README's `natura bench village`
+    example wrote it (run once per test run): what a user's JSON holds."""
+
+    @pytest.fixture(scope="module", name="report")
+    @lane_fixture
+    def report(tmp_path_factory):
+        return village_section(tmp_path_factory, key)
+
+    return report
 
 
 def village_section(tmp_path_factory, key: str) -> dict:

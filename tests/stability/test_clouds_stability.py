@@ -44,7 +44,7 @@ def luminance_series(session, directions):
         session.params.set("clouds.sun_direction", tuple(float(v) for v in d))
         img = next(render_frames(session, (48, 27)))
         assert np.isfinite(img).all(), d
-        layer = session.scene.effect("clouds").layer.read()
+        layer = session.scene.effect("clouds")._layer.read()
         assert np.isfinite(layer).all(), d
         out.append(float(layer[..., :3].mean()))
     return np.array(out)
@@ -77,7 +77,7 @@ def test_inside_and_above_the_layer(clouds):
         img = next(render_frames(clouds, (48, 27)))
         assert np.isfinite(img).all() and img.min() >= 0.0
     clouds.scene.camera.set(position=(0.0, 300.0, 0.0), pitch=25.0)
-    assert math.isfinite(float(clouds.scene.effect("clouds").layer.read().mean()))
+    assert math.isfinite(float(clouds.scene.effect("clouds")._layer.read().mean()))
 
 
 # ---- stability -----------------------------------------------------------------------------------

@@ -6,7 +6,7 @@ the rate 100 cycles < 20 MB allowed before, so a leak of a fixed size per sessio
 same size whatever the count (a kept context is 40–175× over it). Measured on llvmpipe: sky
 grows ~0.04 MB a cycle, ocean ~0.06 MB, linearly from the first cycle after the warm-up, with
 RSS noise under 1.5 MB — about a third of the bound, at 40 cycles as at 100. What a process
-keeps on purpose across sessions (``app.gpu.cache.MEMO``: pure builds and mip levels, keyed by
+keeps on purpose across sessions (``app.gpu.cache.MEMO``: pure builds, keyed by
 content; the parameter declarations; the shader library's remembered expansions) is made in the
 warm-up cycles, the same every cycle after (ocean: one entry of 4 kB), so it is not counted as
 growth — and a leak through it still is. What released sessions leave in reference cycles is

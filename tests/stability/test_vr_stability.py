@@ -21,6 +21,7 @@ from app.runtime import open_session, scene_params
 from app.sim import vr
 from app.sim.camera import Camera
 from tests.gl.test_vr_stereo import HEAD, NEAR_DEPTH, BoxScene, halves
+from tests.helpers import measures
 
 VILLAGE_HEAD = Camera(position=(0.0, 3.2, -11.0), yaw=0.0, pitch=-5.0, fov=60.0, near=0.1,
                       far=2000.0)
@@ -142,5 +143,5 @@ def test_disparity_grows_steadily_with_the_ipd(gl_ctx):
         gpu.release()
     steps = np.diff(shifts)
     assert shifts[0] == pytest.approx(0.0, abs=0.1)
-    want = float(vr.disparity_px(NEAR_DEPTH, 0.05, size[1], HEAD.fov))  # per 5 cm: 3.5 px
+    want = float(measures.disparity_px(NEAR_DEPTH, 0.05, size[1], HEAD.fov))  # per 5 cm: 3.5 px
     assert np.all(np.abs(steps - want) <= 1.0), (steps, want)  # linear, within a pixel

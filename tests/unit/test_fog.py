@@ -22,6 +22,7 @@ from app.params import ParamSet
 from app.sim import fog as fs
 from app.sim.camera import Camera
 from app.sim.daynight import Light
+from tests.helpers import measures
 
 D = np.array([1.0, 2.0, 5.0, 10.0])
 FINITE = dict(allow_nan=False, allow_infinity=False)
@@ -264,8 +265,8 @@ def test_texture_tiles_and_is_wispy():
 
 def test_centroid_follows_a_roll():
     a = fs.fog_texture(64)[..., 3]
-    c0 = fs.texture_centroid(a)
-    c1 = fs.texture_centroid(np.roll(a, (5, 11), axis=(0, 1)))
+    c0 = measures.texture_centroid(a)
+    c1 = measures.texture_centroid(np.roll(a, (5, 11), axis=(0, 1)))
     shift = (c1 - c0 + 0.5) % 1.0 - 0.5
     assert np.allclose(shift, (11 / 64, 5 / 64), atol=1e-9)
 

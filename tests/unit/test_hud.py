@@ -13,12 +13,14 @@ import pytest
 from app.params import Param, ParamSet
 from app.runtime import scene_params
 from app.scenes.keymaps import FLY
-from app.scenes.maritime import MARITIME, WEATHER, wrap180
+from app.scenes.maritime import MARITIME, WEATHER
 from app.scenes.ocean import OCEAN
 from app.scenes.planet import ATMOSPHERE_THESIS
 from app.sim.camera import Camera
+from app.sim.maths import wrap_degrees as wrap180
 from app.ui.hud import dial_arrow, dial_point, mode_line
-from app.ui.keymap import Controller, action_kind, action_parameter, cycle_value, parse_hold
+from app.ui.keymap import Controller, cycle_value, parse_hold
+from tests.helpers.keys import action_kind, action_parameter, hold
 
 
 def _boat_params() -> ParamSet:
@@ -50,17 +52,11 @@ def test_held_helm_moves_at_its_rate_and_clamps_at_the_range():
 
 def test_throttle_and_sails_keys_and_opposite_keys_cancel():
     c, cam, p = Controller(keymap=MARITIME), Camera(), _boat_params()
-    c.press("UP")
-    c.update(cam, 1.0, p)
-    c.release("UP")
+    hold(c, "UP", cam, 1.0, p)
     assert p["boat.throttle"] == pytest.approx(0.5)
-    c.press("DOWN")
-    c.update(cam, 0.5, p)
-    c.release("DOWN")
+    hold(c, "DOWN", cam, 0.5, p)
     assert p["boat.throttle"] == pytest.approx(0.25)
-    c.press("X")
-    c.update(cam, 0.5, p)
-    c.release("X")
+    hold(c, "X", cam, 0.5, p)
     assert p["boat.sails"] == pytest.approx(0.75)
     c.press("Z")
     c.update(cam, 0.25, p)
@@ -93,9 +89,7 @@ def test_release_stops_and_nothing_sticks():
     assert not c.held
     # a hold never moves the camera
     cam2 = Camera(position=(1.0, 2.0, 3.0), yaw=10.0, pitch=5.0)
-    c.press("LEFT")
-    c.update(cam2, 1.0, p)
-    c.release("LEFT")
+    hold(c, "LEFT", cam2, 1.0, p)
     assert cam2.position == (1.0, 2.0, 3.0) and (cam2.yaw, cam2.pitch) == (10.0, 5.0)
 
 
@@ -109,9 +103,7 @@ def test_hold_parsing_and_a_hold_in_any_key_map():
     custom = KeyMap("custom", {"K": "hold:sky.sun_size=0.1"})
     p = ParamSet([Param("sky.sun_size", 0.05, 0.0, 1.0, "sun")])
     c = Controller(keymap=custom)
-    c.press("K")
-    c.update(Camera(), 2.0, p)
-    c.release("K")
+    hold(c, "K", Camera(), 2.0, p)
     assert p["sky.sun_size"] == pytest.approx(0.25)
 
 

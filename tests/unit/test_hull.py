@@ -11,6 +11,7 @@ import pytest
 from app.errors import ParamError
 from app.sim import hull as H
 from app.sim.rigid_body import quat_from_axis_angle, quat_to_matrix
+from tests.helpers import measures
 
 
 @pytest.fixture(scope="module")
@@ -49,7 +50,7 @@ def test_the_hull_is_closed_manifold_and_wound_outward(mesh):
     assert mesh.vertices.dtype == np.float64 and mesh.triangles.dtype == np.int32
     assert mesh.deck.dtype == bool and mesh.deck.shape == (len(mesh.triangles),)
     assert 300 <= len(mesh.triangles) <= 2000
-    assert np.all(mesh.edges_shared() == 2)
+    assert np.all(measures.edges_shared(mesh) == 2)
     # consistent winding: every directed edge appears once, its reverse once
     t = mesh.triangles
     directed = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
@@ -156,7 +157,7 @@ def test_draft_for_mass_floats_the_mass_and_refuses_what_sinks(mesh):
 def test_subdivide_keeps_the_polyhedron(mesh):
     fine = H.subdivide(mesh, 4)
     assert len(fine.triangles) == 16 * len(mesh.triangles)
-    assert np.all(fine.edges_shared() == 2)
+    assert np.all(measures.edges_shared(fine) == 2)
     assert fine.volume() == pytest.approx(mesh.volume(), rel=1e-12)
     assert fine.deck.sum() == 16 * mesh.deck.sum()
     d = H.draft_for_mass(mesh, 3000.0)
@@ -185,7 +186,7 @@ def test_bad_hull_parameters_name_the_culprit(name, value):
 
 def test_hull_resolution_and_scaling():
     small = H.make_hull(H.HullParams().scaled(0.125), stations=9, around=4)
-    assert np.all(small.edges_shared() == 2)
+    assert np.all(measures.edges_shared(small) == 2)
     big = H.make_hull(H.HullParams().scaled(2.0))
     assert big.volume() == pytest.approx(8.0 * H.make_hull().volume(), rel=1e-9)
     with pytest.raises(ParamError):

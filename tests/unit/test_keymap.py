@@ -10,6 +10,7 @@ from app.scenes.keymaps import FLY
 from app.scenes.planet import ATMOSPHERE_THESIS
 from app.sim.camera import Camera
 from app.ui.keymap import Controller
+from tests.helpers.keys import hold
 
 
 def test_w_moves_forward_by_speed_times_dt():
@@ -17,9 +18,7 @@ def test_w_moves_forward_by_speed_times_dt():
         c = Controller(keymap=keymap, speed=5.0)
         cam = Camera(position=(0, 2, 0), yaw=30, pitch=10)
         p0 = np.array(cam.position)
-        c.press("W")
-        c.update(cam, 0.5)
-        c.release("W")
+        hold(c, "W", cam, 0.5)
         c.update(cam, 0.5)
         assert np.allclose(np.array(cam.position) - p0, cam.forward() * 2.5)
 
@@ -27,21 +26,13 @@ def test_w_moves_forward_by_speed_times_dt():
 def test_thesis_bindings():
     c = Controller(keymap=ATMOSPHERE_THESIS, speed=5.0, turbo_speed=1000.0)
     cam = Camera(position=(0, 2, 0), yaw=0, pitch=0)
-    c.press("SPACE")
-    c.update(cam, 1.0)
-    c.release("SPACE")
+    hold(c, "SPACE", cam, 1.0)
     assert cam.position[1] == pytest.approx(7.0)
-    c.press("LEFT_CTRL")
-    c.update(cam, 0.4)
-    c.release("LEFT_CTRL")
+    hold(c, "LEFT_CTRL", cam, 0.4)
     assert cam.position[1] == pytest.approx(5.0)
-    c.press("E")
-    c.update(cam, 0.5)
-    c.release("E")
+    hold(c, "E", cam, 0.5)
     assert cam.yaw == pytest.approx(30.0)  # turn right at 60°/s
-    c.press("R")
-    c.update(cam, 0.25)
-    c.release("R")
+    hold(c, "R", cam, 0.25)
     assert cam.pitch == pytest.approx(15.0)
     c.press("Z")
     assert c.turbo
@@ -55,9 +46,7 @@ def test_thesis_bindings():
     c.press("SLASH")
     assert c.turbo_speed == 500.0
     p = np.array(cam.position)
-    c.press("W")
-    c.update(cam, 0.1)
-    c.release("W")
+    hold(c, "W", cam, 0.1)
     assert np.linalg.norm(np.array(cam.position) - p) == pytest.approx(50.0)  # turbo speed
     c.press("T")  # camera controls off
     p = np.array(cam.position)
@@ -80,9 +69,7 @@ def test_up_down_move_the_sun():
     params = ParamSet([Param("planet.sun_elevation", 10.0, -90.0, 90.0, "sun")])
     c = Controller(keymap=ATMOSPHERE_THESIS, sun_rate=10.0)
     cam = Camera()
-    c.press("UP")
-    c.update(cam, 1.5, params)
-    c.release("UP")
+    hold(c, "UP", cam, 1.5, params)
     assert params["planet.sun_elevation"] == pytest.approx(25.0)
     c.press("DOWN")
     c.update(cam, 20.0, params)

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 
 from app.sim import lab_meshes
 from app.sim.lab_meshes import TEST_OBJECTS, LabMesh, from_arrays, vertex_format
+from tests.helpers.meshes import cube
 
 pytestmark = pytest.mark.unit
 
@@ -186,22 +187,12 @@ def test_an_unknown_attribute_is_one_line_naming_it_and_the_allowed():
 # ---------------------------------------------------------------------------------------------
 # from_arrays
 
-CUBE_P = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], np.float64)
-
-
-def _cube_faces() -> np.ndarray:
-    i = lambda x, y, z: x * 4 + y * 2 + z  # noqa: E731
-    quads = [(i(1, 0, 0), i(1, 1, 0), i(1, 1, 1), i(1, 0, 1)),
-             (i(0, 0, 0), i(0, 0, 1), i(0, 1, 1), i(0, 1, 0)),
-             (i(0, 1, 0), i(0, 1, 1), i(1, 1, 1), i(1, 1, 0)),
-             (i(0, 0, 0), i(1, 0, 0), i(1, 0, 1), i(0, 0, 1)),
-             (i(0, 0, 1), i(1, 0, 1), i(1, 1, 1), i(0, 1, 1)),
-             (i(0, 0, 0), i(0, 1, 0), i(1, 1, 0), i(1, 0, 0))]
-    return np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))])
+#: the unit cube [0, 1]³ (8 welded corners)
+CUBE_P = cube(1.0, centre=(0.5, 0.5, 0.5))[0]
 
 
 def test_from_arrays_splits_a_welded_cube_at_its_hard_edges():
-    m = from_arrays("cube", CUBE_P, _cube_faces())
+    m = from_arrays("cube", CUBE_P, cube()[1])
     check_frames(m)
     assert m.triangle_count == 12 and m.vertex_count == 24
     n = m.normals[m.indices]
@@ -212,7 +203,7 @@ def test_from_arrays_splits_a_welded_cube_at_its_hard_edges():
 
 
 def test_from_arrays_smooths_below_the_crease_angle():
-    m = from_arrays("cube", CUBE_P, _cube_faces(), hard_angle_deg=180.0)
+    m = from_arrays("cube", CUBE_P, cube()[1], hard_angle_deg=180.0)
     check_frames(m)
     np.testing.assert_allclose(m.normals, m.smooth_normals, atol=1e-6)
 
@@ -248,7 +239,7 @@ def test_from_arrays_keeps_given_normals_and_uvs():
 
 
 def test_from_arrays_makes_uvs_when_there_are_none():
-    m = from_arrays("cube", CUBE_P, _cube_faces())
+    m = from_arrays("cube", CUBE_P, cube()[1])
     assert np.ptp(m.uvs, axis=0).max() > 0.5
     # every face has a non-degenerate projection, so its tangent lies in it along ∂p/∂u
     assert (np.abs(np.einsum("ij,ij->i", m.tangents[:, :3], m.normals)) < 1e-6).all()
@@ -307,8 +298,8 @@ def test_an_empty_mesh_is_allowed():
 
 
 def test_concatenate_shares_smooth_normals_where_parts_touch():
-    a = from_arrays("a", CUBE_P, _cube_faces())
-    b = from_arrays("b", CUBE_P + [1, 0, 0], _cube_faces())
+    a = from_arrays("a", CUBE_P, cube()[1])
+    b = from_arrays("b", CUBE_P + [1, 0, 0], cube()[1])
     m = lab_meshes.concatenate("ab", [a, b])
     check_frames(m)
     assert m.triangle_count == 24

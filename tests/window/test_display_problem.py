@@ -15,8 +15,8 @@ from tests.helpers.window_driver import XVFB_SKIP, under_xvfb
 
 pytestmark = pytest.mark.window
 
-PROBE = ("from app.ui.window import display_available, display_problem; "
-         "print(repr(display_problem())); print(display_available())")
+PROBE = ("from app.ui.window import display_problem; "
+         "print(repr(display_problem())); print(display_problem() is None)")
 
 
 def _probe(env_changes: dict) -> list[str]:

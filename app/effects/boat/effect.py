@@ -143,7 +143,6 @@ class Boat(Effect):
         self.waterline: np.ndarray | None = None
         self._deck: details.Deck | None = None
 
-    # -- simulation ------------------------------------------------------------------------
     def _ensure_sim(self) -> BoatSim:
         p = self.params
         key = (p["boat.mass"], p["boat.navigation"], p["boat.sail_model"], p["boat.max_substep"])
@@ -209,7 +208,6 @@ class Boat(Effect):
             out[row] = (h - pos[1] - ry[0] * local[:, 0] - ry[2] * zs) / max(ry[1], 0.2)
         return np.where(np.isfinite(out), out, sim.draft)
 
-    # -- GL resources ----------------------------------------------------------------------
     def _mesh_buffers(self) -> dict:
         if self._meshes is not None:
             return self._meshes
@@ -254,7 +252,6 @@ class Boat(Effect):
             self._flat_env = flat_environment(self.gpu, self.name)
         return self._flat_env, False
 
-    # -- passes ----------------------------------------------------------------------------
     def passes(self, frame, target) -> list[Pass]:
         return [Pass("boat", lambda: self.draw(frame, target), Stage.OPAQUE)]
 

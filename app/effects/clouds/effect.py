@@ -1,53 +1,29 @@
 """Volumetric clouds, model A: the cloud thesis (spec/001, after Häggström 2018 / Schneider 2015).
 
-GPU side: ``glsl/clouds/cloud_model.glsl`` (the density model of spec/001 §1.2, §1.3 and §1.4
-with the errata of spec/001 §1.10 fixed, the lighting model of spec/001 §1.7, ray–box and
-ray–sphere from ``glsl/common/intersect.glsl``), ``cloud_march.frag`` (view march, light march,
-the speed options; its header has the whole per-pixel algorithm) and
+GPU side: ``glsl/clouds/cloud_model.glsl`` (density and lighting models), ``cloud_march.frag``
+(view march, light march, the speed options; its header has the per-pixel algorithm) and
 ``glsl/common/layer_composite.frag`` (app/render/layers.py). Most tunables are ``// @param``
-uniforms of ``cloud_march.frag`` (``clouds.coverage``, ``clouds.steps``, ...); the ones that
-need the CPU are declared here.
+uniforms of ``cloud_march.frag``; the ones that need the CPU are declared here.
 
 Per frame:
 
 * the shape, detail and weather textures come from :mod:`app.bakes` (cached on disk), created
-  on the first render under the owner ``clouds`` from the ``bake_*`` parameters, with bake
-  progress reported through ``gpu.progress`` like the noise lab;
-* the light: the frame's ``main_light`` slot when a sky fills it (sun by day, moon by night)
-  and ``clouds.sun_from_sky`` is on, else (the fallback) ``clouds.sun_direction`` /
-  ``sun_color`` / ``sun_intensity``;
+  on the first render from the ``bake_*`` parameters, progress through ``gpu.progress``;
+* the light: the frame's ``main_light`` slot when a sky fills it and ``clouds.sun_from_sky``
+  is on, else (the fallback) ``clouds.sun_direction`` / ``sun_color`` / ``sun_intensity``;
 * wind: the density field is translated rigidly by ``wind_speed · time · (wind_dir_x,
-  wind_dir_y)`` metres along world (x, z) — weather map and both noises alike, each offset
-  wrapped by its own tile on the CPU in float64 (so float32 never loses the fraction and
-  rendering at time T equals rendering at 0 with the field moved); speed 0 gives identical
-  frames (nothing else depends on time: the jitter is static per pixel);
+  wind_dir_y)`` metres along world (x, z), each texture's offset wrapped by its own tile on
+  the CPU in float64 (so float32 never loses the fraction); speed 0 gives identical frames;
 * pass 1 (volumes stage) makes the cloud layer (RGBA32F: premultiplied radiance,
-  transmittance), clipping each ray at the depth of the frame's ``image`` slot, so clouds
-  behind opaque geometry drawn in earlier stages are hidden. By default it is amortised as the
-  field renders its clouds (``clouds.reprojection`` on, :mod:`app.render.amortise`, beyond the
-  thesis): each frame marches one pixel of every block of ``clouds.march_scale`` ×
-  ``clouds.refresh`` pixels with blue-noise jitter, the rest is reprojected from the last
-  frame (moved with the wind) or filled by depth-aware upsampling, and a still render
-  converges first. ``clouds.reprojection = off`` is the thesis's march of every pixel every
-  frame, the lesson's reference. Pass 2 blends the layer over the image
-  (``out = rgb + T · scene``; a missed pixel keeps the scene's value exactly).
+  transmittance), clipped at the depth of the frame's ``image`` slot, amortised by default
+  (``clouds.reprojection``, :mod:`app.render.amortise`; ``off`` is the thesis's march of every
+  pixel every frame). Pass 2 blends the layer over the image (``out = rgb + T · scene``).
 
-Presets (spec/001 §2, Ch. 6): ``resources/presets/clouds-<name>.toml`` for cumulus,
-stratocumulus, stratus and the lighting preset. Two ways to use them:
-
-* ``natura render clouds --preset resources/presets/clouds-stratus.toml`` (the generic
-  mechanism: the file's values, then ``--set``);
-* ``--set clouds.preset=stratus`` (or the panel's choice): the effect applies the file when the
-  choice changes. On the first frame, parameters that already differ from their defaults
-  (given with ``--set`` or a preset file) are kept, so ``--set clouds.preset=stratus --set
-  clouds.coverage=0.9`` keeps 0.9; a later change of the choice (in the window) applies the
-  whole file. ``custom`` applies nothing. Groups of the file that the scene does not have
-  (``[time]`` without a sky) are skipped. The default is ``cumulus``: the thesis paints its
-  weather maps by hand (white blobs on black, Figs. 6.1/6.4), and the cumulus file raises the
-  baked map's contrast (``bake_weather.contrast``) to get there; stratus uses a soft map.
-
-The thesis's "save image" control is the window's screenshot key (P / F12) and ``natura
-render``; its "resolution" is the window size or ``--size``.
+Presets (``clouds.preset``, docs/theory/001-clouds.md): the effect applies the file when the
+choice changes. On the first frame, parameters that already differ from their defaults (given
+with ``--set`` or a preset file) are kept, so ``--set clouds.preset=stratus --set
+clouds.coverage=0.9`` keeps 0.9; ``custom`` applies nothing; groups the scene does not have
+(``[time]`` without a sky) are skipped.
 
 The numpy twins of the shader helpers, which the tests compare them with, are in
 app/sim/clouds.py.
@@ -68,7 +44,8 @@ from ...errors import ParamError
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Joint, Param, ParamSet, non_zero, show
-from ...render.amortise import PROGRAMS, Amortiser, amortise_params, amortised, schedule_for
+from ...render import amortise
+from ...render.amortise import PROGRAMS, Amortiser, amortise_params, schedule_for
 from ...render.layers import LAYER_COMPOSITE, composite_layer
 from ...sim.amortise import LayerState
 from ...sim.clouds import density_length
@@ -106,10 +83,7 @@ class Clouds(Effect):
 
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:
-        kind = "software renderer" if caps.software else "GPU"
-        march = (f"{params['clouds.reprojection']}: scale {params['clouds.march_scale']}, "
-                 f"refresh {params['clouds.refresh']} (auto: from the frame budget, planned "
-                 f"for a {kind})")
+        march = amortise.context_line(caps, params, "clouds")
         return {**bakes.context_path(caps), "amortised march": march}
 
     @classmethod
@@ -158,7 +132,6 @@ class Clouds(Effect):
         super().__init__(gpu, params)
         self.bakes = BakedTextures(gpu, self.name)
         self._layer = None  # what the composite reads: the marched target or the resolved history
-        self._own_layer = None  # the full-size march target (the thesis's march)
         self.amortiser = Amortiser(gpu, self.name)
         #: the jitter phase of the thesis's march (the bench's reference averages over it)
         self.jitter_phase = 0.0
@@ -167,7 +140,6 @@ class Clouds(Effect):
         self.light_radiance = np.ones(3)
         self.ambient_radiance = np.full(3, 0.3)
 
-    # -- presets ---------------------------------------------------------------------------
     def apply_preset(self, name: str, keep_changed: bool = False) -> list[str]:
         """Set the values of ``clouds-<name>.toml``; return the names set. ``keep_changed``:
         leave parameters whose value differs from their default alone."""
@@ -194,7 +166,6 @@ class Clouds(Effect):
                 done.append(full)
         return done
 
-    # -- CPU -------------------------------------------------------------------------------
     def update(self, frame, dt: float) -> None:
         chosen = self.params["clouds.preset"]
         if chosen != self._applied_preset:
@@ -251,31 +222,9 @@ class Clouds(Effect):
             "uCamNear": float(cam.near), "uCamFar": float(cam.far),
         }
 
-    # -- textures --------------------------------------------------------------------------
     def texture_for(self, kind: str):
-        cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake,
-               "weather": bakes.WeatherBake}[kind]
-        # one bake per kind is held (``self.bakes.held``), replaced on a change: nothing else
-        # keeps a ``Baked`` (its texels are 8 MB for the default shape bake), so live changes
-        # of the ``bake_*`` parameters do not grow the process
-        return self.bakes.get(cls.from_values(self.params.values(cls.group)))
+        return self.bakes.from_params(kind, self.params)
 
-    def layer_for(self, size):
-        """The cloud layer target (RGBA32F, no depth): rgb premultiplied radiance, a = T."""
-        size = tuple(int(v) for v in size)
-        if self._own_layer is None or self._own_layer.size != size:
-            if self._own_layer is not None:
-                self.gpu.free(self._own_layer)
-            self._own_layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4",
-                                              depth=False)
-        return self._own_layer
-
-    @property
-    def layer(self):
-        """The last cloud layer (None before the first render)."""
-        return self._layer
-
-    # -- passes ----------------------------------------------------------------------------
     def container_distances(self, frame) -> tuple[float, float]:
         """(nearest, farthest) distance from the camera at which a cloud can be: the container
         (box or shell), the far end bounded by clouds.max_distance."""
@@ -314,14 +263,9 @@ class Clouds(Effect):
     def render_layer(self, frame, target) -> None:
         # the march and the resolve read depth values, not comparisons
         with frame.image_for(target).depth_values() as depth:
-            if amortised(self.params, self.name, frame.interactive):
-                self._layer = self.amortiser.step(
-                    frame, target.size, self.schedule(target.size), self.layer_state(frame),
-                    lambda grid: self.march(frame, target, grid), depth)
-            else:
-                self._layer = self.layer_for(target.size)
-                self.march(frame, target, self.amortiser.direct(self._layer.fbo, target.size,
-                                                                self.jitter_phase))
+            self._layer = self.amortiser.render(
+                frame, target.size, self.params, self.schedule, self.layer_state,
+                lambda grid: self.march(frame, target, grid), depth, self.jitter_phase)
 
     def march(self, frame, target, grid) -> None:
         """The view march into ``grid`` (``app.render.amortise.MarchGrid``: every pixel, or one
@@ -357,4 +301,4 @@ class Clouds(Effect):
     def release(self) -> None:
         super().release()
         self.amortiser.forget()
-        self._layer = self._own_layer = None
+        self._layer = None

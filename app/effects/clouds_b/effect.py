@@ -2,47 +2,25 @@
 spec/000 §A.3, §A.4, §A.5, §A.6, §A.7, §A.8).
 
 A box of cloud ray-marched at a fixed step over the scene, with the thesis's inspector
-parameters (``clouds_b.*``, from the ``@param`` uniforms of
-``glsl/clouds_b/clouds_b_model.glsl``):
-container bounds and edge fade, cloud scale, density threshold and multipliers, volume and
-detail noise weights, the two-lobe phase (forward/back scattering, base brightness, phase
-factor), darkness threshold, light absorption toward the sun and through the cloud, light
-steps and the fixed step size. The thesis's light-direction double inversion is fixed (see the
-shader header); ``clouds_b.thesis_light_inversion`` brings it back for comparison.
+parameters (``clouds_b.*``, the ``@param`` uniforms of ``glsl/clouds_b/clouds_b_model.glsl``).
+The thesis's light-direction double inversion is fixed (see the shader header);
+``clouds_b.thesis_light_inversion`` brings it back for comparison. Textures come from
+:mod:`app.bakes` at the thesis's sizes (volume noise 132³, detail noise 64³, GradientSimulator's
+coverage map 512²), baked once and cached on disk.
 
-Textures come from :mod:`app.bakes` at the thesis's sizes: the "volume" noise (a
-:class:`~app.bakes.ShapeBake`, 132³), the detail noise (a :class:`~app.bakes.DetailBake`, 64³)
-and GradientSimulator's coverage map (a :class:`~app.bakes.WeatherBake`, 512², R channel) —
-baked once and cached on disk; ``clouds_b.volume_resolution`` and friends change the sizes.
-
-How a scene composes it:
-
-* **stage**: volumes — after the background (``Sky`` or ``Preetham``), the opaque geometry and
-  water seen from above, before fog and the overlay. It blends over whatever the image holds;
-* **update()** moves ``_CloudOffset`` with the wind: ``clouds_b.wind_speed`` along
-  ``clouds_b.wind_direction`` plus the frame's ``wind`` slot (read as (x, z) in m/s; filled
-  only by effects listed before this one in the scene), so the base shape drifts at the wind's
-  speed in metres per second and the detail noise at twice that (the thesis's offset factors
-  0.1 and 0.2), and the coverage map drifts with the base shape (beyond the thesis, which
-  leaves the map still); speed 0 gives identical frames;
+* **stage**: volumes; it blends over whatever the image holds;
+* **update()** moves ``_CloudOffset`` with ``clouds_b.wind_speed`` along
+  ``clouds_b.wind_direction`` plus the frame's ``wind`` slot ((x, z) in m/s): the base shape
+  and the coverage map drift at the wind's speed, the detail noise at twice that (the thesis's
+  offset factors 0.1 and 0.2; the thesis leaves the map still); speed 0 gives identical frames;
 * **passes** read the ``main_light`` slot (else ``sun``; the fallback: its own
-  ``clouds_b.sun_elevation``/``sun_azimuth``/``sun_color``) for _SunDir and _SunColor, the
-  camera from the frame, and the depth of the ``image`` slot (none = everything far). Pass 1
-  makes a cloud layer of its own (rgb = in-scattered light, a = transmittance); pass 2
-  blends it into the image: target = target·a + rgb (the thesis's background·transmittance +
-  lightEnergy·SunColor). The target's alpha and depth are kept.
-* **amortised** (``clouds_b.reprojection`` on, the default; beyond the thesis,
-  :mod:`app.render.amortise`): pass 1 marches one pixel of every block of
-  ``clouds_b.march_scale`` × ``clouds_b.refresh`` pixels per frame, each ray started a
-  blue-noise fraction of a step past the box entry (the thesis's fixed step bands), and
-  reprojects the rest from the last frame (moved with the wind) or fills it by depth-aware
-  upsampling — the boat's mast and the horizon do not bleed; a still render converges first.
-  ``clouds_b.reprojection = off`` is the thesis's march of every pixel every frame, the
-  lesson's reference.
-* beyond the thesis, both off by default: ``clouds_b.weather_coverage`` lets the coverage map
-  thin the clouds where it is low (cloud banks and clear gaps kilometres wide instead of one
-  repeating tile), and ``clouds_b.haze_distance`` fades distant clouds into the horizon's haze
-  (aerial perspective, the colour from the ``environment`` slot's probe when there is one).
+  ``clouds_b.sun_elevation``/``sun_azimuth``/``sun_color``), the camera, and the depth of the
+  ``image`` slot (none = everything far). Pass 1 makes a cloud layer (rgb = in-scattered light,
+  a = transmittance), amortised by default (``clouds_b.reprojection``,
+  :mod:`app.render.amortise`; ``off`` is the thesis's march of every pixel every frame); pass 2
+  blends it into the image, target·a + rgb, keeping the target's alpha and depth;
+* beyond the thesis, both off by default: ``clouds_b.weather_coverage`` and
+  ``clouds_b.haze_distance`` (distant clouds fade into the ``environment`` slot's horizon).
 
 The numpy twins of the shader functions are in :mod:`app.sim.clouds_b`.
 """
@@ -59,7 +37,8 @@ from ...bakes.textures import BakedTextures
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Param, ParamSet
-from ...render.amortise import PROGRAMS, Amortiser, amortise_params, amortised, schedule_for
+from ...render import amortise
+from ...render.amortise import PROGRAMS, Amortiser, amortise_params, schedule_for
 from ...render.layers import LAYER_COMPOSITE, composite_layer
 from ...sim import clouds_b as twin
 from ...sim.amortise import LayerState
@@ -84,10 +63,7 @@ class CloudsB(Effect):
 
     @classmethod
     def context_paths(cls, caps, params) -> dict[str, str]:
-        kind = "software renderer" if caps.software else "GPU"
-        march = (f"{params['clouds_b.reprojection']}: scale {params['clouds_b.march_scale']}, "
-                 f"refresh {params['clouds_b.refresh']} (auto: from the frame budget, planned "
-                 f"for a {kind})")
+        march = amortise.context_line(caps, params, "clouds_b")
         return {**bakes.context_path(caps), "amortised march": march}
 
     @classmethod
@@ -126,7 +102,6 @@ class CloudsB(Effect):
         super().__init__(gpu, params)
         self.bakes = BakedTextures(gpu, self.name)
         self._layer = None  # what the composite reads: the marched target or the resolved history
-        self._own_layer = None  # the full-size march target (the thesis's march)
         self.amortiser = Amortiser(gpu, self.name)
         #: the bench's reference: the thesis's march jittered at this phase (None: not jittered)
         self.jitter_phase: float | None = None
@@ -134,7 +109,6 @@ class CloudsB(Effect):
         self.coverage_shift = np.zeros(2)  # metres the coverage map has drifted (x, z)
         self._specs: tuple[tuple, dict] | None = None  # (their sizes, bake_specs()) last made
 
-    # -- CPU -------------------------------------------------------------------------------
     def wind_velocity(self, frame=None) -> np.ndarray:
         """Wind (x, z) in m/s: the parameters plus ``frame.wind``."""
         p = self.params
@@ -165,7 +139,6 @@ class CloudsB(Effect):
         d = np.array([math.sin(a) * math.cos(e), math.sin(e), -math.cos(a) * math.cos(e)])
         return d, np.asarray(self.params["clouds_b.sun_color"], dtype=np.float64)
 
-    # -- textures --------------------------------------------------------------------------
     def bake_specs(self) -> dict[str, object]:
         p = self.params
         shape, detail = bakes.maritime()
@@ -181,16 +154,6 @@ class CloudsB(Effect):
         if self._specs is None or self._specs[0] != key:
             self._specs = (key, self.bake_specs())
         return self.bakes.get(self._specs[1][kind])
-
-    def layer(self, size):
-        """The full-size march target of the thesis's march (rgb in-scattered light, a
-        transmittance)."""
-        if self._own_layer is None or self._own_layer.size != tuple(size):
-            if self._own_layer is not None:
-                self.gpu.free(self._own_layer)
-            self._own_layer = self.gpu.target(self.name, "cloud layer", size, dtype="f4",
-                                              depth=False)
-        return self._own_layer
 
     def container_distances(self, frame) -> tuple[float, float]:
         """(nearest, farthest) distance from the camera to the cloud box."""
@@ -220,7 +183,6 @@ class CloudsB(Effect):
         return schedule_for(self.params, self.name, size, self.gpu.caps.software,
                             FULL_MARCH_MS_PER_MPX)
 
-    # -- passes ----------------------------------------------------------------------------
     def march(self, frame, target) -> None:
         """Pass 1: the cloud layer (amortised, or the thesis's march of every pixel)."""
         prog = self.program(CLOUDS_B)
@@ -229,16 +191,10 @@ class CloudsB(Effect):
         shape, detail, weather = (self.texture(kind) for kind in ("shape", "detail", "weather"))
         # the stored depth, not a shadow comparison
         with frame.image_for(target).depth_values() as depth:
-            if amortised(self.params, self.name, frame.interactive):
-                self._layer = self.amortiser.step(
-                    frame, target.size, self.schedule(target.size), self.layer_state(frame),
-                    lambda grid: self._march(frame, prog, grid, shape, detail, weather, depth),
-                    depth)
-            else:
-                self._layer = self.layer(target.size)
-                grid = self.amortiser.direct(self._layer.fbo, target.size,
-                                             self.jitter_phase or 0.0)
-                self._march(frame, prog, grid, shape, detail, weather, depth)
+            self._layer = self.amortiser.render(
+                frame, target.size, self.params, self.schedule, self.layer_state,
+                lambda grid: self._march(frame, prog, grid, shape, detail, weather, depth),
+                depth, self.jitter_phase or 0.0)
 
     def _march(self, frame, prog, grid, shape, detail, weather, depth) -> None:
         ctx = self.gpu.ctx
@@ -287,10 +243,4 @@ class CloudsB(Effect):
     def release(self) -> None:
         super().release()
         self.amortiser.forget()
-        self._layer = self._own_layer = None
-
-    def read_layer(self) -> np.ndarray:
-        """(h, w, 4) float32 of the last cloud layer: rgb in-scattered light, a transmittance."""
-        if self._layer is None:
-            raise RuntimeError("clouds_b: nothing rendered yet")
-        return self._layer.read()
+        self._layer = None

@@ -17,12 +17,9 @@ of the world position (spec/003 eq. 7.24, spec/003 eq. 7.27, spec/003 eq. 7.28,
 spec/003 eq. 7.29), or per pixel (``fog.per_pixel``, beyond the thesis), or Quílez's analytic
 exponential height fog instead (``fog.height``, the scene's H key, beyond the thesis).
 
-``FogGenerator`` (Fig. 124: Fog Intensity 0.324, Speed 0.264, Fog Mode Exponential Squared;
-:class:`app.sim.fog.FogGenerator` has the mapping, from the thesis's public repository):
-intensity I sets the density t = fog.density·I/fog.scale (exp, exp2), the linear range
-[s, s + (e − s)·(1 − I)]·fog.scale, the height fog's density at its base fog.height_density·I,
-and the plane's cutoff 1 − I (its alpha is saturate(a − (1 − I)·saturate(sin(t/8)))); Speed
-scrolls the plane by Speed·t/20 tiles; I = 0 turns both fogs off.
+``FogGenerator`` (Fig. 124: Fog Intensity 0.324, Speed 0.264, Fog Mode Exponential Squared)
+drives both fogs from one intensity I; the mapping is in :mod:`app.sim.fog`'s docstring.
+I = 0 turns both fogs off.
 
 Metres: FogGenerator's constants (density 0.1·I per metre, linear end 30·(1 − I) m) were set for
 Fracsland's village. This village's houses stand 20–30 m from its centre and the default camera
@@ -161,7 +158,6 @@ class Fog(Effect):
         self._texture = None
         self._notes: list[str] = []
 
-    # -- the generator -----------------------------------------------------------------------
     def generator(self) -> fs.FogGenerator:
         p = self.params
         start = p["fog.start"]
@@ -242,7 +238,6 @@ class Fog(Effect):
             textures["ground mask"] = self._layout.value[3]
         return [Inspector("Fog Generator (spec/003 §2.11)", popups, textures)]
 
-    # -- the plane -------------------------------------------------------------------------
     def _build_layout(self, key):
         terrain, offset = key[0], key[2]
         layout = pl.plane_layout(terrain, offset)

@@ -26,8 +26,6 @@ from dataclasses import dataclass
 import moderngl
 import numpy as np
 
-from ...gpu.cache import build_mipmaps
-
 #: grid cell of the plane's mesh [m]
 CELL = 4.0
 #: samples per side of the ground mask
@@ -117,7 +115,7 @@ def upload_texture(gpu, owner: str, name: str, rgba: np.ndarray, repeat: bool):
     h, w = data.shape[:2]
     tex = gpu.texture(owner, name, (w, h), comps, np.ascontiguousarray(data).tobytes(),
                       dtype="f1", repeat=repeat)
-    build_mipmaps(tex)
+    tex.build_mipmaps()
     tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
     if repeat:
         tex.anisotropy = 8.0

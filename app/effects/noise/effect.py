@@ -67,13 +67,7 @@ class Noise(Effect):
         self._extra: dict[str, object] = {}  # value-noise table, permutation textures
 
     def texture_for(self, kind: str):
-        cls = {"shape": bakes.ShapeBake, "detail": bakes.DetailBake,
-               "weather": bakes.WeatherBake}[kind]
-        return self.bakes.get(cls.from_values(self.params.values(cls.group)))
-
-    @property
-    def last_bake(self):
-        return self.bakes.last
+        return self.bakes.from_params(kind, self.params)
 
     def update(self, frame, dt: float) -> None:
         if self.params["noise.animate"] and dt > 0:

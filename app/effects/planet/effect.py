@@ -6,35 +6,22 @@ Per frame:
 1. shadow stage: the shadow map from the sun — re-rendered only when the sun direction (or the
    map size) changed (spec/002 §3.1, §4) — published as ``frame.shadows["sun"]``;
 2. opaque stage: surfaces (mountains, city block) into a G-buffer: colour and camera-relative
-   position;
-   then the ground pass: the analytic Earth and the background where no mesh is (the default
-   ``planet.ground_pass = gbuffer``);
+   position; then the ground pass: the analytic Earth and the background where no mesh is;
 3. fog stage: one full-screen scattering pass that finds what each pixel sees (G-buffer, the
    analytic Earth, or space) and applies the chosen method (``glsl/planet/composite.frag``):
    the sky and the aerial perspective of everything in front of it.
 
-Fixed work kept out of the per-method pass: the analytic Earth's land/sea noise is baked once
-into a cubemap (``glsl/planet/ground_noise_bake.frag``, rebuilt only when its size changes;
-``planet.ground_noise = live`` sums it per pixel as before), and the shadow filter's depth
-comparisons are the hardware's (``sampler2DShadow``, ``glsl/common/shadow_pcf.glsl``;
-``planet.shadow_compare = manual`` does them by hand as before); the analytic Earth and the
-space background (stars, the sun's disk) are shaded once per frame into the G-buffer's colour
-by a ground pass after the meshes (``glsl/planet/ground.frag``, only where no mesh is), so the
-scattering pass reads every pixel's surface colour with one fetch and its time is what the
-method's integral costs (``planet.ground_pass = scattering`` shades them there as before, the
-same image). ``natura bench planet``'s "changes" section times each against its earlier path in
-one interleaved run.
+Fixed work kept out of the per-method pass, each with its earlier path one switch away (the
+same image; ``natura bench planet``'s "changes" section times both in one interleaved run):
+the land/sea noise baked once into a cubemap (``planet.ground_noise``), the hardware's depth
+comparisons (``planet.shadow_compare``), and the ground pass (``planet.ground_pass``), so the
+scattering pass reads every pixel's surface colour with one fetch.
 
-Model no more than the view needs (beyond the thesis; the thesis's full-cost paths stay one
-switch away): methods 1–3 march one ray per 2 × 2 or 4 × 4 pixels (``planet.march_scale``:
-auto = a quarter of the resolution per side on a software renderer, half on a GPU; ``full`` the
-thesis's every-pixel march) with depth-aware upsampling, and every pixel on a silhouette or a fast
-change marches its own ray (``render_reduced``, planet/composite.frag's MARCH_PASS;
-``tests/gl/test_planet_march_scale.py`` bounds the image against the full march on the shafts and
-the silhouettes); the mountains' mesh is the coarsest whose cells span at most
-``planet.mountain_lod_px`` pixels at their nearest point (``mountain_grid``: 96² at 640×360 from
-the default view, 192² from 1280×720 up), the shadow map drawn from the same mesh; method 4's
-meshes' part is scissored to the screen bounds of the meshes' chunks (``mesh_boxes``).
+Model no more than the view needs (beyond the thesis, docs/commands.md): methods 1–3 march one
+ray per 2 × 2 or 4 × 4 pixels (``planet.march_scale``, ``render_reduced``), the mountains'
+mesh is the coarsest whose cells span at most ``planet.mountain_lod_px`` pixels
+(``mountain_grid``), and method 4's meshes' part is scissored to the screen bounds of the
+meshes' chunks (``mesh_boxes``).
 
 Slots: produces ``exposure`` (the thesis's pupil) and ``shadows``.
 
@@ -52,7 +39,7 @@ import moderngl
 import numpy as np
 
 from ...frame import ShadowMap, Stage
-from ...gpu.cache import MEMO, build_mipmaps, memoised
+from ...gpu.cache import MEMO, memoised
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
 from ...render import shadows
@@ -481,7 +468,6 @@ class Planet(Effect):
         self._stars = None
         self.sun_dir = sun_direction(params["planet.sun_elevation"], params["planet.sun_azimuth"])
 
-    # -- model ----------------------------------------------------------------------------
     def model(self) -> "atm.AtmosphereParams":
         """The atmosphere of the ``atmosphere.*`` parameters, rebuilt when one of them changes
         (a pass asks for it about ten times a frame)."""
@@ -528,7 +514,6 @@ class Planet(Effect):
     def uses_shadows(self) -> bool:
         return self.method() == "shadowed" or self.shading() == 1
 
-    # -- update ---------------------------------------------------------------------------
     def update(self, frame, dt: float) -> None:
         p = self.params
         if p["planet.auto_sun"] and dt > 0:
@@ -544,7 +529,6 @@ class Planet(Effect):
         if p["planet.pupil"]:
             frame.exposure *= float(pupil(float(np.dot(frame.camera.forward(), self.sun_dir))))
 
-    # -- resources --------------------------------------------------------------------------
     def _ensure_geometry(self) -> None:
         if self._meshes is not None:
             return
@@ -565,7 +549,7 @@ class Planet(Effect):
                              dtype="f1", repeat=True),
         )
         for tex in self._textures:
-            build_mipmaps(tex)
+            tex.build_mipmaps()
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
         from ...bakes.cache import default_cache_dir
         from ...sim.textures import cached_texture
@@ -623,20 +607,12 @@ class Planet(Effect):
         tex.repeat_x, tex.repeat_y = True, False
         return tex
 
-    @property
-    def lut_builds(self) -> int:
-        return self._lut.builds
-
     def ground_noise(self) -> tuple:
         """(cap, cubemap): the analytic Earth's noise f(n) baked into R32F textures — a gnomonic
         cap of ``planet.ground_noise_size``² about the scene's origin (half-angle
         ``GROUND_CAP_DEG``) and a cubemap of a quarter of that size for the rest of the sphere;
         baked when the size changes."""
         return self._ground_noise.get(int(self.params["planet.ground_noise_size"]))
-
-    @property
-    def ground_noise_builds(self) -> int:
-        return self._ground_noise.builds
 
     def _gradient_textures(self) -> dict:
         if self._gradient is None:
@@ -698,11 +674,6 @@ class Planet(Effect):
         self._shadow_rendered = None
         return depth_target(self.gpu, self.name, "shadow map", size)
 
-    @property
-    def shadow_texture(self):
-        """The shadow map's depth texture (None before the first render that needs it)."""
-        return self._shadow.value[0] if self._shadow.value is not None else None
-
     def shadow_map(self):
         """Depth from the sun; re-rendered only when what it shows changed: the sun's direction,
         the map's size or the casters (their geometry follows the planet's radius, and the
@@ -741,7 +712,6 @@ class Planet(Effect):
         """(colour, position, depth, framebuffer) of the last surfaces pass, or None."""
         return self._gbuffer.value
 
-    # -- passes -----------------------------------------------------------------------------
     def _shared(self, prog, frame) -> dict:
         """Uniforms both passes read; returns their shared textures by sampler name (the
         shadow map is rendered here first when it is out of date)."""

@@ -10,18 +10,12 @@ covers) and ``HillaireAerial`` (meshes): two reads each, the per-pixel pass of t
 ``HillaireSkyRadiance``, ``HillaireAerialPerspective``, ``HillaireTransmittance`` and
 ``HillaireSunTransmittance`` remain for other callers (the probes, the preview).
 
-Use::
-
-    luts = HillaireLuts(gpu, "planet", params)        # params: a ParamSet holding hillaire.*
-    luts.update(model_uniforms, CameraFrame.from_camera(camera, aspect))   # once per frame
-    luts.bind(composite_program)  # its six LUT samplers and the uHillaire* uniforms
-
-``model_uniforms`` is the dict of model.glsl uniform values the scene sets for methods 1–3
-(``uEarthCenter``, ``uCameraRadius``, ``uBottomRadius``, ``uTopRadius``, ``uBetaRayleigh``,
-``uBetaMieScatter``, ``uBetaMieExt``, ``uHRayleigh``, ``uHMie``, ``uP0``, ``uMieG``,
-``uSunIntensity``, ``uSunDir``); :func:`model_uniforms` builds one for tests and benches.
-Every LUT is rebuilt only when a value it depends on changes (Hillaire's paper builds the
-sky-view LUT and the volume every frame; a still camera under a still sun needs neither again):
+``HillaireLuts(gpu, "planet", params)`` once; per frame ``update(model_uniforms, camera_frame)``
+(``model_uniforms``: the model.glsl uniforms the scene sets for methods 1–3, as
+:func:`model_uniforms` builds them) and ``bind(composite_program)`` (its six LUT samplers and
+the uHillaire* uniforms). Every LUT is rebuilt only when a value it depends on changes
+(Hillaire's paper builds the sky-view LUT and the volume every frame; a still camera under a
+still sun needs neither again):
 
 * transmittance and multiple scattering: the model (radii, β, H, P0), their sizes and sample
   counts, the albedo and the series switch — never the sun or the camera;
@@ -34,19 +28,10 @@ G and the sun intensity are applied per pixel and never cause a rebuild. From sp
 blend band) the lookups march the two static LUTs per pixel, so the sky view and the volume are
 not built at all. ``builds`` counts each LUT's builds.
 
-Conventions, and what differs from Hillaire's paper (all documented in the GLSL headers):
-
-* radiance = ``uSunIntensity`` × dimensionless integrals, ``uSunIntensity`` acting as the sun's
-  illuminance (the thesis's ``lightSun``); with ``hillaire.multiple_scattering`` off, method 4
-  integrates the thesis's single-scattering integral (method 1 with V ≡ 1);
-* the sky-view LUT and the volume store Rayleigh (phase applied) + multiple scattering and the
-  phase-free Mie integral in two textures; the Mie phase is applied per pixel, so the sun halo
-  is as sharp as in methods 1–3 (Hillaire stores the phased total and squeezes u to the sun);
-* the ozone layer off by default (the thesis has none; ``atmosphere.ozone``: model.glsl's
-  ``uOzoneAbsorption``, in the transmittance LUT and every march's extinction; the lookups then
-  take their transmittance from the transmittance LUT, HILLAIRE_OZONE), ground albedo 0 by
-  default (the thesis has no ground reflection in the sky), planet shadow as a hard test (the
-  LUT transmittance is ~0 there).
+Conventions, and what differs from Hillaire's paper, are documented in the GLSL headers
+(``glsl/atmosphere/hillaire/``): radiance is ``uSunIntensity`` × dimensionless integrals; the
+Mie phase is applied per pixel (the sun halo as sharp as in methods 1–3); ozone off and ground
+albedo 0 by default (the thesis has neither); the planet's shadow a hard test.
 
 The near-camera source factors (``uHillaireSource*``: sunlight × σ_R and × σ_M, and σ_s Ψ_ms at
 the camera, which the volume's lookup needs before its first slice) are computed here: the
@@ -99,8 +84,6 @@ PROGRAMS: tuple[ProgramSpec, ...] = (TRANSMITTANCE, MULTISCATTERING, SKYVIEW, AE
 #: model.glsl uniforms the transmittance and multiple-scattering LUTs depend on
 STATIC_UNIFORMS = ("uBottomRadius", "uTopRadius", "uBetaRayleigh", "uBetaMieScatter", "uBetaMieExt",
                    "uHRayleigh", "uHMie", "uP0")
-#: model.glsl uniforms the per-frame passes read as well
-FRAME_UNIFORMS = ("uEarthCenter", "uCameraRadius", "uSunDir", "uSunIntensity", "uMieG")
 
 #: the LUT samplers bind() sets, in the order of LUT_NAMES
 LUT_NAMES = ("transmittance", "multiscattering", "skyview0", "skyview1", "ap0", "ap1")
@@ -184,13 +167,6 @@ class CameraFrame:
     tan_half_fov: float
     aspect: float
     height: float | None = None
-
-    @classmethod
-    def from_camera(cls, camera, aspect: float, height: float | None = None) -> CameraFrame:
-        """From an :class:`app.sim.camera.Camera` (basis() and fov in degrees)."""
-        r, u, f = camera.basis()
-        return cls(tuple(r), tuple(u), tuple(f), math.tan(math.radians(camera.fov) / 2.0),
-                   float(aspect), height)
 
     @classmethod
     def from_uniforms(cls, values: Mapping[str, Any], height: float | None = None) -> CameraFrame:
@@ -301,7 +277,6 @@ class HillaireLuts:
         #: rows of the fragment path's 2D target (None: the context's texture-size limit)
         self.fragment_rows: int | None = None
 
-    # -- parameters ----------------------------------------------------------------------------
     def value(self, name: str):
         key = f"{GROUP}.{name}"
         if self.params is not None and key in self.params:
@@ -323,7 +298,6 @@ class HillaireLuts:
         """N of the N × N direction grid of the Ψ_ms integral."""
         return max(1, math.isqrt(int(self.value("ms_directions"))))
 
-    # -- resources -----------------------------------------------------------------------------
     def _texture(self, name: str, size: tuple[int, ...]):
         tex = self._textures.get(name)
         if tex is not None and tuple(tex.size) == tuple(size):
@@ -354,12 +328,6 @@ class HillaireLuts:
         or ``ap0``/``ap1`` (None before it is first built)."""
         return self._textures.get(name)
 
-    @property
-    def space_weight(self) -> float:
-        """0 inside the atmosphere (LUT lookups) … 1 above the blend band (per-pixel march)."""
-        return self._space_weight
-
-    # -- passes --------------------------------------------------------------------------------
     def _program(self, spec: ProgramSpec):
         return self.gpu.program(self.owner, spec)
 
@@ -487,7 +455,6 @@ class HillaireLuts:
 
         self._timed("aerial_perspective", run)
 
-    # -- per frame -----------------------------------------------------------------------------
     def _static(self) -> tuple:
         u = self._uniforms
         missing = [k for k in STATIC_UNIFORMS if k not in u]
@@ -597,10 +564,6 @@ class HillaireLuts:
         if self._space_weight >= 1.0:
             return 2
         return 1 if self._space_weight > 0.0 or far_meshes else 0
-
-    def invalidate(self) -> None:
-        """Force every LUT to rebuild on the next update."""
-        self._static_key = self._skyview_key = self._ap_key = self._source_key = None
 
     def textures(self) -> dict:
         """The six LUTs by the sampler names hillaire_lookup.glsl reads."""

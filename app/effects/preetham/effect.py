@@ -53,8 +53,6 @@ from ..base import Effect
 
 PREETHAM_SKY = fullscreen("preetham/sky")
 
-#: what the sky shows below the horizon (``preetham.ground``; ``uGround`` in preetham.glsl)
-
 
 class Preetham(Effect):
     name = "preetham"
@@ -91,7 +89,6 @@ class Preetham(Effect):
         #: the sky's ambient (kcd/m², before exposure and twilight), per (sun, turbidity)
         self._ambient = self.keyed(lambda key: model.sky_ambient_rgb(np.array(key[0]), key[1]))
 
-    # -- CPU -------------------------------------------------------------------------------
     def own_sun_direction(self) -> np.ndarray:
         return model.sun_direction(self.params["preetham.sun_elevation"],
                                    self.params["preetham.sun_azimuth"])
@@ -140,7 +137,6 @@ class Preetham(Effect):
                         eye_height=max(float(eye_height), 0.5),
                         haze_distance=float(p["preetham.sea_haze"]))
 
-    # -- passes ----------------------------------------------------------------------------
     def draw(self, frame, target) -> None:
         prog = self.program(PREETHAM_SKY)
         self.apply_params(prog)

@@ -16,7 +16,6 @@ are generated below.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import moderngl
 import numpy as np
@@ -236,13 +235,6 @@ class Shading(Effect):
         self.params.set("shading.object", "user")
         return fitted
 
-    def load_user_mesh(self, path: str | Path) -> lab_meshes.LabMesh:
-        """:meth:`set_user_mesh` of an OBJ/STL/glTF file (one-line errors)."""
-        from ...sim.mesh_files import load_mesh
-
-        return self.set_user_mesh(load_mesh(path))
-
-    # -- resources -------------------------------------------------------------------------
     def _drop_mesh(self, name: str) -> None:
         world = self._world.pop(name, None)
         if world is not None:
@@ -268,20 +260,12 @@ class Shading(Effect):
 
     def _texture(self, key: str, make) -> moderngl.Texture:
         if key not in self._textures:
-            data = np.ascontiguousarray(make())
-            h, w = data.shape[:2]
-            dtype = "f1" if data.dtype == np.uint8 else "f4"
-            tex = self.gpu.texture(self.name, key, (w, h), data.shape[2], data=data.tobytes(),
-                                   dtype=dtype, repeat=True)
+            tex = self.gpu.array_texture(self.name, key, make())
             if key == "ramp":
                 tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
                 tex.repeat_x = tex.repeat_y = False
             self._textures[key] = tex
         return self._textures[key]
-
-    def _relief(self, name: str):
-        """The wall's height field ``name`` (bricks, planks, stones), made once."""
-        return surface_maps.generated(name)
 
     def _ramp(self) -> moderngl.Texture:
         """The ramp texture of the three band colours, rebuilt when one is edited."""
@@ -293,7 +277,6 @@ class Shading(Effect):
             self._textures["ramp bands"] = bands
         return self._texture("ramp", lambda: ramp_texture(bands=bands))
 
-    # -- frame -----------------------------------------------------------------------------
     def update(self, frame, dt: float) -> None:
         self.time = frame.time
 
@@ -419,7 +402,7 @@ class Shading(Effect):
         self.apply_params(prog)
         shadow = self._bind_shadow(prog, cam)
         relief_name = p["shading.wall_map"]
-        relief = self._relief(relief_name)
+        relief = surface_maps.generated(relief_name)
         ramp = self._ramp()
         target.use()
         ctx.enable(moderngl.DEPTH_TEST)

@@ -25,22 +25,15 @@ and linear depth into an RGBA32F target of the image's size, with its own depth 
 composites one full-screen pass over the image. ``shading.bloom`` adds a post pass
 (``glsl/shading/bloom.frag``: bright pass, separable Gaussian at half resolution, added back).
 
-API — what ``Shading.draw`` calls, after drawing its objects into ``target`` (depth kept)::
-
-    outlines = Outlines(self.gpu, self.name, self.params)   # once, in __init__
-    objects = [(vbo, ibo, mesh, self.model_matrix(name)) for name in shown]   # the drawn ones
-    view = cam.view_matrix()
-    proj = cam.projection_matrix(frame.aspect)
-    outlines.draw(target, view, proj, objects)   # the contour of shading.contour
-    outlines.bloom(target)                       # when shading.bloom; best in the POST stage
-
-``objects`` are the effect's own ``(vbo, ibo, LabMesh, model)``: the vertex buffer in the
-format ``"3f 3f 2f 4f"`` (position, normal, uv, tangent — only position and normal are read),
-the uint32 index buffer, the mesh (its smooth normals are uploaded here once, keyed by the
-vertex buffer; :meth:`Outlines.forget` drops them with the mesh), and the model matrix. The
-programs to list in the effect's ``programs`` are :data:`PROGRAMS` (none declares a
-``// @param``: every parameter is :func:`outline_params`, Python-side). GL state left behind:
-depth test and face culling off, blending off, the target bound.
+API (``Shading.draw`` calls it after drawing its objects into ``target``, depth kept):
+``Outlines(gpu, owner, params)`` once, then ``draw(target, view, proj, objects)`` (the contour
+of ``shading.contour``) and ``bloom(target)`` (when ``shading.bloom``). ``objects`` are the
+effect's own ``(vbo, ibo, LabMesh, model)``: the vertex buffer in the format ``"3f 3f 2f 4f"``
+(only position and normal are read), the uint32 index buffer, the mesh (its smooth normals are
+uploaded here once, keyed by the vertex buffer; :meth:`Outlines.forget` drops them), and the
+model matrix. The effect lists :data:`PROGRAMS` in its programs (every parameter is
+:func:`outline_params`, Python-side). GL state left behind: depth test and face culling off,
+blending off, the target bound.
 """
 
 from __future__ import annotations
@@ -122,7 +115,6 @@ class Outlines:
         self._gbuffer: Any = None
         self._bloom: tuple | None = None
 
-    # -- resources -------------------------------------------------------------------------
     def _smooth_buffer(self, vbo, mesh):
         held = self._smooth.get(id(vbo))
         if held is None or held[0] is not vbo:
@@ -157,7 +149,6 @@ class Outlines:
             self._bloom = (half, *made)
         return self._bloom
 
-    # -- contours --------------------------------------------------------------------------
     def draw(self, target, view: np.ndarray, proj: np.ndarray,
              objects: Sequence[tuple]) -> None:
         """The contour ``shading.contour`` of ``objects`` ((vbo, ibo, LabMesh, model) each)
@@ -232,7 +223,6 @@ class Outlines:
             return
         draw_fullscreen(prog, blend=COMPOSITE_BLEND)
 
-    # -- bloom -----------------------------------------------------------------------------
     def bloom(self, target, force: bool = False) -> None:
         """Bloom over ``target`` when ``shading.bloom`` (or ``force``): bright pass and blur at
         half resolution, the result × intensity added to the image."""

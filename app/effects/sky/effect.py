@@ -20,7 +20,6 @@ import moderngl
 
 from ... import RESOURCES
 from ...frame import Stage
-from ...gpu.cache import build_mipmaps
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param, non_zero
 from ...sim.daynight import DEFAULT_SUN_EXTINCTION, DayNight, Keyframes
@@ -102,7 +101,6 @@ class Sky(Effect):
         self._cube_rendered: dict[bool, tuple | None] = {True: None, False: None}
         self._probe = _SkyProbe(self)
 
-    # -- CPU -------------------------------------------------------------------------------
     def daynight(self) -> DayNight:
         p = self.params
         return DayNight(
@@ -134,7 +132,6 @@ class Sky(Effect):
     def panel_items(self) -> list:
         return [self.keyframes]
 
-    # -- textures --------------------------------------------------------------------------
     def _textures(self) -> None:
         gpu = self.gpu
         if self._gradient is None or self._gradient_version != self.keyframes.version:
@@ -189,7 +186,6 @@ class Sky(Effect):
         self.apply_params(prog)
         prog.set("uSunColor", tuple(st.sun.color))  # reddened by sky.sun_extinction (no-op at 0)
 
-    # -- passes ----------------------------------------------------------------------------
     def draw(self, frame, target) -> None:
         prog = self.program(SKY)
         self._bind(prog)
@@ -221,14 +217,10 @@ class Sky(Effect):
         cube = self._cubes[sun].get(self.params["sky.cubemap_size"])
         key = self.environment_key()
         if force or key != self._cube_rendered[sun]:
-            self._render_cubemap(cube, sun=sun, first=self._cube_rendered[sun] is None)
+            self._render_cubemap(cube, sun=sun)
             self._cube_rendered[sun] = key
             self.environment_renders += 1
         return cube
-
-    def has_cubemap(self, sun: bool = True) -> bool:
-        """Whether the environment cubemap with (or without) the sun has been made."""
-        return self._cubes[sun].built
 
     def _make_cube(self, size: int, sun: bool):
         cube = self.gpu.texture_cube(self.name,
@@ -237,12 +229,8 @@ class Sky(Effect):
         self._cube_rendered[sun] = None
         return cube
 
-    def _render_cubemap(self, cube, use_compute: bool | None = None, sun: bool = True,
-                        first: bool = False) -> None:
-        """Render the sky into ``cube`` and build its mip levels. The ``first`` render of a
-        session's cube takes its levels from :func:`app.gpu.cache.build_mipmaps` (a session
-        that drew the same sky left them there; generating them costs a new context ~130 ms);
-        later renders, whose sky moved on, generate them."""
+    def _render_cubemap(self, cube, use_compute: bool | None = None, sun: bool = True) -> None:
+        """Render the sky into ``cube`` and build its mip levels."""
         size = cube.size[0]
         ctx = self.gpu.ctx
         if use_compute is None:
@@ -272,10 +260,7 @@ class Sky(Effect):
                         self.gpu.copy_to_cube_face(cube, face, 0, size)
                 finally:
                     self.gpu.free(face_target)
-        if first:
-            build_mipmaps(cube)
-        else:
-            cube.build_mipmaps()
+        cube.build_mipmaps()
 
     def refresh_environment(self) -> None:
         """Re-render the cubemaps made so far whose sky changed (the environment stage)."""

@@ -46,7 +46,7 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
-from ...gpu.cache import build_mipmaps, memoised
+from ...gpu.cache import memoised
 from ...gpu.programs import ProgramSpec
 from ...params import Param
 from ...render import shadows as shadow_module
@@ -255,7 +255,6 @@ class Surfaces(Effect):
         self._camera_pos: tuple = self.layout.probe_position
         self.time = 0.0
 
-    # -- resources -------------------------------------------------------------------------
     def set_user_mesh(self, mesh):
         """A user's own mesh (``--mesh FILE``, loaded by app.sim.mesh_files), fitted to
         :data:`USER_SIZE` and stood at :data:`USER_SPOT` among the solids: it casts and
@@ -292,11 +291,8 @@ class Surfaces(Effect):
 
     def _texture(self, key: str, make, repeat: bool = True) -> moderngl.Texture:
         if key not in self._textures:
-            data = np.ascontiguousarray(make(), dtype=np.float32)
-            h, w = data.shape[:2]
-            tex = self.gpu.texture(self.name, key, (w, h), data.shape[2], data=data.tobytes(),
-                                   repeat=repeat)
-            build_mipmaps(tex)
+            tex = self.gpu.array_texture(self.name, key, np.asarray(make(), np.float32), repeat)
+            tex.build_mipmaps()
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
             self._textures[key] = tex
         return self._textures[key]
@@ -336,7 +332,6 @@ class Surfaces(Effect):
             return self._msaa.get((tuple(target.size), samples))
         return WorkTarget(target.fbo, target.color, target.depth, tuple(target.size), 0)
 
-    # -- lights ----------------------------------------------------------------------------
     def sun_direction(self) -> np.ndarray:
         """Unit vector toward the sun (compass azimuth from −z toward +x)."""
         p = self.params
@@ -347,7 +342,6 @@ class Surfaces(Effect):
         d = np.subtract(SPOT_TARGET, SPOT_POSITION)
         return d / np.linalg.norm(d)
 
-    # -- frame -----------------------------------------------------------------------------
     def update(self, frame, dt: float) -> None:
         self.time = frame.time
         self._apply_failure()

@@ -5,20 +5,16 @@ perceptual roughness, importance-sampled, Karis 2013) with the split-sum BRDF LU
 recreated Unity NHxRoughness LUT of the thesis's specular. GLSL functions in
 ``glsl/surfaces/reflection.glsl`` (numpy twin ``app/sim/reflections.py``).
 
-API (what the surfaces effect calls)::
-
-    probe = ReflectionProbe(gpu, owner, params)        # params hold python_params()
-    probe.update(key, draw_scene, position, box_min, box_max)   # ENVIRONMENT stage
-    probe.bind(prog, extra_textures)                   # before drawing a reflective surface
-
-``draw_scene(view, proj, face_fbo)`` is the caller's: it draws the scene (what the probe must
-see) with the given 4×4 numpy matrices (world → view, view → clip; ``proj @ view``) into
-``face_fbo`` — a moderngl framebuffer (RGBA16F colour + depth, size²), already bound, cleared
-to black and depth 1, its viewport set, depth test on. The six faces are captured in GL order
-+X, −X, +Y, −Y, +Z, −Z with the standard orientation (forward, up) = (+x, −y), (−x, −y),
+API: ``ReflectionProbe(gpu, owner, params)``; ``update(key, draw_scene, position, box_min,
+box_max)`` in the environment stage; ``bind(prog, extra_textures)`` before drawing a reflective
+surface. ``draw_scene(view, proj, face_fbo)`` is the caller's: it draws the scene (what the
+probe must see) with the given 4×4 numpy matrices (world → view, view → clip; ``proj @ view``)
+into ``face_fbo`` — a moderngl framebuffer (RGBA16F colour + depth, size²), already bound,
+cleared to black and depth 1, its viewport set, depth test on. The six faces are captured in GL
+order +X, −X, +Y, −Y, +Z, −Z with the standard orientation (forward, up) = (+x, −y), (−x, −y),
 (+y, +z), (−y, −z), (+z, −y), (−z, −y), 90° square frusta (``app.sim.reflections.cube_view``,
-``cube_projection``); each rendered image is stored as it is (GL row 0 = the face's t = 0
-row), which is what ``glsl/common/cubemap.glsl`` and ``samplerCube`` expect.
+``cube_projection``); each rendered image is stored as it is (GL row 0 = the face's t = 0 row),
+which is what ``glsl/common/cubemap.glsl`` and ``samplerCube`` expect.
 
 The capture runs only when ``key`` (any ==-comparable value the caller builds from what the
 probe shows), the position, the box or ``surfaces.probe_size`` changed: ``captures`` counts
@@ -43,7 +39,6 @@ import moderngl
 import numpy as np
 
 from ...errors import ParamError
-from ...gpu.cache import build_mipmaps
 from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim import reflections as rf
@@ -121,7 +116,6 @@ class ReflectionProbe:
     def python_params(cls) -> list[Param]:
         return reflection_params()
 
-    # -- parameters ------------------------------------------------------------------------
     def _param(self, name: str, default):
         if self.params is None:
             return default
@@ -132,23 +126,15 @@ class ReflectionProbe:
 
     @property
     def size(self) -> int:
-        size = int(self._param("surfaces.probe_size", 128))
-        if not 64 <= size <= 512:
-            raise ValueError(f"surfaces.probe_size {size}: allowed 64–512")
-        return size
+        return int(self._param("surfaces.probe_size", 128))
 
     @property
     def mode(self) -> str:
-        mode = str(self._param("surfaces.reflection", "box"))
-        if mode not in rf.MODES:
-            raise ValueError(f"surfaces.reflection {mode!r}: allowed {', '.join(rf.MODES)}")
-        return mode
+        return str(self._param("surfaces.reflection", "box"))
 
     @property
     def sphere_radius(self) -> float:
         r = float(self._param("surfaces.probe_sphere_radius", 0.0))
-        if r < 0:
-            raise ValueError(f"surfaces.probe_sphere_radius {r}: allowed ≥ 0 (0: automatic)")
         return r if r > 0 else rf.farthest_corner(self.position, self.box_min, self.box_max)
 
     @property
@@ -156,11 +142,6 @@ class ReflectionProbe:
         """Mip levels of the capture cube."""
         return int(math.log2(self.cube.size[0])) + 1 if self.cube is not None else 1
 
-    @property
-    def prefiltered_mips(self) -> int:
-        return PREFILTER_LEVELS
-
-    # -- capture ---------------------------------------------------------------------------
     def update(self, key: Any, draw_scene: Callable[[np.ndarray, np.ndarray, Any], None],
                position, box_min, box_max) -> bool:
         """Capture the probe if ``key``, the position, the box or the size changed (and then
@@ -224,7 +205,7 @@ class ReflectionProbe:
             self.gpu.copy_to_cube_face(self.cube, face, 0, size)
         ctx.disable(moderngl.DEPTH_TEST)
         if self.captures == 0:  # the first capture: levels a session that saw the same left
-            build_mipmaps(self.cube)
+            self.cube.build_mipmaps()
         else:
             self.cube.build_mipmaps()
         ctx.finish()
@@ -287,7 +268,6 @@ class ReflectionProbe:
                 self.gpu.free(target)
             self.brdf = self.gpu.texture(self.owner, "BRDF LUT", (BRDF_LUT_SIZE,) * 2, 2, data)
 
-    # -- use -------------------------------------------------------------------------------
     def lighting(self) -> tuple[dict[str, Any], dict[str, Any]]:
         """(textures, uniforms) every draw of the surface program needs, the probe's own
         capture included: the NHxRoughness LUT and the specular model the lights' specular

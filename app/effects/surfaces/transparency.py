@@ -20,18 +20,14 @@ With ``wboit`` and ``peeled`` the quads that write depth (opaque, cutout, alpha-
 drawn first in queue order; every blended quad then goes to the order-independent method,
 whatever its queue. The numpy twin is ``app/sim/transparency.py``.
 
-API (what the surfaces effect calls in the transparent stage, after its opaque scene)::
-
-    tr = Transparency(gpu, owner, params)            # params hold python_params()
-    tr.draw(target, view_proj, camera_pos, light, quads)
-
-``target``: ``.fbo``, ``.colour`` (or ``.color``), ``.depth``, ``.size`` and ``.samples``
-(0 or 4; read from the colour texture when absent). ``light``: ``direction`` (toward the
-light), ``radiance``, ``ambient``. ``quads``: ``(Quad, vbo, ibo, alpha_texture)`` with the
-vertex layout ``"3f 3f 2f 4f"`` (in_position, in_normal, in_uv, in_tangent; world space), or
-:meth:`Transparency.scene_quads` builds them from ``app.sim.surfaces_scene.mesh``. GL state
-left behind: depth test, blending and alpha-to-coverage off, the target bound with depth
-writes on.
+API: the surfaces effect calls ``Transparency(gpu, owner, params).draw(target, view_proj,
+camera_pos, light, quads)`` in the transparent stage, after its opaque scene. ``target``:
+``.fbo``, ``.colour`` (or ``.color``), ``.depth``, ``.size`` and ``.samples`` (0 or 4; read from
+the colour texture when absent). ``light``: ``direction`` (toward the light), ``radiance``,
+``ambient``. ``quads``: ``(Quad, vbo, ibo, alpha_texture)`` with the vertex layout
+``"3f 3f 2f 4f"`` (in_position, in_normal, in_uv, in_tangent; world space), or
+:meth:`Transparency.scene_quads` builds them from ``app.sim.surfaces_scene.mesh``. GL state left
+behind: depth test, blending and alpha-to-coverage off, the target bound with depth writes on.
 """
 
 from __future__ import annotations
@@ -42,7 +38,7 @@ from typing import Any, Sequence
 import moderngl
 import numpy as np
 
-from ...gpu.cache import build_mipmaps, memoised
+from ...gpu.cache import memoised
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...params import Param
 from ...sim import maths
@@ -186,7 +182,6 @@ class Transparency:
     def python_params() -> list[Param]:
         return transparency_params()
 
-    # -- plan ------------------------------------------------------------------------------
     def setting(self, quad: ss.Quad) -> tuple[str, int]:
         """(mode, queue) of ``quad``: an override, else its parameters, else its default."""
         p = self.params
@@ -231,7 +226,6 @@ class Transparency:
                        f"{extra}")
         return out
 
-    # -- resources -------------------------------------------------------------------------
     def scene_quads(self, scene: ss.SurfacesScene | None = None) -> list[tuple]:
         """(Quad, vbo, ibo, alpha texture) of the scene's quads (default_scene), built once
         under the owner (:meth:`build_quads`)."""
@@ -258,7 +252,7 @@ class Transparency:
         data = np.ascontiguousarray(memoised(ss.alpha_texture, kind, size), np.float32)
         tex = self.gpu.texture(self.owner, f"alpha {kind}", (size, size), 4, data=data.tobytes(),
                                dtype="f4")
-        build_mipmaps(tex)
+        tex.build_mipmaps()
         tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
         return tex
 
@@ -314,7 +308,6 @@ class Transparency:
         self._quads = None
         self._textures = {}
 
-    # -- draw ------------------------------------------------------------------------------
     def _uniforms(self, prog, view_proj, camera_pos, light) -> None:
         d = np.asarray(light.get("direction", (0.0, 1.0, 0.0)), float)
         n = float(np.linalg.norm(d))

@@ -23,7 +23,6 @@ import moderngl
 import numpy as np
 
 from ...frame import Stage
-from ...gpu.cache import build_mipmaps
 from ...gpu.programs import ProgramSpec
 from ...params import Param
 from ...sim import vr as twin
@@ -87,7 +86,6 @@ class Vr(Effect):
         self._icons = None
         self._markers = None  # (buffer, capacity in markers)
 
-    # -- when ------------------------------------------------------------------------------
     def in_vr(self, frame) -> bool:
         return bool(self.params["vr.enabled"]) or frame.eye is not None
 
@@ -106,7 +104,6 @@ class Vr(Effect):
                             Stage.OVERLAY))
         return out
 
-    # -- the ring --------------------------------------------------------------------------
     def ring_mask(self):
         if self._ring_mask is None:
             data = twin.ring_mask_texture(RING_TEXELS)
@@ -138,7 +135,6 @@ class Vr(Effect):
             ctx.blend_func = moderngl.DEFAULT_BLENDING
             ctx.disable(moderngl.BLEND)
 
-    # -- markers ---------------------------------------------------------------------------
     def icons(self) -> list:
         """One mipmapped texture per role of ``ICON_ROLES`` (a far marker is minified)."""
         if self._icons is None:
@@ -147,7 +143,7 @@ class Vr(Effect):
                 tex = self.gpu.texture(self.name, f"{role} icon", (ICON_TEXELS, ICON_TEXELS),
                                        4, data=twin.marker_icon(role, ICON_TEXELS).tobytes(),
                                        filter=(moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR))
-                build_mipmaps(tex)
+                tex.build_mipmaps()
                 self._icons.append(tex)
         return self._icons
 
@@ -206,7 +202,6 @@ class Vr(Effect):
             ctx.blend_func = moderngl.DEFAULT_BLENDING
             ctx.disable(moderngl.BLEND)
 
-    # -- panel -----------------------------------------------------------------------------
     def panel_notes(self) -> list[str]:
         p = self.params
         lives, remaining = twin.clamp_ring(p["vr.lives"], p["vr.remaining"])

@@ -96,8 +96,6 @@ def octave_sum(noise: Callable[..., np.ndarray], coords, octaves: int = 5, lacun
     return total / norm
 
 
-# -- Perlin fBm and turbulence ----------------------------------------------------------------
-
 def perlin_fbm3(x, y, z, octaves: int = 5, lacunarity: float = 2.0, gain: float | None = None,
                 H: float | None = None, seed: int | None = None) -> np.ndarray:
     """Normalised fBm of ``perlin3``; twin of GLSL ``PerlinFbm3``."""
@@ -127,52 +125,44 @@ def perlin_turbulence2(x, y, octaves: int = 5, lacunarity: float = 2.0, gain: fl
                       octaves, lacunarity, gain, H)
 
 
-def _periods(period, n: int, lac: int):
-    base = np.broadcast_to(np.asarray(period, dtype=np.int64), (n,))
-    return lambda i: base * lac**i
+def _periodic_sum(basis, coords, period, octaves, lacunarity, gain, H) -> np.ndarray:
+    """``octave_sum`` of ``basis(c, periods)``, octave i tiling with period·L^i cells."""
+    lac = _int_lacunarity(lacunarity)
+    base = np.broadcast_to(np.asarray(period, dtype=np.int64), (len(coords),))
+    return octave_sum(lambda c, i: basis(c, base * lac**i), coords, octaves, lac, gain, H)
 
 
 def perlin_fbm3_periodic(x, y, z, period, octaves: int = 5, lacunarity: int = 2,
                          gain: float | None = None, H: float | None = None,
                          seed: int | None = None) -> np.ndarray:
     """``perlin_fbm3`` tiling with ``period`` (int or 3 ints); twin of ``PerlinFbm3Periodic``."""
-    lac = _int_lacunarity(lacunarity)
-    per = _periods(period, 3, lac)
-    return octave_sum(lambda c, i: gradient.perlin3_periodic(*c, per(i), seed=seed), (x, y, z),
-                      octaves, lac, gain, H)
+    return _periodic_sum(lambda c, per: gradient.perlin3_periodic(*c, per, seed=seed), (x, y, z),
+                         period, octaves, lacunarity, gain, H)
 
 
 def perlin_fbm2_periodic(x, y, period, octaves: int = 5, lacunarity: int = 2,
                          gain: float | None = None, H: float | None = None,
                          seed: int | None = None) -> np.ndarray:
     """``perlin_fbm2`` tiling with ``period`` (int or 2 ints); twin of ``PerlinFbm2Periodic``."""
-    lac = _int_lacunarity(lacunarity)
-    per = _periods(period, 2, lac)
-    return octave_sum(lambda c, i: gradient.perlin2_periodic(*c, per(i), seed=seed), (x, y),
-                      octaves, lac, gain, H)
+    return _periodic_sum(lambda c, per: gradient.perlin2_periodic(*c, per, seed=seed), (x, y),
+                         period, octaves, lacunarity, gain, H)
 
 
 def perlin_turbulence3_periodic(x, y, z, period, octaves: int = 5, lacunarity: int = 2,
                                 gain: float | None = None, H: float | None = None,
                                 seed: int | None = None) -> np.ndarray:
     """Tileable ``perlin_turbulence3``; twin of ``PerlinTurbulence3Periodic``."""
-    lac = _int_lacunarity(lacunarity)
-    per = _periods(period, 3, lac)
-    return octave_sum(lambda c, i: np.abs(gradient.perlin3_periodic(*c, per(i), seed=seed)),
-                      (x, y, z), octaves, lac, gain, H)
+    return _periodic_sum(lambda c, per: np.abs(gradient.perlin3_periodic(*c, per, seed=seed)),
+                         (x, y, z), period, octaves, lacunarity, gain, H)
 
 
 def perlin_turbulence2_periodic(x, y, period, octaves: int = 5, lacunarity: int = 2,
                                 gain: float | None = None, H: float | None = None,
                                 seed: int | None = None) -> np.ndarray:
     """Tileable ``perlin_turbulence2``; twin of ``PerlinTurbulence2Periodic``."""
-    lac = _int_lacunarity(lacunarity)
-    per = _periods(period, 2, lac)
-    return octave_sum(lambda c, i: np.abs(gradient.perlin2_periodic(*c, per(i), seed=seed)),
-                      (x, y), octaves, lac, gain, H)
+    return _periodic_sum(lambda c, per: np.abs(gradient.perlin2_periodic(*c, per, seed=seed)),
+                         (x, y), period, octaves, lacunarity, gain, H)
 
-
-# -- inverted-Worley fBm ----------------------------------------------------------------------
 
 def worley_fbm3(x, y, z, octaves: int = 3, lacunarity: float = 2.0, gain: float | None = None,
                 H: float | None = None, seed: int | None = 0) -> np.ndarray:
@@ -192,27 +182,19 @@ def worley_fbm3_periodic(x, y, z, period, octaves: int = 3, lacunarity: int = 2,
                          gain: float | None = None, H: float | None = None,
                          seed: int | None = 0) -> np.ndarray:
     """Tileable ``worley_fbm3``: octave i has period·L^i cells; twin of ``WorleyFbm3Periodic``."""
-    lac = _int_lacunarity(lacunarity)
-    per = _periods(period, 3, lac)
-    return octave_sum(
-        lambda c, i: cellular.worley_inverted_f1(
-            cellular.worley3_periodic(*c, per(i), seed=seed)[0]),
-        (x, y, z), octaves, lac, gain, H)
+    return _periodic_sum(
+        lambda c, p: cellular.worley_inverted_f1(cellular.worley3_periodic(*c, p, seed=seed)[0]),
+        (x, y, z), period, octaves, lacunarity, gain, H)
 
 
 def worley_fbm2_periodic(x, y, period, octaves: int = 3, lacunarity: int = 2,
                          gain: float | None = None, H: float | None = None,
                          seed: int | None = 0) -> np.ndarray:
     """Tileable ``worley_fbm2``; twin of ``WorleyFbm2Periodic``."""
-    lac = _int_lacunarity(lacunarity)
-    per = _periods(period, 2, lac)
-    return octave_sum(
-        lambda c, i: cellular.worley_inverted_f1(
-            cellular.worley2_periodic(*c, per(i), seed=seed)[0]),
-        (x, y), octaves, lac, gain, H)
+    return _periodic_sum(
+        lambda c, p: cellular.worley_inverted_f1(cellular.worley2_periodic(*c, p, seed=seed)[0]),
+        (x, y), period, octaves, lacunarity, gain, H)
 
-
-# -- Perlin–Worley --------------------------------------------------------------------------
 
 def perlin_worley_remap(perlin_fbm, worley_fbm) -> np.ndarray:
     """PW = clamp((P + 1 − W)/(2 − W), 0, 1) with P = clamp(0.5 + 0.5·perlin_fbm, 0, 1) and

@@ -78,16 +78,6 @@ GRADIENTS2 = np.array([
     (_SQRT2, 0.0), (1.0, 1.0), (0.0, _SQRT2), (-1.0, 1.0),
     (-_SQRT2, 0.0), (-1.0, -1.0), (0.0, -_SQRT2), (1.0, -1.0),
 ])
-#: The 3D gradients as vectors, indexed by hash & 15 (what ``_grad3`` computes).
-GRADIENTS3 = np.array([
-    (1, 1, 0), (-1, 1, 0), (1, -1, 0), (-1, -1, 0),
-    (1, 0, 1), (-1, 0, 1), (1, 0, -1), (-1, 0, -1),
-    (0, 1, 1), (0, -1, 1), (0, 1, -1), (0, -1, -1),
-    (1, 1, 0), (0, -1, 1), (-1, 1, 0), (0, -1, -1),
-], dtype=np.float64)
-
-_permutation_cache: dict[int, np.ndarray] = {}
-
 
 def seed_key(seed: int | None) -> int:
     """The canonical seed: ``None`` and 0 both name Perlin's reference permutation."""
@@ -107,14 +97,11 @@ def permutation(seed: int | None = None) -> np.ndarray:
     This is exactly what the GPU texture ``uPerlinPermutation`` holds
     (``app.render.noise.GradientNoiseTextures``)."""
     key = seed_key(seed)
-    table = _permutation_cache.get(key)
-    if table is None:
-        if key == 0:
-            table = REFERENCE_PERMUTATION.copy()
-        else:
-            table = np.random.default_rng(key).permutation(256).astype(np.int64)
-        table.setflags(write=False)
-        _permutation_cache[key] = table
+    if key == 0:
+        table = REFERENCE_PERMUTATION.copy()
+    else:
+        table = np.random.default_rng(key).permutation(256).astype(np.int64)
+    table.setflags(write=False)
     return table
 
 
