@@ -192,6 +192,10 @@ class NaturaWindow:
         w.unicode_char_entered_func = self.on_char
         w.resize_func = self.on_resize
         self.controller = Controller(keymap=self.scene.keymap, speed=MOVE_SPEED)
+        # a key held when the window loses the keyboard never sends its release here: let go of
+        # every held action then, or the camera flies on (pyglet's window: moderngl-window's
+        # events have no focus loss)
+        self.wnd._window.push_handlers(on_deactivate=self.controller.release_all)
         self._key_names = _key_names(self.wnd.keys)
         self.looking = False
         self.mouse_look = False

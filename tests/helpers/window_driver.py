@@ -748,6 +748,45 @@ def robustness(work: str) -> int:
     return _escape_and_report(win, keys, out, log=False)
 
 
+def focus_loss(work: str) -> int:
+    """W held in the sky window, then the keyboard taken by another window (a real X focus
+    change, xdotool windowfocus): the key's release never reaches the window, so it must let go
+    of what was held when it loses the focus, and the camera stop."""
+    import pyglet
+
+    from app.runtime import scene_params
+    from app.scenes import get_scene
+    from app.ui import window as W
+
+    os.chdir(work)
+    params = scene_params("sky", sets=["time.hour=10", "time.playing=false"])
+    win = W.NaturaWindow("sky", params, get_scene("sky").new_camera(), (320, 180))
+    other = pyglet.window.Window(64, 64, caption="natura focus taker")
+    win.wnd._window.switch_to()  # pyglet made the new window's context current
+    keys = XKeys(win, "^Natura .* sky$")  # the keyboard to the sky window
+    cam = win.scene.camera
+    out: dict = {}
+    p0 = np.array(cam.position)
+    keys.down("w")
+    keys.frames(4)
+    out["held_before"] = sorted(win.controller.held)
+    p1 = np.array(cam.position)
+    out["moved_while_held_m"] = float(np.linalg.norm(p1 - p0))
+    found = subprocess.run(["xdotool", "search", "--sync", "--name", "^natura focus taker$"],
+                           capture_output=True, text=True, timeout=30).stdout.split()
+    subprocess.run(["xdotool", "windowfocus", "--sync", found[0]], check=True, timeout=30)
+    out["let_go"] = keys.dispatch(lambda: not win.controller.held, wait_s=5.0)
+    out["held_after"] = sorted(win.controller.held)
+    p2 = np.array(cam.position)
+    keys.frames(8)
+    out["moved_after_m"] = float(np.linalg.norm(np.array(cam.position) - p2))
+    keys.send("up", "w")  # to the other window now
+    other.close()
+    win.close()
+    print("RESULT " + json.dumps(out))
+    return 0
+
+
 def sky_keyframes(work: str) -> int:
     """The sky offers its keyframes to the panel (the window names no effect): the panel's
     "Sky keyframes" header is drawn in the sky scene and not in the materials scene."""
@@ -1316,5 +1355,6 @@ if __name__ == "__main__":
             "cli-escape": cli_escape, "robustness": robustness,
             "maritime-keys": maritime_keys, "maritime-cli-escape": maritime_cli_escape,
             "shading-keys": shading_keys, "surfaces-keys": surfaces_keys,
-            "village-keys": village_keys, "dynamic-resolution": dynamic_resolution}
+            "village-keys": village_keys, "dynamic-resolution": dynamic_resolution,
+            "focus-loss": focus_loss}
     sys.exit(runs.get(sys.argv[2] if len(sys.argv) > 2 else "", main)(sys.argv[1]))

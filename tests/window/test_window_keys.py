@@ -116,3 +116,11 @@ def test_escape_ends_natura_window(tmp_path):
     assert r["returncode"] == 0, r["stderr"]
     assert r["exit_after_esc_s"] < 10.0
 
+
+def test_a_key_held_when_the_window_loses_the_focus_is_let_go(tmp_path):
+    """A real focus change under Xvfb: W held, another window takes the keyboard, and W's
+    release goes there. The window lets go of W when it loses the focus: the camera stops."""
+    r, _ = drive("focus-loss", tmp_path)
+    assert r["held_before"] == ["forward"] and r["moved_while_held_m"] > 0
+    assert r["let_go"] and r["held_after"] == []
+    assert r["moved_after_m"] == 0.0
