@@ -14,7 +14,7 @@ numbers: altitude h, sun zenith cosine μ_s, view zenith cosine μ and the view 
 the local vertical measured from the sun's (the field is even in φ). Order by order:
 
 * J_1(x, ω) = T_sun(x) [σ_R(x) P_R(ω·s) + σ_M(x) P_M(ω·s)]  (exact, no table);
-* L_n(x, ω) = ∫_0^{t_end} T(x, x + tω) J_n(x + tω, ω) dt along the ray to the top or the
+* L_n(x, ω) = ∫ T(x, x + tω) J_n(x + tω, ω) dt along the ray to the top or the
   (black) ground;
 * J(n+1; x, ω) = σ_R(x) ∫ P_R(ω·ω') L_n(x, ω') dω' + σ_M(x) ∫ P_M(ω·ω') L_n(x, ω') dω'.
 

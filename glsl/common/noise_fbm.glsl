@@ -6,7 +6,7 @@
 // noise_worley.glsl (included here). The Perlin permutation texture (uPerlinPermutation) selects
 // the Perlin seed, the Worley sums take the uint seed argument; all octaves share them.
 // Failure cases guarded: an octave count outside [1, FBM_MAX_OCTAVES] (FbmOctaves). Left to the
-// caller: high octaves multiply p, so keep |p f_{n−1}| below ~2^16 (see noise_perlin.glsl);
+// caller: high octaves multiply p, so keep |p · fₙ₋₁| below ~2¹⁶ (see noise_perlin.glsl);
 // integer lacunarity puts every octave's lattice through the integer points, where Perlin noise
 // is 0, so PerlinFbm is 0 at integer p (a property of spec/001 eq. 3.1, kept for fidelity).
 
@@ -22,15 +22,15 @@
 int FbmOctaves(int octaves) { return clamp(octaves, 1, FBM_MAX_OCTAVES); }
 
 // ---- Perlin fBm (spec/001 eq. 3.2, normalised) and turbulence ------------------------------
-// Every sum here has amplitudes a_0 = 1, a_i = G a_{i−1} (gain G) and frequencies f_0 = 1,
-// f_i = L f_{i−1} (lacunarity L); for a Hurst exponent H, G = L^−H (spec/001 eq. 3.1 has L = 2,
-// G = 2^−H, "usually 1/2"; the Python side converts H). Each is divided by Σ a_i, which
+// Every sum here has amplitudes a₀ = 1, aᵢ = G·aᵢ₋₁ (gain G) and frequencies f₀ = 1,
+// fᵢ = L·fᵢ₋₁ (lacunarity L); for a Hurst exponent H, G = L⁻ᴴ (spec/001 eq. 3.1 has L = 2,
+// G = 2⁻ᴴ, "usually 1/2"; the Python side converts H). Each is divided by Σ aᵢ, which
 // spec/001 eq. 3.2's bare sum is not: that keeps a sum in its base noise's range (one octave is
 // exactly the base noise, spec/001 §1.1 criterion B5, and Perlin–Worley gets known ranges).
 // Tileable variants: octave i uses the periodic noise with period base_period · L^i, which needs
 // an integer L; the whole sum then repeats with base_period in p on every axis.
 
-// Fbm(p) = Σ_{i<n} a_i noise(f_i p) / Σ_{i<n} a_i: spec/001 eq. 3.1 and spec/001 eq. 3.2,
+// Fbm(p) = Σᵢ aᵢ·noise(fᵢ·p) / Σᵢ aᵢ over the n octaves: spec/001 eq. 3.1 and spec/001 eq. 3.2,
 // normalised, of Perlin noise; p in lattice units, the result in the noise's range.
 float PerlinFbm3(vec3 p, int octaves, float lacunarity, float gain) {
     float sum = 0.0, norm = 0.0, amplitude = 1.0, frequency = 1.0;
@@ -54,7 +54,7 @@ float PerlinFbm2(vec2 p, int octaves, float lacunarity, float gain) {
     return sum / norm;
 }
 
-// Turbulence(p) = Σ_{i<n} a_i |noise(f_i p)| / Σ_{i<n} a_i (Perlin 1985), in [0, ~1.04].
+// Turbulence(p) = Σᵢ aᵢ·|noise(fᵢ·p)| / Σᵢ aᵢ over the n octaves (Perlin 1985), in [0, ~1.04].
 float PerlinTurbulence3(vec3 p, int octaves, float lacunarity, float gain) {
     float sum = 0.0, norm = 0.0, amplitude = 1.0, frequency = 1.0;
     for (int i = 0; i < FbmOctaves(octaves); ++i) {
@@ -134,7 +134,7 @@ float PerlinTurbulence2Periodic(vec2 p, ivec2 period, int octaves, int lacunarit
 
 // ---- inverted-Worley fBm (spec/001 eq. 3.2 over the inverted F1, normalised) ---------------
 
-// WorleyFbm(p) = Σ_{i<n} a_i (1 − clamp(F1(f_i p), 0, 1)) / Σ_{i<n} a_i, in [0, 1]; p in cell
+// WorleyFbm(p) = Σᵢ aᵢ·(1 − clamp(F1(fᵢ·p), 0, 1)) / Σᵢ aᵢ over the n octaves, in [0, 1]; p in cell
 // units.
 float WorleyFbm3(vec3 p, int octaves, float lacunarity, float gain, uint seed) {
     float sum = 0.0, norm = 0.0, amplitude = 1.0, frequency = 1.0;
