@@ -63,6 +63,8 @@ GATHER = fullscreen("common/amortise_gather")
 PROGRAMS = (*RESOLVES, GATHER)
 #: the tile of a tiled software rasteriser (llvmpipe: 64 × 64 pixels, one thread each)
 TILE = 64
+#: the side of its block of fragments shaded as one vector of lanes (llvmpipe: 4 × 4)
+LANE = 4
 
 
 def rasteriser_threads() -> int:
@@ -77,10 +79,11 @@ def bands(grid_size, threads: int, software: bool) -> int:
     """The bands a march grid is drawn in, or 0 to draw it as it is. A tiled software
     rasteriser shades each 64 × 64 tile on one thread, so a grid smaller than a tile per thread
     (quarter resolution, 1/16 refreshed: 40 × 23 rays at 640 × 360) marches on one of them:
-    drawn in ``threads`` bands, one 64-row tile each, every thread marches one; band k holds
+    drawn in ``threads`` bands, whole tiles each, every thread marches one; band k holds
     the grid rows k, k + K, k + 2K … (interleaved: a band of the bottom rows alone would hold
-    the sea, whose rays end at once, and another the sky). A GPU, or a grid already as many
-    tiles as threads, is drawn as it is."""
+    the sea, whose rays end at once, and another the sky), each row in ``LANE × LANE`` blocks
+    of consecutive texels (glsl/common/amortise.glsl: a block's lanes then march rays of one
+    elevation). A GPU, or a grid already as many tiles as threads, is drawn as it is."""
     w, h = (int(v) for v in grid_size)
     tiles = (-(-w // TILE)) * (-(-h // TILE))
     if not software or threads < 2 or tiles >= threads or h < 2:
@@ -191,10 +194,14 @@ class _Grid:
                                dtype="f4", filter=nearest)
         self.fbo = gpu.framebuffer(owner, f"amortised march 1/{block}", [self.layer, self.aux])
         self.bands = bands(self.size, rasteriser_threads(), gpu.caps.software)
-        self.rows = -(-self.size[1] // self.bands) if self.bands else 0  # rows of a band
+        self.rows = -(-self.size[1] // self.bands) if self.bands else 0  # grid rows of a band
+        # a band: its grid rows, LANE fragment rows each, in whole tiles (a power of two)
+        tiles = -(-LANE * self.rows // TILE)
+        self.band_shift = TILE.bit_length() - 1 + (tiles - 1).bit_length()
         self.banded: tuple | None = None
-        if self.bands:  # the banded target: a band of ``rows`` rows at the bottom of each tile
-            size = (self.size[0], (self.bands - 1) * TILE + self.rows)
+        if self.bands:  # the banded target: each grid row in LANE × LANE blocks of texels
+            size = (LANE * -(-self.size[0] // (LANE * LANE)),
+                    ((self.bands - 1) << self.band_shift) + LANE * self.rows)
             layer = gpu.texture(owner, f"amortised march 1/{block} banded", size, 4, dtype="f4",
                                 filter=nearest)
             aux = gpu.texture(owner, f"amortised march aux 1/{block} banded", size, 2,
@@ -325,6 +332,7 @@ class Amortiser:
 
     def _uniforms(self, size, block: int, sub, phase: float, amortised: bool) -> dict:
         return {"uAmortiseBands": 0, "uAmortiseBandRows": 0, "uAmortiseGridRows": 0,
+                "uAmortiseGridColumns": 0, "uAmortiseBandShift": 0,
                 "uAmortiseBlock": int(block), "uAmortiseShift": int(block).bit_length() - 1,
                 "uAmortiseSub": (int(sub[0]), int(sub[1])),
                 "uAmortiseFullSize": (float(size[0]), float(size[1])),
@@ -340,11 +348,13 @@ class Amortiser:
             fbo, layer, aux, banded_size = g.banded
             march(MarchGrid(fbo, banded_size, {**uniforms, "uAmortiseBands": g.bands,
                                                "uAmortiseBandRows": g.rows,
-                                               "uAmortiseGridRows": g.size[1]},
+                                               "uAmortiseGridRows": g.size[1],
+                                               "uAmortiseGridColumns": g.size[0],
+                                               "uAmortiseBandShift": g.band_shift},
                             {"uBlueNoise": self.blue_noise()}))
             prog = self.gpu.program(self.owner, GATHER)
             prog.bind_textures({"uBanded": layer, "uBandedAux": aux})
-            prog.set_many({"uAmortiseBands": g.bands})
+            prog.set_many({"uAmortiseBands": g.bands, "uAmortiseBandShift": g.band_shift})
             g.fbo.use()
             self.gpu.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
             draw_fullscreen(prog)

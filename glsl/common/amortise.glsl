@@ -26,35 +26,46 @@ uniform float uJitterPhase;        // frac(refresh cycle · φ)
 uniform int uAmortiseBands;        // > 1: the grid is drawn banded (below); else as it is
 uniform int uAmortiseBandRows;     // rows of each band
 uniform int uAmortiseGridRows;     // the grid's rows
+uniform int uAmortiseGridColumns;  // the grid's columns
+uniform int uAmortiseBandShift;    // log2 of the fragment rows from one band to the next (≥ 6)
 
 const float AMORTISE_FAR = 1.0e7;  // the cloud distance of a ray that met nothing (metres)
-const int AMORTISE_TILE_SHIFT = 6; // a band per 64 rows: a tiled software rasteriser's tile
-const int AMORTISE_TILE = 1 << AMORTISE_TILE_SHIFT;
 
 // A small grid fits one 64 × 64 tile, and a tiled software rasteriser (llvmpipe) shades a tile
 // on one thread: there the grid is drawn in uAmortiseBands bands (app.render.amortise.bands),
-// one 64-row tile each, so that each thread marches one. Band k holds the grid rows k, k + K,
-// k + 2K … (K bands): interleaved, every band has its share of sky and of sea. The same rays
-// are marched either way; amortise_gather.frag puts them back in grid order.
-
+// whole tiles each, so that each thread marches one. Band k holds the grid rows k, k + K,
+// k + 2K … (K bands): interleaved, every band has its share of sky and of sea. Inside a band,
+// each grid row is laid out in 4 × 4 blocks of 16 consecutive texels (its 4 fragment rows):
+// llvmpipe runs a 4 × 4 block's fragments as lanes of one vector, and a loop runs until its
+// slowest lane is done, so the lanes hold rays of one elevation, whose marches are about as
+// long, instead of rays from 2K grid rows apart. The same rays are marched either way;
+// amortise_gather.frag puts them back in grid order.
+const int AMORTISE_LANE_SHIFT = 2;  // a 4 × 4 block of fragments: one vector of lanes
+const int AMORTISE_LANE = 1 << AMORTISE_LANE_SHIFT;
+const int AMORTISE_LANE_MASK = AMORTISE_LANE - 1;
+// (band, row of the band, column of the grid) of this fragment of a banded grid.
+ivec3 AmortiseBandedTexel() {
+    ivec2 f = ivec2(gl_FragCoord.xy);
+    int y = f.y & ((1 << uAmortiseBandShift) - 1);
+    int x = ((f.x >> AMORTISE_LANE_SHIFT) << (2 * AMORTISE_LANE_SHIFT))
+          + ((y & AMORTISE_LANE_MASK) << AMORTISE_LANE_SHIFT) + (f.x & AMORTISE_LANE_MASK);
+    return ivec3(f.y >> uAmortiseBandShift, y >> AMORTISE_LANE_SHIFT, x);
+}
 // Whether this fragment is a banded grid's padding (it marches nothing: discard it).
 bool AmortisePadding() {
     if (uAmortiseBands <= 1) return false;
-    int y = int(gl_FragCoord.y);
-    int row = y & (AMORTISE_TILE - 1);
-    return row >= uAmortiseBandRows
-        || row * uAmortiseBands + (y >> AMORTISE_TILE_SHIFT) >= uAmortiseGridRows;
+    ivec3 b = AmortiseBandedTexel();
+    return b.y >= uAmortiseBandRows || b.y * uAmortiseBands + b.x >= uAmortiseGridRows
+        || b.z >= uAmortiseGridColumns;
 }
-
 // The grid texel this fragment marches.
 ivec2 AmortiseGridTexel() {
-    ivec2 f = ivec2(gl_FragCoord.xy);
     if (uAmortiseBands > 1) {
-        f.y = (f.y & (AMORTISE_TILE - 1)) * uAmortiseBands + (f.y >> AMORTISE_TILE_SHIFT);
+        ivec3 b = AmortiseBandedTexel();
+        return ivec2(b.z, b.y * uAmortiseBands + b.x);
     }
-    return f;
+    return ivec2(gl_FragCoord.xy);
 }
-
 // The full-resolution pixel this fragment marches.
 ivec2 AmortisedPixel() {
     return (AmortiseGridTexel() << uAmortiseShift) + uAmortiseSub;

@@ -241,3 +241,41 @@ def test_bands_only_for_a_small_grid_on_a_software_renderer():
     assert bands((160, 90), 2, True) == 0  # six tiles already
     assert bands((5, 1), 4, True) == 0  # one row
     assert bands((5, 3), 4, True) == 3  # never more bands than rows
+
+
+@pytest.mark.parametrize("grid_size,threads", [((40, 23), 2), ((37, 40), 2), ((7, 5), 4)])
+def test_a_banded_grid_marches_each_texel_once_and_a_block_one_row(gpu, monkeypatch, grid_size,
+                                                                   threads):
+    """The banded layout (glsl/common/amortise.glsl): every grid texel is marched by exactly one
+    fragment, and the 16 fragments of each 4 × 4 block (one vector of llvmpipe's lanes) march
+    texels of one grid row, so a loop over a ray's steps waits for rays of one elevation."""
+    import app.render.amortise as am
+
+    monkeypatch.setattr(am, "rasteriser_threads", lambda: threads)
+    block = 4
+    size = (grid_size[0] * block, grid_size[1] * block)
+    g = am.Amortiser(gpu, "test-amortise")._grid(size, block)
+    assert g.size == grid_size and g.bands == min(threads, grid_size[1])
+    fbo, _, _, banded_size = g.banded
+    out = gpu.texture("test-amortise", "lanes", banded_size, 4, dtype="f4")
+    target = gpu.framebuffer("test-amortise", "lanes", [out])
+    prog = gpu.program("test-amortise", fullscreen("tests/amortise_lanes"))
+    prog.set_many({"uAmortiseBands": g.bands, "uAmortiseBandRows": g.rows,
+                   "uAmortiseGridRows": g.size[1], "uAmortiseGridColumns": g.size[0],
+                   "uAmortiseBandShift": g.band_shift})
+    target.use()
+    gpu.ctx.disable(gpu.ctx.DEPTH_TEST | gpu.ctx.BLEND)
+    draw_fullscreen(prog)
+    w, h = banded_size
+    px = np.frombuffer(out.read(), dtype=np.float32).reshape(h, w, 4)
+    marched = px[..., 2] == 0.0
+    texels = px[marched][:, :2].astype(int)
+    assert len(texels) == grid_size[0] * grid_size[1]
+    assert len({tuple(t) for t in texels}) == len(texels)
+    assert texels[:, 0].max() == grid_size[0] - 1 and texels[:, 1].max() == grid_size[1] - 1
+    for y in range(0, h - h % 4, 4):
+        for x in range(0, w - w % 4, 4):
+            rows = px[y:y + 4, x:x + 4][marched[y:y + 4, x:x + 4]][:, 1]
+            assert len(set(rows.tolist())) <= 1, (x, y, rows)
+    for obj in (target, out):
+        gpu.free(obj)
