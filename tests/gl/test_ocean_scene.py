@@ -267,8 +267,8 @@ def test_drawing_only_the_visible_wedges_changes_no_pixel(ocean_shot, yaw, pitch
     s.ocean.params.set("ocean.mesh_cull", False)
     full = s.frame()[0]
     assert np.array_equal(culled, full)
-    if pitch > -60:
-        assert drawn < 0.5 * s.ocean.surface.mesh.triangles
+    if pitch > -60:  # whole groups of GROUP wedges: half of 128 at -40°
+        assert drawn <= 0.5 * s.ocean.surface.mesh.triangles
 
 
 def test_panel_notes_name_the_lesson_and_the_live_figures(ocean_shot):

@@ -6,8 +6,10 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
-from app.effects.ocean.mesh import polar_grid, stretch_height
+from app.effects.ocean.mesh import CHUNK, GROUP, polar_grid, stretch_height, whole_groups
 from app.sim import ocean as oc
 
 # -- mesh ----------------------------------------------------------------------------------------
@@ -30,23 +32,52 @@ def test_polar_grid_covers_the_disc_facing_up_without_degenerate_cells():
     assert ratio.min() > 0.5 and ratio.max() < 2.0
 
 
-def test_polar_grid_is_ordered_wedge_by_wedge_and_column_by_column():
-    """Wedge j's indices (its fan triangle, then two per ring outward) follow each other, and the
-    vertices run column by column: the per-wedge construction, integer for integer."""
-    for segments, inner, extent in ((16, 0.5, 40.0), (7, 1.0, 1.5), (5, 2.0, 1.0)):
+def test_polar_grid_is_ordered_group_by_group_and_column_by_column():
+    """Wedge j's triangles (its fan triangle, then two per ring outward) lie in its group of
+    GROUP wedges, chunk by chunk of CHUNK triangles outward, wedge after wedge; the vertices run
+    column by column: the per-wedge construction, integer for integer."""
+    chunked = False
+    for segments, inner, extent in ((16, 0.5, 400.0), (7, 1.0, 1.5), (5, 2.0, 1.0),
+                                    (21, 0.25, 3000.0)):
         verts, idx = polar_grid(segments, inner, extent)
         nr = (len(verts) - 1) // segments
         col = verts[1:].reshape(segments, nr, 3)
         assert np.all(col[:, :, 1] == (np.arange(segments) * (2 * math.pi / segments))[:, None]
                       .astype("f4"))
         assert np.all(col == col[:1, :, :] * [1, 0, 1] + col[:, :, :] * [0, 1, 0])
-        want = []
+        wedges = []
         for j in range(segments):
             a, b = 1 + j * nr, 1 + (j + 1) % segments * nr
-            want += [0, b, a]
+            tris = [[0, b, a]]
             for i in range(nr - 1):
-                want += [a + i, b + i, b + i + 1, a + i, b + i + 1, a + i + 1]
+                tris += [[a + i, b + i, b + i + 1], [a + i, b + i + 1, a + i + 1]]
+            wedges.append(tris)
+        want = []
+        for g in range(0, segments, GROUP):
+            for c in range(0, len(wedges[0]), CHUNK):
+                for tris in wedges[g:g + GROUP]:
+                    want += [v for t in tris[c:c + CHUNK] for v in t]
         assert idx.dtype == np.uint32 and idx.tolist() == want
+        chunked = chunked or (segments > GROUP and len(wedges[0]) > CHUNK)
+    assert chunked  # a case with several groups and several chunks a wedge
+
+
+@given(st.integers(1, 64), st.data())
+def test_whole_groups_cover_the_visible_wedges_and_little_more(segments, data):
+    first = data.draw(st.integers(0, segments - 1))
+    count = data.draw(st.integers(1, segments))
+    run = whole_groups(first, count, segments)
+    want = {(first + k) % segments for k in range(count)}
+    if run is None:  # every wedge: the groups around the visible ones reach all the way round
+        assert count + 2 * (GROUP - 1) >= segments or segments <= GROUP
+        return
+    start, n = run
+    assert start % GROUP == 0 and 0 < n < segments
+    drawn = {(start + k) % segments for k in range(n)}
+    assert want <= drawn and len(drawn) == n
+    assert n < count + 2 * GROUP  # at most a part group each side
+    end = start + n if start + n <= segments else start + n - segments
+    assert end % GROUP == 0 or end == segments  # whole groups: ranges of the index buffer
 
 
 def test_whitecap_thresholds_are_calibrated_quantiles():

@@ -12,6 +12,11 @@ import numpy as np
 
 from ...gpu.cache import memoised
 
+#: wedges drawn or culled together: inside a group the triangles run ring chunk by ring chunk
+GROUP = 8
+#: triangles of one wedge in a chunk (the fan, then two per ring)
+CHUNK = 64
+
 
 def polar_grid(segments: int, inner: float, extent: float, aspect: float = 0.0,
                height: float = 1.0):
@@ -31,9 +36,14 @@ def polar_grid(segments: int, inner: float, extent: float, aspect: float = 0.0,
     from a fine mesh's (measured in tests/gl/test_maritime.py).
 
     Returns (vertices (V, 3) float32 = (radius, angle, spacing), indices (M,) uint32), triangles
-    counter-clockwise seen from above (front faces are the top of the sea), ordered segment by
-    segment (all rings of wedge j, then wedge j + 1): a run of wedges is one contiguous range of
-    ``len(indices) // segments`` indices each, so the renderer draws only the wedges in view."""
+    counter-clockwise seen from above (front faces are the top of the sea), ordered group by
+    group of :data:`GROUP` wedges: a run of whole groups is one contiguous range of
+    ``len(indices) // segments`` indices a wedge, so the renderer draws only the groups in view.
+    Inside a group the triangles run chunk by chunk outward (:data:`CHUNK` of each wedge, wedge
+    after wedge), so neighbouring wedges' shared vertices are near each other in the index
+    stream: a software renderer's vertex stage (llvmpipe's, on one thread) reuses a vertex it
+    shaded only within a short run of indices, and wedge after wedge it shaded each column of
+    vertices twice."""
     step = 2.0 * math.pi / segments
     knee = aspect * height if aspect > 0.0 else math.inf  # where the cells start to stretch
     radii = [0.0, inner]
@@ -63,7 +73,11 @@ def polar_grid(segments: int, inner: float, extent: float, aspect: float = 0.0,
     quads = np.stack([a, b, b + 1, a, b + 1, a + 1], axis=-1).reshape(segments, -1, 3)
     fan = np.stack([np.zeros_like(first), after, first], axis=-1)
     # (θ grows from +x toward +z, so θ_j → θ_{j+1} → outward is counter-clockwise seen from +y)
-    return vertices, np.concatenate([fan, quads], axis=1).astype("u4").ravel()
+    wedges = np.concatenate([fan, quads], axis=1)  # (segments, triangles a wedge, 3)
+    per = wedges.shape[1]
+    order = [wedges[g:g + GROUP, c:c + CHUNK].reshape(-1, 3)
+             for g in range(0, segments, GROUP) for c in range(0, per, CHUNK)]
+    return vertices, np.concatenate(order).astype("u4").ravel()
 
 
 def stretch_height(current: float, camera_height: float) -> float:
@@ -106,6 +120,18 @@ def visible_wedges(camera, aspect: float, segments: int, margin: int = 2):
     return first % segments, 2 * half + 2
 
 
+def whole_groups(first: int, count: int, segments: int):
+    """The run of whole groups of :data:`GROUP` wedges (first, count) that covers the wedges
+    ``first`` … ``first + count − 1`` (mod ``segments``), or None when that is every wedge."""
+    start = first - first % GROUP
+    end = first + count
+    if end <= segments:
+        end = min(-(-end // GROUP) * GROUP, segments)
+    else:  # the run wraps past the last wedge: its tail in whole groups from wedge 0
+        end = segments + -(-(end - segments) // GROUP) * GROUP
+    return None if end - start >= segments else (start, end - start)
+
+
 class OceanMesh:
     """The polar grid's GPU buffers (remade when its shape changes) and the draw of the wedges
     in view."""
@@ -134,8 +160,9 @@ class OceanMesh:
     def draw(self, prog, camera, aspect: float, segments: int, inner: float, extent: float,
              cull: bool, cell_aspect: float = 0.0) -> None:
         """Draw the grid with ``prog`` (attribute ``in_polar``): every wedge, or with ``cull``
-        only those :func:`visible_wedges` finds; far cells stretched to ``cell_aspect`` (0: none)
-        for the camera's height (:func:`stretch_height`, kept between frames)."""
+        the whole groups of those :func:`visible_wedges` finds; far cells stretched to
+        ``cell_aspect`` (0: none) for the camera's height (:func:`stretch_height`, kept
+        between frames)."""
         height = 1.0
         if cell_aspect > 0.0:
             height = self.height = stretch_height(self.height, camera.position[1])
@@ -143,6 +170,8 @@ class OceanMesh:
         vao = prog.vao([(vbo, "3f", "in_polar")], index_buffer=ibo)
         per = 3 * self.triangles // segments  # indices per wedge
         wedges = visible_wedges(camera, aspect, segments) if cull else None
+        if wedges is not None:
+            wedges = whole_groups(*wedges, segments)
         if wedges is None:
             vao.render(moderngl.TRIANGLES)
             self.drawn = self.triangles
