@@ -375,6 +375,11 @@ class ParamSet:
             self._bump(param.group)
         return value
 
+    def set_many(self, values: Mapping[str, Any]) -> None:
+        """:meth:`set` each of ``values``, in order."""
+        for name, value in values.items():
+            self.set(name, value)
+
     def joints(self) -> list[Joint]:
         """The rules between this set's parameters (each once; a rule naming a parameter the
         scene does not have is left out)."""

@@ -47,6 +47,12 @@ class Session:
         self.scene.release()
         self.gpu.release()
 
+    def __enter__(self) -> Session:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.release()
+
 
 def scene_params(scene_name: str, shader_root=None, sets: Iterable[str] = (),
                  preset: str | None = None, view=None) -> ParamSet:

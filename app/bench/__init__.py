@@ -27,7 +27,7 @@ from typing import Callable
 
 from ..effects.base import Pass
 from ..gpu.programs import draw_fullscreen, fullscreen
-from ..gpu.timing import BETWEEN_PASSES, FrameClock, time_interleaved
+from ..gpu.timing import BETWEEN_PASSES, FrameClock, quartiles_of, time_interleaved
 from ..imageio import next_free_path, write_text_atomic
 from ..runtime import Session
 
@@ -146,12 +146,6 @@ def at_most(size: tuple[int, int], limit: tuple[int, int]) -> tuple[int, int]:
     return min(int(size[0]), int(limit[0])), min(int(size[1]), int(limit[1]))
 
 
-def per_draw(timing, draws: int) -> None:
-    """Turn a reference's times per run of ``draws`` draws into times per draw."""
-    timing.wall_ms[:] = [t / draws for t in timing.wall_ms]
-    timing.gpu_ms[:] = [t / draws for t in timing.gpu_ms]
-
-
 def ratio_text(q: dict) -> str:
     """A time ratio's median, quartiles and rounds: ``×1.23 [1.10–1.40] over 9 rounds``."""
     return f"×{q['median']:.2f} [{q['p25']:.2f}–{q['p75']:.2f}] over {q['n']} rounds"
@@ -193,15 +187,6 @@ def write_chart(fig, path, force: bool = False, title: str | None = None) -> Non
 ROUNDS_BUDGET_S = 6.0
 
 
-def _gpu_quartiles(values: list[float]) -> tuple[float, float, float]:
-    import statistics
-
-    if len(values) < 2:
-        return values[0], values[0], values[0]
-    q = statistics.quantiles(values, n=4, method="inclusive")
-    return q[0], q[1], q[2]
-
-
 #: the part of a frame that is the scene's update step: every effect's CPU work (simulation,
 #: the slots it fills, the uniforms it computes ahead of its passes)
 CPU_PART = "CPU: simulation/uniforms"
@@ -241,7 +226,7 @@ def _accounting(result, records: list[tuple[dict, dict]], passes: dict) -> dict:
         names.append(BETWEEN_PASSES)
     table: dict = {}
     for name in names:
-        p25, med, p75 = _gpu_quartiles([parts.get(name, 0.0) for parts, _ in records])
+        p25, med, p75 = quartiles_of([parts.get(name, 0.0) for parts, _ in records])
         entry = {"median_ms": med, "p25_ms": p25, "p75_ms": p75,
                  "issue_median_ms": statistics.median(issue.get(name, 0.0)
                                                       for _, issue in records)}
@@ -328,7 +313,9 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
         variants[ACCOUNTED] = accounted_frame
         result = time_interleaved(gpu.ctx, variants, warmup, repeat,
                                   seed=seed, gpu_queries=hardware, budget_s=budget_s)
-        per_draw(result.timings["reference.fullscreen"], draws)
+        reference = result.timings["reference.fullscreen"]  # its times per draw
+        reference.wall_ms[:] = [t / draws for t in reference.wall_ms]
+        reference.gpu_ms[:] = [t / draws for t in reference.gpu_ms]
         counts, pipeline_status = _pipeline(gpu, target, [single, *passes[1:]], inner)
     finally:
         gpu.free(target)
@@ -348,7 +335,7 @@ def bench_scene(session: Session, size: tuple[int, int], warmup: int = 3, repeat
         entry["median_ms"] = med
         if t.gpu_ms:  # GPU timer queries (hardware only): their quartiles too
             entry["gpu_p25_ms"], entry["gpu_median_ms"], entry["gpu_p75_ms"] = \
-                _gpu_quartiles(t.gpu_ms)
+                quartiles_of(t.gpu_ms)
         if name in counts:
             c = counts[name]
             entry.update(c)

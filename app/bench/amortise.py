@@ -149,8 +149,7 @@ def sweep(session, group: str, size, warmup: int = 1, repeat: int = 3) -> dict:
                          "resets_in_pan": eff.amortiser.resets - resets})
     finally:
         gpu.free(target)
-        for k, v in saved.items():
-            p.set(k, v)
+        p.set_many(saved)
         eff.jitter_phase = saved_phase
         eff.amortiser.release()
         cam.set(yaw=yaw, pitch=pitch)

@@ -53,11 +53,6 @@ BUDGET_FACTOR = 1.5
 BUDGET_BASIS = "default integration, uniform 64 steps"
 
 
-def _apply(params, values: dict) -> None:
-    for k, v in values.items():
-        params.set(k, v)
-
-
 def default_march(params) -> dict:
     """The app's default march: each of ``MARCH_KEYS`` at its default, reprojection off (a
     single render marches every pixel)."""
@@ -76,17 +71,14 @@ def _steady_frame_ms(session, size, warmup: int, repeat: int) -> tuple[float, np
     ``warmup`` untimed runs (it builds what the configuration changed; the layer it leaves is
     the one every later frame leaves)."""
     gpu = session.gpu
-    target = gpu.target("bench", "clouds frame", size)
-    reprojecting = session.params["clouds.reprojection"] != "off"
-    try:
+    with gpu.scratch_target("bench", "clouds frame", size) as target:
+        reprojecting = session.params["clouds.reprojection"] != "off"
         frame = session.scene.frame(size)
         for _ in range(17 if reprojecting else 1):
             session.scene.render(frame, target)  # fill the history (static camera, wind 0)
         ms = time_call(gpu.ctx, "frame", lambda: session.scene.render(frame, target),
                        warmup if reprojecting else max(0, warmup - 1), repeat).median_ms
         return ms, _layer(session, size)
-    finally:
-        gpu.free(target)
 
 
 def table(session, sizes=DEFAULT_SIZES, warmup: int = 1, repeat: int = 3) -> dict:
@@ -96,9 +88,9 @@ def table(session, sizes=DEFAULT_SIZES, warmup: int = 1, repeat: int = 3) -> dic
     for preset in PRESETS:
         p.set("clouds.preset", preset)
         for size in sizes:
-            _apply(p, THESIS)
+            p.set_many(THESIS)
             thesis_ms, _ = _steady_frame_ms(session, tuple(size), warmup, repeat)
-            _apply(p, SPEED)
+            p.set_many(SPEED)
             fast_ms, _ = _steady_frame_ms(session, tuple(size), warmup, repeat)
             rows.append({"preset": preset, "size": list(size), "thesis_ms": thesis_ms,
                          "speed_work_ms": fast_ms, "speedup": thesis_ms / fast_ms})
@@ -116,15 +108,14 @@ def accuracy(session, size=(160, 90), warmup: int = 1, repeat: int = 3,
              preset: str = "cumulus") -> dict:
     p = session.params
     session.scene.interactive = True
-    p.set("clouds.preset", preset)
-    p.set("clouds.wind_speed", 0.0)
-    _apply(p, REFERENCE)
+    p.set_many({"clouds.preset": preset, "clouds.wind_speed": 0.0})
+    p.set_many(REFERENCE)
     _, ref = _steady_frame_ms(session, size, 0, 1)
     rows = []
 
     def measure(label, values, base=THESIS):
-        _apply(p, base)
-        _apply(p, values)
+        p.set_many(base)
+        p.set_many(values)
         ms, layer = _steady_frame_ms(session, size, warmup, repeat)
         d = np.abs(layer - ref).max(axis=-1)
         rows.append({"config": label, "ms": ms, "mean": float(d.mean()),
@@ -159,17 +150,13 @@ def accuracy(session, size=(160, 90), warmup: int = 1, repeat: int = 3,
             "budget": budget(rows, default)}
 
 
-def _default_label(default: dict) -> str:
-    return (f"default {'adaptive' if default['clouds.adaptive_steps'] else 'uniform'} "
-            f"{default['clouds.steps']} steps")
-
-
 def budget(rows: list[dict], default: dict) -> dict:
     """The error budget (``BUDGET_FACTOR`` × the uniform 64-step march at the default
     integration) and whether the default march meets it."""
     by = {r["config"]: r for r in rows}
     basis = by["default uniform 64 steps"]
-    chosen = by[_default_label(default)]
+    chosen = by[f"default {'adaptive' if default['clouds.adaptive_steps'] else 'uniform'} "
+                f"{default['clouds.steps']} steps"]
     bound = BUDGET_FACTOR * basis["mean"]
     return {"factor": BUDGET_FACTOR, "basis": BUDGET_BASIS, "basis_mean": basis["mean"],
             "mean_bound": bound, "default": chosen["config"], "default_mean": chosen["mean"],
@@ -184,16 +171,14 @@ def default_change(session, sizes=((160, 90), (320, 180)), warmup: int = 1, roun
     512-step reference."""
     p = session.params
     session.scene.interactive = True
-    p.set("clouds.preset", preset)
-    p.set("clouds.wind_speed", 0.0)
+    p.set_many({"clouds.preset": preset, "clouds.wind_speed": 0.0})
     gpu = session.gpu
     out = []
     for size in sizes:
         size = tuple(int(v) for v in size)
-        _apply(p, REFERENCE)
+        p.set_many(REFERENCE)
         _, ref = _steady_frame_ms(session, size, 0, 1)
-        target = gpu.target("bench", "clouds default", size)
-        try:
+        with gpu.scratch_target("bench", "clouds default", size) as target:
             frame = session.scene.frame(size)
             variants = {}
             errors = {}
@@ -201,7 +186,7 @@ def default_change(session, sizes=((160, 90), (320, 180)), warmup: int = 1, roun
                 values = {**default_march(p), "clouds.adaptive_steps": adaptive}
 
                 def run(values=values):
-                    _apply(p, values)
+                    p.set_many(values)
                     session.scene.render(frame, target)
 
                 variants[name] = run
@@ -209,8 +194,6 @@ def default_change(session, sizes=((160, 90), (320, 180)), warmup: int = 1, roun
                 d = np.abs(_layer(session, size) - ref).max(axis=-1)
                 errors[name] = {"mean": float(d.mean()), "p99": float(np.percentile(d, 99))}
             timed = time_interleaved(gpu.ctx, variants, max(0, warmup - 1), rounds)
-        finally:
-            gpu.free(target)
         out.append({"size": list(size), "rounds": timed.rounds,
                     "ratio": timed.ratio("after", "before"),
                     "before_ms": timed.quartiles("before")[1],
@@ -229,13 +212,11 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None) -> dict:
                "default_change": default_change(session, sizes=change_sizes, warmup=warmup,
                                                 rounds=max(5, 3 * repeat)),
                "table": table(session, sizes or DEFAULT_SIZES, warmup, repeat)}
-        for k, v in saved.items():
-            session.params.set(k, v)
+        session.params.set_many(saved)
         out["amortised"] = amortise.sweep(session, "clouds", at_most(size, (320, 180)), warmup,
                                           repeat)
     finally:
-        for k, v in saved.items():
-            session.params.set(k, v)
+        session.params.set_many(saved)
         session.scene.interactive = False
     return out
 

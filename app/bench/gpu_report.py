@@ -106,12 +106,9 @@ def run(plan: Plan, progress=print) -> dict:
 
     for scene in SCENES:
         t0 = time.perf_counter()
-        session = open_session(scene, declared.pop(scene), ctx=ctx)
-        try:
+        with open_session(scene, declared.pop(scene), ctx=ctx) as session:
             bench = bench_scene(session, plan.size, plan.warmup, plan.rounds,
                                 budget_s=plan.budget_s)
-        finally:
-            session.release()
         report["scenes"][scene] = _frame_entry(bench)
         f = report["scenes"][scene]
         progress(f"{scene}: frame {f['median_ms']:.2f} ms wall"

@@ -74,9 +74,8 @@ def wake_angle(ctx, shader_root=None, size=WAKE_SIZE) -> dict:
     from ..runtime import open_session, scene_params
     from ..sim.wake import KELVIN_HALF_ANGLE, ridge_angle
 
-    s = open_session("maritime", scene_params("maritime", shader_root, WAKE_SETS),
-                     shader_root=shader_root, ctx=ctx)
-    try:
+    with open_session("maritime", scene_params("maritime", shader_root, WAKE_SETS),
+                      shader_root=shader_root, ctx=ctx) as s:
         sc = s.scene
         frame = sc.frame(size, 0.0)
         (trail,) = frame.wakes  # the boat's trail, through the frame's slot
@@ -114,8 +113,6 @@ def wake_angle(ctx, shader_root=None, size=WAKE_SIZE) -> dict:
         cusp = -((trail.positions - apex) @ bow) - trail.speeds * (now - trail.times) / 3.0
         reach = float(cusp[trail.speeds >= WAKE_STEADY * trail.speeds[0]].max())
         speed = float(trail.speeds[0])
-    finally:
-        s.release()
     out: dict = {"renders": {}, "theory": math.degrees(KELVIN_HALF_ANGLE),
                  "metres_per_pixel": 2 * WAKE_HEIGHT * t / size[1],
                  "span_m": [WAKE_START, reach - 2.0], "speed": speed}

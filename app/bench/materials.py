@@ -63,9 +63,8 @@ def tessellation(session, sizes=TESSELLATION_SIZES, warmup: int = 2, rounds: int
     try:
         for size in sizes:
             size = tuple(int(v) for v in size)
-            target = gpu.target("bench", "tessellation", size)
-            frame = session.scene.frame(size)
-            try:
+            with gpu.scratch_target("bench", "tessellation", size) as target:
+                frame = session.scene.frame(size)
                 variants, images, triangles = {}, {}, {}
                 for mode in ("fixed", "auto"):
                     draw = _render(session, eff, target, frame)
@@ -79,8 +78,6 @@ def tessellation(session, sizes=TESSELLATION_SIZES, warmup: int = 2, rounds: int
                     images[mode] = _display(target.read())
                     triangles[mode] = eff.triangles()
                 timed = time_interleaved(gpu.ctx, variants, warmup, rounds)
-            finally:
-                gpu.free(target)
             d = np.abs(images["auto"] - images["fixed"]).max(axis=-1)
             rows.append({"size": list(size), "rounds": timed.rounds,
                          "ratio": timed.ratio("auto", "fixed"),
@@ -162,8 +159,8 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
         out["baked_vs_per_pixel"] = {"size": list(size), "rows": rows}
 
         # 3. hard against filtered ring edges, rings finer than pixels
-        params.set("materials.objects", "slice")
-        params.set("wood.vol_tex_scale", (1.0, 1.0, 1.0, 70.0))
+        params.set_many({"materials.objects": "slice",
+                         "wood.vol_tex_scale": (1.0, 1.0, 1.0, 70.0)})
         small, ss = 64, 8
         big = gpu.target("bench", "supersampled", (small * ss, small * ss))
         tiny = gpu.target("bench", "small", (small, small))
@@ -192,8 +189,7 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
         out["tessellation"] = tessellation(session, sizes or TESSELLATION_SIZES, warmup,
                                            max(9, 2 * repeat))
     finally:
-        for name, value in saved.items():
-            params.set(name, value)
+        params.set_many(saved)
     return out
 
 

@@ -103,15 +103,12 @@ def _frame_ms(session, size, warmup: int, repeat: int) -> float:
     """Median ms of ``scene.frame(size, dt=1/30)`` + ``scene.render``; ``warmup`` untimed frames
     first, at least one (it builds what a configuration change made stale)."""
     gpu = session.gpu
-    target = gpu.target("bench", "ocean frame", tuple(size))
-    try:
+    with gpu.scratch_target("bench", "ocean frame", tuple(size)) as target:
         def one():
             session.scene.render(session.scene.frame(tuple(size), DT), target)
 
         one()
         return time_call(gpu.ctx, "frame", one, max(0, warmup - 1), repeat).median_ms
-    finally:
-        gpu.free(target)
 
 
 def _sim_ms(session, warmup: int, repeat: int) -> float:
@@ -223,8 +220,7 @@ def simulation_comparison(session, size, warmup: int = 2, rounds: int = 5,
     p = session.params
     eff = session.scene.effect("ocean")
     gpu = session.gpu
-    p.set("ocean.model", "fft")
-    p.set("ocean.simulation", "view")
+    p.set_many({"ocean.model": "fft", "ocean.simulation": "view"})
     target = gpu.target("bench", "ocean simulation", tuple(size))
     sims: dict[str, GpuOceanSim] = {}
     try:
@@ -340,8 +336,7 @@ def fft_sweep(session, size, fft_sizes=FFT_SIZES, cascades=CASCADES, warmup: int
             row = {"fft_size": int(n), "cascades": int(c), "patch_sizes": all_sizes[:c]}
             try:
                 row["bands"] = [list(b) for b in oc.cascade_bands(int(n), all_sizes[:c])]
-                p.set("ocean.fft_size", str(n))
-                p.set("ocean.cascades", int(c))
+                p.set_many({"ocean.fft_size": str(n), "ocean.cascades": int(c)})
                 row["ms_frame"] = _frame_ms(session, size, warmup, repeat)
                 row["ms_sim"] = _sim_ms(session, warmup, repeat)
             except ParamError as exc:
@@ -404,9 +399,7 @@ def gerstner_sweep(session, size, counts=GERSTNER_COUNTS, fft=FFT_COMPARE, warmu
            "repeat_lengths_m": all_sizes[:c]}
     try:
         oc.cascade_bands(int(n), all_sizes[:c])
-        p.set("ocean.model", "fft")
-        p.set("ocean.fft_size", str(n))
-        p.set("ocean.cascades", int(c))
+        p.set_many({"ocean.model": "fft", "ocean.fft_size": str(n), "ocean.cascades": int(c)})
         row["ms_frame"] = _frame_ms(session, size, warmup, repeat)
     except ParamError as exc:
         row["skipped"] = str(exc)

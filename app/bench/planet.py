@@ -66,8 +66,7 @@ def _frame_ms(session, size, warmup, repeat, scattering_only: bool = False,
     changed (at least that one runs: the LUTs, the shadow map and the G-buffer at this size)."""
     gpu = session.gpu
     eff = session.scene.effect("planet")
-    target = gpu.target("bench", "planet frame", size)
-    try:
+    with gpu.scratch_target("bench", "planet frame", size) as target:
         frame = session.scene.frame(size)
         session.scene.render(frame, target)  # builds LUTs, shadow map, G-buffer at this size
         runs = {"frame": lambda: session.scene.render(frame, target),
@@ -77,8 +76,6 @@ def _frame_ms(session, size, warmup, repeat, scattering_only: bool = False,
         ms = [time_call(gpu.ctx, part, runs[part], _warmup_after_build(warmup),
                         repeat).median_ms for part in parts]
         return tuple(ms) if both else ms[0]
-    finally:
-        gpu.free(target)
 
 
 def thesis_table(session, sizes=DEFAULT_SIZES, warmup: int = 2, repeat: int = 5,
@@ -165,14 +162,12 @@ def method_1_at_defaults(session, size, ref) -> dict:
     p = session.params
     saved = {k: p[k] for k in ("planet.method",) + METHOD_1_KNOBS}
     try:
-        for k in METHOD_1_KNOBS:
-            p.set(k, p.spec(k).default)
+        p.set_many({k: p.spec(k).default for k in METHOD_1_KNOBS})
         p.set("planet.method", "brute_force")
         rule = session.scene.effect("planet").pc_rule()
         got_in, got_t = _render_debug(session, size, "ground")
     finally:
-        for k, v in saved.items():
-            p.set(k, v)
+        p.set_many(saved)
     errs = _errors(got_in, got_t, ref)
     ref_mean = float(ref["in_scatter"].max(axis=-1).mean())
     return {**errs, "in_rel_mean": errs["in_mean"] / max(ref_mean, 1e-30),
@@ -186,8 +181,7 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
              hillaire: bool = True, ozone: bool = True) -> dict:
     p = session.params
     _set_view(session, "ground")
-    p.set("planet.sun_disk", False)
-    p.set("planet.star_intensity", 0.0)
+    p.set_many({"planet.sun_disk": False, "planet.star_intensity": 0.0})
     ref = reference_for_view(session, size, ref_steps)
     method_1 = method_1_at_defaults(session, size, ref)
     rows = []
@@ -204,8 +198,7 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
                                "atmosphere.ozone")}
     try:
         for n in steps_list:
-            p.set("planet.n_steps", n)
-            p.set("planet.inner_steps", n)
+            p.set_many({"planet.n_steps": n, "planet.inner_steps": n})
             measure("brute_force", "n_steps", n)
             measure("lut", "n_steps", n)
             measure("shadowed", "n_steps", n)
@@ -213,18 +206,14 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
         for n in steps_list:
             p.set("planet.n_steps", n)
             measure("lut", "n_steps, thesis τ(PC) rule", n)
-        p.set("planet.pc_rule", saved["planet.pc_rule"])
-        p.set("planet.n_steps", saved["planet.n_steps"])
-        p.set("planet.inner_steps", saved["planet.inner_steps"])
+        p.set_many({k: saved[k] for k in ("planet.pc_rule", "planet.n_steps",
+                                          "planet.inner_steps")})
         for size_ in lut_sizes:
-            p.set("planet.lut_height", size_)
-            p.set("planet.lut_angle", size_)
+            p.set_many({"planet.lut_height": size_, "planet.lut_angle": size_})
             measure("lut", "lut_size", size_)
-        p.set("planet.lut_height", saved["planet.lut_height"])
-        p.set("planet.lut_angle", saved["planet.lut_angle"])
+        p.set_many({k: saved[k] for k in ("planet.lut_height", "planet.lut_angle")})
         # the shadow-map knob against the same method with a very large map
-        p.set("planet.method", "shadowed")
-        p.set("planet.shadow_map_size", 8192)
+        p.set_many({"planet.method": "shadowed", "planet.shadow_map_size": 8192})
         best_in, best_t = _render_debug(session, size, "ground")
         best = {"in_scatter": best_in, "transmittance": best_t}
         for s in shadow_sizes:
@@ -249,8 +238,7 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
                 measure(method, "ozone layer on", 1.0, ref_ozone)
             p.set("atmosphere.ozone", saved["atmosphere.ozone"])
     finally:
-        for k, v in saved.items():
-            p.set(k, v)
+        p.set_many(saved)
     return {"size": list(size), "time_size": list(time_size), "reference_steps": ref_steps,
             "rows": rows, "method_1_defaults": method_1}
 
@@ -259,13 +247,10 @@ def _final_image(session, size, view: str) -> np.ndarray:
     """The final linear image (h, w, 3) of ``view`` at ``size``."""
     _set_view(session, view)
     gpu = session.gpu
-    target = gpu.target("bench", "planet change", size)
-    try:
+    with gpu.scratch_target("bench", "planet change", size) as target:
         frame = session.scene.frame(size)
         session.scene.render(frame, target)
         return target.read()[..., :3].astype(np.float64)
-    finally:
-        gpu.free(target)
 
 
 def _diff(before: np.ndarray, after: np.ndarray) -> dict:
@@ -284,14 +269,12 @@ def _variants(session, size, settings: dict, scattering_only: bool = False) -> t
     target = gpu.target("bench", "planet changes", size)
     runs = {}
     for name, sets in settings.items():
-        for k, v in sets.items():
-            p.set(k, v)
+        p.set_many(sets)
         frame = session.scene.frame(size)
         session.scene.render(frame, target)  # programs, bakes and the G-buffer at this size
 
         def run(sets=sets, frame=frame):
-            for k, v in sets.items():
-                p.set(k, v)
+            p.set_many(sets)
             if scattering_only:
                 eff.render_composite(frame, target)
             else:
@@ -319,8 +302,7 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
     saved = {k: p[k] for k in keys}
     out: dict = {"size": list(size), "rounds": rounds, "n_steps": 30}
     try:
-        p.set("planet.n_steps", 30)
-        p.set("planet.inner_steps", 30)
+        p.set_many({"planet.n_steps": 30, "planet.inner_steps": 30})
         # 1. hardware depth compares (method 3: the filter on every Phong surface and ground
         #    pixel, and one comparison per integral sample)
         shadow = {c: {"planet.method": "shadowed", "planet.shadow_compare": c}
@@ -329,8 +311,7 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
         for view in VIEWS:
             imgs = {}
             for c, sets in shadow.items():
-                for k, v in sets.items():
-                    p.set(k, v)
+                p.set_many(sets)
                 imgs[c] = _final_image(session, size, view)
             err[view] = _diff(imgs["manual"], imgs["hardware"])
         _set_view(session, "ground")
@@ -357,8 +338,7 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
             for m in ("brute_force", "lut"):
                 imgs = {}
                 for n, sets in steps.items():
-                    for k, v in {"planet.method": m, **sets}.items():
-                        p.set(k, v)
+                    p.set_many({"planet.method": m, **sets})
                     imgs[n] = _final_image(session, size, view)
                 err[f"{view}:{m}"] = _diff(imgs["live"], imgs["baked"])
                 err_pass[f"{view}:{m}"] = _diff(imgs["baked"], imgs["gbuffer"])
@@ -384,8 +364,7 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
                                "bake_size": p["planet.ground_noise_size"]}
         out["ground_pass"] = {"view": "ground", **pass_result, "error": err_pass}
     finally:
-        for k, v in saved.items():
-            p.set(k, v)
+        p.set_many(saved)
     return out
 
 
@@ -396,15 +375,13 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None) -> dict:
     p = session.params
     saved = {k: p[k] for k in PER_PIXEL}
     try:
-        for k, v in PER_PIXEL.items():
-            p.set(k, v)
+        p.set_many(PER_PIXEL)
         table = thesis_table(session, table_sizes, warmup, repeat)
         acc = accuracy(session, size=at_most(size, (64, 36)), time_size=small,
                        warmup=max(1, warmup - 1), repeat=max(2, repeat // 2))
         done = changes(session, small, warmup=max(1, warmup - 1), rounds=max(5, repeat))
     finally:
-        for k, v in saved.items():
-            p.set(k, v)
+        p.set_many(saved)
     done["march_scale"] = march_scale_change(session, at_most(size, (640, 360)),
                                              warmup=max(1, warmup - 1), rounds=max(5, repeat))
     # a bench scaled down (--size at most 320x180, as the examples run it) scales the
@@ -472,8 +449,7 @@ def march_scale_change(session, size=(640, 360), warmup: int = 1, rounds: int = 
     try:
         p.set("planet.method", "shadowed")
         for view, sun in (("ground", {}), ("shafts", SHAFT_SUN)):
-            for k, v in {**{k: saved[k] for k in keys[2:]}, **sun}.items():
-                p.set(k, v)
+            p.set_many({**{k: saved[k] for k in keys[2:]}, **sun})
             v = SHAFT_VIEW if view == "shafts" else VIEWS["ground"]
             session.scene.camera.set(**v)
             imgs, alone = {}, {}
@@ -503,8 +479,7 @@ def march_scale_change(session, size=(640, 360), warmup: int = 1, rounds: int = 
                 entry[f"{part}_ms"] = {sc: timed.quartiles(sc)[1] for sc in scales}
             out["views"][view] = entry
     finally:
-        for k, v in saved.items():
-            p.set(k, v)
+        p.set_many(saved)
         _set_view(session, "ground")
     return out
 
@@ -512,12 +487,9 @@ def march_scale_change(session, size=(640, 360), warmup: int = 1, rounds: int = 
 def _final_image_at(session, size) -> np.ndarray:
     """The final linear image (h, w, 3) of the current camera at ``size``."""
     gpu = session.gpu
-    target = gpu.target("bench", "planet change", size)
-    try:
+    with gpu.scratch_target("bench", "planet change", size) as target:
         session.scene.render(session.scene.frame(size), target)
         return target.read()[..., :3].astype(np.float64)
-    finally:
-        gpu.free(target)
 
 
 def chart(report: dict, path, force: bool = False) -> None:

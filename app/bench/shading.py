@@ -169,8 +169,7 @@ def _pass(session, target, frame, sets: dict):
     eff = session.scene.effect("shading")
 
     def run():
-        for name, value in sets.items():
-            params.set(name, value)
+        params.set_many(sets)
         target.clear()
         eff.draw(frame, target)
 
@@ -189,9 +188,7 @@ def parallax_sweep(session, size, warmup: int, repeat: int, angles=ANGLES,
     size = tuple(int(v) for v in size)
     aspect = size[0] / size[1]
     saved_camera = scene.camera
-    params.set("shading.object", "wall")
-    params.set("shading.turntable", 0.0)
-    params.set("shading.maps", True)
+    params.set_many({"shading.object": "wall", "shading.turntable": 0.0, "shading.maps": True})
     target = gpu.target("bench", "shading parallax", size)
     rows: list[dict] = []
     views: list[dict] = []
@@ -257,11 +254,9 @@ def lighting_sweep(session, size, warmup: int, repeat: int) -> dict:
     params = session.params
     gpu = session.gpu
     size = tuple(int(v) for v in size)
-    params.set("shading.object", "all")
-    params.set("shading.turntable", 0.0)
-    target = gpu.target("bench", "shading lighting", size)
-    variants, keys = {}, {}
-    try:
+    params.set_many({"shading.object": "all", "shading.turntable": 0.0})
+    with gpu.scratch_target("bench", "shading lighting", size) as target:
+        variants, keys = {}, {}
         frame = session.scene.frame(size)
         for lm, lm_name in enumerate(LIGHTING_MODELS):
             for toon, toon_name in enumerate(TOON_MODES):
@@ -273,8 +268,6 @@ def lighting_sweep(session, size, warmup: int, repeat: int) -> dict:
                         "shading.gouraud": gouraud})
         timed = time_interleaved(gpu.ctx, variants, warmup, repeat, budget_s=SET_BUDGET_S,
                                  min_rounds=min(3, max(1, repeat)))
-    finally:
-        gpu.free(target)
     base = "Blinn-Phong/none/fragment"
     rows = []
     for key, (lm_name, toon_name, gouraud) in keys.items():
@@ -299,8 +292,7 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None, angles=AN
     try:
         out["parallax"] = [parallax_sweep(session, s, warmup, repeat, angles, layers)
                            for s in render_sizes]
-        for name, value in saved.items():
-            params.set(name, value)
+        params.set_many(saved)
         bricks = surface_maps.bricks(256)
         out["critical_angle"] = critical_angle(bricks.height.astype(np.float64),
                                                bricks.albedo.astype(np.float64), angles,
@@ -315,8 +307,7 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None, angles=AN
                                           surfaces_speed.SHADING_PASSES, warmup=warmup,
                                           rounds=max(3, repeat), budget_s=SPEED_BUDGET_S)
     finally:
-        for name, value in saved.items():
-            params.set(name, value)
+        params.set_many(saved)
     return out
 
 

@@ -73,9 +73,8 @@ class _Lab:
         self.gpu = gpu
         self.size = size
         self.params = ParamSet(outline_params())
-        self.params.set("shading.contour_color", tuple(RED))
-        self.params.set("shading.contour_width", WIDTH)
-        self.params.set("shading.contour_rim", RIM)
+        self.params.set_many({"shading.contour_color": tuple(RED),
+                              "shading.contour_width": WIDTH, "shading.contour_rim": RIM})
         self.outlines = Outlines(gpu, OWNER, self.params)
         one = np.array([0.0, 1.0, 0.0, 0.0], "f4").tobytes()
         self.tex = gpu.texture(OWNER, "one", (1, 1), 4, data=one)

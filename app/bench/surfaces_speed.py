@@ -65,8 +65,7 @@ def _apply(params, saved: dict, sets: dict) -> None:
     for name, value in saved.items():
         if params[name] != value:
             params.set(name, value)
-    for name, value in sets.items():
-        params.set(name, value)
+    params.set_many(sets)
 
 
 def _display(session, image: np.ndarray) -> np.ndarray:

@@ -127,8 +127,7 @@ def capture_layers(tr, target, vp, eye, light, quads) -> dict:
     keep = dict(tr.overrides)
     settings = {"surfaces.transparency": "sorted", "surfaces.zwrite_blended": True}
     before = {k: params[k] for k in settings}
-    for k, v in settings.items():
-        params.set(k, v)
+    params.set_many(settings)
     try:
         for entry in blended:
             tr.overrides[entry[0].name] = ("blend", None)  # drawn with depth writes
@@ -152,8 +151,7 @@ def capture_layers(tr, target, vp, eye, light, quads) -> dict:
     finally:
         tr.overrides.clear()
         tr.overrides.update(keep)
-        for k, v in before.items():
-            params.set(k, v)
+        params.set_many(before)
     for k in ("premultiplied", "alpha", "depth"):
         out[k] = np.asarray(out[k]).reshape((len(blended), *base_depth.shape,
                                              *((3,) if k == "premultiplied" else ())))
@@ -216,8 +214,7 @@ def run(gpu, size=(256, 256), quick: bool = False) -> dict:
             vp = look_at(eye, at, fov, size[0] / size[1])
 
             def draw(sets, vp=vp, eye=eye):
-                for k, v in sets.items():
-                    params.set(k, v)
+                params.set_many(sets)
                 target.clear()
                 tr.draw(target, vp, eye, LIGHT, quads)
                 for k in sets:

@@ -1,21 +1,12 @@
 """Speed against accuracy for the toon village (spec/003 §2.9–2.11, §2.15, criterion 37), one
-section per effect of the scene, each against its own reference:
+section per effect of the scene, each against its own reference; each section's module
+docstring says what it measures:
 
-1. **grass** (app/bench/village_grass.py) — the three grass methods (the thesis's
-   geometry-shader blades, its crossed billboards, instanced Bézier blades) at equal blade
-   counts from 10k to 1M: ms and blades per second; the screen coverage of crossed planes
-   n = 1…4 (the thesis's "from three planes it is practically the same"); chart ``NAME.png``;
-2. **fog** (village_fog.py) — the per-vertex fog factor (the thesis's) against the exact
-   per-pixel one on triangles from small to large, and the analytic height fog against its
-   numeric integral, against ms; chart ``NAME-fog.png``;
-3. **water** (village_water.py) — the simple and complex stylised water and the depth-fog
-   variants, ms, and the Fresnel ramp against the fifth power it replaces; chart
-   ``NAME-water.png``;
-4. **vr** (village_vr.py) — a stereo frame against a mono frame at several eye render scales;
-   chart ``NAME-vr.png``;
-5. **look** (village_look.py) — the toon look against Lambert / Blinn–Phong on the lit houses,
-   props and people: distinct luma levels and mean saturation (criterion 37), and the cost of
-   the toon shading; chart ``NAME-look.png``.
+1. **grass** (app/bench/village_grass.py), chart ``NAME.png``;
+2. **fog** (village_fog.py), chart ``NAME-fog.png``;
+3. **water** (village_water.py), chart ``NAME-water.png``;
+4. **vr** (village_vr.py), chart ``NAME-vr.png``;
+5. **look** (village_look.py), chart ``NAME-look.png``.
 
 ``natura bench village --repeat N`` with N ≤ :data:`QUICK_REPEAT` runs every section's quick
 variant (fewer sizes and counts, the same figures). On llvmpipe absolute times mean little;

@@ -45,10 +45,6 @@ TONEMAPS = ("clamp", "aces")
 OBJECT_GROUPS = (1, 2, 5)  # walls, solids, people
 
 
-def group_colour(group: int) -> np.ndarray:
-    return np.array([group & 1, (group >> 1) & 1, (group >> 2) & 1], np.float32) * 0.8 + 0.1
-
-
 def luma8(srgb8: np.ndarray) -> np.ndarray:
     """Rec. 709 luma of 8-bit sRGB pixels, rounded to integer levels."""
     return np.rint(srgb8[..., :3].astype(np.float64) @ [0.2126, 0.7152, 0.0722]).astype(int)
@@ -102,7 +98,8 @@ def run(gpu, quick: bool = False) -> dict:
         probe.params.set("village.debug", image_view)
         objects = np.zeros(groups.shape[:2], bool)
         for g in OBJECT_GROUPS:
-            objects |= np.all(np.abs(groups - group_colour(g)) < 1e-3, axis=-1)
+            colour = np.array([g & 1, (g >> 1) & 1, (g >> 2) & 1], np.float32) * 0.8 + 0.1
+            objects |= np.all(np.abs(groups - colour) < 1e-3, axis=-1)
         lit = objects & (shadow > 0.999)
         out["masked_pixels"] = int(lit.sum())
         out["object_pixels"] = int(objects.sum())

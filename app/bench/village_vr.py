@@ -68,8 +68,7 @@ def run(gpu, quick: bool = False) -> dict:
             counts[name] = [0, 0]  # shadow-map renders, frames
 
             def go() -> None:
-                params.set("vr.enabled", enabled)
-                params.set("vr.render_scale", scale)
+                params.set_many({"vr.enabled": enabled, "vr.render_scale": scale})
                 before = sun.renders if sun is not None else 0
                 scene.render(frame, target)
                 if sun is not None:

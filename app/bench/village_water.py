@@ -30,7 +30,7 @@ import numpy as np
 
 from ..effects.toon_water import ToonWater
 from ..frame import FrameContext, SceneImage
-from ..gpu.timing import time_interleaved
+from ..gpu.timing import quartiles_of, time_interleaved
 from ..params import ParamSet
 from ..sim import toon_water as tw
 from ..sim.camera import Camera
@@ -128,8 +128,7 @@ class WaterRig:
         self._saved = None
 
     def set(self, **values) -> WaterRig:
-        for k, v in values.items():
-            self.params.set(f"toon_water.{k}", v)
+        self.params.set_many({f"toon_water.{k}": v for k, v in values.items()})
         return self
 
     def write_backdrop(self, backdrop: Backdrop, camera: Camera) -> None:
@@ -177,12 +176,6 @@ class WaterRig:
         self.gpu.release_owner(self.owner)
 
 
-def _quartiles(values: list[float]) -> list[float]:
-    values = sorted(values)
-    return statistics.quantiles(values, n=4, method="inclusive") if len(values) > 1 \
-        else values * 3
-
-
 def _net(timed, name: str, reference: str, base: str) -> dict:
     """Median and quartiles over the rounds of (name − reference) ms, the raw median, and the
     per-round ratio of the net time to ``base``'s (load moves both sides of a round together)."""
@@ -190,7 +183,7 @@ def _net(timed, name: str, reference: str, base: str) -> dict:
     c = timed.timings[base].wall_ms
     diff = [x - y for x, y in zip(a, b)]
     ratio = [(x - y) / (z - y) for x, y, z in zip(a, b, c) if z - y > 0]
-    q, r = _quartiles(diff), _quartiles(ratio)
+    q, r = quartiles_of(diff), quartiles_of(ratio)
     return {"net_ms": q[1], "net_p25_ms": q[0], "net_p75_ms": q[2],
             "raw_ms": statistics.median(a), "rounds": len(diff),
             f"ratio_to_{base.replace(' ', '_')}": r[1], "ratio_p25": r[0], "ratio_p75": r[2]}

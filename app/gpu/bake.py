@@ -77,8 +77,7 @@ def bake_volume(gpu, owner: str, name: str, size: tuple[int, int, int], compute:
         prog = gpu.program(owner, fragment)
         setup(prog)
         prog.set("uBakeSize", size)
-        target = gpu.target(owner, f"{name} slice", size[:2], depth=False)
-        try:
+        with gpu.scratch_target(owner, f"{name} slice", size[:2], depth=False) as target:
             for z in range(size[2]):
                 target.use()
                 prog.set("uBakeSlice", z)
@@ -87,8 +86,6 @@ def bake_volume(gpu, owner: str, name: str, size: tuple[int, int, int], compute:
                 tex.write(data, viewport=(0, 0, z, size[0], size[1], 1))
                 if progress:
                     progress((z + 1) / size[2])
-        finally:
-            gpu.free(target)
     ctx.finish()
     return BakeResult(tex, time.perf_counter() - t0, "compute" if use_compute else "fragment")
 

@@ -143,6 +143,15 @@ class Gpu:
                             RenderTarget(self.ctx, size, dtype=dtype, depth=depth,
                                          samples=samples))
 
+    @contextlib.contextmanager
+    def scratch_target(self, owner: str, name: str, size, **kw) -> Iterator[RenderTarget]:
+        """:meth:`target` for a ``with`` block, freed after it."""
+        target = self.target(owner, name, size, **kw)
+        try:
+            yield target
+        finally:
+            self.free(target)
+
     def owned_by(self, owner: str) -> list[Allocation]:
         return [a for a in self.allocations if a.owner == owner]
 

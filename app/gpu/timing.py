@@ -62,13 +62,13 @@ class Interleaved:
 
     def quartiles(self, name: str) -> tuple[float, float, float]:
         """(p25, median, p75) of ``name``'s wall times in ms."""
-        return _quartiles(self.timings[name].wall_ms)
+        return quartiles_of(self.timings[name].wall_ms)
 
     def ratio(self, name: str, reference: str) -> dict:
         """Per-round ratios ``name / reference``: their median and quartiles."""
         a, b = self.timings[name].wall_ms, self.timings[reference].wall_ms
         rs = [x / y for x, y in zip(a, b) if y > 0]
-        p25, med, p75 = _quartiles(rs)
+        p25, med, p75 = quartiles_of(rs)
         return {"median": med, "p25": p25, "p75": p75, "n": len(rs)}
 
     def summary(self, reference: str | None = None) -> dict:
@@ -83,7 +83,8 @@ class Interleaved:
         return out
 
 
-def _quartiles(values: list[float]) -> tuple[float, float, float]:
+def quartiles_of(values: list[float]) -> tuple[float, float, float]:
+    """(p25, median, p75) of ``values``, inclusive method (NaN for none)."""
     if not values:
         nan = float("nan")
         return nan, nan, nan

@@ -187,8 +187,7 @@ class DirectionalShadow(_Map):
                        "uShadowCasterLinearBias": settings.linear_bias * sh.LINEAR_BIAS_TEXELS})
         size = settings.map_size
         for m, t, tw in zip(mats, tiles, texels):
-            prog.set("uShadowCasterViewProj", m)
-            prog.set("uShadowCasterTexel", tw)
+            prog.set_many({"uShadowCasterViewProj": m, "uShadowCasterTexel": tw})
             vp = (int(t[0] * size), int(t[1] * size), int((t[2] - t[0]) * size),
                   int((t[3] - t[1]) * size))
             _draw(ctx, self.fbo, vp, prog, casters)

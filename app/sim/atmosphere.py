@@ -77,6 +77,7 @@ import numpy as np
 
 from ..errors import ParamError
 from ..params import Param
+from .maths import normalize
 from .optics import phase_mie_cornette_shanks, phase_rayleigh
 from .optics import ray_sphere as optics_ray_sphere
 
@@ -371,11 +372,6 @@ def direction(elevation_deg, azimuth_deg) -> np.ndarray:
     return np.stack([np.sin(a) * np.cos(e), np.sin(e), -np.cos(a) * np.cos(e)], axis=-1)
 
 
-def _unit(v) -> np.ndarray:
-    v = np.asarray(v, dtype=np.float64)
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
-
-
 def ray_sphere(origin, direction, radius):
     """Distances (near, far) along ``origin + t·direction`` to the sphere |x| = radius about the
     planet centre (:func:`app.sim.optics.ray_sphere` with the centre at the origin); NaN where
@@ -423,7 +419,7 @@ def atmosphere_segment(cam, dirs, max_dist, params: AtmosphereParams,
     camera)" is the same segment written from the other end.
     """
     cam = np.asarray(cam, dtype=np.float64)
-    dirs = _unit(dirs)
+    dirs = normalize(np.asarray(dirs, dtype=np.float64))
     cam_b, dirs = np.broadcast_arrays(cam, dirs)
     near, far = ray_sphere(cam_b, dirs, params.top_radius)
     limit = np.full(near.shape, np.inf) if max_dist is None else \
@@ -926,10 +922,10 @@ def _integrate(cam, dirs, sun_dir, params: AtmosphereParams, max_dist, surface_c
         raise ParamError(f"pc_rule={pc_rule!r} is not a rule: allowed midpoint, thesis")
     if steps < 1:
         raise ParamError(f"steps={steps!r} is out of range: allowed an integer >= 1")
-    dirs = _unit(np.atleast_2d(np.asarray(dirs, dtype=np.float64)))
+    dirs = normalize(np.atleast_2d(np.asarray(dirs, dtype=np.float64)))
     n = dirs.shape[0]
     cam = np.broadcast_to(np.asarray(cam, dtype=np.float64), (n, 3))
-    sun = _unit(np.asarray(sun_dir, dtype=np.float64))
+    sun = normalize(np.asarray(sun_dir, dtype=np.float64))
     seg = atmosphere_segment(cam, dirs, max_dist, params, clip_ground=clip_ground)
     ds = (seg.t1 - seg.t0) / steps
     R = params.bottom_radius

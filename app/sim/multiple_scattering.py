@@ -37,7 +37,7 @@ The sky seen by a camera is then a final gather along its exact ray with many sa
 single scattering from the exact J_1, plus T times the sum over n ≥ 2 of J_n read from the
 tables. Its errors are measured, not assumed: the single-scattering part against
 :func:`app.sim.atmosphere.reference`; the orders' convergence (the share of orders ≥ 5); the
-table's resolution by halving and doubling the grid (:func:`resolution_error`).
+table's resolution by halving the grid (``natura bench planet``).
 
 Hillaire's method (Hillaire 2020), its numpy twin here
 ------------------------------------------------------
@@ -508,21 +508,3 @@ def compare(params: atm.AtmosphereParams | None = None, grid: Grid = Grid(), ord
             per[f"worst_oracle_{over}"] = float(e.flat[int(np.argmax(np.abs(e)))])
         out["suns"][str(se)] = per
     return out
-
-
-def resolution_error(params: atm.AtmosphereParams | None = None, grid: Grid = Grid(),
-                     factor: float = 0.5, orders: int = 6, sun_elevations=SUN_ELEVATIONS,
-                     elevations=ELEVATIONS) -> float:
-    """Largest relative change of the reference's total sky radiance (same directions as
-    :func:`compare`) between ``grid`` and ``grid.scaled(factor)``."""
-    params = params or atm.AtmosphereParams()
-    worst = 0.0
-    a = Reference(params, grid, orders)
-    b = Reference(params, grid.scaled(factor), orders)
-    el = np.asarray(elevations, dtype=float)
-    for se in sun_elevations:
-        for az in (0.0, 180.0):
-            ta = sum(a.orders_along(H_CAM, el, np.full(el.shape, az), se).values())
-            tb = sum(b.orders_along(H_CAM, el, np.full(el.shape, az), se).values())
-            worst = max(worst, float(np.max(np.abs(tb / ta - 1.0))))
-    return worst

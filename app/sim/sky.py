@@ -33,13 +33,6 @@ def scattering_intensity_factor(sun_sin_elevation):
     return np.maximum(0.15, 1.0 - smoothstep(0.0, 0.6, sun_sin_elevation))
 
 
-def halo_term(cos_angle, sun_sin_elevation, scattering_intensity: float = 1.0):
-    """Halo around the sun (per unit SunCol), the fragment shader's second sun term
-    (spec/000 eq. B.4)."""
-    return (smoothstep(0.5, 1.5, cos_angle) * scattering_intensity
-            * scattering_intensity_factor(sun_sin_elevation))
-
-
 def cubemap_face_direction(face: int, s, t) -> np.ndarray:
     """Twin of ``CubemapFaceDirection`` (glsl/common/cubemap.glsl)."""
     s, t = np.broadcast_arrays(np.asarray(s, dtype=np.float64), np.asarray(t, dtype=np.float64))

@@ -511,8 +511,7 @@ def _reference_errors(ref: Reference, sides: dict, images: dict, size, say,
             errors[name], labels[name] = None, None
             continue
         params = s.params
-        for k, v in overrides.items():
-            params.set(k, v)
+        params.set_many(overrides)
         cam = s.scene.camera
         key = repr((s.scene.name, (w, h), ref.supersample, float(s.scene.time),
                     tuple(float(v) for v in cam.position), cam.yaw, cam.pitch, cam.fov,
@@ -524,13 +523,10 @@ def _reference_errors(ref: Reference, sides: dict, images: dict, size, say,
             rw, rh = w * factor, h * factor
             say(f"rendering the reference for {name} at {rw}x{rh}"
                 + (f" ({factor}×{factor} supersampled)" if factor > 1 else ""))
-            target = s.gpu.target("compare", f"reference {name}", (rw, rh))
-            try:
+            with s.gpu.scratch_target("compare", f"reference {name}", (rw, rh)) as target:
                 frame = s.scene.frame((rw, rh), dt=0.0)
                 s.scene.render(frame, target)
                 img = target.read()[..., :3].astype(np.float64)
-            finally:
-                s.gpu.free(target)
             rendered[key] = box_down(img, factor)
         y_ref = luminance(rendered[key])
         mean_ref = float(y_ref.mean())

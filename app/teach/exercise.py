@@ -17,6 +17,7 @@ import shutil
 import tempfile
 import textwrap
 import tomllib
+from contextlib import closing
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
@@ -340,17 +341,11 @@ def render_view(ex: Exercise, root: Path, ctx) -> np.ndarray:
         view = get_view(ex.scene, ex.view)
     params = scene_params(ex.scene, root, ex.sets, None, view)
     camera = placed_camera(ex.scene, params, view, ex.camera)
-    session = open_session(ex.scene, params, root, ctx=ctx, camera=camera, sizes=[ex.size])
-    try:
-        frames = render_frames(session, ex.size, 1,
-                               warmup=view.frames - 1 if view is not None else 0)
-        try:
+    with open_session(ex.scene, params, root, ctx=ctx, camera=camera, sizes=[ex.size]) as session:
+        with closing(render_frames(session, ex.size, 1,
+                                   warmup=view.frames - 1 if view is not None else 0)) as frames:
             image = next(frames)
-        finally:
-            frames.close()
         srgb = to_srgb8(image[..., :3], session.scene.exposure(), params["output.tonemap"])
-    finally:
-        session.release()
     return srgb.astype(np.float64) / 255.0
 
 

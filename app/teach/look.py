@@ -18,6 +18,7 @@ them beside each view; ``tests/gl/test_gallery_views.py`` bounds them).
 from __future__ import annotations
 
 import math
+from contextlib import closing
 
 import numpy as np
 
@@ -78,16 +79,10 @@ def render_view(view, size: tuple[int, int], ctx=None) -> tuple[np.ndarray, dict
     and its :func:`figures`, plus ``nonfinite``: NaN or Inf values in the linear radiance."""
     params = scene_params(view.scene, view=view)
     camera = placed_camera(view.scene, params, view)
-    session = open_session(view.scene, params, ctx=ctx, camera=camera)
-    try:
-        frames = render_frames(session, size, warmup=view.frames - 1)
-        try:
+    with open_session(view.scene, params, ctx=ctx, camera=camera) as session:
+        with closing(render_frames(session, size, warmup=view.frames - 1)) as frames:
             image = next(frames)
-        finally:
-            frames.close()
         srgb = to_srgb8(image[..., :3], session.scene.exposure(), params["output.tonemap"])
         out = figures(srgb, session.scene.camera)
         out["nonfinite"] = int((~np.isfinite(image[..., :3])).sum())  # before the tone map
         return srgb, out
-    finally:
-        session.release()

@@ -225,11 +225,11 @@ class Picks(list):
         if self.problem is not None:
             return [f"quality auto: {self.problem}: keeping the settings as they are"]
         budget = []
-        if self.error_budget is not None:
-            budget.append(f"error ≤ {_budget_text(self.error_budget)}"
-                          + (" each family's current error"
-                             if isinstance(self.error_budget, Relative)
-                             else " (each family's own metric)"))
+        e = self.error_budget
+        if e is not None:
+            budget.append(f"error ≤ {e.factor:g} × each family's current error"
+                          if isinstance(e, Relative)
+                          else f"error ≤ {e:g} (each family's own metric)")
         if self.ms_budget is not None:
             budget.append(f"ms ≤ {self.ms_budget:g}")
         where = f" at {self.size[0]}x{self.size[1]}" if self.size else ""
@@ -272,10 +272,6 @@ class Relative:
     """``--error-budget Nx``: at most ``factor`` × the current setting's error."""
 
     factor: float
-
-
-def _budget_text(budget: float | Relative) -> str:
-    return f"{budget.factor:g} ×" if isinstance(budget, Relative) else f"{budget:g}"
 
 
 def _ms(value: float) -> str:

@@ -218,11 +218,6 @@ def _show(value: Any) -> str:
     return str(value)
 
 
-def _theses(description: str, spec_title: Callable[[str], str]) -> list[tuple[str, str]]:
-    specs = list(dict.fromkeys(re.findall(r"spec/\d{3}", description)))
-    return [(s, spec_title(s)) for s in specs]
-
-
 def _say(text: str) -> None:
     print(f"report: {text}", file=sys.stderr, flush=True)
 
@@ -278,7 +273,8 @@ def collect(scene_name: str, methods: list[Method], *, size: tuple[int, int] = D
         params.set("time.hour", hour % 24.0)
     if camera is not None:  # as the renders: a camera of the user's may switch a mode
         cls.on_user_camera(params)
-    theses = _theses(cls.description, sections.spec_title)
+    theses = [(s, sections.spec_title(s))
+              for s in dict.fromkeys(re.findall(r"spec/\d{3}", cls.description))]
     groups = param_groups(params, axis.param if axis else None)
     return Handout(
         scene=scene_name, scene_title=cls.title, description=cls.description,

@@ -17,8 +17,7 @@ def draw_display(gpu, source_texture, exposure: float, tonemap: str,
     bilinear, or with ``bicubic`` Catmull-Rom when it is smaller than the window."""
     prog = gpu.program("window", DISPLAY)
     prog.bind_textures({"uScene": source_texture})
-    prog.set("uExposure", float(exposure))
-    prog.set("uTonemap", TONEMAPS.index(tonemap))
-    prog.set("uBicubic", 1 if bicubic else 0)
+    prog.set_many({"uExposure": float(exposure), "uTonemap": TONEMAPS.index(tonemap),
+                   "uBicubic": 1 if bicubic else 0})
     gpu.ctx.disable(moderngl.DEPTH_TEST)
     draw_fullscreen(prog)

@@ -40,14 +40,6 @@ WINDOW_KEYS_HELP = (("F2", "shader editor"), ("F3", "compare A/B"),
                     ("Ctrl+F", "search the panel"))
 
 
-def _key_names(keys) -> dict:
-    """Window key code → key name (``keys.W`` → "W"), for the key maps (see
-    :func:`app.ui.keymap.key_names`: the ``[`` ``]`` keys need pyglet's own codes)."""
-    from pyglet.window import key as pyglet_key  # the window is always pyglet's
-
-    return key_names(keys, pyglet_key)
-
-
 def _fallback_font() -> Path | None:
     """matplotlib's DejaVu Sans (a dependency already): the maths signs and arrows of the digests
     (∈ ‖ ⌊ ⌋ ⟨ ⟩ ℝ ² …) that DroidSans and Inconsolata lack."""
@@ -196,7 +188,9 @@ class NaturaWindow:
         # every held action then, or the camera flies on (pyglet's window: moderngl-window's
         # events have no focus loss)
         self.wnd._window.push_handlers(on_deactivate=self.controller.release_all)
-        self._key_names = _key_names(self.wnd.keys)
+        from pyglet.window import key as pyglet_key  # the window is always pyglet's: [ ] need it
+
+        self._key_names = key_names(self.wnd.keys, pyglet_key)
         self.looking = False
         self.mouse_look = False
         self.show_panel = True

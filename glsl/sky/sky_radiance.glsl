@@ -44,7 +44,7 @@
 // a ray straight down is kept non-zero before normalising.
 // The sea's shared maths (reflection direction, Fresnel, Beckmann glitter, body, haze) is
 // glsl/common/sea_plane.glsl, shared with the Preetham sky's sea.
-// Twins for tests: app/sim/sky.py (mie_phase, sun_term, halo_term); the sea:
+// Twins for tests: app/sim/sky.py (mie_phase, sun_term, scattering_intensity_factor); the sea:
 // app/sim/sea_plane.py. The sky ambient comes from app.sim.daynight.Keyframes.ambient_at.
 // =============================================================================================
 #include "math.glsl"

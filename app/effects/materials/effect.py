@@ -301,8 +301,7 @@ class Materials(Effect):
         prog.set_many(self.uniforms())
         if view_proj is None:
             view_proj = frame.camera.projection_matrix(frame.aspect) @ frame.camera.view_matrix()
-        prog.set("uViewProj", view_proj)
-        prog.set("uCameraPos", tuple(frame.camera.position))
+        prog.set_many({"uViewProj": view_proj, "uCameraPos": tuple(frame.camera.position)})
         target.use()
         ctx.enable(moderngl.DEPTH_TEST)
         spin = self.params["materials.spin"] * frame.time

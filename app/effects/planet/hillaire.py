@@ -379,11 +379,11 @@ class HillaireLuts:
         def run():
             self._common_uniforms(prog)
             prog.bind_textures({"uHillaireTransmittanceLut": self._textures["transmittance"]})
-            prog.set("uHillaireTargetSize", tuple(float(s) for s in size))
-            prog.set("uHillaireMsDirections", self.ms_directions())
-            prog.set("uHillaireMsSteps", int(self.value("ms_steps")))
-            prog.set("uHillaireGroundAlbedo", float(self.value("ground_albedo")))
-            prog.set("uHillaireMsInfinite", 1.0 if self.value("ms_infinite") else 0.0)
+            prog.set_many({"uHillaireTargetSize": tuple(float(s) for s in size),
+                           "uHillaireMsDirections": self.ms_directions(),
+                           "uHillaireMsSteps": int(self.value("ms_steps")),
+                           "uHillaireGroundAlbedo": float(self.value("ground_albedo")),
+                           "uHillaireMsInfinite": 1.0 if self.value("ms_infinite") else 0.0})
             self._draw(prog, fbo, size)
 
         self._timed("multiscattering", run)
@@ -408,9 +408,9 @@ class HillaireLuts:
         self._common_uniforms(prog)
         prog.set_many(self._camera.uniforms())
         prog.bind_textures(self._static_textures())
-        prog.set("uHillaireApSize", tuple(int(s) for s in size))
-        prog.set("uHillaireApRange", float(self.value("ap_range")))
-        prog.set("uHillaireApSubsteps", int(self.value("ap_substeps")))
+        prog.set_many({"uHillaireApSize": tuple(int(s) for s in size),
+                       "uHillaireApRange": float(self.value("ap_range")),
+                       "uHillaireApSubsteps": int(self.value("ap_substeps"))})
 
     def build_aerial_perspective(self) -> None:
         size = self.sizes()["aerial_perspective"]

@@ -238,8 +238,7 @@ class Sky(Effect):
         prog = self.program(SKY_CUBEMAP if use_compute else SKY_FACE)
         self._bind(prog)
         if not sun:
-            prog.set("uSunIntensity", 0.0)
-            prog.set("uSeaGlitter", 0.0)
+            prog.set_many({"uSunIntensity": 0.0, "uSeaGlitter": 0.0})
         if use_compute:
             prog.set("uFaceSize", size)
             cube.bind_to_image(0, read=False, write=True)
@@ -250,16 +249,13 @@ class Sky(Effect):
             # one face at a time into a float target, copied into the cube on the GPU; the
             # caller's framebuffer (this runs on request, inside its pass) is given back
             with self.gpu.keep_framebuffer():
-                face_target = self.gpu.target(self.name, "cubemap face", (size, size),
-                                              dtype="f4", depth=False)
-                try:
+                with self.gpu.scratch_target(self.name, "cubemap face", (size, size), dtype="f4",
+                                             depth=False) as face_target:
                     for face in range(6):
                         face_target.use()
                         prog.set("uFace", face)
                         draw_fullscreen(prog)
                         self.gpu.copy_to_cube_face(cube, face, 0, size)
-                finally:
-                    self.gpu.free(face_target)
         cube.build_mipmaps()
 
     def refresh_environment(self) -> None:

@@ -231,9 +231,8 @@ class ReflectionProbe:
         ctx.disable(moderngl.DEPTH_TEST)
         for level in range(PREFILTER_LEVELS):
             s = max(base >> level, 1)
-            target = self.gpu.target(self.owner, "prefilter level", (s, s), dtype="f2",
-                                     depth=False)
-            try:
+            with self.gpu.scratch_target(self.owner, "prefilter level", (s, s), dtype="f2",
+                                         depth=False) as target:
                 prog.set("uRoughness", level / (PREFILTER_LEVELS - 1))
                 for face in range(6):
                     target.use()
@@ -241,8 +240,6 @@ class ReflectionProbe:
                     prog.set("uFace", face)
                     draw_fullscreen(prog)
                     self.gpu.copy_to_cube_face(self.prefiltered, face, level, s)
-            finally:
-                self.gpu.free(target)
         ctx.finish()
         self.prefilter_ms = (time.perf_counter() - t0) * 1e3
         self.prefilters += 1
@@ -254,9 +251,8 @@ class ReflectionProbe:
                                         lut.tobytes())
         if self.brdf is None:
             ctx = self.gpu.ctx
-            target = self.gpu.target(self.owner, "BRDF LUT", (BRDF_LUT_SIZE,) * 2,
-                                     depth=False)
-            try:
+            with self.gpu.scratch_target(self.owner, "BRDF LUT", (BRDF_LUT_SIZE,) * 2,
+                                         depth=False) as target:
                 prog = self.gpu.program(self.owner, BRDF_LUT)
                 prog.set("uSamples", BRDF_LUT_SAMPLES)
                 target.use()
@@ -264,8 +260,6 @@ class ReflectionProbe:
                 ctx.disable(moderngl.DEPTH_TEST)
                 draw_fullscreen(prog)
                 data = target.fbo.read(components=2, dtype="f4")
-            finally:
-                self.gpu.free(target)
             self.brdf = self.gpu.texture(self.owner, "BRDF LUT", (BRDF_LUT_SIZE,) * 2, 2, data)
 
     def lighting(self) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -334,9 +328,8 @@ class PositionScene:
             self.vaos.append(self.prog.vao([(vbo, "3f", "in_position")], index_buffer=ibo))
 
     def draw(self, view: np.ndarray, proj: np.ndarray, fbo=None) -> None:
-        self.prog.set("uViewProj", proj @ view)
-        self.prog.set("uColourMode", int(self.radiance))
-        self.prog.set("uCeiling", self.ceiling)
+        self.prog.set_many({"uViewProj": proj @ view, "uColourMode": int(self.radiance),
+                            "uCeiling": self.ceiling})
         for vao, albedo in zip(self.vaos, self.albedos):
             self.prog.set("uAlbedo", albedo)
             vao.render(moderngl.TRIANGLES)

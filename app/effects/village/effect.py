@@ -341,9 +341,8 @@ class Village(Effect):
         nz = float(np.clip(z + dz, -100.0, 100.0))
         if self.island.ground(nx, nz) < self.island.sea_level - 0.3:
             nx, nz = x, z
-        self.params.set("village.hero_x", nx)
-        self.params.set("village.hero_z", nz)
-        self.params.set("village.hero_heading", heading % 360.0)
+        self.params.set_many({"village.hero_x": nx, "village.hero_z": nz,
+                              "village.hero_heading": heading % 360.0})
 
     def update(self, frame, dt: float) -> None:
         island = self.island
