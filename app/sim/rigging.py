@@ -182,7 +182,10 @@ def flag_transform(angle: float = 0.0, rig: Rig = RIG) -> np.ndarray:
 def cloth_patch(corners: Any, nu: int, nv: int, pin_band: Any, frame: str,
                 transform: np.ndarray) -> ClothMesh:
     """The (nu + 1) × (nv + 1) grid of the bilinear patch ``corners`` (P00, P10, P01, P11 in
-    a local frame whose z is the patch's normal), wound counter-clockwise seen from +z."""
+    a local frame whose z is the patch's normal), wound counter-clockwise seen from +z; the
+    two triangles of each cell follow each other, row by row (a software renderer's vertex
+    stage reuses a shaded vertex only within a short run of indices: all the first triangles
+    and then all the second ones had each vertex shaded about three times)."""
     corners = np.asarray(corners, dtype=np.float64)
     u, v = np.meshgrid(np.linspace(0.0, 1.0, nu + 1), np.linspace(0.0, 1.0, nv + 1))
     uv = np.stack([u.ravel(), v.ravel()], axis=1)  # vertex (i, j) at j·(nu + 1) + i
@@ -192,7 +195,7 @@ def cloth_patch(corners: Any, nu: int, nv: int, pin_band: Any, frame: str,
     i, j = np.meshgrid(np.arange(nu), np.arange(nv))
     a = (j * (nu + 1) + i).ravel()
     b, c, d = a + 1, a + nu + 2, a + nu + 1
-    tris = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+    tris = np.stack([np.stack([a, b, c], 1), np.stack([a, c, d], 1)], 1).reshape(-1, 3)
     normals = np.tile([0.0, 0.0, 1.0], (len(uv), 1))
     return ClothMesh(pos.astype(np.float32), normals.astype(np.float32), uv.astype(np.float32),
                      tris.astype(np.uint32), frame, transform,

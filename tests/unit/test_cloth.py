@@ -194,6 +194,13 @@ def test_meshes_are_consistent():
         nz = np.cross(b - a, c - a)[:, 2]
         assert np.all(nz >= -1e-9) and np.sum(nz > 1e-9) > 0.9 * len(nz)
         assert np.allclose(mesh.positions[:, 2], 0.0)
+        # a cell's two triangles follow each other, cell after cell along each row: each
+        # pair shares its diagonal, and the runs of indices stay short (llvmpipe's vertex
+        # stage reuses a shaded vertex only within such a run)
+        pairs = mesh.indices.reshape(-1, 2, 3)
+        assert all(len(set(p[0]) & set(p[1])) == 2 for p in pairs)
+        first = pairs[:, 0, 0].astype(np.int64)
+        assert np.all(np.diff(first) > 0)
     # spars: outward normals agree with the winding
     for mesh in (rigging.mast(), rigging.boom()):
         a, b, c = (mesh.positions[mesh.indices[:, k]].astype(np.float64) for k in range(3))
