@@ -310,8 +310,10 @@ class Island:
         a, b = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel()  # (i, j), (i+1, j)
         c, d = idx[1:, 1:].ravel(), idx[1:, :-1].ravel()  # (i+1, j+1), (i, j+1)
         # seen from +y with x right and z down the screen, (a, c, b) and (a, d, c) are
-        # counter-clockwise; the diagonal a–c is the one height() splits along
-        tri = np.concatenate([np.stack([a, d, c], 1), np.stack([a, c, b], 1)])
+        # counter-clockwise; the diagonal a–c is the one height() splits along. A cell's two
+        # triangles follow each other: a software renderer's vertex stage reuses a shaded
+        # vertex only within a short run of indices
+        tri = np.stack([np.stack([a, d, c], 1), np.stack([a, c, b], 1)], 1).reshape(-1, 3)
         return p, n, uv, tri
 
     def ground(self, x: float, z: float) -> float:
