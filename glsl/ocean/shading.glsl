@@ -60,6 +60,17 @@ vec3 EnvironmentRadiance(vec3 dir, float lod) {
     return textureLod(uEnvironment, dir, clamp(lod, 0.0, uEnvironmentLods)).rgb;
 }
 
+// The sky's light from straight up (the cubemap's last mip level): one value for every pixel.
+// A program whose vertex stage reads it once (OCEAN_AMBIENT_VARYING: ocean/shade.vert, which
+// defines OCEAN_AMBIENT_SOURCE) passes it on flat; the others read the cubemap per pixel (a
+// software rasteriser would, ~0.7 ms of the deferred pass at 640x360).
+#if defined(OCEAN_AMBIENT_VARYING) && !defined(OCEAN_AMBIENT_SOURCE)
+flat in vec3 vSkyAmbient;
+vec3 OceanSkyAmbient() { return vSkyAmbient; }
+#else
+vec3 OceanSkyAmbient() { return EnvironmentRadiance(vec3(0.0, 1.0, 0.0), uEnvironmentLods); }
+#endif
+
 // Linear radiance leaving the sea surface toward the viewer, seen from above.
 // p: surface point relative to the camera (m); n: unit normal; v: unit vector toward the camera;
 // foam: coverage [0, 1]; lostMss: slope variance filtered out of this pixel's normal;
@@ -83,7 +94,7 @@ vec3 OceanShadeAbove(vec3 p, vec3 n, vec3 v, float foam, float lostMss, float cr
 
     vec3 l = uMainLightDir;
     vec3 E = uMainLightRadiance;
-    vec3 skyAmbient = EnvironmentRadiance(vec3(0.0, 1.0, 0.0), uEnvironmentLods);
+    vec3 skyAmbient = OceanSkyAmbient();
     float nl = max(dot(n, l), 0.0);
     vec3 body = uScatterColor * (skyAmbient + E * max(l.y, 0.0) / PI);
     // light through thin crests, seen toward the light
@@ -134,7 +145,7 @@ vec3 UnderwaterExtinction() {
 // Linear radiance the water scatters toward the eye (the fog colour): the sky and the main
 // light from above, tinted by uUnderwaterColor. A light below the horizon adds nothing.
 vec3 UnderwaterLight() {
-    vec3 skyAmbient = EnvironmentRadiance(vec3(0.0, 1.0, 0.0), uEnvironmentLods);
+    vec3 skyAmbient = OceanSkyAmbient();
     return uUnderwaterColor * UNDERWATER_SCATTER
          * (skyAmbient + uMainLightRadiance * max(uMainLightDir.y, 0.0) / PI);
 }

@@ -21,12 +21,13 @@ UNDERWATER = fullscreen("ocean/underwater")
 SURFACE_INPUTS = ProgramSpec("ocean/surface_inputs", vert="ocean/surface.vert",
                              frag="ocean/surface_inputs.frag")
 FAR_INPUTS = ProgramSpec("ocean/far_inputs", vert="ocean/band.vert", frag="ocean/far_inputs.frag")
-SHADE = ProgramSpec("ocean/shade", vert="ocean/band.vert", frag="ocean/shade.frag",
-                    defines=(("OCEAN_EXPLICIT_GRADIENTS", 1),))
+SHADE = ProgramSpec("ocean/shade", vert="ocean/shade.vert", frag="ocean/shade.frag",
+                    defines=(("OCEAN_EXPLICIT_GRADIENTS", 1), ("OCEAN_AMBIENT_VARYING", 1)))
 # the same, for a camera clearly above the water: the view from below is not compiled in (a
 # software rasteriser would run it on every pixel, uniform branch or not)
-SHADE_ABOVE = ProgramSpec("ocean/shade_above", vert="ocean/band.vert", frag="ocean/shade.frag",
-                          defines=(("OCEAN_EXPLICIT_GRADIENTS", 1), ("OCEAN_SEEN_FROM_ABOVE", 1)))
+SHADE_ABOVE = ProgramSpec("ocean/shade_above", vert="ocean/shade.vert", frag="ocean/shade.frag",
+                          defines=(("OCEAN_EXPLICIT_GRADIENTS", 1), ("OCEAN_AMBIENT_VARYING", 1),
+                                   ("OCEAN_SEEN_FROM_ABOVE", 1)))
 
 
 def with_defines(spec: ProgramSpec, suffix: str, *defines: str) -> ProgramSpec:
