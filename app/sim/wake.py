@@ -108,13 +108,17 @@ class WakeTrail:
         return wake_foam(np.asarray(x, float), np.asarray(z, float), self.positions,
                          t - self.times, self.speeds, self.directions, self.beam, self.params)
 
-    def bounds(self, t: float, margin: float = 2.0) -> tuple[float, float, float, float]:
-        """(x min, z min, x max, z max) of everything the trail can paint at time t."""
-        if len(self) == 0:
+    def bounds(self, t: float, margin: float = 2.0,
+               samples: slice = slice(None)) -> tuple[float, float, float, float]:
+        """(x min, z min, x max, z max) of everything the trail (or its ``samples``: a chunk
+        and the sample after it, where its last wash ends) can paint at time t."""
+        pos = self.positions[samples]
+        if len(pos) == 0:
             return (0.0, 0.0, -1.0, -1.0)
-        r = self.speeds * np.maximum(t - self.times, 0.0) / 2.0 + self.beam + margin
-        return (float((self.positions[:, 0] - r).min()), float((self.positions[:, 1] - r).min()),
-                float((self.positions[:, 0] + r).max()), float((self.positions[:, 1] + r).max()))
+        r = (self.speeds[samples] * np.maximum(t - self.times[samples], 0.0) / 2.0 + self.beam
+             + margin)
+        return (float((pos[:, 0] - r).min()), float((pos[:, 1] - r).min()),
+                float((pos[:, 0] + r).max()), float((pos[:, 1] + r).max()))
 
 
 def wake_foam(x: np.ndarray, z: np.ndarray, positions: np.ndarray, ages: np.ndarray,

@@ -8,6 +8,8 @@
 // boat paints nothing (the speed ramp).
 #define WAKE_MAX 64
 uniform int uWakeCount;               // 0: no wake
+uniform int uWakeFirst;               // the samples this pass evaluates: uWakeFirst …
+uniform int uWakeEnd;                 // … uWakeEnd − 1 (the wake map's chunks; else 0, count)
 uniform vec4 uWakeBounds;             // (x min, z min, x max, z max), camera-relative
 uniform vec4 uWakeSample[WAKE_MAX];   // (x − camera.x, z − camera.z, age s, speed m/s)
 uniform vec2 uWakeDir[WAKE_MAX];      // unit direction of travel (x, z)
@@ -23,16 +25,18 @@ float WakeSmooth(float e0, float e1, float x) {
 // the trail samples of a Kelvin ring's cusp (the ring of radius U·a/4 about P + d·U·a/4, bright
 // at acos(1/3) from the travel direction, fading with age over the cusp life) and of the wash
 // band along the segment to the next sample (its half-width grows with speed and age, fading
-// over the wash life), ramped in from 0.3 to 2 m/s of speed, times the strength. A point
-// outside uWakeBounds, or no samples, returns 0 at once.
+// over the wash life), ramped in from 0.3 to 2 m/s of speed, times the strength, over the samples
+// uWakeFirst … uWakeEnd − 1 (a pass over a chunk of them: the max of the chunks' foam is the
+// whole trail's). A point outside uWakeBounds, or no samples, returns 0 at once.
 float WakeFoam(vec2 off) {
     if (uWakeCount <= 0 || any(lessThan(off, uWakeBounds.xy))
         || any(greaterThan(off, uWakeBounds.zw))) {
         return 0.0;
     }
     float foam = 0.0;
-    for (int i = 0; i < WAKE_MAX; ++i) {
-        if (i >= uWakeCount) break;
+    for (int k = 0; k < WAKE_MAX; ++k) {
+        int i = uWakeFirst + k;
+        if (i >= uWakeEnd) break;
         vec4 s = uWakeSample[i];
         vec2 p = off - s.xy;
         float r = length(p);

@@ -145,15 +145,12 @@ def test_the_wake_is_a_kelvin_wedge_in_a_top_down_render(maritime):
     assert edge == pytest.approx(math.degrees(KELVIN_HALF_ANGLE), abs=3.0), edge
 
 
-def test_the_wake_read_per_block_matches_the_wake_per_pixel(maritime):
-    """Issue 37: the deferred shading reads the wake's foam from a map made once per block of
-    ocean.wake_stride² pixels (wake_map.frag) instead of looping over the trail per pixel; seen
-    from above as in the Kelvin test, the foam it adds is that of the per-pixel wake (stride 1)
-    within a small share, on the same pixels (the default stride 3, and 2)."""
+def _wake_from_above(maritime, size):
+    """A session whose boat has sailed 20 s in calm water without foam of its own, seen from
+    60 m above its trail (as in the Kelvin test), and a target of ``size``."""
     sets = ("maritime.weather=custom", "wind.speed=0.5", "ocean.foam_amount=0",
             "boat.throttle=1", "boat.navigation=thesis", "boat.spin_up=20",
             "maritime.camera=free", "time.hour=12", "ocean.shading=deferred")
-    size = (160, 160)
     s = maritime(*sets)
     sc = s.scene
     sc.frame(size, 0.0)
@@ -162,7 +159,17 @@ def test_the_wake_read_per_block_matches_the_wake_per_pixel(maritime):
     psi = sim.heading
     centre = p[[0, 2]] - 25.0 * np.array([math.sin(psi), -math.cos(psi)])
     sc.camera.set(position=(centre[0], 60.0, centre[1]), yaw=0.0, pitch=-90.0, fov=60.0)
-    target = s.gpu.target("test", "image", size)
+    return s, s.gpu.target("test", "image", size)
+
+
+def test_the_wake_read_per_block_matches_the_wake_per_pixel(maritime):
+    """Issue 37: the deferred shading reads the wake's foam from a map made once per block of
+    ocean.wake_stride² pixels (wake_map.frag) instead of looping over the trail per pixel; seen
+    from above as in the Kelvin test, the foam it adds is that of the per-pixel wake (stride 1)
+    within a small share, on the same pixels (the default stride 3, and 2)."""
+    size = (160, 160)
+    s, target = _wake_from_above(maritime, size)
+    sc = s.scene
     images = {}
     for wake, stride in ((False, 1), (True, 1), (True, 2), (True, 3)):
         s.params.set("boat.wake", wake)
@@ -180,6 +187,29 @@ def test_the_wake_read_per_block_matches_the_wake_per_pixel(maritime):
         assert err.mean() < 0.15 * per_pixel[foam].mean(), (stride, err.mean())
         assert block.sum() == pytest.approx(per_pixel.sum(), rel=0.15), stride
         assert np.abs(block[~foam]).mean() < 0.1 * per_pixel[foam].mean(), stride
+
+
+def test_the_wake_map_chunk_by_chunk_is_the_whole_trails(maritime, monkeypatch):
+    """The wake map is drawn a chunk of WAKE_CHUNK trail samples at a time, each over its own
+    samples' rectangle, blended by their max: the same image as one pass over the whole trail,
+    bit for bit, with the trail spread over more than one chunk and over the image."""
+    from app.effects.ocean import surface
+
+    size = (160, 160)
+    s, target = _wake_from_above(maritime, size)
+    sc = s.scene
+    images = {}
+    chunk = surface.WAKE_CHUNK
+    for each in (chunk, 64):
+        monkeypatch.setattr(surface, "WAKE_CHUNK", each)
+        frame = sc.frame(size, 0.0)
+        sc.render(frame, target)
+        images[each] = target.read()
+    assert len(frame.wakes[0]) > 2 * chunk
+    s.params.set("boat.wake", False)
+    sc.render(sc.frame(size, 0.0), target)
+    assert np.abs(images[64] - target.read()).max() > 0.1  # the wake is in the picture
+    assert np.array_equal(images[chunk], images[64])
 
 
 def test_the_deck_stays_dry_in_a_rough_sea(maritime):

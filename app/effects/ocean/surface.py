@@ -43,6 +43,9 @@ FLOATING = {s.name: with_defines(s, "_floating", "OCEAN_FLOATING")
             for s in (SURFACE, SURFACE_INPUTS, SHADE, SHADE_ABOVE)}
 # the deferred shading with the wake read from its map (wake_map.frag: once per block of pixels)
 WAKE_MAP = fullscreen("ocean/wake_map")
+#: trail samples the wake map evaluates per pass (a pass per chunk, each over its own rectangle:
+#: young samples' rings are small, so most pixels evaluate a few chunks, not the whole trail)
+WAKE_CHUNK = 8
 FLOATING_WAKE_MAP = {s.name: with_defines(s, "_floating_wake_map", "OCEAN_FLOATING",
                                           "OCEAN_WAKE_MAP") for s in (SHADE, SHADE_ABOVE)}
 PROGRAMS = (SURFACE, FAR, UNDERWATER, SURFACE_INPUTS, FAR_INPUTS, SHADE, SHADE_ABOVE,
@@ -179,8 +182,10 @@ class Surface:
 
     def _render_wake_map(self, frame, target):
         """The wake's foam once per block of ``ocean.wake_stride`` pixels (``wake_map.frag``),
-        over the screen rectangle the trail's bounds cover; None without a wake or at stride 1
-        (the shading pass then evaluates it per pixel)."""
+        chunk by chunk of :data:`WAKE_CHUNK` trail samples, each over the screen rectangle its
+        own samples' bounds cover, blended by their max (the whole trail's foam is the max of
+        its samples'); None without a wake or at stride 1 (the shading pass then evaluates it
+        per pixel)."""
         stride = int(self.params["ocean.wake_stride"])
         trail = frame.wakes[0] if frame.wakes else None
         if stride <= 1 or trail is None or len(trail) == 0:
@@ -190,26 +195,38 @@ class Surface:
         fbo.clear(0.0, 0.0, 0.0, 0.0)
         cam = np.asarray(frame.camera.position, dtype=float)
         reach = max(self.sea.significant_height(), 0.5)  # crests, and the choppy displacement
-        x0, z0, x1, z1 = trail.bounds(frame.time)
-        rect = screen_rect(frame.camera.view_projection_relative(frame.aspect),
-                           (x0 - reach - cam[0], z0 - reach - cam[2], x1 + reach - cam[0],
-                            z1 + reach - cam[2]), (-reach - cam[1], reach - cam[1]), size)
-        if rect[2] == 0:
-            return texture  # the trail is off screen: no foam
-        # in map texels, one of margin for the filtered lookup
-        mw, mh = texture.size
-        tx0, ty0 = max(rect[0] // stride - 1, 0), max(rect[1] // stride - 1, 0)
-        tx1 = min(-(-(rect[0] + rect[2]) // stride) + 1, mw)
-        ty1 = min(-(-(rect[1] + rect[3]) // stride) + 1, mh)
+        view_proj = frame.camera.view_projection_relative(frame.aspect)
         prog = self.program(WAKE_MAP)
         self.uniforms.wake_uniforms(prog, frame)
         prog.set("uWakeStride", stride)
         prog.bind_textures({"uInputSurf": self._input_textures["uInputSurf"]})
-        with self.gpu.ctx.scope(fbo, enable_only=moderngl.NOTHING):
-            fbo.scissor = (tx0, ty0, tx1 - tx0, ty1 - ty0)
-            fbo.use()
-            draw_fullscreen(prog)
-            fbo.scissor = None
+        ctx = self.gpu.ctx
+        with ctx.scope(fbo, enable_only=moderngl.BLEND):
+            ctx.blend_equation = moderngl.MAX
+            try:
+                fbo.use()
+                for first in range(0, len(trail), WAKE_CHUNK):
+                    end = min(first + WAKE_CHUNK, len(trail))
+                    # the chunk and the sample after it, where its last wash segment ends
+                    x0, z0, x1, z1 = trail.bounds(frame.time, samples=slice(first, end + 1))
+                    rect = screen_rect(view_proj, (x0 - reach - cam[0], z0 - reach - cam[2],
+                                                   x1 + reach - cam[0], z1 + reach - cam[2]),
+                                       (-reach - cam[1], reach - cam[1]), size)
+                    if rect[2] == 0:
+                        continue  # these samples are off screen: no foam
+                    # in map texels, one of margin for the filtered lookup
+                    mw, mh = texture.size
+                    tx0, ty0 = max(rect[0] // stride - 1, 0), max(rect[1] // stride - 1, 0)
+                    tx1 = min(-(-(rect[0] + rect[2]) // stride) + 1, mw)
+                    ty1 = min(-(-(rect[1] + rect[3]) // stride) + 1, mh)
+                    prog.set_many({"uWakeFirst": first, "uWakeEnd": end,
+                                   "uWakeBounds": (x0 - cam[0], z0 - cam[2], x1 - cam[0],
+                                                   z1 - cam[2])})
+                    fbo.scissor = (tx0, ty0, tx1 - tx0, ty1 - ty0)
+                    draw_fullscreen(prog)
+            finally:
+                fbo.scissor = None
+                ctx.blend_equation = moderngl.FUNC_ADD
         return texture
 
     def _deferred_inputs(self, frame, target) -> None:

@@ -109,7 +109,7 @@ class Uniforms:
         w = trail.params
         prog.set_array("uWakeSample", samples)
         prog.set_array("uWakeDir", dirs)
-        prog.set_many({"uWakeCount": n,
+        prog.set_many({"uWakeCount": n, "uWakeFirst": 0, "uWakeEnd": n,
                        "uWakeBounds": (x0 - cam[0], z0 - cam[1], x1 - cam[0], z1 - cam[1]),
                        "uWakeShape": (trail.beam, w.cusp_width, w.spacing, w.wash_spread),
                        "uWakeLife": (w.cusp_life, w.wash_life, w.strength)})
