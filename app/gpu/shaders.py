@@ -1054,7 +1054,7 @@ class Program:
         return errors
 
     def __contains__(self, uniform: str) -> bool:
-        return self.program is not None and uniform in self.program
+        return self.program is not None and self.program.get(uniform, None) is not None
 
     def set(self, uniform: str, value: Any) -> None:
         """Set a uniform if the compiler kept it (removed uniforms are tolerated). A value that
@@ -1064,9 +1064,10 @@ class Program:
         import numpy as np
 
         prog = self.program
-        if prog is None or uniform not in prog:
+        # (a dict lookup: ``in`` on a moderngl program walks its members one by one)
+        member = None if prog is None else prog.get(uniform, None)
+        if member is None:
             return
-        member = prog[uniform]
         with contextlib.suppress(Exception):  # converted below, or listed
             if isinstance(value, np.ndarray) and value.ndim == 2:
                 # numpy row-major → GL column-major
@@ -1125,9 +1126,9 @@ class Program:
         import numpy as np
 
         prog = self.program
-        if prog is None or uniform not in prog:
+        member = None if prog is None else prog.get(uniform, None)
+        if member is None:
             return
-        member = prog[uniform]
         try:
             gl_type = getattr(member, "gl_type", None)
             if gl_type in SAMPLER_TYPES or any(gl_type in t for t in (
