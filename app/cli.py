@@ -84,17 +84,20 @@ def _int_in(option: str, lo: int, hi: int):
     return convert
 
 
-def _float_in(option: str, lo: float, hi: float):
-    """An argparse type: a finite number in [lo, hi]."""
+def _float_in(option: str, lo: float, hi: float, allowed: str = "", open_low: bool = False,
+              out: str = "is out of range"):
+    """An argparse type: a finite number in [lo, hi] ((lo, hi] with ``open_low``); the errors
+    end in ``allowed`` (default: the interval)."""
+    allowed = allowed or f"allowed [{lo:g}, {hi:g}]"
+
     def convert(text: str) -> float:
         try:
             value = float(text.strip())
         except ValueError:
-            raise UsageError(f"{option} {quote(text)} is not a number: "
-                             f"allowed [{lo:g}, {hi:g}]") from None
-        if not (math.isfinite(value) and lo <= value <= hi):
-            raise UsageError(f"{option} {quote(text)} is out of range: "
-                             f"allowed [{lo:g}, {hi:g}]")
+            raise UsageError(f"{option} {quote(text)} is not a number: {allowed}") from None
+        if not (math.isfinite(value) and (lo < value if open_low else lo <= value)
+                and value <= hi):
+            raise UsageError(f"{option} {quote(text)} {out}: {allowed}")
         return value
 
     return convert
@@ -102,33 +105,12 @@ def _float_in(option: str, lo: float, hi: float):
 
 def _positive_ms(option: str, hi: float):
     """An argparse type: a positive finite number of milliseconds, at most ``hi``."""
-    allowed = f"allowed a number of ms in (0, {hi:g}]"
-
-    def convert(text: str) -> float:
-        try:
-            value = float(text.strip())
-        except ValueError:
-            raise UsageError(f"{option} {quote(text)} is not a number: {allowed}") from None
-        if not (math.isfinite(value) and 0.0 < value <= hi):
-            raise UsageError(f"{option} {quote(text)} is out of range: {allowed}")
-        return value
-
-    return convert
+    return _float_in(option, 0.0, hi, f"allowed a number of ms in (0, {hi:g}]", open_low=True)
 
 
 def _number(option: str):
     """An argparse type: any finite number (ranges are checked where the value is used)."""
-    def convert(text: str) -> float:
-        try:
-            value = float(text.strip())
-        except ValueError:
-            raise UsageError(f"{option} {quote(text)} is not a number: "
-                             "allowed a finite number") from None
-        if not math.isfinite(value):
-            raise UsageError(f"{option} {quote(text)} is not finite: allowed a finite number")
-        return value
-
-    return convert
+    return _float_in(option, -math.inf, math.inf, "allowed a finite number", out="is not finite")
 
 
 def _add_common(p: argparse.ArgumentParser) -> None:
@@ -136,25 +118,31 @@ def _add_common(p: argparse.ArgumentParser) -> None:
                    help=f"shader folder to load GLSL from (default: ${SHADER_ENV} or glsl/)")
 
 
+def _add_base_options(p: argparse.ArgumentParser, camera_help: str, set_help: str) -> None:
+    """--time, --camera, --set and --preset: the base every scene command starts from."""
+    p.add_argument("--time", type=_float_in("--time", 0.0, 24.0), default=None, metavar="HOURS",
+                   help="hour of day, 0 to 24")
+    p.add_argument("--camera", default=None, metavar="X,Y,Z[,YAW[,PITCH[,FOV]]]",
+                   help=camera_help)
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                   help=set_help)
+    p.add_argument("--preset", default=None, metavar="FILE.toml",
+                   help="apply a TOML preset before --set")
+
+
 def _add_scene_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", default=None, metavar="WxH",
                    help="image size (default 1280x720; 1..16384 a side, within what the "
                         "renderer can allocate: natura doctor says)")
-    p.add_argument("--time", type=_float_in("--time", 0.0, 24.0), default=None, metavar="HOURS",
-                   help="hour of day, 0 to 24")
-    p.add_argument("--camera", default=None, metavar="X,Y,Z[,YAW[,PITCH[,FOV]]]",
-                   help="camera position in metres, then yaw (0 = north, 90 = east), pitch and "
-                   "vertical fov in degrees")
+    _add_base_options(p, "camera position in metres, then yaw (0 = north, 90 = east), pitch "
+                      "and vertical fov in degrees",
+                      "set a parameter (repeatable); see `natura params SCENE`")
     p.add_argument("--yaw", type=_number("--yaw"), default=None,
                    help="camera yaw in degrees (0 = north, 90 = east)")
     p.add_argument("--pitch", type=_float_in("--pitch", -90.0, 90.0), default=None,
                    help="camera pitch in degrees (positive looks up)")
     p.add_argument("--fov", type=_float_in("--fov", 1.0, 170.0), default=None,
                    help="vertical field of view in degrees")
-    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
-                   help="set a parameter (repeatable); see `natura params SCENE`")
-    p.add_argument("--preset", default=None, metavar="FILE.toml",
-                   help="apply a TOML preset before --set")
     p.add_argument("--view", default=None, metavar="NAME",
                    help="start from one of the scene's views (natura scenes lists them): its "
                         "camera, hour and parameters, before --preset and --set")
@@ -372,22 +360,6 @@ def _add_compare(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--force", action="store_true", help="overwrite existing PNG and JSON")
 
 
-def _add_report_base(rp: argparse.ArgumentParser) -> None:
-    """The base every method of the handout shares (--time, --camera, --set, --preset), then
-    --force."""
-    rp.add_argument("--time", type=_float_in("--time", 0.0, 24.0), default=None,
-                    metavar="HOURS", help="hour of day, 0 to 24")
-    rp.add_argument("--camera", default=None, metavar="X,Y,Z[,YAW[,PITCH[,FOV]]]",
-                    help="camera position in metres, then yaw, pitch and fov in degrees")
-    rp.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
-                    help="set a parameter for every method (repeatable)")
-    rp.add_argument("--preset", default=None, metavar="FILE.toml",
-                    help="apply a TOML preset before --set")
-    rp.add_argument("--force", action="store_true",
-                    help="write into a non-empty DIR (its index.html and report.json are "
-                    "replaced, nothing else)")
-
-
 def _add_report(sub: argparse._SubParsersAction) -> None:
     """``natura report SCENE``: the HTML handout of a scene's methods."""
     rp = sub.add_parser("report", help="write an HTML handout: a scene's methods side by side "
@@ -415,7 +387,11 @@ def _add_report(sub: argparse._SubParsersAction) -> None:
     rp.add_argument("--rounds", type=_int_in("--rounds", 1, MAX_COMPARE_ROUNDS), default=5,
                     help=f"timed rounds of each method with the first, 1..{MAX_COMPARE_ROUNDS} "
                     "(default 5)")
-    _add_report_base(rp)
+    _add_base_options(rp, "camera position in metres, then yaw, pitch and fov in degrees",
+                      "set a parameter for every method (repeatable)")
+    rp.add_argument("--force", action="store_true",
+                    help="write into a non-empty DIR (its index.html and report.json are "
+                    "replaced, nothing else)")
     _add_common(rp)
     rp.set_defaults(yaw=None, pitch=None, fov=None, vr=False, mesh=None)
 

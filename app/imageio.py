@@ -263,6 +263,22 @@ def check_output_path(path: str | os.PathLike, force: bool = False,
     return p
 
 
+def check_new_folder(path: Path, shown: str, allowed: str, option: str = "") -> Path:
+    """Check that a new folder ``path`` can be made: its parent is a writable folder and its
+    name fits. ``option`` (e.g. ``"--out "``) opens the messages. Returns the parent."""
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        what = "is not a folder" if os.path.lexists(parent) else "does not exist"
+        raise UsageError(f"the folder {quote(str(parent))} of {option}{shown} {what}: {allowed}")
+    if len(os.fsencode(path.name)) > name_max(parent):
+        raise UsageError(f"{option}folder name {quote(path.name)} is "
+                         f"{len(os.fsencode(path.name))} bytes: allowed at most "
+                         f"{name_max(parent)}")
+    if not _can_create_in(parent):
+        raise UsageError(f"the folder {quote(str(parent))} is not writable: {allowed}")
+    return parent
+
+
 def refuse_overwrite(p: Path) -> OutputExistsError:
     return OutputExistsError(f"refusing to overwrite {quote(str(p))}: allowed with --force, "
                              "or choose another name")

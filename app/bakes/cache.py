@@ -30,12 +30,10 @@ created or written turns caching off for that call with one warning per director
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import os
 import struct
-import tempfile
 import time
 import warnings
 from dataclasses import dataclass
@@ -45,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import NaturaWarning, quote_path
+from ..sim.textures import write_atomic
 
 CACHE_ENV = "NATURA_CACHE"
 MAGIC = b"NATBAKE\n"
@@ -191,26 +190,12 @@ class BakeCache:
         except OSError as exc:
             _warn_once(path.parent, _folder_problem(path.parent, exc))
             return False
-        tmp = None
         try:
-            fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-            with os.fdopen(fd, "wb") as fh:
-                if hasattr(os, "fchmod"):
-                    # mkstemp's 0600 would hide the cache from other users
-                    os.fchmod(fh.fileno(), 0o644)
-                fh.write(blob)
-                fh.flush()
-                os.fsync(fh.fileno())
-            os.replace(tmp, path)
-            tmp = None
+            write_atomic(path, blob)
             return True
         except OSError as exc:
             _warn_once(path.parent, f"cannot be written ({exc.strerror or exc})")
             return False
-        finally:
-            if tmp is not None:
-                with contextlib.suppress(OSError):
-                    os.unlink(tmp)
 
     def files(self) -> list[Path]:
         try:

@@ -411,13 +411,6 @@ def speed_accuracy(mesh=None, mass: float = MASS, quick: bool = False) -> dict:
             "triangles": len(mesh.triangles), "wave": {"amplitude": 0.6, "wavelength": 12.0}}
 
 
-def _forces_of(method, water):
-    def fn(body, t):
-        return method.forces(body, water, t)
-
-    return fn
-
-
 def time_methods(mesh, mass: float, methods: dict, floater, water, rounds: int = 60,
                  per_round: int = 10) -> dict:
     """Median ms of one force evaluation and of one 1/60 s frame (the body's substeps), each
@@ -438,7 +431,7 @@ def time_methods(mesh, mass: float, methods: dict, floater, water, rounds: int =
                 for _ in range(per_round):
                     m.forces(b, water, 0.5)
                 t1 = time.perf_counter()
-                b.step(1.0 / 60.0, _forces_of(m, water))
+                b.step(1.0 / 60.0, lambda body, t, m=m: m.forces(body, water, t))
                 t2 = time.perf_counter()
                 samples[name]["eval"].append((t1 - t0) / per_round)
             else:

@@ -101,8 +101,9 @@ def thesis_table(session, sizes=DEFAULT_SIZES, warmup: int = 2, repeat: int = 5,
     return {"rows": rows, "n_steps": p["planet.n_steps"]}
 
 
-def _render_debug(session, size, view: str) -> tuple[np.ndarray, np.ndarray]:
-    """(in-scatter image, transmittance image), each (h, w, 3) linear, row 0 at the top."""
+def _render_debug(session, size) -> tuple[np.ndarray, np.ndarray]:
+    """(in-scatter image, transmittance image) of the current view (the callers' ground view),
+    each (h, w, 3) linear, row 0 at the top."""
     p = session.params
     gpu = session.gpu
     target = gpu.target("bench", "planet debug", size)
@@ -124,7 +125,7 @@ def reference_for_view(session, size, steps: int = 2048) -> dict:
     4096 steps), using the G-buffer for mesh distances."""
     eff = session.scene.effect("planet")
     model = eff.model()
-    _render_debug(session, size, "ground")  # fills the G-buffer at this size
+    _render_debug(session, size)  # fills the G-buffer at this size
     colour, position, _, _ = eff._gbuffer_for(size)
     w, h = size
     pos = np.frombuffer(position.read(), dtype=np.float32).reshape(h, w, 4)[::-1].astype(np.float64)
@@ -165,7 +166,7 @@ def method_1_at_defaults(session, size, ref) -> dict:
         p.set_many({k: p.spec(k).default for k in METHOD_1_KNOBS})
         p.set("planet.method", "brute_force")
         rule = session.scene.effect("planet").pc_rule()
-        got_in, got_t = _render_debug(session, size, "ground")
+        got_in, got_t = _render_debug(session, size)
     finally:
         p.set_many(saved)
     errs = _errors(got_in, got_t, ref)
@@ -188,7 +189,7 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
 
     def measure(method, knob, value, extra_ref=None):
         p.set("planet.method", method)
-        got_in, got_t = _render_debug(session, size, "ground")
+        got_in, got_t = _render_debug(session, size)
         errs = _errors(got_in, got_t, extra_ref or ref)
         ms = _frame_ms(session, time_size, warmup, repeat)
         rows.append({"method": method, "knob": knob, "value": value, "ms": ms, **errs})
@@ -214,7 +215,7 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
         p.set_many({k: saved[k] for k in ("planet.lut_height", "planet.lut_angle")})
         # the shadow-map knob against the same method with a very large map
         p.set_many({"planet.method": "shadowed", "planet.shadow_map_size": 8192})
-        best_in, best_t = _render_debug(session, size, "ground")
+        best_in, best_t = _render_debug(session, size)
         best = {"in_scatter": best_in, "transmittance": best_t}
         for s in shadow_sizes:
             p.set("planet.shadow_map_size", s)
@@ -246,11 +247,7 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
 def _final_image(session, size, view: str) -> np.ndarray:
     """The final linear image (h, w, 3) of ``view`` at ``size``."""
     _set_view(session, view)
-    gpu = session.gpu
-    with gpu.scratch_target("bench", "planet change", size) as target:
-        frame = session.scene.frame(size)
-        session.scene.render(frame, target)
-        return target.read()[..., :3].astype(np.float64)
+    return _final_image_at(session, size)
 
 
 def _diff(before: np.ndarray, after: np.ndarray) -> dict:

@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .maths import TWO_PI, compass_xz, rotation_y, wrap_two_pi
+from .maths import TWO_PI, compass_xz, merged_runs, rotation_y, wrap_two_pi
 from .maths import safe_normalize as _normalize
 
 Array = NDArray[np.float64]
@@ -683,14 +683,7 @@ def draw_runs(tiles: Tiles, lods: ArrayLike, lod: int,
     picked = np.flatnonzero(np.asarray(lods) == lod)
     if distances is not None and len(picked):
         picked = picked[np.argsort(np.asarray(distances)[picked], kind="stable")]
-    runs: list[tuple[int, int]] = []
-    for k in picked:
-        s, c = int(tiles.start[k]), int(tiles.count[k])
-        if runs and runs[-1][0] + runs[-1][1] == s:
-            runs[-1] = (runs[-1][0], runs[-1][1] + c)
-        else:
-            runs.append((s, c))
-    return runs
+    return merged_runs(tiles.start, tiles.count, picked)
 
 
 def triangles(method: str, blades: int, sections: int = 3, planes: int = 3,

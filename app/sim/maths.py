@@ -132,3 +132,16 @@ def perspective(fovy_deg: float, aspect: float, near: float, far: float) -> np.n
     m[2, 3] = 2 * far * near / (near - far)
     m[3, 2] = -1.0
     return m
+
+
+def merged_runs(start, count, picked) -> list[tuple[int, int]]:
+    """(first, count) runs of the items ``picked`` (item k: ``count[k]`` elements from
+    ``start[k]``), in their order, neighbours in the buffer merged into one run."""
+    runs: list[tuple[int, int]] = []
+    for k in picked:
+        s, c = int(start[k]), int(count[k])
+        if runs and runs[-1][0] + runs[-1][1] == s:
+            runs[-1] = (runs[-1][0], runs[-1][1] + c)
+        else:
+            runs.append((s, c))
+    return runs

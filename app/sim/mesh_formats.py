@@ -907,10 +907,8 @@ class _Gltf:
                     raise Problem(f"has node {c} as a child twice or of itself",
                                   "allowed a tree of nodes (one parent each)")
                 parent[c] = i
-            self.numbers(owner, node, "matrix", 16)
-            self.numbers(owner, node, "translation", 3)
-            self.numbers(owner, node, "rotation", 4)
-            self.numbers(owner, node, "scale", 3)
+            for key, count in (("matrix", 16), ("translation", 3), ("rotation", 4), ("scale", 3)):
+                self.numbers(owner, node, key, count)
         for start in parent:  # no cycles: walking up from any node ends at a root
             seen = {start}
             up = parent.get(start)

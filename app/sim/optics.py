@@ -12,6 +12,8 @@ import math
 
 import numpy as np
 
+from .maths import normalize
+
 #: direction components smaller than this in magnitude are replaced by ±TINY (ray_box)
 TINY = 1.0e-20
 
@@ -92,11 +94,6 @@ def _dot(a, b):
     return np.einsum("...i,...i->...", a, b)
 
 
-def _unit(a):
-    a = np.asarray(a, dtype=np.float64)
-    return a / np.linalg.norm(a, axis=-1, keepdims=True)
-
-
 def _check_indices(n1, n2):
     if np.any(np.asarray(n1) <= 0.0) or np.any(np.asarray(n2) <= 0.0):
         raise ValueError(f"refractive indices n1={n1!r}, n2={n2!r}: must be > 0")
@@ -164,7 +161,7 @@ def refract_direction(v, n, eta):
     eta = np.asarray(eta, dtype=np.float64)
     if np.any(eta <= 0.0):
         raise ValueError(f"eta={eta!r}: the index ratio n1/n2 must be > 0")
-    vv, nn = np.broadcast_arrays(_unit(v), _unit(n))
+    vv, nn = np.broadcast_arrays(*(normalize(np.asarray(a, np.float64)) for a in (v, n)))
     c1 = np.clip(-_dot(vv, nn), -1.0, 1.0)[..., None]
     e = eta[..., None] if eta.ndim else eta
     k = 1.0 - e * e * (1.0 - c1 * c1)
@@ -172,7 +169,7 @@ def refract_direction(v, n, eta):
     refr = e * (vv + nn * c1) - nn * np.sqrt(np.maximum(k, 0.0))
     refl = vv + 2.0 * c1 * nn
     out = np.where(tir[..., None], refl, refr)
-    return _unit(out), tir
+    return normalize(out), tir
 
 
 def refract_through_sphere(p, v, centre, radius, eta):
@@ -218,7 +215,7 @@ def distort_normal(n, tangent, bitangent, distortion_xy, strength) -> np.ndarray
     out = (np.asarray(n, dtype=np.float64)
            + s * (d[..., 0:1] * np.asarray(tangent, dtype=np.float64)
                   + d[..., 1:2] * np.asarray(bitangent, dtype=np.float64)))
-    return _unit(out)
+    return normalize(out)
 
 
 def refraction_lod(transparency, mip_count) -> np.ndarray:

@@ -191,6 +191,19 @@ def clamp_input(value) -> float:
     return min(1.0, max(-1.0, x))
 
 
+class _ClampedInput:
+    """A control input attribute: :func:`clamp_input` on every assignment."""
+
+    def __set_name__(self, owner, name: str) -> None:
+        self.name = "_" + name
+
+    def __get__(self, obj, objtype=None) -> float:
+        return getattr(obj, self.name) if obj is not None else self  # type: ignore[return-value]
+
+    def __set__(self, obj, value) -> None:
+        setattr(obj, self.name, clamp_input(value))
+
+
 def _horizontal(x, z) -> np.ndarray:
     """The world vectors (x, 0, z) (…, 3) of float64 components of one shape: np.stack([x,
     zeros, z], axis=-1) filled in by component (np.stack's checks cost more than the maths)."""
@@ -397,21 +410,8 @@ class Navigation:
         self.direction = direction
         self.throttle = throttle
 
-    @property
-    def direction(self) -> float:
-        return self._direction
-
-    @direction.setter
-    def direction(self, value) -> None:
-        self._direction = clamp_input(value)
-
-    @property
-    def throttle(self) -> float:
-        return self._throttle
-
-    @throttle.setter
-    def throttle(self, value) -> None:
-        self._throttle = clamp_input(value)
+    direction = _ClampedInput()
+    throttle = _ClampedInput()
 
     # the thesis's kinematic form
     def yaw_rate(self) -> float:
@@ -612,13 +612,7 @@ class Sail:
         self.mode = Param("sailing.sail_mode", mode, kind="choice", choices=SAIL_MODES).default
         self.sails_direction = sails_direction
 
-    @property
-    def sails_direction(self) -> float:
-        return self._sails_direction
-
-    @sails_direction.setter
-    def sails_direction(self, value) -> None:
-        self._sails_direction = clamp_input(value)
+    sails_direction = _ClampedInput()
 
     # the thesis's mode
     def thesis_boom(self) -> float:

@@ -185,17 +185,19 @@ def load_or_build(kind: str, params: dict[str, Any],
             return arr, "hit"
         status = f"rebuilt: {why}"
     arr = np.ascontiguousarray(GENERATORS[kind](**params))
-    _store(path, encode_texture(kind, params, arr))
+    with contextlib.suppress(OSError):  # a cache that cannot be written: generated each time
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_atomic(path, encode_texture(kind, params, arr))
     return arr, status
 
 
-def _store(path: Path, blob: bytes) -> None:
+def write_atomic(path: Path, blob: bytes) -> None:
     """Write ``blob`` atomically (a temporary file in the same folder, fsynced, then
-    ``os.replace``-d: another process sees the old file or the new one, never half of one), as
-    :meth:`app.bakes.BakeCache.store` does; a folder that cannot be written is skipped."""
+    ``os.replace``-d: another process sees the old file or the new one, never half of one),
+    readable by every user; raises the OSError (nothing is left behind). The texture cache's
+    and :meth:`app.bakes.BakeCache.store`'s writes."""
     tmp = None
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
         with os.fdopen(fd, "wb") as fh:
             if hasattr(os, "fchmod"):
@@ -205,8 +207,6 @@ def _store(path: Path, blob: bytes) -> None:
             os.fsync(fh.fileno())
         os.replace(tmp, path)
         tmp = None
-    except OSError:
-        pass  # a cache that cannot be written: generated each time, as before
     finally:
         if tmp is not None:
             with contextlib.suppress(OSError):

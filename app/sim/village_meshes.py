@@ -509,14 +509,7 @@ def lights_reaching(chunks: Chunks, positions, ranges) -> np.ndarray:
 def chunk_runs(chunks: Chunks, picked) -> list[tuple[int, int]]:
     """(first triangle, triangles) runs of the chunks ``picked``, in their order, neighbours in
     the buffer merged."""
-    runs: list[tuple[int, int]] = []
-    for k in picked:
-        s, c = int(chunks.start[k]), int(chunks.count[k])
-        if runs and runs[-1][0] + runs[-1][1] == s:
-            runs[-1] = (runs[-1][0], runs[-1][1] + c)
-        else:
-            runs.append((s, c))
-    return runs
+    return maths.merged_runs(chunks.start, chunks.count, picked)
 
 
 def village_batches(island: Island) -> dict[str, Batch]:

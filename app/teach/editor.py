@@ -21,11 +21,10 @@ from ..errors import UsageError, quote
 from ..gpu.shaders import ShaderError, ShaderLibrary, read_source, resolve_shader_root
 from ..imageio import (
     _LIVE,
-    _can_create_in,
     _remove,
+    check_new_folder,
     expand,
     file_mode,
-    name_max,
     temp_name_in,
     write_text_atomic,
 )
@@ -154,15 +153,7 @@ def copy_shaders(dest_arg: str, source: Path | None = None) -> Path:
     if os.path.lexists(dest):
         raise UsageError(f"{shown} already exists: "
                          "allowed a new folder name (nothing is overwritten)")
-    parent = dest.parent if str(dest.parent) else Path(".")
-    if not parent.is_dir():
-        what = "is not a folder" if os.path.lexists(parent) else "does not exist"
-        raise UsageError(f"the folder {quote(str(parent))} of {shown} {what}: {allowed}")
-    if len(os.fsencode(dest.name)) > name_max(parent):
-        raise UsageError(f"folder name {quote(dest.name)} is {len(os.fsencode(dest.name))} "
-                         f"bytes: allowed at most {name_max(parent)}")
-    if not _can_create_in(parent):
-        raise UsageError(f"the folder {quote(str(parent))} is not writable: {allowed}")
+    parent = check_new_folder(dest, shown, allowed)
     source = Path(source) if source is not None else resolve_shader_root(None)
     tmp = temp_name_in(parent)
     _LIVE.add(tmp)

@@ -41,9 +41,9 @@ from ..imageio import (
     _LIVE,
     _can_create_in,
     _remove,
+    check_new_folder,
     check_output_path,
     expand,
-    name_max,
     next_free_path,
     refuse_overwrite,
     signals_deferred,
@@ -578,17 +578,7 @@ def check_out_dir(out: str | os.PathLike, force: bool = False) -> Path:
         for name, suffix in ((PAGE, ".html"), (DATA, ".json")):
             check_output_path(path / name, force=True, suffixes=(suffix,), probe_folder=False)
         return path
-    parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        what = "is not a folder" if os.path.lexists(parent) else "does not exist"
-        raise UsageError(f"the folder {quote(str(parent))} of --out {shown} {what}: "
-                         f"{allowed}")
-    if len(os.fsencode(path.name)) > name_max(parent):
-        raise UsageError(f"--out folder name {quote(path.name)} is "
-                         f"{len(os.fsencode(path.name))} bytes: allowed at most "
-                         f"{name_max(parent)}")
-    if not _can_create_in(parent):
-        raise UsageError(f"the folder {quote(str(parent))} is not writable: {allowed}")
+    check_new_folder(path, shown, allowed, "--out ")
     return path
 
 

@@ -84,7 +84,7 @@ def test_method_1_error_against_the_reference_is_bounded(planet):
     for name, value in FORMER.items():
         planet.params.set(name, value)
     planet.params.set("planet.method", "brute_force")
-    former_in, former_t = bench._render_debug(session, size, "ground")
+    former_in, former_t = bench._render_debug(session, size)
     former = bench._errors(former_in, former_t, ref)
     assert former["in_mean"] / ref["in_scatter"].max(axis=-1).mean() > 0.30, former
     planet.apply({})

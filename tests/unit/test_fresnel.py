@@ -11,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from app.sim import optics as op
+from app.sim.maths import normalize
 
 INDICES = st.floats(1.0, 3.0)
 COSINES = st.floats(0.0, 1.0)
@@ -108,7 +109,7 @@ def test_equal_indices_are_the_identity(theta, phi, n):
     r, tir = op.refract_direction(v, [0.0, 0.0, 1.0], n / n)
     assert not tir and r == pytest.approx(v, abs=1e-12)
     p = np.array([math.sin(theta), 0.0, math.cos(theta)])   # a point on the unit sphere
-    v = op._unit(-p + np.array([0.1, 0.2, 0.0]))            # entering the sphere
+    v = normalize(-p + np.array([0.1, 0.2, 0.0]))            # entering the sphere
     d, tir = op.refract_through_sphere(p, v, [0, 0, 0], 1.0, 1.0)
     assert not bool(tir) and d == pytest.approx(v, abs=1e-12)
 
@@ -132,7 +133,7 @@ def test_distortion_lod_and_mix():
     n = op.distort_normal([0, 0, 1.0], [1.0, 0, 0], [0, 1.0, 0], [0.5, -0.5], 0.0)
     assert n == pytest.approx([0, 0, 1.0])
     n = op.distort_normal([0, 0, 1.0], [1.0, 0, 0], [0, 1.0, 0], [1.0, 0.0], 1.0)
-    assert n == pytest.approx(op._unit([1.0, 0, 1.0]))
+    assert n == pytest.approx(normalize([1.0, 0, 1.0]))
     assert op.distortion_strength(0.4, 0.5) == pytest.approx(0.2)
     assert op.refraction_lod(1.0, 8) == 0.0 and op.refraction_lod(0.0, 8) == 7.0
     assert op.refraction_lod(0.569, 8) == pytest.approx(0.431 * 7)
