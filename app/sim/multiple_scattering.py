@@ -168,12 +168,15 @@ def _bilinear(table, y, x):
     ny, nx = table.shape[:2]
     y = np.clip(y, 0.0, ny - 1.0)
     x = np.clip(x, 0.0, nx - 1.0)
-    y0 = np.minimum(y.astype(int), ny - 2)
-    x0 = np.minimum(x.astype(int), nx - 2)
+    y0 = np.minimum(y.astype(np.intp), ny - 2)
+    x0 = np.minimum(x.astype(np.intp), nx - 2)
     fy = (y - y0)[..., None]
     fx = (x - x0)[..., None]
-    return ((1 - fy) * ((1 - fx) * table[y0, x0] + fx * table[y0, x0 + 1])
-            + fy * ((1 - fx) * table[y0 + 1, x0] + fx * table[y0 + 1, x0 + 1]))
+    flat = table.reshape(ny * nx, -1)  # take on flat indices: twice as fast as table[y0, x0]
+    i = y0 * nx + x0
+    t00, t01 = flat.take(i, axis=0), flat.take(i + 1, axis=0)
+    t10, t11 = flat.take(i + nx, axis=0), flat.take(i + nx + 1, axis=0)
+    return (1 - fy) * ((1 - fx) * t00 + fx * t01) + fy * ((1 - fx) * t10 + fx * t11)
 
 
 def _march(m: _Model, h0, mu, steps: int):
@@ -303,22 +306,22 @@ class Reference:
         fs = (np.clip(v, _V_MIN, 1.0) - _V_MIN) / (1.0 - _V_MIN) * (g.n_mu_s - 1)
         fm = (np.clip(mu, -1.0, 1.0) + 1.0) / 2.0 * g.n_mu - 0.5
         fp = np.clip(phi, 0.0, np.pi) / np.pi * g.n_phi - 0.5
-        idx, wts = [], []
-        for f, n in ((fh, g.n_h), (fs, g.n_mu_s), (fm, g.n_mu), (fp, g.n_phi)):
-            f = np.clip(f, 0.0, n - 1.0)
-            i0 = np.minimum(f.astype(int), n - 2)
-            idx.append(i0)
-            wts.append(f - i0)
-        flat = table.reshape(-1, 3)
         strides = (g.n_mu_s * g.n_mu * g.n_phi, g.n_mu * g.n_phi, g.n_phi, 1)
+        base, weights = 0, []  # the low corner's flat index; per axis (1 − w, w)
+        for f, n, stride in zip((fh, fs, fm, fp), (g.n_h, g.n_mu_s, g.n_mu, g.n_phi), strides):
+            f = np.clip(f, 0.0, n - 1.0)
+            i0 = np.minimum(f.astype(np.intp), n - 2)
+            base = base + i0 * stride
+            weights.append((1.0 - (f - i0), f - i0))
+        flat = table.reshape(-1, 3)
         out = 0.0
-        for c in range(16):
+        for c in range(16):  # the corners: a fixed offset from the low one (take: no 2D index)
             bits = [(c >> k) & 1 for k in range(4)]
-            lin = sum((idx[k] + bits[k]) * strides[k] for k in range(4))
-            w = np.ones(np.shape(wts[0]))
-            for k in range(4):
-                w = w * (wts[k] if bits[k] else 1.0 - wts[k])
-            out = out + flat[lin] * w[..., None]
+            w = weights[0][bits[0]]
+            for k in range(1, 4):
+                w = w * weights[k][bits[k]]
+            out = out + flat.take(base + sum(b * s for b, s in zip(bits, strides)),
+                                  axis=0) * w[..., None]
         return out
 
     def averaged(self, over: str) -> dict[int, np.ndarray]:
