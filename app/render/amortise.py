@@ -195,11 +195,12 @@ class _Grid:
         self.fbo = gpu.framebuffer(owner, f"amortised march 1/{block}", [self.layer, self.aux])
         self.bands = bands(self.size, rasteriser_threads(), gpu.caps.software)
         self.rows = -(-self.size[1] // self.bands) if self.bands else 0  # grid rows of a band
-        # a band: its grid rows, LANE fragment rows each, in whole tiles (a power of two)
-        tiles = -(-LANE * self.rows // TILE)
-        self.band_shift = TILE.bit_length() - 1 + (tiles - 1).bit_length()
+        self.band_shift = 0  # log2 of the fragment rows from one band to the next
         self.banded: tuple | None = None
         if self.bands:  # the banded target: each grid row in LANE × LANE blocks of texels
+            # a band: its grid rows, LANE fragment rows each, in whole tiles (a power of two)
+            tiles = -(-LANE * self.rows // TILE)
+            self.band_shift = TILE.bit_length() - 1 + (tiles - 1).bit_length()
             size = (LANE * -(-self.size[0] // (LANE * LANE)),
                     ((self.bands - 1) << self.band_shift) + LANE * self.rows)
             layer = gpu.texture(owner, f"amortised march 1/{block} banded", size, 4, dtype="f4",

@@ -10,14 +10,25 @@
 // NDC and clamped to the screen by the CPU, so the quad never leaves the clip volume sideways;
 // uBandDepth = 1 (the far plane) is inside the clip volume (−w ≤ z ≤ w), for the shading pass's
 // depth test against the cleared depth.
+// With OCEAN_AMBIENT_VARYING (the shading pass) it also reads the sky's light from straight up
+// once per vertex, for every pixel's shading (OceanSkyAmbient, ocean/shading.glsl).
 uniform vec2 uBand;        // NDC y of the band's bottom and top rows' edges
 uniform float uBandDepth;  // NDC z of the quad
 
 out vec2 vUV;
 
+#ifdef OCEAN_AMBIENT_VARYING
+#define OCEAN_AMBIENT_SOURCE
+#include "ocean/shading.glsl"
+flat out vec3 vSkyAmbient;
+#endif
+
 void main() {
     vec2 p = vec2(float(gl_VertexID & 1), float((gl_VertexID >> 1) & 1));
     vec2 ndc = vec2(p.x * 2.0 - 1.0, mix(uBand.x, uBand.y, p.y));
     vUV = ndc * 0.5 + 0.5;
+#ifdef OCEAN_AMBIENT_VARYING
+    vSkyAmbient = OceanSkyAmbient();
+#endif
     gl_Position = vec4(ndc, uBandDepth, 1.0);
 }

@@ -61,9 +61,9 @@ vec3 EnvironmentRadiance(vec3 dir, float lod) {
 }
 
 // The sky's light from straight up (the cubemap's last mip level): one value for every pixel.
-// A program whose vertex stage reads it once (OCEAN_AMBIENT_VARYING: ocean/shade.vert, which
-// defines OCEAN_AMBIENT_SOURCE) passes it on flat; the others read the cubemap per pixel (a
-// software rasteriser would, ~0.7 ms of the deferred pass at 640x360).
+// A program whose vertex stage reads it once (OCEAN_AMBIENT_VARYING: ocean/band.vert, which
+// defines OCEAN_AMBIENT_SOURCE) passes it on flat; the others read the cubemap per pixel (on a
+// software rasteriser, ~0.7 ms of the deferred pass at 640x360).
 #if defined(OCEAN_AMBIENT_VARYING) && !defined(OCEAN_AMBIENT_SOURCE)
 flat in vec3 vSkyAmbient;
 vec3 OceanSkyAmbient() { return vSkyAmbient; }

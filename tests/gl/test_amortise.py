@@ -254,7 +254,8 @@ def test_a_banded_grid_marches_each_texel_once_and_a_block_one_row(gpu, monkeypa
     monkeypatch.setattr(am, "rasteriser_threads", lambda: threads)
     block = 4
     size = (grid_size[0] * block, grid_size[1] * block)
-    g = am.Amortiser(gpu, "test-amortise")._grid(size, block)
+    amortiser = am.Amortiser(gpu, "test-amortise")
+    g = amortiser._grid(size, block)
     assert g.size == grid_size and g.bands == min(threads, grid_size[1])
     fbo, _, _, banded_size = g.banded
     out = gpu.texture("test-amortise", "lanes", banded_size, 4, dtype="f4")
@@ -279,3 +280,4 @@ def test_a_banded_grid_marches_each_texel_once_and_a_block_one_row(gpu, monkeypa
             assert len(set(rows.tolist())) <= 1, (x, y, rows)
     for obj in (target, out):
         gpu.free(obj)
+    amortiser.release()

@@ -21,11 +21,11 @@ UNDERWATER = fullscreen("ocean/underwater")
 SURFACE_INPUTS = ProgramSpec("ocean/surface_inputs", vert="ocean/surface.vert",
                              frag="ocean/surface_inputs.frag")
 FAR_INPUTS = ProgramSpec("ocean/far_inputs", vert="ocean/band.vert", frag="ocean/far_inputs.frag")
-SHADE = ProgramSpec("ocean/shade", vert="ocean/shade.vert", frag="ocean/shade.frag",
+SHADE = ProgramSpec("ocean/shade", vert="ocean/band.vert", frag="ocean/shade.frag",
                     defines=(("OCEAN_EXPLICIT_GRADIENTS", 1), ("OCEAN_AMBIENT_VARYING", 1)))
 # the same, for a camera clearly above the water: the view from below is not compiled in (a
 # software rasteriser would run it on every pixel, uniform branch or not)
-SHADE_ABOVE = ProgramSpec("ocean/shade_above", vert="ocean/shade.vert", frag="ocean/shade.frag",
+SHADE_ABOVE = ProgramSpec("ocean/shade_above", vert="ocean/band.vert", frag="ocean/shade.frag",
                           defines=(("OCEAN_EXPLICIT_GRADIENTS", 1), ("OCEAN_AMBIENT_VARYING", 1),
                                    ("OCEAN_SEEN_FROM_ABOVE", 1)))
 
@@ -201,6 +201,7 @@ class Surface:
         prog.set("uWakeStride", stride)
         prog.bind_textures({"uInputSurf": self._input_textures["uInputSurf"]})
         ctx = self.gpu.ctx
+        mw, mh = texture.size
         with ctx.scope(fbo, enable_only=moderngl.BLEND):
             ctx.blend_equation = moderngl.MAX
             try:
@@ -215,7 +216,6 @@ class Surface:
                     if rect[2] == 0:
                         continue  # these samples are off screen: no foam
                     # in map texels, one of margin for the filtered lookup
-                    mw, mh = texture.size
                     tx0, ty0 = max(rect[0] // stride - 1, 0), max(rect[1] // stride - 1, 0)
                     tx1 = min(-(-(rect[0] + rect[2]) // stride) + 1, mw)
                     ty1 = min(-(-(rect[1] + rect[3]) // stride) + 1, mh)
