@@ -18,7 +18,8 @@ What an effect does:
   march, depth)``, where ``march(grid)`` binds ``grid.textures``, sets ``grid.uniforms`` and
   draws into ``grid`` (``grid.use()``); otherwise it marches every pixel itself through
   :meth:`Amortiser.direct` (the thesis's march, the lesson's reference);
-* composite ``layer.color`` over the image.
+* composite the layer over the image (:func:`app.render.layers.composite_layer`, which skips
+  the pixels of the near cut through :meth:`LayerHistory.over`).
 
 Still renders (``frame.interactive`` false: ``natura render``, the gallery, the tests, the
 bench) converge before they return: the first render of a view resets the history and runs
@@ -57,10 +58,13 @@ from ..sim.amortise import (
 #: glsl/common/amortise_resolve.frag): an effect lists all three in its programs
 RESOLVES = tuple(fullscreen("common/amortise_resolve", defines=(("AMORTISE_PATH", path),))
                  for path in (0, 1, 2))
+#: the resolve's near cut as a pass of its own (``AMORTISE_NEAR``): it writes the pixels the
+#: cut takes, and marks them in the history's depth so that the resolve proper skips them
+NEAR_CUT = fullscreen("common/amortise_resolve", defines=(("AMORTISE_NEAR", 1),))
 #: the gather of a banded march grid (see :func:`bands`)
 GATHER = fullscreen("common/amortise_gather")
 #: every program of the amortised march: an effect lists them in its programs
-PROGRAMS = (*RESOLVES, GATHER)
+PROGRAMS = (*RESOLVES, NEAR_CUT, GATHER)
 #: the tile of a tiled software rasteriser (llvmpipe: 64 × 64 pixels, one thread each)
 TILE = 64
 #: the side of its block of fragments shaded as one vector of lanes (llvmpipe: 4 × 4)
@@ -163,13 +167,32 @@ class MarchGrid:
 
 class LayerHistory:
     """A full-resolution pair: the resolved layer (RGBA32F) and its aux (RGBA32F: cloud distance,
-    clipped scene distance, marched fraction); bilinear, for the moving resolve."""
+    clipped scene distance, marched fraction); bilinear, for the moving resolve. ``near`` is the
+    depth both histories share: the near cut's mask (see :meth:`Amortiser._resolve`)."""
 
-    def __init__(self, gpu, owner: str, size):
+    def __init__(self, gpu, owner: str, size, near):
         self.color = gpu.texture(owner, "amortised layer", size, 4, dtype="f4")
         self.aux = gpu.texture(owner, "amortised layer aux", size, 4, dtype="f4")
-        self.fbo = gpu.framebuffer(owner, "amortised layer", [self.color, self.aux])
+        self.fbo = gpu.framebuffer(owner, "amortised layer", [self.color, self.aux],
+                                   depth_attachment=near)
         self.size = tuple(int(v) for v in size)
+        self._gpu, self._owner, self._near = gpu, owner, near
+        self._over: tuple | None = None  # (a target's colour, a framebuffer over it and near)
+
+    def over(self, target):
+        """A framebuffer over ``target``'s colour with the near cut's mark as its depth (None
+        when the sizes differ), for the composite: drawn depth-tested ``<`` at depth ½, it skips
+        the pixels the near cut took — where the layer is no cloud, (0, 0, 0, 1), and blending
+        it would leave the image as it is."""
+        if tuple(target.size) != self.size:
+            return None
+        if self._over is None or self._over[0] is not target.color:
+            if self._over is not None:
+                self._gpu.free(self._over[1])
+            self._over = (target.color, self._gpu.framebuffer(
+                self._owner, "amortised layer composite", [target.color],
+                depth_attachment=self._near))
+        return self._over[1]
 
     def read(self) -> np.ndarray:
         """(h, w, 4) float32, row 0 at the top: rgb premultiplied radiance, a transmittance."""
@@ -178,8 +201,9 @@ class LayerHistory:
         return data[::-1].copy()
 
     def free(self, gpu) -> None:
-        for obj in (self.fbo, self.color, self.aux):
+        for obj in (*(self._over or ())[1:], self.fbo, self.color, self.aux):
             gpu.free(obj)
+        self._over = None
 
 
 class _Grid:
@@ -224,6 +248,7 @@ class Amortiser:
         self.gpu = gpu
         self.owner = owner
         self._pair: list[LayerHistory] = []
+        self._near: tuple = ()  # the near cut's depth mask and a framebuffer to clear it
         self._grids: dict[int, _Grid] = {}
         self._noise = None
         self._last: LayerState | None = None
@@ -256,8 +281,11 @@ class Amortiser:
         if self._pair and self._pair[0].size == size:
             return
         self.release()
-        self._pair = [LayerHistory(self.gpu, self.owner, size),
-                      LayerHistory(self.gpu, self.owner, size)]
+        depth = self.gpu.depth_texture(self.owner, "amortised layer near cut", size)
+        self._near = (self.gpu.framebuffer(self.owner, "amortised layer near cut", [],
+                                           depth_attachment=depth), depth)
+        self._pair = [LayerHistory(self.gpu, self.owner, size, depth),
+                      LayerHistory(self.gpu, self.owner, size, depth)]
 
     def _grid(self, size, block: int) -> _Grid:
         g = self._grids.get(block)
@@ -273,9 +301,12 @@ class Amortiser:
         starts afresh."""
         for h in self._pair:
             h.free(self.gpu)
+        for obj in self._near:
+            self.gpu.free(obj)
         for g in self._grids.values():
             g.free(self.gpu)
         self._pair = []
+        self._near = ()
         self._grids = {}
         self._last = self._origin = None
         self._converged = None
@@ -293,6 +324,7 @@ class Amortiser:
         """Drop every reference without freeing (the owner's resources were released)."""
         self._full = None
         self._pair = []
+        self._near = ()
         self._grids = {}
         self._noise = None
         self._last = self._origin = None
@@ -438,24 +470,41 @@ class Amortiser:
                      and prev_view_proj is not None and np.array_equal(view_proj, prev_view_proj))
         path = 0 if not have else 1 if still else 2
         self.last_path = path
-        prog = self.gpu.program(self.owner, RESOLVES[path])
-        prog.bind_textures({"uFresh": grid.layer, "uFreshAux": grid.aux, "uHistory": src.color,
-                            "uHistoryAux": src.aux, "uSceneDepth": scene_depth,
-                            "uBlueNoise": self.blue_noise()})
-        prog.set_many(frame.camera_uniforms())
         cam = frame.camera
-        prog.set_many({
-            **self._uniforms(size, block, sub, 0.0, True),
+        uniforms = {
+            **frame.camera_uniforms(), **self._uniforms(size, block, sub, 0.0, True),
             "uHasSceneDepth": scene_depth is not None, "uCamNear": float(cam.near),
             "uCamFar": float(cam.far),
             "uPrevViewProj": self._prev_view_proj if have else np.identity(4),
             "uCameraDelta": tuple(float(v) for v in delta),
             "uFieldShift": tuple(float(v) for v in shift),
             "uNearCloud": float(state.near), "uFarCloud": float(state.far),
-        })
+        }
+        textures = {"uFresh": grid.layer, "uFreshAux": grid.aux, "uHistory": src.color,
+                    "uHistoryAux": src.aux, "uSceneDepth": scene_depth,
+                    "uBlueNoise": self.blue_noise()}
+        # Two passes, each pixel written by one of them: the near cut (the boat, the near sea:
+        # most of a maritime frame) writes its pixels and marks them in the depth; the resolve
+        # proper is depth-tested against that mark. A rasteriser skips a block of fragments the
+        # depth test rejects before shading — a software one too, which otherwise runs every
+        # line of a shader with masks, taken or not.
+        ctx = self.gpu.ctx
+        ctx.disable(moderngl.BLEND)
+        ctx.enable(moderngl.DEPTH_TEST)
+        self._near[0].clear(depth=1.0)
         dst.fbo.use()
-        self.gpu.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
-        draw_fullscreen(prog)
+        try:
+            for spec, func, write in ((NEAR_CUT, "1", True), (RESOLVES[path], "<", False)):
+                prog = self.gpu.program(self.owner, spec)
+                prog.bind_textures(textures)
+                prog.set_many(uniforms)
+                ctx.depth_func = func  # always; then where the near cut left no mark
+                dst.fbo.depth_mask = write
+                draw_fullscreen(prog)
+        finally:
+            ctx.depth_func = "<"
+            dst.fbo.depth_mask = True
+            ctx.disable(moderngl.DEPTH_TEST)
         self._pair.reverse()  # dst, now [0]: the layer, and the next frame's history
         self._last = state
         self._prev_view_proj = view_proj

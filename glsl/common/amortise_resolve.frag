@@ -2,9 +2,12 @@
 // Amortised layer, the resolve (beyond the theses; after Schneider 2015, the clouds of Horizon:
 // Zero Dawn: a fraction of the pixels is marched per frame, the rest reprojected). Python:
 // app/render/amortise.py; numpy twins: app/sim/amortise.py (fill, fill_nearest, depth_agree).
-// One full-resolution pass per frame, one program per AMORTISE_PATH (0 reset, 1 still,
-// 2 moving; a software renderer runs every branch of a shader with masks, so a path's cost is
-// all the code it holds); main() gives each pixel's choice. Outputs: the layer (rgb
+// Two full-resolution passes per frame: the near cut (AMORTISE_NEAR) writes the pixels whose
+// opaque scene is nearer than the layer and leaves a depth mark there; then the resolve proper,
+// one program per AMORTISE_PATH (0 reset, 1 still, 2 moving), is depth-tested against the mark.
+// A software renderer runs every line of a shader with masks, taken or not (so a path's cost is
+// all the code it holds), but it skips a block of fragments the depth test rejects: in a
+// maritime frame most pixels are the near sea and the boat. main() gives each pixel's choice. Outputs: the layer (rgb
 // premultiplied radiance, a transmittance) and aux = (cloud distance, clipped scene distance,
 // how much of the value was marched at the pixel (1) rather than filled (0), 0).
 // Failure cases guarded: a never-marched cloud distance (0) counts as far; the projection's
@@ -156,18 +159,23 @@ void AmortiseFillNearest(ivec2 p, float dist, out vec4 layer, out float cloudDis
 //      opaque surface within the layer's reach (uFarCloud) whose distance agrees with its
 //      texel's (an object that moved with the view, such as a boat the camera follows: no
 //      neighbour's cloud bleeds onto it); else AmortiseFillNearest.
+#ifdef AMORTISE_NEAR
+// 1. nothing between the camera and the opaque scene: the near cut's pass writes these pixels
+// (and, through the pass's depth, marks them); it discards the others, which the resolve
+// proper writes.
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    float dist = SceneDistance(p, CameraRayDirection(vUV));
+    if (dist >= uNearCloud) discard;
+    outLayer = vec4(0.0, 0.0, 0.0, 1.0);
+    outAux = vec4(AMORTISE_FAR, dist, 1.0, 0.0);
+}
+#else
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec3 dir = CameraRayDirection(vUV);
     float dist = SceneDistance(p, dir);
-    // 1. nothing between the camera and the opaque scene. Tested first and left at once: a block
-    // of pixels that all take this branch (the near sea, the boat) skips the rest of the shader,
-    // on a software rasteriser too (in maritime, 63 % of the pixels at 640x360)
-    if (dist < uNearCloud) {
-        outLayer = vec4(0.0, 0.0, 0.0, 1.0);
-        outAux = vec4(AMORTISE_FAR, dist, 1.0, 0.0);
-        return;
-    }
+    // 1. (the near cut: its own pass wrote these pixels, and the depth test skips them here)
     vec4 layer;
     vec4 aux;
     bool kept = false;  // a value from the history
@@ -221,3 +229,4 @@ void main() {
         outAux = vec4(filledDist, dist, 0.0, 0.0);
     }
 }
+#endif

@@ -289,7 +289,7 @@ class Clouds(Effect):
     def composite(self, target) -> None:
         if self._layer is None:  # no march yet: nothing to lay over the image
             return
-        composite_layer(self, self._layer.color, target)
+        composite_layer(self, self._layer, target)
 
     def passes(self, frame, target) -> list[Pass]:
         return [Pass("clouds.march", lambda: self.render_layer(frame, target), Stage.VOLUMES),

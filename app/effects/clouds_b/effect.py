@@ -230,7 +230,7 @@ class CloudsB(Effect):
         """Pass 2: target = target·transmittance + in-scattered light (alpha kept)."""
         if self._layer is None:  # no march yet: nothing to lay over the image
             return
-        composite_layer(self, self._layer.color, target)
+        composite_layer(self, self._layer, target)
 
     def passes(self, frame, target) -> list[Pass]:
         return [Pass("clouds_b.march", lambda: self.march(frame, target), Stage.VOLUMES),
