@@ -13,6 +13,16 @@
 #include "math.glsl"
 
 uniform int uWaveModel;          // 0 sine, 1 Gerstner, 2 FFT
+
+// Whether the wave model is m. A program compiled for one model (OCEAN_WAVE_MODEL = 0, 1 or 2:
+// the passes of app/effects/ocean/surface.py) keeps only that model's code, the others' branches
+// being constant-false; without the define, uWaveModel chooses per draw. A software rasteriser
+// runs the code of every branch with masks, taken or not: three models cost it all three.
+#ifdef OCEAN_WAVE_MODEL
+#define OCEAN_MODEL_IS(m) (OCEAN_WAVE_MODEL == (m))
+#else
+#define OCEAN_MODEL_IS(m) (uWaveModel == (m))
+#endif
 uniform float uTime;             // seconds
 uniform float uFadeStart;        // m: displacement starts fading to flat water here
 uniform float uFadeEnd;          // m: and is flat from here on
@@ -85,10 +95,10 @@ vec3 FFTDisplacement(vec2 off, float spacing) {
 // distance between samples, for the FFT's mip level.
 vec3 OceanDisplacement(vec2 off, float spacing) {
     vec3 d = vec3(0.0);
-    if (uWaveModel == 0) {
+    if (OCEAN_MODEL_IS(0)) {
         float f = uSine.z * dot(uSine.xy, off) + uSinePhase.x * uTime + uSinePhase.y;
         d = vec3(0.0, uSine.w * sin(f), 0.0);
-    } else if (uWaveModel == 1) {
+    } else if (OCEAN_MODEL_IS(1)) {
         // the Gerstner position, summed over the waves
         for (int i = 0; i < uGerstnerCount; ++i) {
             vec4 a = uGerstnerA[i];
@@ -170,14 +180,14 @@ float WaveKeep(float wavelength, float footprint) {
 void OceanSurface(vec2 off, float footprint, out vec3 n, out float foam, out float lostMss) {
     foam = 0.0;
     lostMss = 0.0;
-    if (uWaveModel == 0) {
+    if (OCEAN_MODEL_IS(0)) {
         float f = uSine.z * dot(uSine.xy, off) + uSinePhase.x * uTime + uSinePhase.y;
         float keep = WaveKeep(TWO_PI / uSine.z, footprint);
         float s0 = uSine.z * uSine.w;
         float s = s0 * cos(f) * keep;
         n = normalize(vec3(-s * uSine.x, 1.0, -s * uSine.y));
         lostMss = MEAN_COS2 * s0 * s0 * (1.0 - keep * keep);
-    } else if (uWaveModel == 1) {
+    } else if (OCEAN_MODEL_IS(1)) {
         vec3 t = vec3(1.0, 0.0, 0.0);
         vec3 b = vec3(0.0, 0.0, 1.0);
         for (int i = 0; i < uGerstnerCount; ++i) {

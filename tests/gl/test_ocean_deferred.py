@@ -89,3 +89,37 @@ def test_deferred_inputs_are_made_once_per_target_size(ocean_shot):
     assert sorted(a.name for a in s.session.gpu.owned_by("ocean")
                   if "deferred" in a.name) == names
     assert len(names) == 5  # three input targets, their framebuffer, the clear's framebuffer
+
+
+@pytest.mark.parametrize("model", ["sine", "gerstner", "fft"])
+def test_the_passes_built_for_the_wave_model_draw_what_the_generic_ones_draw(ocean_shot, model,
+                                                                             monkeypatch):
+    """The sea's passes are built for the wave model in use (OCEAN_WAVE_MODEL: the other
+    models' code left out, which a software rasteriser would run masked). Bit for bit the
+    picture of the generic programs (the model chosen per draw by uWaveModel), above the water
+    and at the waterline (both shading programs), deferred and forward."""
+    from app.effects.ocean import surface
+    from app.effects.ocean.params import MODELS
+
+    index = MODELS.index(model)
+    for view in ("above", "waterline"):
+        pos, pitch = VIEWS[view]
+        cam = Camera(position=pos, yaw=262.0, pitch=pitch, fov=60.0, far=200000.0)
+        s = ocean_shot(("ocean.model=" + model, "ocean.wind=12"), cam, size=SIZE)
+        images = {}
+        for how in ("built", "generic"):
+            with monkeypatch.context() as m:
+                if how == "generic":
+                    m.setattr(surface, "for_model", lambda spec, model: spec)
+                for shading in ("deferred", "forward"):
+                    s.ocean.params.set("ocean.shading", shading)
+                    for _ in range(2):  # FFT readback and foam settle on a still sea
+                        s.frame()
+                    images[how, shading] = s.frame()[0]
+            if how == "built":
+                models = {dict(p.defines).get("OCEAN_WAVE_MODEL")
+                          for p in s.ocean.gpu.shaders.programs() if "waves.glsl" in str(p.files)}
+                assert models == {index}, (view, models)
+        for shading in ("deferred", "forward"):
+            assert np.array_equal(images["built", shading], images["generic", shading]), (
+                view, shading)

@@ -4,6 +4,8 @@ for. Its programs are listed here; the effect declares them."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import moderngl
 import numpy as np
 
@@ -13,6 +15,7 @@ from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
 from ...render.environment import flat_environment
 from .deferred import deferred_inputs, far_band, screen_rect, wake_map
 from .mesh import OceanMesh
+from .params import MODELS
 
 SURFACE = ProgramSpec("ocean/surface")
 FAR = fullscreen("ocean/far")
@@ -48,8 +51,23 @@ WAKE_MAP = fullscreen("ocean/wake_map")
 WAKE_CHUNK = 8
 FLOATING_WAKE_MAP = {s.name: with_defines(s, "_floating_wake_map", "OCEAN_FLOATING",
                                           "OCEAN_WAKE_MAP") for s in (SHADE, SHADE_ABOVE)}
-PROGRAMS = (SURFACE, FAR, UNDERWATER, SURFACE_INPUTS, FAR_INPUTS, SHADE, SHADE_ABOVE,
-            WAKE_MAP) + tuple(FLOATING.values()) + tuple(FLOATING_WAKE_MAP.values())
+#: the programs that include ocean/waves.glsl: each is built for one wave model (for_model)
+WAVE_PROGRAMS = (SURFACE, FAR, UNDERWATER, SURFACE_INPUTS, SHADE, SHADE_ABOVE,
+                 *FLOATING.values(), *FLOATING_WAKE_MAP.values())
+_WAVE_NAMES = frozenset(s.name for s in WAVE_PROGRAMS)
+
+
+def for_model(spec: ProgramSpec, model: int) -> ProgramSpec:
+    """``spec`` built for wave model ``model`` (an index of ``MODELS``: OCEAN_WAVE_MODEL) when
+    it includes ocean/waves.glsl: the other models' code is left out (a software rasteriser
+    would run it, masked, on every vertex and pixel)."""
+    if spec.name not in _WAVE_NAMES:
+        return spec
+    return replace(spec, defines=spec.defines + (("OCEAN_WAVE_MODEL", model),))
+
+
+PROGRAMS = (FAR_INPUTS, WAKE_MAP) + tuple(for_model(s, m) for s in WAVE_PROGRAMS
+                                          for m in range(len(MODELS)))
 
 
 def shading_path(caps, setting: str) -> str:
@@ -66,8 +84,8 @@ class Surface:
     placed by the ``queries`` and set up by the ``uniforms``."""
 
     def __init__(self, effect, sea, queries, uniforms):
-        self.gpu, self.name, self.params, self.program = (effect.gpu, effect.name, effect.params,
-                                                          effect.program)
+        self.gpu, self.name, self.params = effect.gpu, effect.name, effect.params
+        self._program = effect.program
         self.sea, self.queries, self.uniforms = sea, queries, uniforms
         self.mesh = OceanMesh(effect)
         self._scene_copy = ColourCopy(self.gpu, self.name, "scene copy")
@@ -83,6 +101,10 @@ class Surface:
         self._flat_env = None
         self.underwater = False
         self.camera_height_water = 0.0
+
+    def program(self, spec: ProgramSpec):
+        """The effect's program of ``spec`` for the sea's wave model (:func:`for_model`)."""
+        return self._program(for_model(spec, MODELS.index(self.params["ocean.model"])))
 
     def _free(self, objects) -> None:
         for obj in reversed(objects):
