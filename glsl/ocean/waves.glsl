@@ -38,6 +38,14 @@ uniform vec4 uGerstnerA[MAX_GERSTNER];  // (D_x, D_z, k, A)
 uniform vec4 uGerstnerB[MAX_GERSTNER];  // (ω, φ + k·D·camera.xz mod 2π, s = kA, 0)
 
 uniform int uCascades;
+// The FFT's cascades in use, and whether cascade i is one of them: fixed when the program is
+// built for a count (OCEAN_CASCADES, as for the model above), else uCascades at run time.
+#ifdef OCEAN_CASCADES
+#define OCEAN_CASCADE_COUNT OCEAN_CASCADES
+#else
+#define OCEAN_CASCADE_COUNT uCascades
+#endif
+#define OCEAN_HAS_CASCADE(i) (OCEAN_CASCADE_COUNT > (i))
 uniform vec4 uCascadeUV[4];      // (fract(camera.xz / L + ½/N): texel centres, 1/L, N/L)
 uniform float uFoamWeight[4];
 uniform sampler2D uDisp0;
@@ -83,9 +91,15 @@ float CascadeLod(int i, float spacing) {
 // The FFT's displacement (λD_x, η, λD_z) in metres, summed over the active cascades.
 vec3 FFTDisplacement(vec2 off, float spacing) {
     vec3 d = textureLod(uDisp0, CascadeUV(0, off), CascadeLod(0, spacing)).xyz;
-    if (uCascades > 1) d += textureLod(uDisp1, CascadeUV(1, off), CascadeLod(1, spacing)).xyz;
-    if (uCascades > 2) d += textureLod(uDisp2, CascadeUV(2, off), CascadeLod(2, spacing)).xyz;
-    if (uCascades > 3) d += textureLod(uDisp3, CascadeUV(3, off), CascadeLod(3, spacing)).xyz;
+    if (OCEAN_HAS_CASCADE(1)) {
+        d += textureLod(uDisp1, CascadeUV(1, off), CascadeLod(1, spacing)).xyz;
+    }
+    if (OCEAN_HAS_CASCADE(2)) {
+        d += textureLod(uDisp2, CascadeUV(2, off), CascadeLod(2, spacing)).xyz;
+    }
+    if (OCEAN_HAS_CASCADE(3)) {
+        d += textureLod(uDisp3, CascadeUV(3, off), CascadeLod(3, spacing)).xyz;
+    }
     return d;
 }
 
@@ -207,17 +221,17 @@ void OceanSurface(vec2 off, float footprint, out vec3 n, out float foam, out flo
         vec2 uv0 = CascadeUV(0, off);
         vec4 g = OceanTex(uDeriv0, 0, uv0);
         foam = uFoamWeight[0] * OceanTex(uFoam0, 0, uv0).r;
-        if (uCascades > 1) {
+        if (OCEAN_HAS_CASCADE(1)) {
             vec2 uv = CascadeUV(1, off);
             g += OceanTex(uDeriv1, 1, uv);
             foam += uFoamWeight[1] * OceanTex(uFoam1, 1, uv).r;
         }
-        if (uCascades > 2) {
+        if (OCEAN_HAS_CASCADE(2)) {
             vec2 uv = CascadeUV(2, off);
             g += OceanTex(uDeriv2, 2, uv);
             foam += uFoamWeight[2] * OceanTex(uFoam2, 2, uv).r;
         }
-        if (uCascades > 3) {
+        if (OCEAN_HAS_CASCADE(3)) {
             vec2 uv = CascadeUV(3, off);
             g += OceanTex(uDeriv3, 3, uv);
             foam += uFoamWeight[3] * OceanTex(uFoam3, 3, uv).r;
@@ -226,7 +240,7 @@ void OceanSurface(vec2 off, float footprint, out vec3 n, out float foam, out flo
         n = normalize(vec3(-s.x, 1.0, -s.y));
         foam = clamp(foam, 0.0, 1.0);
         float kfp = PI / max(footprint, MIN_LENGTH);  // the shortest wave the pixel can show
-        for (int i = 0; i < uCascades; ++i) {
+        for (int i = 0; i < OCEAN_CASCADE_COUNT; ++i) {
             vec4 band = uCascadeBand[i];
             float octaves = max(log2(band.y / band.x), MIN_OCTAVES);
             float lost = clamp(log2(band.y / kfp) / octaves, 0.0, 1.0);

@@ -57,17 +57,25 @@ WAVE_PROGRAMS = (SURFACE, FAR, UNDERWATER, SURFACE_INPUTS, SHADE, SHADE_ABOVE,
 _WAVE_NAMES = frozenset(s.name for s in WAVE_PROGRAMS)
 
 
-def for_model(spec: ProgramSpec, model: int) -> ProgramSpec:
-    """``spec`` built for wave model ``model`` (an index of ``MODELS``: OCEAN_WAVE_MODEL) when
-    it includes ocean/waves.glsl: the other models' code is left out (a software rasteriser
-    would run it, masked, on every vertex and pixel)."""
+#: the FFT's cascade counts (``ocean.cascades``) a program is built for
+CASCADE_COUNTS = (1, 2, 3, 4)
+
+
+def for_model(spec: ProgramSpec, model: int, cascades: int) -> ProgramSpec:
+    """``spec`` built for wave model ``model`` (an index of ``MODELS``: OCEAN_WAVE_MODEL) and,
+    for the FFT, its number of ``cascades`` (OCEAN_CASCADES), when it includes
+    ocean/waves.glsl: the other models' code and the unused cascades' reads are left out (a
+    software rasteriser would run them, masked, on every vertex and pixel)."""
     if spec.name not in _WAVE_NAMES:
         return spec
-    return replace(spec, defines=spec.defines + (("OCEAN_WAVE_MODEL", model),))
+    fft = model == MODELS.index("fft")
+    return replace(spec, defines=spec.defines + (("OCEAN_WAVE_MODEL", model),)
+                   + ((("OCEAN_CASCADES", cascades),) if fft else ()))
 
 
-PROGRAMS = (FAR_INPUTS, WAKE_MAP) + tuple(for_model(s, m) for s in WAVE_PROGRAMS
-                                          for m in range(len(MODELS)))
+PROGRAMS = (FAR_INPUTS, WAKE_MAP) + tuple(
+    for_model(s, m, c) for s in WAVE_PROGRAMS for m in range(len(MODELS))
+    for c in (CASCADE_COUNTS if MODELS[m] == "fft" else CASCADE_COUNTS[:1]))
 
 
 def shading_path(caps, setting: str) -> str:
@@ -103,8 +111,10 @@ class Surface:
         self.camera_height_water = 0.0
 
     def program(self, spec: ProgramSpec):
-        """The effect's program of ``spec`` for the sea's wave model (:func:`for_model`)."""
-        return self._program(for_model(spec, MODELS.index(self.params["ocean.model"])))
+        """The effect's program of ``spec`` for the sea's wave model and cascades
+        (:func:`for_model`)."""
+        return self._program(for_model(spec, MODELS.index(self.params["ocean.model"]),
+                                       len(self.sea.patch_sizes())))
 
     def _free(self, objects) -> None:
         for obj in reversed(objects):

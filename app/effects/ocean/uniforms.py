@@ -60,7 +60,7 @@ class Uniforms:
             bands = sea.cascade_bands + [(1.0, 2.0, 0.0)] * (4 - len(sea.cascade_bands))
             prog.set_array("uCascadeBand", [(lo, hi, m, 0.0) for lo, hi, m in bands])
             weight = p["ocean.foam_amount"]
-            prog.set("uFoamWeight", [weight] * 4)
+            prog.set_array("uFoamWeight", [weight] * 4)  # shorter when cascades are left out
             prog.set("uCascades", len(sizes))
             textures = {}
             for kind, held in (("uDisp", sea.sim.disp), ("uDeriv", sea.sim.deriv),
