@@ -15,6 +15,7 @@ from pyrr import matrix44
 
 from ..errors import UsageError, quote
 from .maths import normalize
+from .vec import cross
 
 
 @dataclass
@@ -61,7 +62,7 @@ class Camera:
         f = self.forward()
         y = math.radians(self.yaw)
         right = np.array([math.cos(y), 0.0, math.sin(y)])
-        up = np.cross(right, f)
+        up = cross(right, f)  # numpy.cross's products, without its per-call overhead
         return right, normalize(up, axis=None), f
 
     def look_at_direction(self, direction) -> "Camera":

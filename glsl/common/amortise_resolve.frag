@@ -7,9 +7,10 @@
 // one program per AMORTISE_PATH (0 reset, 1 still, 2 moving), is depth-tested against the mark.
 // A software renderer runs every line of a shader with masks, taken or not (so a path's cost is
 // all the code it holds), but it skips a block of fragments the depth test rejects: in a
-// maritime frame most pixels are the near sea and the boat. main() gives each pixel's choice. Outputs: the layer (rgb
-// premultiplied radiance, a transmittance) and aux = (cloud distance, clipped scene distance,
-// how much of the value was marched at the pixel (1) rather than filled (0), 0).
+// maritime frame most pixels are the near sea and the boat. main() gives each pixel's choice.
+// Outputs: the layer (rgb premultiplied radiance, a transmittance) and aux = (cloud distance,
+// clipped scene distance, how much of the value was marched at the pixel (1) rather than filled
+// (0), 0).
 // Failure cases guarded: a never-marched cloud distance (0) counts as far; the projection's
 // w ≤ 0 (behind the last camera) and a point off the last frame by more than half a pixel are
 // rejected; taps off the image are clamped; grid points whose pixel is off the image move inside.

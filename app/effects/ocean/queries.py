@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...sim import ocean as oc
+from ...sim.vec import cross
 from .params import wind_vector
 
 
@@ -112,7 +113,7 @@ class WaterQueries:
                       px1[..., 2] - px0[..., 2]], -1)
         b = np.stack([pz1[..., 0] - pz0[..., 0], pz1[..., 1] - pz0[..., 1],
                       2 * e + pz1[..., 2] - pz0[..., 2]], -1)
-        n = np.cross(b, t)
+        n = cross(b, t)
         n /= np.linalg.norm(n, axis=-1, keepdims=True)
         return oc.WaterQuery(d[..., 1], d, n, x0, z0, res)
 
