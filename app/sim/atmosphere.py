@@ -477,22 +477,37 @@ def ozone_optical_depth(h, cos_phi, params: AtmosphereParams, nodes: int = 8,
     z_p = np.sqrt(np.maximum(h - h_p, 0.0))
     z_t = np.sqrt(np.maximum(top - h_p, 0.0))
     x, w = _gauss_legendre(nodes)
+    half = OZONE_PEAK_M - OZONE_BOTTOM_M
 
-    def integral(a, b):
-        """∫ from z = a to b (a ≤ b per ray), split at the tent's kinks."""
-        cuts = [a] + [np.clip(np.sqrt(np.maximum(hk - h_p, 0.0)), a, b)
+    def integral(rows, a, b):
+        """∫ from z = a to b (a ≤ b per ray) for the rays ``rows``, split at the tent's kinks.
+        A piece whose nodes all lie outside the tent adds exactly 0, so it is skipped: the node
+        altitudes rise with the node (z ≥ 0, rounding is monotone), so the first and last
+        nodes' altitudes, computed as below, bound every node's; the sums are the same."""
+        hp, rp = h_p[rows], r_p[rows]
+        cuts = [a] + [np.clip(np.sqrt(np.maximum(hk - hp, 0.0)), a, b)
                       for hk in (OZONE_BOTTOM_M, OZONE_PEAK_M, OZONE_TOP_M)] + [b]
         total = np.zeros(a.shape)
         for lo, hi in zip(cuts[:-1], cuts[1:]):
-            span = (hi - lo)[:, None]
-            z = lo[:, None] + span * x
+            span = hi - lo
+            first, last = lo + span * x[0], lo + span * x[-1]
+            live = np.flatnonzero((OZONE_PEAK_M - (hp + last * last) < half)
+                                  & ((hp + first * first) - OZONE_PEAK_M < half))
+            if live.size == 0:
+                continue
+            sp = span[live, None]
+            z = lo[live, None] + sp * x
             zz = z * z
-            fac = span * (2.0 * w) * (r_p[:, None] + zz) / np.sqrt(2.0 * r_p[:, None] + zz)
-            total += (fac * ozone_density(h_p[:, None] + zz)).sum(-1)
+            fac = sp * (2.0 * w) * (rp[live, None] + zz) / np.sqrt(2.0 * rp[live, None] + zz)
+            total[live] += (fac * ozone_density(hp[live, None] + zz)).sum(-1)
         return total
 
-    zero = np.zeros(h.shape)
-    out = np.where(below, integral(zero, z_t) + integral(zero, z_p), integral(z_p, z_t))
+    # only the integrals each ray needs (down to the perigee and up, or up from the point)
+    out = np.empty(h.shape)
+    up, down = np.flatnonzero(~below), np.flatnonzero(below)
+    out[up] = integral(up, z_p[up], z_t[up])
+    zero = np.zeros(down.size)
+    out[down] = integral(down, zero, z_t[down]) + integral(down, zero, z_p[down])
     if ground:
         out = np.where(hits, np.inf, out)
     return out.reshape(shape)

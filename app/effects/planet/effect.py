@@ -633,14 +633,15 @@ class Planet(Effect):
         cube = self.gpu.texture_cube(self.name, "ground noise", n, 1, dtype="f4")
         cube.filter = linear
         prog = self.program(GROUND_NOISE_BAKE)
-        # what the bake depends on: the program's every file (stamps with content hashes),
-        # its uniforms (the cap's angle, the faces, Perlin's reference table), the size and the
-        # driver; a session that baked the same left the texels in MEMO (~0.7 s of llvmpipe
-        # at 2048², a readback and an upload of ~20 MB otherwise)
+        # what the bake depends on: the program's every file (its name and content hash, not
+        # its place: a copy of the shaders, as an exercise's, shares the bake), its uniforms
+        # (the cap's angle, the faces, Perlin's reference table), the size and the driver; a
+        # session that baked the same left the texels in MEMO (~0.7 s of llvmpipe at 2048², a
+        # readback and an upload of ~20 MB otherwise)
         info = ctx.info
         key = ("planet ground noise", info.get("GL_VENDOR"), info.get("GL_RENDERER"),
                info.get("GL_VERSION"), size, n, GROUND_CAP_TAN, GROUND_NOISE_BAKE,
-               repr(sorted((str(f), s) for f, s in prog.stamps.items())))
+               repr([(f.name, s and s[1]) for f, s in sorted(prog.stamps.items())]))
         held = None if prog.errors else MEMO.held(key)
         if held is not None:
             cap.write(held[0])
