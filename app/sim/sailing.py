@@ -859,8 +859,11 @@ def speed_polar(wind_speeds=(4.0, 8.0, 12.0), angles=None, boat: Boat | None = N
     (``vmg`` [m/s] = V_s·|cos θ|, ``twa``), ``beam`` (speed at 90°), ``max_speed`` and its TWA,
     ``hull_speed`` [m/s] and the boat's figures."""
     boat = Boat() if boat is None else boat
+    # every wind speed checked before any is solved: a bad one is refused at once, not after
+    # the polars of the speeds before it (seconds each)
+    speeds = [_check("wind_speed", vt) for vt in wind_speeds]
     angles = np.arange(0.0, 180.1, 2.0) if angles is None else np.asarray(angles, float)
-    out: dict = {"twa": [float(a) for a in angles], "wind_speeds": [float(w) for w in wind_speeds],
+    out: dict = {"twa": [float(a) for a in angles], "wind_speeds": speeds,
                  "speed": [], "no_go": [], "upwind": [], "downwind": [], "beam": [],
                  "max_speed": [], "hull_speed": boat.hull.hull_speed,
                  "boat": {"lwl": boat.hull.lwl, "displacement": boat.hull.displacement,
@@ -868,8 +871,7 @@ def speed_polar(wind_speeds=(4.0, 8.0, 12.0), angles=None, boat: Boat | None = N
                  "method": "trim search (sheet × flat), fixed-point leeway and heel, upper root "
                            "of the net drive by scan and bisection"}
     theta = np.radians(angles)
-    for vt in wind_speeds:
-        vt = _check("wind_speed", vt)
+    for vt in speeds:
         v = steady_speed(boat, theta, vt)
         out["speed"].append([float(x) for x in v])
         best = float(v.max()) if v.size else 0.0

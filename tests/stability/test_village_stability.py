@@ -81,3 +81,25 @@ def test_every_fog_mode_with_every_water(village, mode, water):
 def test_the_vr_pair_at_odd_sizes(village, size):
     cam = Camera(position=(0.0, 4.8, 25.0), yaw=0.0, pitch=-12.0)
     _render(village, cam, size=size, vr__enabled=True)
+
+
+def test_a_person_rebuilt_as_they_walk_is_the_lab_figure_placed_anew():
+    """Everyone drawn is the lab's test figure placed (the hero is rebuilt at every step it
+    walks): built once and kept read-only, each rebuild equals a figure built afresh and
+    placed, and a rebuild at the first pose after another is the first mesh again."""
+    from app.sim import lab_meshes
+    from app.sim import village_meshes as vm
+    from app.sim.village import default_island
+
+    person = default_island(65).layout.people[0]
+    first = vm.person_mesh(person, 1.0, 30.0)
+    walked = vm.person_mesh(person, 1.4, 95.0)
+    again = vm.person_mesh(person, 1.0, 30.0)
+    assert all(np.array_equal(a, b) for a, b in zip(first, again))
+    assert not np.array_equal(first[0][:, :3], walked[0][:, :3])
+    fresh = vm.placed(lab_meshes.figure(), 95.0, (person.position[0], 1.4, person.position[1]),
+                      person.height / lab_meshes.FIGURE["height"])
+    assert np.array_equal(walked[0][:, :3], fresh.positions)
+    assert np.array_equal(walked[1], fresh.indices.astype(np.uint32))
+    with pytest.raises(ValueError):  # nobody can change the figure the others are placed from
+        vm._figure().positions[0, 0] = 1.0

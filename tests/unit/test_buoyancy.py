@@ -27,6 +27,13 @@ def mesh():
     return hl.make_hull()
 
 
+@pytest.fixture(scope="module")
+def archimedes(mesh):
+    """The quick Archimedes report (every mass of ``bench.MASSES``, 3000 kg among them), made
+    once: its drafts are checked by one test, its summary and chart by another."""
+    return bench.archimedes(mesh, quick=True)
+
+
 # -- water surfaces and the thesis's floating object ------------------------------------------
 
 
@@ -174,8 +181,8 @@ def test_drag_opposes_motion_and_vanishes_at_rest(mesh):
 # -- the bench's figures ----------------------------------------------------------------------
 
 
-def test_archimedes_draft_within_a_percent(mesh):
-    rep = bench.archimedes(mesh, quick=True)
+def test_archimedes_draft_within_a_percent(archimedes):
+    rep = archimedes
     for r in rep["rows"]:
         assert abs(r["error"]) < 0.01, r
         assert r["exact"] < 1.4 and abs(r["trim"]) < 0.01
@@ -206,8 +213,9 @@ def test_energy_error_bounded_and_falls_with_the_step(mesh):
         assert r["substeps"]["max"] < 0.03 and abs(r["substeps"]["drift"]) < 0.01
 
 
-def test_summary_and_chart_of_a_small_report(mesh, tmp_path):
-    rep = {"triangles": len(mesh.triangles), "archimedes": bench.archimedes(mesh, (3000.0,), True),
+def test_summary_and_chart_of_a_small_report(mesh, archimedes, tmp_path):
+    assert 3000.0 in bench.MASSES
+    rep = {"triangles": len(mesh.triangles), "archimedes": archimedes,
            "periods": {"heave": 1.0, "heave_expected": 1.0, "heave_error": 0.0, "roll": 2.0,
                        "roll_expected": 2.0, "gm": 1.0},
            "drop": {k: {"t": [0, 1], "energy": [10.0, 1.0], "start_energy": 10.0,

@@ -228,7 +228,8 @@ class Village(Effect):
                 if batch.triangle_count == 0:
                     continue
                 if name == "terrain":
-                    batch, self.chunks = village_meshes.chunked(batch)
+                    batch, self.chunks = village_meshes.default_terrain_chunks(
+                        self.island.resolution)
                 vbo = self.gpu.buffer(self.name, f"{name} vertices", batch.vertices.tobytes())
                 ibo = self.gpu.buffer(self.name, f"{name} indices", batch.indices.tobytes())
                 self._batches[name] = (vbo, ibo, batch)
