@@ -27,8 +27,10 @@ def natura_windows() -> dict[str, str]:
     pattern is a regular expression that does not take the names' dash: compared here)."""
     found = subprocess.run(["xdotool", "search", "--name", "^Natura"], capture_output=True,
                            text=True).stdout.split()
-    return {subprocess.run(["xdotool", "getwindowname", wid], capture_output=True,
-                           text=True).stdout.strip(): wid for wid in found}
+    names = {subprocess.run(["xdotool", "getwindowname", wid], capture_output=True,
+                            text=True).stdout.strip(): wid for wid in found}
+    # a window closed between the search and its name's read has no name: not a window now
+    return {name: wid for name, wid in names.items() if name.startswith("Natura")}
 
 
 def wait_for(title: str, proc: subprocess.Popen, timeout: float = 120.0) -> str | None:

@@ -10,11 +10,13 @@ names as a person's typing does.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -25,14 +27,99 @@ XDOTOOL_SKIP = "xdotool not installed: no real key events (apt-get install xdoto
 
 
 def under_xvfb(args, cwd, timeout=180) -> subprocess.CompletedProcess:
-    """Run ``args`` on a fresh Xvfb, without the caller's DISPLAY / WAYLAND_DISPLAY.
-    ``xvfb-run -a`` picks the first free display from ``-n``; each pytest-xdist worker starts
-    its search at a number of its own (``xvfb_server_num``), so two workers starting a server
-    at the same moment do not pick the same one."""
+    """Run ``args`` on this process's Xvfb (:func:`xvfb_display`), without the caller's
+    DISPLAY / WAYLAND_DISPLAY. The command runs in a session of its own: whatever it left
+    running (a ``natura window`` a driver started) is ended with it, so no window of one test
+    is on the display when the next starts."""
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
-    return subprocess.run(["xvfb-run", "-a", "-n", str(xvfb_server_num()),
-                           "-s", "-screen 0 1280x720x24", *args], cwd=cwd,
-                          env=env, capture_output=True, text=True, timeout=timeout)
+    env["DISPLAY"] = xvfb_display()
+    # files, not pipes: a process left behind holding a pipe would keep the read from ending
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        proc = subprocess.Popen(args, cwd=cwd, env=env, stdout=out, stderr=err, text=True,
+                                start_new_session=True)
+        try:
+            proc.wait(timeout=timeout)
+        finally:
+            with contextlib.suppress(ProcessLookupError, PermissionError):
+                os.killpg(proc.pid, 9)  # the command's session: what it left behind
+            proc.wait()
+            if proc.returncode != 0:  # it may have died with a key held: a fresh server next
+                _stop_xvfb()
+        out.seek(0)
+        err.seek(0)
+        return subprocess.CompletedProcess(proc.args, proc.returncode, out.read(), err.read())
+
+
+#: this process's X server: (the Xvfb process, its display), started on first use
+_XVFB: list = []
+_XVFB_STOP_REGISTERED: list = []
+
+
+def _end_with_parent() -> None:
+    """In the server's process before it starts: a SIGTERM when the test process ends, however
+    it ends (a pytest-xdist worker may leave without running atexit)."""
+    import ctypes
+    import signal
+
+    with contextlib.suppress(OSError, AttributeError):
+        ctypes.CDLL("libc.so.6").prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+
+
+def xvfb_display() -> str:
+    """The display of one Xvfb per test process (per pytest-xdist worker), started on first
+    use and ended when the process exits: ``xvfb-run`` for each command cost about a second of
+    start-up (the server, its keymap, xauth) that every window test paid. Xvfb picks a free
+    display itself (``-displayfd``), so two workers never take the same one. It does not reset
+    when its last client leaves (``-noreset``: once in about 70 commands, one that connected
+    just after the last had left found no display); a command's windows go with it, its keys
+    are released when it ends normally, and after one that failed the next command gets a
+    fresh server."""
+    if _XVFB and _XVFB[0].poll() is None:
+        return _XVFB[1]
+    import atexit
+    import select
+
+    _XVFB.clear()
+    read, write = os.pipe()
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0",
+                               "1280x720x24", "-nolisten", "tcp", "-noreset"], pass_fds=(write,),
+                              stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL, start_new_session=True,
+                              preexec_fn=_end_with_parent)
+    os.close(write)
+    number = b""
+    deadline = time.monotonic() + 60
+    while not number.endswith(b"\n") and time.monotonic() < deadline:
+        ready, _, _ = select.select([read], [], [], max(0.0, deadline - time.monotonic()))
+        chunk = os.read(read, 64) if ready else b""
+        if not chunk:
+            break
+        number += chunk
+    os.close(read)
+    if not number.strip().isdigit():
+        server.kill()
+        server.wait()
+        raise RuntimeError(f"Xvfb did not start (it said {number!r})")
+
+    if not _XVFB_STOP_REGISTERED:
+        atexit.register(_stop_xvfb)
+        _XVFB_STOP_REGISTERED.append(True)
+    _XVFB.extend([server, f":{int(number)}"])
+    return _XVFB[1]
+
+
+def _stop_xvfb() -> None:
+    """End this process's Xvfb (the next :func:`xvfb_display` starts another)."""
+    if not _XVFB:
+        return
+    server = _XVFB[0]
+    _XVFB.clear()
+    server.terminate()
+    try:
+        server.wait(10)
+    except subprocess.TimeoutExpired:
+        server.kill()
+        server.wait()
 
 
 def xvfb_server_num() -> int:

@@ -7,6 +7,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -56,3 +57,31 @@ def test_a_live_display_has_no_problem():
     proc = under_xvfb([sys.executable, "-c", PROBE], cwd=".")
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.splitlines() == ["None", "True"]
+
+
+@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason=XVFB_SKIP)
+def test_commands_share_one_xvfb_and_leave_nothing_running(tmp_path):
+    """tests/helpers/window_driver.py's ``under_xvfb``: a test process's commands run on one
+    Xvfb (the same display each time, and it answers), and what a command left running (a
+    ``natura window`` a driver started) ends with it, so no window is left for the next."""
+    leaver = ("import os, subprocess, sys; print(os.environ['DISPLAY']); "
+              "print(subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(600)'],"
+              " start_new_session=False).pid)")
+    first = under_xvfb([sys.executable, "-c", leaver], cwd=tmp_path)
+    second = under_xvfb([sys.executable, "-c", PROBE + "; import os; print(os.environ['DISPLAY'])"],
+                        cwd=tmp_path)
+    assert first.returncode == 0 and second.returncode == 0, first.stderr + second.stderr
+    display, pid = first.stdout.split()
+    assert second.stdout.splitlines() == ["None", "True", display]
+
+    def gone() -> bool:  # no such process, or a zombie nobody reaped yet
+        try:
+            return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] == "Z"
+        except OSError:
+            return True
+
+    for _ in range(100):
+        if gone():
+            break
+        time.sleep(0.05)
+    assert gone(), f"process {pid} left running"
