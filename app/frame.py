@@ -124,9 +124,12 @@ class Npc:
 
 @dataclass
 class SceneImage:
-    """The target a frame is drawn into, as compositing effects read it."""
+    """The target a frame is drawn into, as compositing effects read it. ``opaque``: whether a
+    pass of the frame draws surfaces into its depth before the volumes (false: the depth holds
+    the clear's far plane everywhere; a pass run on its own assumes it may)."""
 
     target: RenderTarget
+    opaque: bool = True
 
     @property
     def colour(self) -> Any:

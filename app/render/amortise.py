@@ -178,13 +178,14 @@ class LayerHistory:
         self.size = tuple(int(v) for v in size)
         self._gpu, self._owner, self._near = gpu, owner, near
         self._over: tuple | None = None  # (a target's colour, a framebuffer over it and near)
+        self.marked = False  # whether the last resolve into it marked the near cut in ``near``
 
     def over(self, target):
         """A framebuffer over ``target``'s colour with the near cut's mark as its depth (None
-        when the sizes differ), for the composite: drawn depth-tested ``<`` at depth ½, it skips
-        the pixels the near cut took — where the layer is no cloud, (0, 0, 0, 1), and blending
-        it would leave the image as it is."""
-        if tuple(target.size) != self.size:
+        when the sizes differ or nothing was marked), for the composite: drawn depth-tested
+        ``<`` at depth ½, it skips the pixels the near cut took — where the layer is no cloud,
+        (0, 0, 0, 1), and blending it would leave the image as it is."""
+        if not self.marked or tuple(target.size) != self.size:
             return None
         if self._over is None or self._over[0] is not target.color:
             if self._over is not None:
@@ -487,14 +488,19 @@ class Amortiser:
         # most of a maritime frame) writes its pixels and marks them in the depth; the resolve
         # proper is depth-tested against that mark. A rasteriser skips a block of fragments the
         # depth test rejects before shading — a software one too, which otherwise runs every
-        # line of a shader with masks, taken or not.
+        # line of a shader with masks, taken or not. A frame that draws no surface before the
+        # volumes (frame.image.opaque false) has nothing to cut: the mark stays clear and the
+        # resolve proper alone writes every pixel (it makes the same cut itself).
         ctx = self.gpu.ctx
-        ctx.disable(moderngl.BLEND)
-        ctx.enable(moderngl.DEPTH_TEST)
-        self._near[0].clear(depth=1.0)
+        ctx.disable(moderngl.BLEND | moderngl.DEPTH_TEST)
+        dst.marked = frame.image is None or frame.image.opaque
+        if dst.marked:
+            ctx.enable(moderngl.DEPTH_TEST)
+            self._near[0].clear(depth=1.0)
         dst.fbo.use()
+        passes = ((NEAR_CUT, "1", True),) if dst.marked else ()
         try:
-            for spec, func, write in ((NEAR_CUT, "1", True), (RESOLVES[path], "<", False)):
+            for spec, func, write in (*passes, (RESOLVES[path], "<", False)):
                 prog = self.gpu.program(self.owner, spec)
                 prog.bind_textures(textures)
                 prog.set_many(uniforms)

@@ -17,7 +17,7 @@ from .. import RESOURCES
 from ..colour import TONEMAPS
 from ..effects.base import Effect, Pass
 from ..errors import NaturaError, UsageError
-from ..frame import SCENE_SLOTS, SLOTS, FrameContext, SceneImage
+from ..frame import SCENE_SLOTS, SLOTS, FrameContext, SceneImage, Stage
 from ..gpu.shaders import ShaderLibrary
 from ..params import Param, ParamSet
 from ..sim.camera import Camera
@@ -210,6 +210,8 @@ class Scene:
         frame.image = SceneImage(target)
         out = [p for effect in self.active_instances()
                for p in getattr(effect, method)(frame, target)]
+        frame.image.opaque = any(Stage.BACKGROUND <= p.stage < Stage.VOLUMES
+                                 and p.stage != Stage.SKY for p in out)
         return sorted(out, key=lambda p: p.stage)
 
     def release(self) -> None:

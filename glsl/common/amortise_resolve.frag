@@ -176,7 +176,13 @@ void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec3 dir = CameraRayDirection(vUV);
     float dist = SceneDistance(p, dir);
-    // 1. (the near cut: its own pass wrote these pixels, and the depth test skips them here)
+    // 1. the near cut, when its own pass did not write these pixels (the depth test then skips
+    // them here): a frame with no surface before the volumes
+    if (dist < uNearCloud) {
+        outLayer = vec4(0.0, 0.0, 0.0, 1.0);
+        outAux = vec4(AMORTISE_FAR, dist, 1.0, 0.0);
+        return;
+    }
     vec4 layer;
     vec4 aux;
     bool kept = false;  // a value from the history

@@ -163,7 +163,8 @@ def test_the_mast_takes_no_cloud_and_the_near_cut_is_marked_exactly(rig):
     depth = np.frombuffer(a.layer.fbo.depth_attachment.read(), dtype=np.float32)
     mark = depth.reshape(SIZE[1], SIZE[0])[::-1]
     values = np.unique(mark)  # ½ as the depth format holds it, and the clear's 1
-    assert len(values) == 2 and abs(values[0] - 0.5) < 1e-6 and values[1] == 1.0
+    assert a.layer.marked and len(values) == 2 and abs(values[0] - 0.5) < 1e-6
+    assert values[1] == 1.0
     assert np.array_equal(mark < 1.0, near)
     # the same layer over the same image, through the mark and over every pixel
     scene = np.random.default_rng(7).uniform(0.0, 4.0, (SIZE[1], SIZE[0], 4)).astype("f4")
@@ -192,6 +193,9 @@ def test_time_of_day_jumps_throw_the_history_away_and_flowing_time_keeps_it(rig,
     for _ in range(3):  # ordinary frames at 30 fps: the sun hardly moves, the wind blows
         r.render(r.s.scene.frame(SIZE, 1.0 / 30.0))
     assert a.resets == 1, a.last_reset
+    # the clouds scene draws no surface before its volumes: the near cut needs no pass of its
+    # own (nor the composite its mark), the resolve makes it alone
+    assert r.s.scene.last_frame.image.opaque is False and a.layer.marked is False
     r.s.params.set("time.hour", 11.0)  # the panel's slider: the sun moves 15°
     r.render(r.s.scene.frame(SIZE, 1.0 / 30.0))
     assert a.resets == 2 and a.last_reset == "the light turned fast"
