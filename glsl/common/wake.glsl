@@ -3,9 +3,10 @@
 // centre, so the envelope is the 19.47° wedge) and a wash band along the path as wide as the
 // beam (Kelvin 1887; twin: app/sim/wake.py).
 // Positions are relative to the camera (folded on the CPU in float64), like the ocean's rest
-// points. Failure cases guarded: no samples or a point outside the trail's bounds costs one test
-// (uWakeBounds); a zero distance gives no NaN (the cosine's denominator is floored); a drifting
-// boat paints nothing (the speed ramp).
+// points. Failure cases guarded: no samples or a point outside the trail's bounds gives 0 after
+// one test (uWakeBounds; a software rasteriser still runs the loop's first pass, masked, for a
+// block of such points); a zero distance gives no NaN (the cosine's denominator is floored); a
+// drifting boat paints nothing (the speed ramp).
 #define WAKE_MAX 64
 uniform int uWakeCount;               // 0: no wake
 uniform int uWakeFirst;               // the samples this pass evaluates: uWakeFirst …

@@ -10,8 +10,8 @@
 // texture is cleared to 0.
 // Failure cases guarded: a block without sea (the hull, the sky) writes 0, not the foam of a
 // point the inputs never set; texel reads are clamped to the inputs' size (the last block of an
-// odd-sized screen); no trail samples or a point outside the trail's bounds cost one test
-// (WakeFoam).
+// odd-sized screen); no trail samples or a point outside the trail's bounds give 0 after one
+// test (WakeFoam).
 uniform sampler2D uInputSurf;  // (rest point − camera.xz, footprint, kind: 0 none, 1 mesh, 2 far)
 uniform int uWakeStride;       // screen pixels per texel side
 
