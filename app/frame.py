@@ -169,6 +169,9 @@ class ShadowMap:
     #: its textures by sampler name (None: a map shadow.glsl does not read, e.g. the planet's);
     #: ``app.render.shadow_maps.bind_published`` binds a frame's whole slot at once
     bind: Callable[[Any], dict[str, Any]] | None = None
+    #: the defines a receiver may be compiled with to match what ``bind`` sets (its filter
+    #: and taps as constants: ``app.render.shadow_maps.receiver_defines``)
+    defines: tuple[tuple[str, int], ...] = ()
 
 
 @dataclass

@@ -357,8 +357,9 @@ def frame_entry(light: str, kind: str, m: _Map, view_proj) -> Any:
 
     tex = m.colour if kind == "point" else m.depth
     bias = m.settings.linear_bias if m.settings is not None else 0.0
+    defines = receiver_defines(m.settings, m.gpu.caps.software) if m.settings else ()
     return ShadowMap(light, kind, tex, np.asarray(view_proj), bias,
-                     bind=getattr(m, "bind", None))
+                     bind=getattr(m, "bind", None), defines=defines)
 
 
 #: shadow.glsl's switch of each light kind
@@ -378,6 +379,13 @@ def bind_published(program, shadows: dict) -> dict[str, Any]:
         if getattr(entry, "bind", None) is not None and entry.kind in _ENABLED:
             textures.update(entry.bind(program))
     return textures
+
+
+def published_defines(shadows: dict) -> tuple[tuple[str, int], ...]:
+    """The :func:`receiver_defines` every map of a frame's ``shadows`` slot was bound with, for
+    a consumer's program (none when the maps disagree or none is published)."""
+    found = {entry.defines for entry in shadows.values() if entry.defines}
+    return found.pop() if len(found) == 1 else ()
 
 
 def receiver_defines(settings, software: bool) -> tuple[tuple[str, int], ...]:

@@ -73,6 +73,13 @@ uniform vec3 uSpotRadiance;
 uniform vec2 uSpotCos;             // cosines of the inner (full) and outer (zero) cone angles
 uniform float uSpotRange;          // distance falloff of the spot (≤ 0: none)
 uniform bool uSpotOn;
+// A program compiled with LIGHTING_SPOT defined 0 has no spot light (uSpotOn reads false): a scene
+// without one does not pay for its code on a software rasteriser.
+#ifdef LIGHTING_SPOT
+#define LIGHTING_SPOT_ON (LIGHTING_SPOT != 0 && uSpotOn)
+#else
+#define LIGHTING_SPOT_ON uSpotOn
+#endif
 
 const float SPEC_MIN_EXPONENT = 1e-3;   // the smallest exponent pow sees (never 0)
 const float FLAT_DARK = 0.25;           // Flat's unlit level (the repository's)
@@ -268,7 +275,7 @@ vec3 ShadeForwardAdd(vec3 p, vec3 n, vec3 v, vec3 albedo, float specMask) {
         c += ShadeLight(n, v, l, uPointRadiance[i], PointAttenuation(length(d), uPointRange[i]),
                         albedo, specMask);
     }
-    if (uSpotOn) {
+    if (LIGHTING_SPOT_ON) {
         vec3 d = uSpotPos - p;
         vec3 l = SafeNormalize(d, n);
         float cone = SpotCone(dot(-l, SafeNormalize(uSpotDir, vec3(0.0, -1.0, 0.0))), uSpotCos);

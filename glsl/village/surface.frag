@@ -1,7 +1,7 @@
 #version 330 core
 // The village's lit surfaces (spec/003 §1 — which shader goes where — §2.2, §2.3, §2.8, §2.11,
 // §2.12), program ProgramSpec("village/surface"): surface.vert + this file. One program, four
-// materials chosen per draw by uMaterial:
+// materials chosen per draw by uMaterial (or VILLAGE_MATERIAL):
 //   0 terrain  the island, parallax-mapped ("terreno del proyecto", spec/003 §1): the relief
 //              map's uv is the world xz / the relief tile, moved by ParallaxUV (parallax.glsl:
 //              spec/003 eq. 3.14, spec/003 eq. 3.15, spec/003 eq. 3.16, spec/003 eq. 3.17),
@@ -41,6 +41,13 @@ in vec2 vMask;
 uniform vec3 uCameraPos;
 uniform vec3 uCameraForward;
 uniform int uMaterial;          // 0 terrain, 1 walls, 2 solids, 3 emissive
+// VILLAGE_MATERIAL, when defined, is the material as a constant (the effect draws each with its
+// own program on a software rasteriser, which would run every material's code for each)
+#ifdef VILLAGE_MATERIAL
+#define MATERIAL VILLAGE_MATERIAL
+#else
+#define MATERIAL uMaterial
+#endif
 uniform bool uUseRelief;        // parallax and bump with uNormalMap / uHeightMap
 uniform sampler2D uNormalMap;   // tangent-space normals of the relief (0.5·n + 0.5)
 uniform sampler2D uHeightMap;   // the relief's height in alpha
@@ -62,26 +69,26 @@ void main() {
     vec3 p = vWorldPos.xyz;
     vec3 v = SafeNormalize(uCameraPos - p, vec3(0.0, 1.0, 0.0));
     vec3 n = SafeNormalize(vWorldNormal, vec3(0.0, 1.0, 0.0));
-    if (dot(n, v) < 0.0 && uMaterial != 3) n = -n;  // seen from behind
+    if (dot(n, v) < 0.0 && MATERIAL != 3) n = -n;  // seen from behind
     vec3 albedo = vColour;
     float specMask = vMask.y;
     float emissionMask = vMask.x;
     vec2 uv = vUV;
-    if (uMaterial == 0) {
+    if (MATERIAL == 0) {
         specMask = 0.0;
         emissionMask = 0.0;
     }
-    if (uUseRelief && (uMaterial == 0 || uMaterial == 1)) {
+    if (uUseRelief && (MATERIAL == 0 || MATERIAL == 1)) {
         float tile = max(uReliefTile, 1e-3);
-        vec2 ruv = (uMaterial == 0 ? p.xz : vUV) / tile;
+        vec2 ruv = (MATERIAL == 0 ? p.xz : vUV) / tile;
         mat3 tbn = BumpTangentFrame(n, vWorldTangent);
         ruv = ParallaxUV(uHeightMap, ruv, TangentSpaceView(v, tbn));
         vec3 bumped = BumpedNormal(uNormalMap, ruv, n, vWorldTangent);
-        float weight = uMaterial == 0 ? clamp(vMask.y, 0.0, 1.0) : 1.0;
+        float weight = MATERIAL == 0 ? clamp(vMask.y, 0.0, 1.0) : 1.0;
         n = SafeNormalize(mix(n, bumped, weight), n);
-        if (uMaterial == 1) uv = ruv * tile;  // the windows move with the relief
+        if (MATERIAL == 1) uv = ruv * tile;  // the windows move with the relief
     }
-    if (uMaterial == 1) {
+    if (MATERIAL == 1) {
         vec4 masks = texture(uMasks, uv);
         emissionMask = masks.r;
         specMask = masks.g;
@@ -91,7 +98,7 @@ void main() {
     float viewDepth = dot(p - uCameraPos, uCameraForward);
     float sunVisibility = ShadowSun(p, n, viewDepth);
     vec3 colour;
-    if (uMaterial == 3) {
+    if (MATERIAL == 3) {
         colour = albedo * uAmbient + max(uEmissionColor, vec3(0.0)) * emissionMask
                  * FlickerFactor(uTime, uFlicker);
     } else {

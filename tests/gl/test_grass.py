@@ -538,9 +538,15 @@ def test_lit_by_the_main_light_and_fogged(grass, target):
     grass.params.reset()
 
 
-def test_receives_the_suns_published_shadow(module_gpu, grass, target):
+@pytest.mark.parametrize("method", ["billboard", "instanced"])
+@pytest.mark.parametrize("filter_", ["hard", "pcf"])
+def test_receives_the_suns_published_shadow(module_gpu, grass, target, filter_, method):
     """A roof over part of the meadow, cast by the shared shadow module and published in the
-    frame's shadows slot: the grass under it gets only the ambient light."""
+    frame's shadows slot: the grass under it gets only the ambient light. The grass's program
+    is built for the map's filter and taps (the others compiled out), and draws what the
+    program of uniforms draws."""
+    import dataclasses
+
     from app.render.shadow_maps import ShadowSet
     from app.render.shadows import ShadowSettings
 
@@ -558,15 +564,21 @@ def test_receives_the_suns_published_shadow(module_gpu, grass, target):
 
     shadows = ShadowSet(module_gpu, "grass-test-shadow")
     up = np.array([0.0, 1.0, 0.0])
-    settings_ = ShadowSettings(map_size=256, cascades=0, filter="hard", fixed_centre=(0, 1, 0),
+    settings_ = ShadowSettings(map_size=256, cascades=0, filter=filter_, fixed_centre=(0, 1, 0),
                                fixed_radius=8.0, near_offset=10.0, point_enabled=False,
                                spot_enabled=False)
     cam = Camera(position=(0.0, 9.0, 0.0), yaw=0.0, pitch=-90.0, fov=80.0, near=0.05, far=100)
     f = frame_for(cam, light=Light("sun", up, (1.0, 1.0, 1.0), 1.0, (0.05, 0.05, 0.05)))
     shadows.sun.render(casters, cam, SIZE[0] / SIZE[1], up, settings_)
     shadows.publish(f)
-    sets(grass, method="billboard", blades=20_000, billboard_y="camera")
+    sets(grass, method=method, blades=20_000, billboard_y="camera")
     img = render(grass, target, f)
+    built = {dict(p.defines).get("SHADOW_FILTER") for p in module_gpu.shaders.programs()
+             if p.name.startswith("grass/") and p.program is not None}
+    assert settings_.filter_index in built
+    generic = frame_for(cam, light=f.main_light, shadows={
+        k: dataclasses.replace(v, defines=()) for k, v in f.shadows.items()})
+    assert np.abs(render(grass, target, generic) - img).max() < 1e-6
     unlit = render(grass, target, frame_for(cam, light=f.main_light))
     grass.params.reset()
     shadows.release()

@@ -180,7 +180,8 @@ def test_a_stereo_pair_in_vr(gl_ctx):
 # ---- what the frame does not need: the same picture for less work -----------------------------
 def test_the_specialised_surface_shader_draws_the_same_image(village):
     """village.specialise compiles the lighting model, toon mode and parallax method in as
-    constants: the same image as the program of uniforms, for the default look and another."""
+    constants, and each material (terrain, walls, solids, lamps) into a program of its own: the
+    same image as the one program of uniforms, for the default look and another."""
     for look in ({}, {"village__lighting_model": 1, "village__toon": 0,
                       "village__parallax_mode": 3}):
         generic, _ = _render(village, village__specialise="never", **look)

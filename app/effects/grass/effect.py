@@ -30,6 +30,7 @@ the village, depth-tested and depth-writing.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import moderngl
@@ -37,8 +38,9 @@ import numpy as np
 
 from ...frame import Stage
 from ...gpu.cache import MEMO, memoised
+from ...gpu.programs import ProgramSpec
 from ...params import Inspector, Param
-from ...render.shadow_maps import bind_published
+from ...render.shadow_maps import bind_published, published_defines, receiver_variants
 from ...sim import grass as gs
 from ...sim.fog import fog_uniforms
 from ..base import Effect, Pass
@@ -48,6 +50,7 @@ from .methods import (
     BILLBOARD_EQUAL,
     GS_PROGRAMS,
     INSTANCED,
+    SHADED,
     CrossedBillboards,
     Cull,
     GeometryBlades,
@@ -69,7 +72,8 @@ class Grass(Effect):
     name = "grass"
     title = "Grass"
     spec = "spec/003"
-    programs = (*GS_PROGRAMS, BILLBOARD, BILLBOARD_DEPTH, BILLBOARD_EQUAL, INSTANCED)
+    programs = (*GS_PROGRAMS, BILLBOARD, BILLBOARD_DEPTH, BILLBOARD_EQUAL, INSTANCED,
+                *(v for spec in SHADED for v in receiver_variants(spec)))
     stages = (Stage.OPAQUE,)
     consumes = {"terrain": "required", "wind": "optional", "main_light": "optional",
                 "shadows": "optional", "fog": "optional"}
@@ -365,7 +369,7 @@ class Grass(Effect):
                                 target, angles, cull, self.bind)
             self.last = dict(self.billboard.last, method=method)
         else:
-            prog = self.program(INSTANCED)
+            prog = self.program(self._receiver(frame, INSTANCED))
             self._uniforms(prog, frame, method)
             height = float(p["grass.blade_height"])
             prog.set_many({"uBladeHeight": height, "uBladeWidth": float(p["grass.blade_width"]),
@@ -380,10 +384,16 @@ class Grass(Effect):
             self.last = dict(self.instanced.last, method=method)
         ctx.disable(moderngl.DEPTH_TEST)
 
+    @staticmethod
+    def _receiver(frame, spec: ProgramSpec) -> ProgramSpec:
+        """``spec`` compiled for the shadow filter and taps the frame's maps were published
+        with (``published_defines``): the filters not in use compiled out, the same image."""
+        return dataclasses.replace(spec, defines=spec.defines + published_defines(frame.shadows))
+
     def _gs_program(self, frame, sections: int, cull: Cull):
         """The geometry-shader program of ``sections`` sections, its uniforms set."""
         p = self.params
-        prog = self.program(gs_program(sections))
+        prog = self.program(self._receiver(frame, gs_program(sections)))
         self._uniforms(prog, frame, "geometry")
         prog.set_many({"uHeight": float(p["grass.gs_height"]),
                        "uShrinkBase": bool(p["grass.gs_shrink"]),
@@ -393,7 +403,7 @@ class Grass(Effect):
 
     def _billboard_program(self, frame, spec=BILLBOARD):
         p = self.params
-        prog = self.program(spec)
+        prog = self.program(self._receiver(frame, spec) if spec in SHADED else spec)
         self._uniforms(prog, frame, "billboard")
         planes = int(p["grass.bb_planes"])
         angles = gs.plane_angles(planes, p["grass.bb_angles"])

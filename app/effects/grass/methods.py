@@ -58,6 +58,9 @@ BILLBOARD = ProgramSpec("grass/billboard")
 BILLBOARD_DEPTH = ProgramSpec("grass/billboard", defines=(("GRASS_DEPTH_ONLY", 1),))
 BILLBOARD_EQUAL = ProgramSpec("grass/billboard", defines=(("GRASS_SHADE_EQUAL", 1),))
 INSTANCED = ProgramSpec("grass/instanced")
+#: the programs that shade (and so receive the sun's shadow): each is also built for the
+#: shadow filter in use (receiver_variants)
+SHADED = (*GS_PROGRAMS, BILLBOARD, BILLBOARD_EQUAL, INSTANCED)
 
 
 @dataclass(frozen=True)

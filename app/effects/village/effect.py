@@ -38,19 +38,24 @@ from ...sim.fog import fog_uniforms
 from ...sim.village import Island, Person, default_island
 from ..base import Effect, Pass
 
-SURFACE = ProgramSpec("village/surface")
+#: (the village has no spot light: LIGHTING_SPOT 0 compiles lighting.glsl's spot out)
+SURFACE = ProgramSpec("village/surface", defines=(("LIGHTING_SPOT", 0),))
 #: the surface program specialised to each shadow filter and tap set (receiver_defines: the
 #: filter and taps as constants, the unused filters compiled out — a software rasteriser runs
 #: both sides of a branch on a uniform; the same image)
 RECEIVERS = receiver_variants(SURFACE)
 #: the village's look as constants (LIGHTING_MODEL, LIGHTING_TOON, PARALLAX_MODE: the defaults'
-#: values; lighting.glsl's and parallax.glsl's headers), on a software renderer only, where the
-#: models, toon modes and parallax methods not in use cost as much as the one in use; other
-#: values compile from the same source at their first use
+#: values; lighting.glsl's and parallax.glsl's headers) and each draw's material
+#: (VILLAGE_MATERIAL: surface.frag), on a software renderer only, where the models, toon modes,
+#: parallax methods and materials not in use cost as much as the one in use; other values
+#: compile from the same source at their first use
 LOOK_DEFAULTS = (("LIGHTING_MODEL", 2), ("LIGHTING_TOON", 2), ("PARALLAX_MODE", 1))
 LOOK_PARAMS = {"LIGHTING_MODEL": "village.lighting_model", "LIGHTING_TOON": "village.toon",
                "PARALLAX_MODE": "village.parallax_mode"}
-LOOK_RECEIVERS = receiver_variants(ProgramSpec(SURFACE.name, defines=LOOK_DEFAULTS))
+MATERIALS = {"terrain": 0, "walls": 1, "solids": 2, "lanterns": 3, "flame": 3}
+LOOK_RECEIVERS = tuple(spec for m in sorted(set(MATERIALS.values())) for spec in receiver_variants(
+    ProgramSpec(SURFACE.name, defines=SURFACE.defines + LOOK_DEFAULTS
+                + (("VILLAGE_MATERIAL", m),))))
 #: the depth pre-pass: every opaque batch's depth, no shading (surface.frag then runs once per
 #: visible pixel)
 DEPTH = ProgramSpec("village/depth")
@@ -58,7 +63,6 @@ DEPTH = ProgramSpec("village/depth")
 POSITION_ONLY = ("3f 56x", "in_position")
 #: the toon contours (spec/003 §2.13–2.14): a depth-Laplacian outline over the village's surfaces
 CONTOURS = fullscreen("village/contours")
-MATERIALS = {"terrain": 0, "walls": 1, "solids": 2, "lanterns": 3, "flame": 3}
 #: the debug view's groups (surface.frag's uDebugId), the people last
 GROUPS = ("terrain", "walls", "solids", "lanterns", "flame", "people")
 DEBUG_VIEWS = ("none", "groups", "shadow")
@@ -175,9 +179,10 @@ class Village(Effect):
                   "visible pixel (off: the thesis's single forward pass, each covering "
                   "triangle shaded, the terrain last)", kind="bool", section=s1),
             Param("village.specialise", "auto", doc="compile the surface shader with the "
-                  "lighting model, toon mode and parallax method as constants (the others "
-                  "compiled out; the same image): auto on a software renderer, which runs "
-                  "both sides of a branch on a uniform; never keeps the one program of "
+                  "lighting model, toon mode and parallax method as constants, and each "
+                  "material in a program of its own (the others compiled out; the same "
+                  "image): auto on a software renderer, which runs both sides of a branch on "
+                  "a uniform; never keeps the one program of "
                   "uniforms (the lesson's, every switch live)", kind="choice",
                   choices=("auto", "always", "never"), section=s1),
             Param("village.debug", "none", doc="debug view: the image, each draw's group as a "
@@ -386,15 +391,17 @@ class Village(Effect):
         return dataclasses.replace(s, fixed_centre=(0.0, 2.0, 0.0), fixed_radius=60.0,
                                    near_offset=40.0, point_enabled=False, spot_enabled=False)
 
-    def receiver(self) -> ProgramSpec:
+    def receiver(self, material: int = 0) -> ProgramSpec:
         """The surface program specialised to the sun's shadow settings (one of
         :data:`RECEIVERS`) and, on a software renderer (or with ``village.specialise`` set to
-        always), to its lighting model, toon mode and parallax method (:data:`LOOK_PARAMS`;
-        with the defaults one of :data:`LOOK_RECEIVERS`): the same image."""
+        always), to its lighting model, toon mode and parallax method (:data:`LOOK_PARAMS`)
+        and to ``material`` (with the defaults one of :data:`LOOK_RECEIVERS`): the same
+        image."""
         look: tuple = ()
         mode = self.params["village.specialise"]
         if mode == "always" or (mode == "auto" and self.gpu.caps.software):
             look = tuple((name, int(self.params[param])) for name, param in LOOK_PARAMS.items())
+            look += (("VILLAGE_MATERIAL", material),)
         return ProgramSpec(SURFACE.name, defines=SURFACE.defines + look + receiver_defines(
             self.shadow_settings(), self.gpu.caps.software))
 
@@ -431,23 +438,35 @@ class Village(Effect):
                 "uViewProj": cam.projection_matrix(frame.aspect) @ cam.view_matrix(),
                 **fog_uniforms(frame.fog, cam.position, cam.near, cam.far)}
 
-    def draw(self, frame, target) -> None:
-        ctx = self.gpu.ctx
+    def surface_program(self, frame, material: int, ready: dict):
+        """The surface program of ``material`` (:meth:`receiver`) and its textures, its frame's
+        uniforms set once per frame (``ready`` holds those set up so far, by spec)."""
+        spec = self.receiver(material)
+        if spec in ready:
+            return ready[spec]
         p = self.params
-        prog = self.program(self.receiver())
+        prog = self.program(spec)
         self.apply_params(prog)
         prog.set_many(self.light_uniforms(frame))
-        lit = self.lit_lights()
-        self.set_point_lights(prog, lit)
-        relief = p["village.terrain_relief"]
-        field = surface_maps.generated(relief)
-        planks = surface_maps.generated("planks")
-        shadow_textures = self.shadows.bind(prog) if frame.shadows else {}
+        self.set_point_lights(prog, self.lit_lights())
+        textures = self.shadows.bind(prog) if frame.shadows else {}
         if not frame.shadows:
             prog.set("uShadowSunEnabled", False)
         for flag in ("uShadowSpotEnabled", "uShadowPointEnabled"):
             prog.set(flag, False)
-        masks = self._texture("window mask", village_meshes.window_mask, nearest=True)
+        prog.set("uDebug", DEBUG_VIEWS.index(p["village.debug"]))
+        textures["uMasks"] = self._texture("window mask", village_meshes.window_mask,
+                                           nearest=True)
+        ready[spec] = prog, textures
+        return prog, textures
+
+    def draw(self, frame, target) -> None:
+        ctx = self.gpu.ctx
+        p = self.params
+        lit = self.lit_lights()
+        relief = p["village.terrain_relief"]
+        field = surface_maps.generated(relief)
+        planks = surface_maps.generated("planks")
         target.use()
         ctx.enable(moderngl.DEPTH_TEST)
         ctx.disable(moderngl.CULL_FACE)
@@ -455,7 +474,6 @@ class Village(Effect):
         fmt = (village_meshes.FORMAT, *village_meshes.ATTRIBUTES)
         use_relief = bool(p["village.relief"])
         glow = float(p["village.window_glow"]) * self.lights_on
-        prog.set("uDebug", DEBUG_VIEWS.index(p["village.debug"]))
         batches = self.batches()
         visible = self.visible_chunks(frame)
         self.last = {"terrain_chunks": len(visible), "chunks": len(self.chunks), "draws": 0,
@@ -465,20 +483,23 @@ class Village(Effect):
             self.draw_depth(frame, target, visible)
             ctx.depth_func = "<="
             target.fbo.depth_mask = False
+        ready: dict = {}
         # near and small first, the terrain last, its chunks front to back: the depth test then
         # rejects the ground's hidden fragments before its parallax shader runs (as Unity
         # sorts the opaque queue); after a depth pre-pass each pixel is shaded once anyway
+        prog, textures = self.surface_program(frame, 2, ready)
         prog.set_many({"uMaterial": 2, "uUseRelief": False, "uUseMasks": False,
                        "uEmissionColor": (0.0, 0.0, 0.0), "uDebugId": GROUPS.index("people"),
                        "uFlicker": 0.0})
-        prog.bind_textures({"uMasks": masks, **shadow_textures})
+        prog.bind_textures(textures)
         for vbo, ibo, *_ in self.people():
             prog.vao([(vbo, *fmt)], ibo).render(moderngl.TRIANGLES)
             self.last["draws"] += 1
         for name in sorted(batches, key=lambda n: n == "terrain"):
             vbo, ibo, _ = batches[name]
             material = MATERIALS[name]
-            textures = {"uMasks": masks, **shadow_textures}
+            prog, shared = self.surface_program(frame, material, ready)
+            textures = dict(shared)
             if name == "terrain":
                 textures.update(uNormalMap=self._texture(f"{relief} normal", field.normal_texture),
                                 uHeightMap=self._texture(f"{relief} height", field.height_texture))
