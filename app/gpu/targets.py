@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+from collections.abc import Iterator
 
 import moderngl
 import numpy as np
@@ -17,6 +18,22 @@ PROBE_BYTES = 64 * 2**20
 #: bytes per pixel the host needs to read a frame back: the float read, its flipped copy and the
 #: tone-mapped float image written out (app.imageio)
 READBACK_BYTES = 3 * COLOUR_BYTES
+
+
+@contextlib.contextmanager
+def depth_tested(ctx: moderngl.Context, fbo, func: str = "<=",
+                 write: bool = False) -> Iterator[None]:
+    """The depth test on with ``func``, and ``fbo``'s depth writes only with ``write``, for a
+    ``with`` block; then the defaults again: the test off, ``<``, depth writes on."""
+    ctx.enable(moderngl.DEPTH_TEST)
+    ctx.depth_func = func
+    fbo.depth_mask = write
+    try:
+        yield
+    finally:
+        fbo.depth_mask = True
+        ctx.depth_func = "<"
+        ctx.disable(moderngl.DEPTH_TEST)
 
 
 class TargetSizeError(UsageError):

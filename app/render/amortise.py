@@ -8,18 +8,12 @@ schedule, the blue noise, the rejection rules and the twins of the shader's fill
 :mod:`app.sim.amortise` (its docstring has the scheme); the shaders are
 ``glsl/common/amortise.glsl`` (the march's side) and ``glsl/common/amortise_resolve.frag``.
 
-What an effect does:
-
-* declare :func:`amortise_params` and list :data:`RESOLVES` in its programs;
-* its march shader includes ``amortise.glsl``: it marches ``AmortisedPixel()`` with the jitter
-  ``AmortiseJitter(pixel)`` and writes ``AmortiseAux(cloud distance, scene distance)`` at
-  location 1;
-* per frame, when :func:`amortised`: ``layer = amortiser.step(frame, size, schedule, state,
-  march, depth)``, where ``march(grid)`` binds ``grid.textures``, sets ``grid.uniforms`` and
-  draws into ``grid`` (``grid.use()``); otherwise it marches every pixel itself through
-  :meth:`Amortiser.direct` (the thesis's march, the lesson's reference);
-* composite the layer over the image (:func:`app.render.layers.composite_layer`, which skips
-  the pixels of the near cut through :meth:`LayerHistory.over`).
+What an effect does: declare :func:`amortise_params` and list :data:`PROGRAMS` in its
+programs; march in a shader that includes ``amortise.glsl`` (``AmortisedPixel()``, the jitter
+``AmortiseJitter(pixel)``, ``AmortiseAux(cloud distance, scene distance)`` at location 1); and
+derive from :class:`app.render.layers.MarchedLayer`, whose ``render_layer`` runs
+:meth:`Amortiser.render` (its ``march(grid, depth)`` binds ``grid.textures``, sets
+``grid.uniforms`` and draws into ``grid``) and whose ``composite`` skips the near cut.
 
 Still renders (``frame.interactive`` false: ``natura render``, the gallery, the tests, the
 bench) converge before they return: the first render of a view resets the history and runs

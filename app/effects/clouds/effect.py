@@ -14,10 +14,9 @@ Per frame:
 * wind: the density field is translated rigidly by ``wind_speed · time · (wind_dir_x,
   wind_dir_y)`` metres along world (x, z), each texture's offset wrapped by its own tile on
   the CPU in float64 (so float32 never loses the fraction); speed 0 gives identical frames;
-* pass 1 (volumes stage) makes the cloud layer (RGBA32F: premultiplied radiance,
-  transmittance), clipped at the depth of the frame's ``image`` slot, amortised by default
-  (``clouds.reprojection``, :mod:`app.render.amortise`; ``off`` is the thesis's march of every
-  pixel every frame). Pass 2 blends the layer over the image (``out = rgb + T · scene``).
+* the volumes stage marches the layer (premultiplied radiance, transmittance) and blends it
+  over the image (:class:`app.render.layers.MarchedLayer`; ``clouds.reprojection=off`` is the
+  thesis's march of every pixel every frame).
 
 Presets (``clouds.preset``, docs/theory/001-clouds.md): the effect applies the file when the
 choice changes. On the first frame, parameters that already differ from their defaults (given
@@ -39,23 +38,17 @@ import moderngl
 import numpy as np
 
 from ... import RESOURCES, bakes
-from ...bakes.textures import BakedTextures
 from ...errors import ParamError
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Joint, Param, ParamSet, non_zero, show
-from ...render import amortise
-from ...render.amortise import PROGRAMS, Amortiser, amortise_params, schedule_for
-from ...render.layers import LAYER_COMPOSITE, composite_layer
+from ...render.amortise import PROGRAMS, amortise_params
+from ...render.layers import LAYER_COMPOSITE, MarchedLayer
 from ...sim.amortise import LayerState
 from ...sim.clouds import density_length
 from ..base import Effect, Pass
 
 CLOUD_MARCH = fullscreen("clouds/cloud_march")
-#: the estimate of a full-resolution march, ms per megapixel, that ``auto`` plans the amortised
-#: march with: (software renderer, hardware GPU). The software figure is the default cumulus
-#: view measured at 640×360 on two cores of llvmpipe (243 ms); the GPU's is an estimate.
-FULL_MARCH_MS_PER_MPX = (1050.0, 10.0)
 
 PRESET_DIR = RESOURCES / "presets"
 PRESETS = ("custom", "cumulus", "stratocumulus", "stratus", "lighting")
@@ -68,7 +61,7 @@ def preset_path(name: str) -> Path:
     return PRESET_DIR / f"clouds-{name}.toml"
 
 
-class Clouds(Effect):
+class Clouds(MarchedLayer, Effect):
     name = "clouds"
     title = "Volumetric clouds (model A)"
     spec = SPEC
@@ -80,11 +73,9 @@ class Clouds(Effect):
                     "clouds.max_height ≥ base_height + 1 m (the layer has a thickness)",
                     lambda base, top: top - base >= 1.0),
               non_zero("clouds.sun_direction"))
-
-    @classmethod
-    def context_paths(cls, caps, params) -> dict[str, str]:
-        march = amortise.context_line(caps, params, "clouds")
-        return {**bakes.context_path(caps), "amortised march": march}
+    #: the software figure is the default cumulus view measured at 640×360 on two cores of
+    #: llvmpipe (243 ms); the GPU's is an estimate
+    FULL_MARCH_MS_PER_MPX = (1050.0, 10.0)
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -130,9 +121,6 @@ class Clouds(Effect):
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
-        self.bakes = BakedTextures(gpu, self.name)
-        self._layer = None  # what the composite reads: the marched target or the resolved history
-        self.amortiser = Amortiser(gpu, self.name)
         #: the jitter phase of the thesis's march (the bench's reference averages over it)
         self.jitter_phase = 0.0
         self._applied_preset: str | None = None
@@ -255,27 +243,14 @@ class Clouds(Effect):
                           wind=wind, field_offset=np.array([offset[0], 0.0, offset[1]]),
                           near=near, far=far)
 
-    def schedule(self, size):
-        """The amortised march's schedule at ``size`` (``auto`` from the frame budget)."""
-        return schedule_for(self.params, self.name, size, self.gpu.caps.software,
-                            FULL_MARCH_MS_PER_MPX)
-
-    def render_layer(self, frame, target) -> None:
-        # the march and the resolve read depth values, not comparisons
-        with frame.image_for(target).depth_values() as depth:
-            self._layer = self.amortiser.render(
-                frame, target.size, self.params, self.schedule, self.layer_state,
-                lambda grid: self.march(frame, target, grid), depth, self.jitter_phase)
-
-    def march(self, frame, target, grid) -> None:
+    def march(self, frame, grid, depth) -> None:
         """The view march into ``grid`` (``app.render.amortise.MarchGrid``: every pixel, or one
-        pixel of each block of an amortised frame), clipped at the depth of ``target`` (the
-        scene image), which must be readable as values (``render_layer`` sees to it)."""
+        pixel of each block of an amortised frame), clipped at ``depth`` (the scene image's,
+        readable as values: ``render_layer`` sees to it)."""
         ctx = self.gpu.ctx
         prog = self.program(CLOUD_MARCH)
         # all bakes first, then the bindings: a bake run now uses texture units of its own
         weather, shape, detail = (self.texture_for(kind) for kind in ("weather", "shape", "detail"))
-        depth = frame.image_for(target).depth
         prog.bind_textures({"uWeather": weather, "uShape": shape, "uDetail": detail,
                             "uSceneDepth": depth, **grid.textures})
         self.apply_params(prog)
@@ -286,19 +261,10 @@ class Clouds(Effect):
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         draw_fullscreen(prog)
 
-    def composite(self, target) -> None:
-        if self._layer is None:  # no march yet: nothing to lay over the image
-            return
-        composite_layer(self, self._layer, target)
-
     def passes(self, frame, target) -> list[Pass]:
-        return [Pass("clouds.march", lambda: self.render_layer(frame, target), Stage.VOLUMES),
+        def march() -> None:
+            self.render_layer(frame, target, lambda grid, depth: self.march(frame, grid, depth),
+                              self.jitter_phase)
+
+        return [Pass("clouds.march", march, Stage.VOLUMES),
                 Pass("clouds.composite", lambda: self.composite(target), Stage.VOLUMES)]
-
-    def panel_notes(self) -> list[str]:
-        return self.amortiser.panel_notes(self.params, self.name)
-
-    def release(self) -> None:
-        super().release()
-        self.amortiser.forget()
-        self._layer = None

@@ -14,11 +14,10 @@ coverage map 512²), baked once and cached on disk.
   and the coverage map drift at the wind's speed, the detail noise at twice that (the thesis's
   offset factors 0.1 and 0.2; the thesis leaves the map still); speed 0 gives identical frames;
 * **passes** read the ``main_light`` slot (else ``sun``; the fallback: its own
-  ``clouds_b.sun_elevation``/``sun_azimuth``/``sun_color``), the camera, and the depth of the
-  ``image`` slot (none = everything far). Pass 1 makes a cloud layer (rgb = in-scattered light,
-  a = transmittance), amortised by default (``clouds_b.reprojection``,
-  :mod:`app.render.amortise`; ``off`` is the thesis's march of every pixel every frame); pass 2
-  blends it into the image, target·a + rgb, keeping the target's alpha and depth;
+  ``clouds_b.sun_elevation``/``sun_azimuth``/``sun_color``), the camera and the ``image``
+  slot's depth (none = everything far): the layer marched and blended over the image
+  (:class:`app.render.layers.MarchedLayer`; ``clouds_b.reprojection=off`` is the thesis's march
+  of every pixel every frame);
 * beyond the thesis, both off by default: ``clouds_b.weather_coverage`` and
   ``clouds_b.haze_distance`` (distant clouds fade into the ``environment`` slot's horizon).
 
@@ -33,26 +32,20 @@ import moderngl
 import numpy as np
 
 from ... import bakes
-from ...bakes.textures import BakedTextures
 from ...frame import Stage
 from ...gpu.programs import draw_fullscreen, fullscreen
 from ...params import Param, ParamSet
-from ...render import amortise
-from ...render.amortise import PROGRAMS, Amortiser, amortise_params, schedule_for
-from ...render.layers import LAYER_COMPOSITE, composite_layer
+from ...render.amortise import PROGRAMS, amortise_params
+from ...render.layers import LAYER_COMPOSITE, MarchedLayer
 from ...sim import clouds_b as twin
 from ...sim.amortise import LayerState
-from ...sim.maths import compass_xz
+from ...sim.maths import compass_xz, direction
 from ..base import Effect, Pass
 
 CLOUDS_B = fullscreen("clouds_b/clouds_b")
-#: the estimate of a full-resolution march, ms per megapixel, that ``auto`` plans the amortised
-#: march with: (software renderer, hardware GPU). The software figure is the maritime scene's
-#: default view measured at 640×360 on two cores of llvmpipe (769 ms); the GPU's is an estimate.
-FULL_MARCH_MS_PER_MPX = (3300.0, 20.0)
 
 
-class CloudsB(Effect):
+class CloudsB(MarchedLayer, Effect):
     name = "clouds_b"
     title = "Volumetric clouds, model B (maritime thesis)"
     spec = "spec/000"
@@ -60,11 +53,9 @@ class CloudsB(Effect):
     stages = (Stage.VOLUMES,)
     consumes = {"main_light": "optional", "sun": "optional", "wind": "optional",
                 "image": "optional", "environment": "optional"}
-
-    @classmethod
-    def context_paths(cls, caps, params) -> dict[str, str]:
-        march = amortise.context_line(caps, params, "clouds_b")
-        return {**bakes.context_path(caps), "amortised march": march}
+    #: the software figure is the maritime scene's default view measured at 640×360 on two cores
+    #: of llvmpipe (769 ms); the GPU's is an estimate
+    FULL_MARCH_MS_PER_MPX = (3300.0, 20.0)
 
     @classmethod
     def python_params(cls) -> list[Param]:
@@ -100,9 +91,6 @@ class CloudsB(Effect):
 
     def __init__(self, gpu, params):
         super().__init__(gpu, params)
-        self.bakes = BakedTextures(gpu, self.name)
-        self._layer = None  # what the composite reads: the marched target or the resolved history
-        self.amortiser = Amortiser(gpu, self.name)
         #: the bench's reference: the thesis's march jittered at this phase (None: not jittered)
         self.jitter_phase: float | None = None
         self.cloud_offset = np.zeros(3)
@@ -134,9 +122,7 @@ class CloudsB(Effect):
         if light is not None:
             d = np.asarray(light.direction, dtype=np.float64)
             return d / np.linalg.norm(d), np.asarray(light.radiance, dtype=np.float64)
-        e = math.radians(self.params["clouds_b.sun_elevation"])
-        a = math.radians(self.params["clouds_b.sun_azimuth"])
-        d = np.array([math.sin(a) * math.cos(e), math.sin(e), -math.cos(a) * math.cos(e)])
+        d = direction(self.params["clouds_b.sun_elevation"], self.params["clouds_b.sun_azimuth"])
         return d, np.asarray(self.params["clouds_b.sun_color"], dtype=np.float64)
 
     def bake_specs(self) -> dict[str, object]:
@@ -178,23 +164,14 @@ class CloudsB(Effect):
                                                  self.coverage_shift[1]]),
                           near=near, far=far)
 
-    def schedule(self, size):
-        """The amortised march's schedule at ``size`` (``auto`` from the frame budget)."""
-        return schedule_for(self.params, self.name, size, self.gpu.caps.software,
-                            FULL_MARCH_MS_PER_MPX)
-
     def march(self, frame, target) -> None:
         """Pass 1: the cloud layer (amortised, or the thesis's march of every pixel)."""
         prog = self.program(CLOUDS_B)
         self.apply_params(prog)
         # all bakes first, then the bindings: a bake run now uses texture units of its own
         shape, detail, weather = (self.texture(kind) for kind in ("shape", "detail", "weather"))
-        # the stored depth, not a shadow comparison
-        with frame.image_for(target).depth_values() as depth:
-            self._layer = self.amortiser.render(
-                frame, target.size, self.params, self.schedule, self.layer_state,
-                lambda grid: self._march(frame, prog, grid, shape, detail, weather, depth),
-                depth, self.jitter_phase or 0.0)
+        self.render_layer(frame, target, lambda grid, depth: self._march(
+            frame, prog, grid, shape, detail, weather, depth), self.jitter_phase or 0.0)
 
     def _march(self, frame, prog, grid, shape, detail, weather, depth) -> None:
         ctx = self.gpu.ctx
@@ -226,21 +203,7 @@ class CloudsB(Effect):
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         draw_fullscreen(prog)
 
-    def composite(self, frame, target) -> None:
-        """Pass 2: target = target·transmittance + in-scattered light (alpha kept)."""
-        if self._layer is None:  # no march yet: nothing to lay over the image
-            return
-        composite_layer(self, self._layer, target)
-
     def passes(self, frame, target) -> list[Pass]:
         return [Pass("clouds_b.march", lambda: self.march(frame, target), Stage.VOLUMES),
-                Pass("clouds_b.composite", lambda: self.composite(frame, target),
+                Pass("clouds_b.composite", lambda: self.composite(target),
                      Stage.VOLUMES)]
-
-    def panel_notes(self) -> list[str]:
-        return self.amortiser.panel_notes(self.params, self.name)
-
-    def release(self) -> None:
-        super().release()
-        self.amortiser.forget()
-        self._layer = None

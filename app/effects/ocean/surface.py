@@ -12,6 +12,7 @@ import numpy as np
 from ...frame import Stage
 from ...gpu.copy import ColourCopy
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from ...gpu.targets import depth_tested
 from ...render.environment import flat_environment
 from .deferred import deferred_inputs, far_band, screen_rect, wake_map
 from .mesh import OceanMesh
@@ -298,7 +299,6 @@ class Surface:
         viewport = tuple(float(s) for s in target.size)
         env = self.environment(frame)  # may render the probe now: before the target is bound
         target.use()
-        ctx.enable(moderngl.DEPTH_TEST)
         spec = SHADE_ABOVE if self.view_mode() == 0 else SHADE
         shade = self.program(FLOATING_WAKE_MAP[spec.name] if wake_map is not None
                              else self.variant(spec, frame))
@@ -313,14 +313,8 @@ class Surface:
         shade.set_many({"uCameraPos": tuple(frame.camera.position), "uViewport": viewport,
                         "uViewMode": self.view_mode(), "uInvViewProjRel": np.linalg.inv(vp),
                         "uBand": (-1.0, 1.0), "uBandDepth": 1.0})
-        ctx.depth_func = ">"
-        target.fbo.depth_mask = False
-        try:
+        with depth_tested(ctx, target.fbo, ">"):
             shade.vao().render(moderngl.TRIANGLE_STRIP, vertices=4)
-        finally:
-            target.fbo.depth_mask = True
-            ctx.depth_func = "<"
-            ctx.disable(moderngl.DEPTH_TEST)
 
     def render_underwater(self, frame, target) -> None:
         ctx = self.gpu.ctx

@@ -41,6 +41,7 @@ import numpy as np
 from ...frame import ShadowMap, Stage
 from ...gpu.cache import MEMO, memoised
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from ...gpu.targets import depth_tested
 from ...params import Param
 from ...render import shadows
 from ...render.shadow_maps import render_depth_pass
@@ -826,7 +827,6 @@ class Planet(Effect):
     def render_ground(self, frame, size) -> None:
         """The analytic Earth and the background into the G-buffer where no mesh is (the far
         plane, depth test '<=' against the meshes' depth, no depth writes)."""
-        ctx = self.gpu.ctx
         _, _, _, fbo = self._gbuffer_for(size)
         prog = self.program(self.ground_spec())
         textures = self._shared(prog, frame)
@@ -834,15 +834,8 @@ class Planet(Effect):
         prog.set_many(frame.camera_uniforms())
         prog.bind_textures(textures)
         fbo.use()  # the shadow map may have been rendered just now
-        fbo.depth_mask = False
-        ctx.enable(moderngl.DEPTH_TEST)
-        ctx.depth_func = "<="
-        try:
+        with depth_tested(self.gpu.ctx, fbo):
             draw_fullscreen(prog)
-        finally:
-            ctx.depth_func = "<"
-            ctx.disable(moderngl.DEPTH_TEST)
-            fbo.depth_mask = True
 
     def _composite_program(self, frame, target, spec: ProgramSpec, extra: dict | None = None):
         """``spec``'s program with every uniform and texture of the scattering pass bound

@@ -21,6 +21,7 @@ import moderngl
 from ... import RESOURCES
 from ...frame import Stage
 from ...gpu.programs import ProgramSpec, draw_fullscreen, fullscreen
+from ...gpu.targets import depth_tested
 from ...params import Param, non_zero
 from ...sim.daynight import DEFAULT_SUN_EXTINCTION, DayNight, Keyframes
 from ...sim.sea_plane import GROUNDS, cox_munk_mss, ground_params
@@ -194,16 +195,8 @@ class Sky(Effect):
         target.use()
         # the sky stage: only the pixels still on the far plane (nothing drawn there) are
         # shaded, and the depth is left as it is
-        ctx = self.gpu.ctx
-        ctx.enable(moderngl.DEPTH_TEST)
-        ctx.depth_func = "<="
-        target.fbo.depth_mask = False
-        try:
+        with depth_tested(self.gpu.ctx, target.fbo):
             draw_fullscreen(prog)
-        finally:
-            target.fbo.depth_mask = True
-            ctx.depth_func = "<"
-            ctx.disable(moderngl.DEPTH_TEST)
 
     def environment_key(self) -> tuple:
         return (round(self.state.hour, 6), self.params.version("sky"), self.keyframes.version)
