@@ -27,7 +27,7 @@ import sys
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterable, Mapping
+from typing import Any, Callable, Iterable, Iterator, Mapping
 
 from .errors import ParamError, one_line, quote
 
@@ -379,6 +379,16 @@ class ParamSet:
         """:meth:`set` each of ``values``, in order."""
         for name, value in values.items():
             self.set(name, value)
+
+    @contextlib.contextmanager
+    def kept(self, names: Iterable[str] | None = None) -> Iterator[dict[str, Any]]:
+        """For a ``with`` block: the values of ``names`` (every parameter when None), yielded,
+        and set back after the block whatever it changed."""
+        saved = self.values() if names is None else {n: self[n] for n in names}
+        try:
+            yield saved
+        finally:
+            self.set_many(saved)
 
     def joints(self) -> list[Joint]:
         """The rules between this set's parameters (each once; a rule naming a parameter the

@@ -29,14 +29,11 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None) -> dict:
     view as an orbit about the boat, so a pan would also move the eye (and, row after row, take
     it down under the waves)."""
     p = session.params
-    mode = p["maritime.camera"]
     session.scene.frame(at_most(size, SWEEP_SIZE), 0.0)  # the chase camera's eye, placed
-    p.set("maritime.camera", "free")
-    try:
+    with p.kept(["maritime.camera"]):
+        p.set("maritime.camera", "free")
         out = {"amortised": amortise.sweep(session, "clouds_b", at_most(size, SWEEP_SIZE),
                                            warmup, repeat)}
-    finally:
-        p.set("maritime.camera", mode)
     out["wake"] = wake_angle(session.gpu.ctx, getattr(session.gpu.shaders, "root", None))
     return out
 

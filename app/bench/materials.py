@@ -58,9 +58,8 @@ def tessellation(session, sizes=TESSELLATION_SIZES, warmup: int = 2, rounds: int
     params = session.params
     eff: Materials = session.scene.effect("materials")
     gpu = session.gpu
-    saved = params["materials.tessellation"]
     rows = []
-    try:
+    with params.kept(["materials.tessellation"]):
         for size in sizes:
             size = tuple(int(v) for v in size)
             with gpu.scratch_target("bench", "tessellation", size) as target:
@@ -87,8 +86,6 @@ def tessellation(session, sizes=TESSELLATION_SIZES, warmup: int = 2, rounds: int
                          "triangles_auto": triangles["auto"],
                          "changed_share": float((d > CHANGE_THRESHOLD).mean()),
                          "mean_abs_diff": float(d.mean())})
-    finally:
-        params.set("materials.tessellation", saved)
     return {"threshold": CHANGE_THRESHOLD, "edge_pixels": params["materials.edge_pixels"],
             "rows": rows}
 
@@ -98,9 +95,8 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
     params = session.params
     eff: Materials = session.scene.effect("materials")
     gpu = session.gpu
-    saved = params.values()
     out: dict = {}
-    try:
+    with params.kept() as saved:
         params.set("materials.material", "wood")
         # 1. noise cost per octave (square target, the slice fills it)
         n = min(size)
@@ -188,8 +184,6 @@ def sweep(session, size, warmup: int = 2, repeat: int = 7, bake_sizes=BAKE_SIZES
             params.set(name, saved[name])
         out["tessellation"] = tessellation(session, sizes or TESSELLATION_SIZES, warmup,
                                            max(9, 2 * repeat))
-    finally:
-        params.set_many(saved)
     return out
 
 

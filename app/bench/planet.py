@@ -161,14 +161,11 @@ def method_1_at_defaults(session, size, ref) -> dict:
     in-scattering's relative mean error ``in_rel_mean`` = mean |Δ| / mean reference (per pixel,
     the largest channel). Leaves the method and those knobs as it found them."""
     p = session.params
-    saved = {k: p[k] for k in ("planet.method",) + METHOD_1_KNOBS}
-    try:
+    with p.kept(("planet.method",) + METHOD_1_KNOBS):
         p.set_many({k: p.spec(k).default for k in METHOD_1_KNOBS})
         p.set("planet.method", "brute_force")
         rule = session.scene.effect("planet").pc_rule()
         got_in, got_t = _render_debug(session, size)
-    finally:
-        p.set_many(saved)
     errs = _errors(got_in, got_t, ref)
     ref_mean = float(ref["in_scatter"].max(axis=-1).mean())
     return {**errs, "in_rel_mean": errs["in_mean"] / max(ref_mean, 1e-30),
@@ -194,10 +191,8 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
         ms = _frame_ms(session, time_size, warmup, repeat)
         rows.append({"method": method, "knob": knob, "value": value, "ms": ms, **errs})
 
-    saved = {k: p[k] for k in ("planet.n_steps", "planet.inner_steps", "planet.lut_height",
-                               "planet.lut_angle", "planet.shadow_map_size", "planet.pc_rule",
-                               "atmosphere.ozone")}
-    try:
+    with p.kept(("planet.n_steps", "planet.inner_steps", "planet.lut_height", "planet.lut_angle",
+                 "planet.shadow_map_size", "planet.pc_rule", "atmosphere.ozone")) as saved:
         for n in steps_list:
             p.set_many({"planet.n_steps": n, "planet.inner_steps": n})
             measure("brute_force", "n_steps", n)
@@ -238,8 +233,6 @@ def accuracy(session, size=(64, 36), time_size=(320, 180), warmup: int = 1, repe
             for method in ("brute_force", "lut", "shadowed") + (("hillaire",) if hillaire else ()):
                 measure(method, "ozone layer on", 1.0, ref_ozone)
             p.set("atmosphere.ozone", saved["atmosphere.ozone"])
-    finally:
-        p.set_many(saved)
     return {"size": list(size), "time_size": list(time_size), "reference_steps": ref_steps,
             "rows": rows, "method_1_defaults": method_1}
 
@@ -296,9 +289,8 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
     p = session.params
     keys = ("planet.method", "planet.shadow_compare", "planet.ground_noise", "planet.ground_pass",
             "planet.n_steps", "planet.inner_steps")
-    saved = {k: p[k] for k in keys}
     out: dict = {"size": list(size), "rounds": rounds, "n_steps": 30}
-    try:
+    with p.kept(keys):
         p.set_many({"planet.n_steps": 30, "planet.inner_steps": 30})
         # 1. hardware depth compares (method 3: the filter on every Phong surface and ground
         #    pixel, and one comparison per integral sample)
@@ -360,8 +352,6 @@ def changes(session, size=(320, 180), warmup: int = 1, rounds: int = 7) -> dict:
         out["ground_noise"] = {"view": "ground", **result, "error": err,
                                "bake_size": p["planet.ground_noise_size"]}
         out["ground_pass"] = {"view": "ground", **pass_result, "error": err_pass}
-    finally:
-        p.set_many(saved)
     return out
 
 
@@ -370,15 +360,12 @@ def sweep(session, size, warmup: int = 2, repeat: int = 5, sizes=None) -> dict:
     table_sizes = sizes or DEFAULT_SIZES
     small = at_most(size, (320, 180))
     p = session.params
-    saved = {k: p[k] for k in PER_PIXEL}
-    try:
+    with p.kept(PER_PIXEL):
         p.set_many(PER_PIXEL)
         table = thesis_table(session, table_sizes, warmup, repeat)
         acc = accuracy(session, size=at_most(size, (64, 36)), time_size=small,
                        warmup=max(1, warmup - 1), repeat=max(2, repeat // 2))
         done = changes(session, small, warmup=max(1, warmup - 1), rounds=max(5, repeat))
-    finally:
-        p.set_many(saved)
     done["march_scale"] = march_scale_change(session, at_most(size, (640, 360)),
                                              warmup=max(1, warmup - 1), rounds=max(5, repeat))
     # a bench scaled down (--size at most 320x180, as the examples run it) scales the

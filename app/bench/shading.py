@@ -285,11 +285,10 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None, angles=AN
     """The shading lab's sweeps (the module's docstring): ``parallax`` (one entry per render
     size), ``critical_angle``, ``lighting`` and ``outlines``."""
     params = session.params
-    saved = params.values()
     render_sizes = [render_size(s) for s in (sizes or [size])]
     out: dict = {"render_sizes": [list(s) for s in render_sizes], "angles": list(angles),
                  "layers": list(layers), "advice": list(ADVICE)}
-    try:
+    with params.kept() as saved:
         out["parallax"] = [parallax_sweep(session, s, warmup, repeat, angles, layers)
                            for s in render_sizes]
         params.set_many(saved)
@@ -306,8 +305,6 @@ def sweep(session, size, warmup: int = 1, repeat: int = 3, sizes=None, angles=AN
         out["speed"] = surfaces_speed.run(session, size, surfaces_speed.SHADING,
                                           surfaces_speed.SHADING_PASSES, warmup=warmup,
                                           rounds=max(3, repeat), budget_s=SPEED_BUDGET_S)
-    finally:
-        params.set_many(saved)
     return out
 
 

@@ -23,48 +23,10 @@ so ``sun_dir = −lightDir`` — and θ, the scattering angle of the phase funct
 ``cos θ = view_dir · sun_dir``: cos θ = 1 looking straight at the sun, where the Mie forward peak
 (g > 0) is. Φ is the angle between the local vertical ("Earth normal") at a point and the sun.
 
-The model (spec/002 §1.3, §1.5)
--------------------------------
-Density of each particle type ``x`` ∈ {R (Rayleigh, molecules), M (Mie, aerosols)}::
-
-    ρ_x(h) = P0 · exp(−h / H_x),            H_R = 7994 m, H_M = 1200 m
-
-Optical depth of a segment AB::
-
-    τ(AB) = β^ext_R ∫_A^B ρ_R ds + β^ext_M ∫_A^B ρ_M ds = P0 (β^ext_R D_R + β^ext_M D_M)
-
-where ``D_x = ∫ exp(−h/H_x) ds`` is the **density integral** (metres of sea-level air) that this
-module calls "optical depth" when it has no β: :func:`optical_depth` and
-:meth:`OpticalDepthLut.lookup` return D_R, D_M *without* P0 and β, so the table depends on the
-geometry and scale heights only, and a change of P0 or β does not rebuild it. (The texels
-themselves hold D divided by the vertical column at the ray's lowest point, a Chapman ratio that
-interpolates far better than D; see the LUT section.) In-scattering toward a camera C from the
-segment C→O::
-
-    L_in = I_sun ∫_C^O e^(−τ(A P)) e^(−τ(P C)) V(P) (β^s_R ρ_R(h) P_R(θ) + β^s_M ρ_M(h) P_M(θ)) ds
-
-with A where the sun ray from P leaves the atmosphere, V the shadow-map visibility (§2.5), and
-``L_out = L_0 · e^(−τ(C O))`` (§1.4). The sun is white with radiance ``sun_intensity``.
-
-Errata of the thesis fixed here (and in the GPU code; docs/theory/002-atmosphere.md §6 lists them)
---------------------------------------------------------------------------------------------------
-Out-scattering multiplies by the transmittance e^(−τ), not by τ; the Earth normal is
-``normalize(P − C_earth)``; ``betaSR`` is β^s_R; every optical depth is ``P0 · D`` (the printed
-inner loop has no P0); a sun ray that hits the planet carries no sunlight (its exact optical
-depth is +inf, the LUT returns :data:`OPTICAL_DEPTH_GROUND_M`, the transmittance is 0). The two
-Cornette–Shanks forms of §1.2 and §2.3 are the same function (1/(4π) · 3/2 = 3/(8π)):
-:func:`phase_mie` uses the §1.2 form.
-
-One deliberate improvement over the printed loop, selectable for twin comparisons: the thesis
-accumulates ``dPC += ρ ds`` *before* using it, so τ(PC) at the sample P_k includes the whole
-k-th step (the camera-to-P depth is over-estimated by half a step: first-order error). The
-default here, ``pc_rule="midpoint"``, uses the depth to the sample itself (``Σ_{j<k} ρ_j ds +
-ρ_k ds/2``), which makes the whole sum a second-order midpoint rule at no extra cost;
-``pc_rule="thesis"`` reproduces the printed code. The final transmittance ``e^(−τ(CO))`` is the
-same in both. At the thesis's N = 30 from 2 m above the sea, against :func:`reference`: a ray 30°
-up at noon errs 1.5 % (midpoint) vs 3.8 % (thesis); a ray 1° up, 4 % vs 47 %; the horizon at
-sunset (sun 2° up), 3.5 % vs 55 %. (The thesis reports a dark band above its horizon; this rule
-may contribute to it — not verified.)
+The model, its errata and the two accumulation rules are docs/theory/002-atmosphere.md's §1.3,
+§1.5, §1.7 and §6: ``optical_depth`` and ``OpticalDepthLut.lookup`` return the density
+integrals D_R, D_M without P0 and β (so a change of either does not rebuild the table), and
+``pc_rule="midpoint"`` (the default) is the second-order rule, ``"thesis"`` the printed one.
 """
 
 from __future__ import annotations
@@ -77,9 +39,13 @@ import numpy as np
 
 from ..errors import ParamError
 from ..params import Param
+from . import maths
 from .maths import normalize
 from .optics import phase_mie_cornette_shanks, phase_rayleigh
 from .optics import ray_sphere as optics_ray_sphere
+
+#: the unit vector at an elevation and an azimuth (:func:`app.sim.maths.direction`): the sun
+direction = maths.direction
 
 SPEC = "spec/002"
 
@@ -360,16 +326,6 @@ def local_to_planet(position, params: AtmosphereParams | None = None) -> np.ndar
     """Scene-local position (origin on the sea surface, y up) → planet-centred, m."""
     r = (params or AtmosphereParams()).bottom_radius
     return np.asarray(position, dtype=np.float64) + np.array([0.0, r, 0.0])
-
-
-def direction(elevation_deg, azimuth_deg) -> np.ndarray:
-    """Unit vector at an elevation above the local horizon and an azimuth (0 = north = −z,
-    90 = east = +x), for the local frame (y up) at the scene origin — as the scene's sun and
-    camera yaw. Vectorised: returns (..., 3)."""
-    e = np.radians(np.asarray(elevation_deg, dtype=np.float64))
-    a = np.radians(np.asarray(azimuth_deg, dtype=np.float64))
-    e, a = np.broadcast_arrays(e, a)
-    return np.stack([np.sin(a) * np.cos(e), np.sin(e), -np.cos(a) * np.cos(e)], axis=-1)
 
 
 def ray_sphere(origin, direction, radius):

@@ -90,6 +90,15 @@ def compass_xz(degrees: float) -> np.ndarray:
     return np.array([math.sin(a), -math.cos(a)])
 
 
+def direction(elevation_deg, azimuth_deg) -> np.ndarray:
+    """Unit vector at an elevation above the local horizon and an azimuth (0 = north = −z,
+    90 = east = +x), y up — as a scene's sun and the camera's yaw. Vectorised: (..., 3)."""
+    e = np.radians(np.asarray(elevation_deg, dtype=np.float64))
+    a = np.radians(np.asarray(azimuth_deg, dtype=np.float64))
+    e, a = np.broadcast_arrays(e, a)
+    return np.stack([np.sin(a) * np.cos(e), np.sin(e), -np.cos(a) * np.cos(e)], axis=-1)
+
+
 def compass_radians(x: float, z: float) -> float:
     """The compass angle [rad, in (−π, π]] of the (x, z) vector: atan2(x, −z), the inverse of
     ``compass_xz``."""

@@ -41,6 +41,7 @@ import math
 
 import numpy as np
 
+from .maths import direction as sun_direction  # noqa: F401 - the sun of the preetham effect
 from .sea_plane import SeaPlane, sea_horizon_direction, sea_reflection_direction
 
 #: Perez coefficients (A, B, C, D, E) = slope · T + offset, rows Y, x, y (appendix A.2).
@@ -240,10 +241,3 @@ def sky_radiance(directions, sun_dir, turbidity: float = 2.5, exposure: float = 
         if below.any():
             out[below] = sea_radiance(d[below], sun_dir, turbidity, exposure, sea)
     return out
-
-
-def sun_direction(elevation_deg: float, azimuth_deg: float) -> np.ndarray:
-    """Unit vector toward the sun; azimuth 0° = north (−z), 90° = east (+x), like the camera's
-    yaw."""
-    e, a = math.radians(elevation_deg), math.radians(azimuth_deg)
-    return np.array([math.sin(a) * math.cos(e), math.sin(e), -math.cos(a) * math.cos(e)])

@@ -357,8 +357,7 @@ class Shading(Effect):
 
     def light_uniforms(self, frame) -> dict:
         p = self.params
-        el, az = math.radians(p["shading.sun_elevation"]), math.radians(p["shading.sun_azimuth"])
-        sun = (math.cos(el) * math.sin(az), math.sin(el), -math.cos(el) * math.cos(az))
+        sun = tuple(maths.direction(p["shading.sun_elevation"], p["shading.sun_azimuth"]))
         radiance = (p["shading.sun_intensity"],) * 3
         if frame.main_light is not None:  # a scene with a sky: its light
             sun = tuple(frame.main_light.direction)

@@ -52,6 +52,7 @@ from ...params import Param
 from ...render import shadows as shadow_module
 from ...render.shadow_maps import CASTER, ShadowSet, receiver_variants
 from ...sim import distortion, surfaces_scene
+from ...sim.maths import direction
 from ..base import Effect, Pass
 from .reflections import ReflectionProbe
 from .transparency import BLENDED as BLENDED_MODES
@@ -334,9 +335,7 @@ class Surfaces(Effect):
 
     def sun_direction(self) -> np.ndarray:
         """Unit vector toward the sun (compass azimuth from −z toward +x)."""
-        p = self.params
-        el, az = math.radians(p["surfaces.sun_elevation"]), math.radians(p["surfaces.sun_azimuth"])
-        return np.array([math.cos(el) * math.sin(az), math.sin(el), -math.cos(el) * math.cos(az)])
+        return direction(self.params["surfaces.sun_elevation"], self.params["surfaces.sun_azimuth"])
 
     def spot_axis(self) -> np.ndarray:
         d = np.subtract(SPOT_TARGET, SPOT_POSITION)
