@@ -469,10 +469,10 @@ def _check_shader_arg(value: str | None) -> None:
                          "(see natura shaders copy)")
 
 
-def _session_inputs(args, scene_name: str, opening: bool = False):
-    """Validate everything the user gave (scene, parameters, camera, size) before any GL work.
-    ``opening`` (the window and render): with no ``--view``, the scene's own opening view
-    (``Scene.default_view``) is applied; ``--view none`` applies none."""
+def _session_inputs(args, scene_name: str, opening: bool = False, size=(1280, 720)):
+    """Validate everything the user gave (scene, parameters, camera, size: ``size`` without
+    ``--size``) before any GL work. ``opening`` (the window and render): with no ``--view``, the
+    scene's own opening view (``Scene.default_view``) is applied; ``--view none`` applies none."""
     from .runtime import parse_size, placed_camera, scene_params
     from .scenes import SCENES
 
@@ -482,7 +482,7 @@ def _session_inputs(args, scene_name: str, opening: bool = False):
     _nonempty("--camera", args.camera, "X,Y,Z[,YAW[,PITCH[,FOV]]]")
     _nonempty("--preset", args.preset, "a TOML preset file")
     _check_shader_arg(args.shaders)
-    size = parse_size(args.size) if args.size is not None else (1280, 720)
+    size = parse_size(args.size) if args.size is not None else size
     view = None
     name = getattr(args, "view", None)
     if name is None and opening:
@@ -935,9 +935,8 @@ def cmd_window_bench(args) -> int:
             raise UsageError(f"bench --window: {option} is for the timed passes, not the window: "
                              "allowed with --window --size, --repeat N frames, --warmup N, "
                              "--set, --camera, --time, --out")
-    params, camera, size = _session_inputs(args, args.scene)
+    params, camera, size = _session_inputs(args, args.scene, size=(640, 360))
     mesh = _user_mesh(args, args.scene)
-    size = (640, 360) if args.size is None else size
     problem = display_problem()
     if problem is not None:
         raise UsageError(f"bench --window needs a display ({problem}): allowed under X, or "
@@ -988,10 +987,8 @@ def cmd_bench(args) -> int:
         warmup = args.warmup
     else:
         warmup = 1 if args.repeat is not None and args.repeat <= SHORT_REPEAT else BENCH_WARMUP
-    params, camera, size = _session_inputs(args, args.scene)
+    params, camera, size = _session_inputs(args, args.scene, size=(640, 360))
     mesh = _user_mesh(args, args.scene)
-    if args.size is None:
-        size = (640, 360)
     table_sizes = None
     if args.sizes is not None:
         items = args.sizes.split(",")
@@ -1063,9 +1060,7 @@ def cmd_compare(args) -> int:
     from .teach.compare import compare, side_params, write
 
     _nonempty("--out", args.out, "a file name ending in .png")
-    params, camera, size = _session_inputs(args, args.scene)
-    if args.size is None:
-        size = parse_size(COMPARE_SIZE)
+    params, camera, size = _session_inputs(args, args.scene, size=parse_size(COMPARE_SIZE))
     mesh = _user_mesh(args, args.scene)
     if not args.a_sets and not args.b_sets:
         raise UsageError("compare: nothing differs between A and B: allowed --a NAME=VALUE ... "
@@ -1105,9 +1100,7 @@ def cmd_report(args) -> int:
 
     _nonempty("--out", args.out, "a folder name")
     _nonempty("--methods", args.methods, "comma-separated methods of the scene")
-    params, _, size = _session_inputs(args, args.scene)
-    if args.size is None:
-        size = DEFAULT_SIZE
+    params, _, size = _session_inputs(args, args.scene, size=DEFAULT_SIZE)
     chosen = select(args.scene, args.methods)
     axis = axis_of(args.scene)
     for s in args.sets:

@@ -1,24 +1,10 @@
 """The effect interface: one package per effect, owning its GL resources, parameters and passes.
 
-An effect declares
-
-* ``name`` — one name for the effect, its parameter group, its GLSL folder and its tests;
-* ``programs`` — every shader program it may compile (``natura shaders check`` compiles them
-  all, and their ``// @param`` annotations become parameters of the effect);
-* ``python_params()`` — tunables that live on the CPU;
-* ``stages`` — the render stages it draws in (:class:`app.frame.Stage`);
-* ``produces`` / ``consumes`` — the frame slots it fills and reads (:mod:`app.frame`), the
-  latter ``"required"`` or ``"optional"`` (an optional slot has a documented fallback);
-* ``update(frame, dt)`` — CPU work, and the slots it fills;
-* ``passes(frame, target)`` — this frame's passes, each in its stage; the scene runs every
-  effect's passes stage by stage. A single-pass effect implements ``draw(frame, target)``
-  instead (one pass in its first stage);
-* ``bench_passes(frame, target)`` — what ``natura bench`` times (the passes, plus work the
-  frame only does on demand, such as a forced re-render of a cached probe).
-
-GL resources are created lazily through ``self.gpu`` under the effect's name, so a scene
-without the effect allocates nothing of it. An effect never imports or names another effect:
-what it needs from others comes through the frame's slots.
+What an effect declares (``name``, ``programs``, ``python_params()``, ``stages``, ``produces`` /
+``consumes``, ``update``, ``draw`` or ``passes``, ``bench_passes``) is docs/architecture.md's
+"Effects" section. GL resources are created lazily through ``self.gpu`` under the effect's
+name, so a scene without the effect allocates nothing of it. An effect never imports or names
+another effect: what it needs from others comes through the frame's slots.
 """
 
 from __future__ import annotations

@@ -30,61 +30,9 @@ Conventions
 * Units: metres, seconds, kilograms, newtons, radians (degrees only where a name says so:
   ``direction`` of the wind, ``*_deg`` arguments, ``twa`` in the polar's report).
 
-What each part implements
--------------------------
-* ``Navigation`` — the thesis's NavigableObject (spec/000 §1.4): Direction (rudder) and Throttle,
-  both clamped to [−1, 1] (criterion 12), Max. Turn Speed and Max. Speed. ``step`` is the
-  thesis's kinematic form: yaw rate = Direction·max turn speed, speed relaxing toward
-  Throttle·max speed, so |r| ≤ max turn speed and |speed| ≤ max speed always. ``forces`` is the
-  same as forces for a rigid body, in two modes: ``"thesis"`` (servo forces toward that yaw rate
-  and speed: the boat turns standing still, as the thesis's does) and ``"rudder"`` (the rudder a
-  lift surface at the stern, ½·ρ_w·u|u|·A_r·C_L, against a hull yaw damping proportional to the
-  flow speed: a boat that is not moving cannot turn, and the turning circle is the same at every
-  speed, max speed / max turn speed). Both limit the yaw rate to the max turn speed and the
-  motor's push to the max speed (the motor never pushes past Throttle·max speed; it does not
-  brake a boat that the sails drive faster).
-* ``Wind`` — the global wind of ``Wind.cs``: speed [m/s] and direction (above).
-* ``Sail`` — the thesis's SailObject: Sails Direction in [−1, 1] (clamped), Max. Angle Sails.
-  ``thesis_thrust``: thrust along the bow ∝ |cos| of the angle between the wind and the sail's
-  normal — maximal when the sail is perpendicular to the wind (criterion 13); the boom stands at
-  Sails Direction × max angle, signed (+ = starboard). The thesis gives no formula: the scale is
-  ½·ρ_air·|V|²·A (one sail area of dynamic pressure at |cos| = 1).
-  ``"lift"`` mode (the default for ``forces``): the sail on the **apparent wind**
-  V_a = V_true − v_boat. |Sails Direction| is the sheet: it lets the boom out to at most
-  |Sails Direction|·max angle (never closer in than ``min_angle``, the traveller/jib lead);
-  the wind blows the boom out to the leeward side until the sheet stops it, and with more sheet
-  than the wind angle the sail weathervanes and luffs — so the boom angle is
-  min(sheet, |AWA|) on the side away from the wind, and the angle of attack α = |AWA| − boom.
-  Coefficients (``coefficients``): attached flow C_L = C_Lmax·sin(½π·(α − α_luff)/(α_stall −
-  α_luff)) between the luffing angle (default 7°: below it the soft luff backwinds, no lift)
-  and the stall (default C_Lmax 1.4 at 20°), C_D = C_D0 + k·C_L²; past the stall a blend
-  (smoothstep over ``stall_width``) to the flat-plate values C_L = C_N·sin α·cos α,
-  C_D = C_D0 + C_N·sin²α (never below the attached C_D; C_N 1.3: a plate across the wind,
-  running). Those are the usual shapes of measured sail curves (Marchaj 1979,
-  "Aero-hydrodynamics of sailing"); the numbers are typical, not fitted
-  to one sail. Force F = ½·ρ_air·|V_a|²·(A·(C_L·ê_L + C_D·ê_D) + windage·ê_D), ê_D along the
-  apparent wind, ê_L perpendicular to it toward the leeward side (the side the belly bulges
-  to); ``windage`` is C_D·A of the hull and rig. The heeling force is its component across the
-  hull, acting at ``ce_height`` above the waterline (the centre of effort): the heel torque.
-  Heel φ scales the sail's force by cos²φ (the wind across a heeled mast).
-* ``Hull`` — resistance and lateral resistance. Frictional: ITTC 1957 line
-  C_F = 0.075/(log₁₀Re − 2)², R_F = ½·ρ_w·u²·S·C_F (Re = u·LWL/ν, seawater ν = 1.19e-6 m²/s,
-  Re floored at 1e5). Residuary (wave-making): R_R/W = r₀·(Fn/0.3)^6 below the hull speed
-  Fn = 0.4 and growing as Fn^``wave_exponent`` above it (W = Δ·g, Fn = u/√(g·LWL)); r₀ 0.0045
-  gives ≈ 0.5 % of the weight at Fn 0.3 and 2.5 % at the hull speed, the order of the Delft
-  Systematic Yacht Hull Series (Gerritsma, Keuning & Onnink 1993) — a wall that keeps a
-  displacement hull near 1.34·√(LWL in ft) knots ≈ 1.25·√(LWL in m) m/s. Keel: lift on the
-  leeway angle λ, C_L = min(a·λ, C_Lmax) with the lift slope a = 2π·AR/(AR + 2) (Prandtl's
-  lifting-line slope of an elliptic wing; AR the effective aspect ratio, about twice the
-  geometric one under a hull), induced drag C_Di = C_L²/(π·AR); past the stall a flat plate
-  toward 1.2 sideways. Default 8 m boat: LWL 7.27 m, 2.5 t, 30 m² of sail with its centre of
-  effort 3.8 m up, keel 1 m² of effective aspect ratio 2, GM 1 m, windage 3.5 m² — values
-  chosen so that the polar has a cruiser's no-go zone (≈ 32–35°) and best VMG angle (≈ 42–46°).
-* ``speed_polar`` — the steady boat speed against TWA for each true wind speed with the sail
-  trimmed optimally: see its docstring for the method (planar force balance, trim search, upper
-  root by scan and bisection), the no-go angle and VMG.
-* ``sail_state`` — what the renderer needs: boom angle, the side the belly bulges to, and fill
-  (0 luffing, 1 full) for the cloth shader.
+Each class's docstring says what it implements (docs/theory/000-maritime.md §1.4 the thesis's
+part and Natura's): ``Navigation``, ``Wind``, ``Sail`` (the thesis's thrust and the lift/drag
+sail), ``Hull`` (resistance and keel), ``speed_polar`` and ``sail_state`` (the cloth's view).
 
 Parameters are checked by ``app.params.Param`` (``sailing_params`` lists them): a bad value is a
 one-line ``ParamError`` naming it and what is allowed.
@@ -474,7 +422,11 @@ class Navigation:
 
 @dataclass(frozen=True)
 class Hull:
-    """Hull and keel of a displacement boat (defaults: an 8 m cruiser, LWL 7.27 m, 2.5 t)."""
+    """Hull and keel of a displacement boat (defaults: an 8 m cruiser, LWL 7.27 m, 2.5 t, keel
+    1 m² of effective aspect ratio 2, chosen with the sail's so that the polar has a cruiser's
+    no-go zone, ≈ 32–35°, and best VMG angle, ≈ 42–46°). The residuary resistance is of the
+    order of the Delft Systematic Yacht Hull Series (Gerritsma, Keuning & Onnink 1993); the
+    keel's lift slope is Prandtl's lifting line for an elliptic wing."""
 
     lwl: float = _TABLE["sailing.lwl"][0]
     displacement: float = _TABLE["sailing.displacement"][0]
@@ -577,7 +529,8 @@ def _clip(x, lo: float, hi: float):
 
 
 class Sail:
-    """The thesis's SailObject (spec/000 §1.4) and the lift/drag sail (module docstring).
+    """The thesis's SailObject (spec/000 §1.4) and, beyond it, a lift/drag sail on the apparent
+    wind whose boom the sheet lets out (``trim``, ``coefficients``, ``aero_force``).
     ``sails_direction`` in [−1, 1] is clamped on every assignment (criterion 12)."""
 
     def __init__(self, sails_direction: float = 0.5,
@@ -643,8 +596,12 @@ class Sail:
         return max(self.min_angle, abs(self.sails_direction) * self.max_angle)
 
     def coefficients(self, aoa, flat=1.0):
-        """(C_L, C_D) against the angle of attack [rad] (≥ 0; see the module docstring);
-        ``flat`` ∈ [0, 1] scales the attached-flow lift (a flattened, twisted sail: less lift,
+        """(C_L, C_D) against the angle of attack [rad] (≥ 0): attached flow C_L =
+        C_Lmax·sin(½π·(α − α_luff)/(α_stall − α_luff)) between the luffing angle and the stall,
+        C_D = C_D0 + k·C_L², blended past the stall (smoothstep over ``stall_width``) into the
+        flat plate C_L = C_N·sin α·cos α, C_D = C_D0 + C_N·sin²α (never below the attached
+        C_D): the shapes of measured sail curves (Marchaj 1979), typical numbers. ``flat`` ∈
+        [0, 1] scales the attached-flow lift (a flattened, twisted sail: less lift,
         less drag due to lift), not the stalled plate's."""
         a = _clip(np.abs(np.asarray(aoa, dtype=np.float64)), 0.0, math.pi)
         rise = _clip((a - self.luff_aoa) / (self.stall_aoa - self.luff_aoa), 0.0, 1.0)

@@ -50,9 +50,9 @@ from ..gpu.shaders import resolve_shader_root
 from ..gpu.timing import time_interleaved
 from ..imageio import write_bytes_atomic, write_text_atomic
 from ..params import ParamSet
-from ..runtime import open_session, scene_params
+from ..runtime import open_session, placed_camera, scene_params
 from ..scenes import get_scene
-from ..sim.camera import Camera, parse_camera
+from ..sim.camera import Camera
 from .sweeps import format_value
 
 #: the timed rounds by default
@@ -401,14 +401,10 @@ def compare(scene_name: str | None, a_sets=(), b_sets=(), *, size=(320, 180), ba
             raise UsageError(f"--time: scene {scene_name!r} has no time of day: allowed with "
                              "the scenes that have a day–night sky (see natura scenes)")
         base.set("time.hour", float(hour) % 24.0)
-    if camera is None:
-        cam = cls.new_camera()
-    elif isinstance(camera, Camera):
+    if isinstance(camera, Camera):
         cam = copy.deepcopy(camera)
-    else:
-        cam = parse_camera(str(camera), cls.new_camera())
-        cls.check_camera(cam)
-        cls.on_user_camera(base)
+    else:  # the scene's own camera, or placed by ``--camera`` text
+        cam = placed_camera(scene_name, base, None, None if camera is None else str(camera))
     a_list, b_list = normalize_sets(a_sets), normalize_sets(b_sets)
     pa = side_params(base, a_list, "--a")
     pb = side_params(base, b_list, "--b")
