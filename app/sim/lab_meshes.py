@@ -128,12 +128,27 @@ class LabMesh:
 
 
 
-def _corner_angles(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """(T, 3) interior angle at each corner of each triangle (0 at a collapsed corner)."""
-    a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+def _rows(a: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """``a[index]`` for an integer ``index`` (rows of a 2-D ``a``): the same values, gathered
+    several times faster than by fancy indexing on millions of rows."""
+    return np.take(a, index, axis=0)
+
+
+def _edges(p: np.ndarray, tri: np.ndarray
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Each triangle's edge vectors a→b, b→c, c→a and a→c, (T, 3) each: what
+    :func:`_corner_angles` and :func:`_face_normals` both start from."""
+    a, b, c = (_rows(p, tri[:, k]) for k in range(3))
+    return b - a, c - b, a - c, c - a
+
+
+def _corner_angles(p: np.ndarray, tri: np.ndarray,
+                   edges: tuple[np.ndarray, ...] | None = None) -> np.ndarray:
+    """(T, 3) interior angle at each corner of each triangle (0 at a collapsed corner);
+    ``edges``: :func:`_edges` when known."""
     # the three edges a→b, b→c, c→a, each normalised once: the corner at a lies between a→b
     # and a→c = −(c→a), and so on round the triangle
-    edges = [_normalize(e) for e in (b - a, c - b, a - c)]
+    edges = [_normalize(e) for e in (_edges(p, tri) if edges is None else edges)[:3]]
     out = np.zeros(tri.shape, np.float64)
     for k in range(3):
         (e1, ok1), (e2, ok2) = edges[k], edges[(k + 2) % 3]
@@ -142,13 +157,15 @@ def _corner_angles(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
     return out
 
 
-def _face_normals(p: np.ndarray, tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _face_normals(p: np.ndarray, tri: np.ndarray,
+                  edges: tuple[np.ndarray, ...] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(unit face normals (T, 3), non-degenerate mask (T,)). A triangle is degenerate when its
-    area is below 1e-12 of its longest edge squared (or zero)."""
-    a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
-    cross = np.cross(b - a, c - a)
+    area is below 1e-12 of its longest edge squared (or zero). ``edges``: :func:`_edges` when
+    known."""
+    ab, bc, ca, ac = _edges(p, tri) if edges is None else edges
+    cross = np.cross(ab, ac)
     area2 = np.linalg.norm(cross, axis=1)
-    edge2 = np.max([np.einsum("ij,ij->i", e, e) for e in (b - a, c - b, a - c)], axis=0)
+    edge2 = np.max([np.einsum("ij,ij->i", e, e) for e in (ab, bc, ca)], axis=0)
     ok = np.isfinite(area2) & (area2 > 1e-12 * edge2) & (edge2 > 0)
     n = np.divide(cross, area2[:, None], out=np.zeros_like(cross), where=ok[:, None])
     return n, ok
@@ -172,23 +189,28 @@ def unique_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     n = len(r)
     if n == 0:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
-    cols = r.view(f"u{r.dtype.itemsize}").astype(np.uint64, copy=False)
+    bits = r.view(f"u{r.dtype.itemsize}")  # compared bit for bit, as hashed
     h = np.zeros(n, np.uint64)
-    for k in range(cols.shape[1]):
-        h ^= cols[:, k]
+    for k in range(bits.shape[1]):
+        h ^= bits[:, k]
         h *= _MIX[k % len(_MIX)]
         h ^= h >> np.uint64(29)
-    bits = r.view(f"u{r.dtype.itemsize}")  # compared bit for bit, as hashed
     order = np.argsort(h, kind="stable")
-    rs = bits[order]
-    same = (rs[1:] == rs[:-1]).all(axis=1)
     hs = h[order]
-    if (~same & (hs[1:] == hs[:-1])).any():  # a hash shared by different rows: sort exactly
-        order = np.lexsort(cols.T[::-1])
+    first, inverse = _runs(order, hs[1:] == hs[:-1])
+    # every row equal to the first of its hash: else a hash is shared by different rows
+    if not (_rows(_rows(bits, first), inverse) == bits).all():  # then sort exactly
+        order = np.lexsort(bits.astype(np.uint64).T[::-1])
         rs = bits[order]
-        same = (rs[1:] == rs[:-1]).all(axis=1)
+        first, inverse = _runs(order, (rs[1:] == rs[:-1]).all(axis=1))
+    return first, inverse
+
+
+def _runs(order: np.ndarray, same: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first, inverse) of :func:`unique_rows` from the rows' sorted ``order`` and whether each
+    sorted row equals the one before it."""
     start = np.concatenate([[True], ~same])
-    inverse = np.empty(n, np.int64)
+    inverse = np.empty(len(order), np.int64)
     inverse[order] = np.cumsum(start) - 1
     return order[start], inverse
 
@@ -249,8 +271,8 @@ def _smooth_normals(positions: np.ndarray, normals: np.ndarray, indices: np.ndar
     acc = np.stack([np.bincount(groups, weights=weight * n[:, k], minlength=ng)
                     for k in range(3)], axis=1)
     unit, ok = _normalize(acc)
-    out = unit[groups]
-    bad = ~ok[groups]
+    out = _rows(unit, groups)
+    bad = ~_rows(ok, groups)
     out[bad] = n[bad]
     return out.astype(np.float32)
 
@@ -278,10 +300,12 @@ def _tangents(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray,
     t_acc = np.zeros((3, nv))  # one row per component: contiguous sums
     b_acc = np.zeros((3, nv))
     if len(tri):
-        e1 = p[tri[:, 1]] - p[tri[:, 0]]
-        e2 = p[tri[:, 2]] - p[tri[:, 0]]
-        d1 = uv[tri[:, 1]] - uv[tri[:, 0]]
-        d2 = uv[tri[:, 2]] - uv[tri[:, 0]]
+        pa, pb, pc = (_rows(p, tri[:, k]) for k in range(3))
+        e1, e2 = pb - pa, pc - pa
+        del pa, pb, pc
+        ua, ub, uc = (_rows(uv, tri[:, k]) for k in range(3))
+        d1, d2 = ub - ua, uc - ua
+        del ua, ub, uc
         r = d1[:, 0] * d2[:, 1] - d2[:, 0] * d1[:, 1]
         uv_scale = np.maximum(np.abs(d1).max(axis=1), np.abs(d2).max(axis=1)) ** 2
         good = np.isfinite(r) & (np.abs(r) > 1e-12 * np.maximum(uv_scale, 1e-30))
@@ -648,9 +672,10 @@ def _crease_normals(p: np.ndarray, tri: np.ndarray, hard_angle_deg: float,
         else faces
     angles = np.where(ok[:, None], angles, 0.0).reshape(-1)
     corners = tri.reshape(-1)
-    gid = (_position_groups(p) if groups is None else groups)[corners]
+    gid = _rows(_position_groups(p) if groups is None else groups, corners)
     face = np.repeat(np.arange(len(tri)), 3)
-    own = fn[face]  # zero on a degenerate triangle
+    own = np.repeat(fn, 3, axis=0)  # fn[face]: zero on a degenerate triangle
+    ok_corner = np.repeat(ok, 3)  # ok[face]
     weighted = own * angles[:, None]
     ng = int(gid.max()) + 1 if len(gid) else 0
     # Σ angle · face normal over every corner at a position: what a degenerate triangle's corner
@@ -661,11 +686,13 @@ def _crease_normals(p: np.ndarray, tri: np.ndarray, hard_angle_deg: float,
     axis, has_axis = _normalize(total)
     cos_limit = math.cos(math.radians(float(hard_angle_deg)))
     half = math.cos(math.radians(float(hard_angle_deg)) / 2.0)
-    near = np.einsum("ij,ij->i", own, axis[gid]) >= half + 1e-9
-    far = np.bincount(gid, weights=ok[face] & ~near, minlength=ng)
-    several = np.bincount(gid, weights=ok[face], minlength=ng) > 1
-    crease = (several & (~has_axis | (far > 0)))[gid] & ok[face]
-    acc = total[gid]  # a degenerate corner keeps the sum of every face
+    # a corner keeps the sum of every face at its position (a degenerate one always), made unit
+    # per position: row for row what normalising it per corner gives
+    unit, good = _rows(axis, gid), _rows(has_axis, gid)
+    near = np.einsum("ij,ij->i", own, unit) >= half + 1e-9
+    far = np.bincount(gid, weights=ok_corner & ~near, minlength=ng)
+    several = np.bincount(gid, weights=ok_corner, minlength=ng) > 1
+    crease = (several & (~has_axis | (far > 0)))[gid] & ok_corner
     if crease.any():
         size = np.bincount(gid, minlength=ng)[gid]
         small = crease & (size <= _CREASE_GROUP)
@@ -673,12 +700,13 @@ def _crease_normals(p: np.ndarray, tri: np.ndarray, hard_angle_deg: float,
             # each takes the faces of the corners at its position (its own too) within the
             # crease angle, pair by pair, summed in the same order as the total above
             pick = np.flatnonzero(small)
-            acc[pick] = _pair_sums(gid[pick], fn, ok, face[pick], angles[pick], cos_limit)
+            unit[pick], good[pick] = _normalize(
+                _pair_sums(gid[pick], fn, ok, face[pick], angles[pick], cos_limit))
         big = np.flatnonzero(crease & ~small)
         if len(big):
-            acc[big] = _big_group_sums(gid[big], fn, ok, face[big], angles[big], cos_limit)
-    unit, good = _normalize(acc)
-    unit[~good] = np.where(ok[face][~good, None], own[~good], FALLBACK_NORMAL)
+            unit[big], good[big] = _normalize(
+                _big_group_sums(gid[big], fn, ok, face[big], angles[big], cos_limit))
+    unit[~good] = np.where(ok_corner[~good, None], own[~good], FALLBACK_NORMAL)
     return unit.reshape(-1, 3, 3)
 
 
@@ -736,8 +764,10 @@ def from_arrays(name: str, positions, indices, normals=None, uvs=None,
 
     # the triangles' shapes and the position groups, computed once: splitting vertices below
     # changes neither
-    fn, ok = _face_normals(p, tri)
-    faces = (fn, ok, _corner_angles(p, tri))
+    edges = _edges(p, tri)
+    fn, ok = _face_normals(p, tri, edges)
+    faces = (fn, ok, _corner_angles(p, tri, edges))
+    del edges
     groups = np.arange(len(p)) if welded else _position_groups(p)
     if nrm is None:
         corner_n = _crease_normals(p, tri, hard_angle_deg, groups, faces).reshape(-1, 3)
@@ -746,9 +776,10 @@ def from_arrays(name: str, positions, indices, normals=None, uvs=None,
         q = np.round(corner_n * 1e5).astype(np.int64) + (1 << 17)  # 0 … 2^18 each
         key = np.column_stack([src, (q[:, 0] << 36) | (q[:, 1] << 18) | q[:, 2]])
         first, inverse = unique_rows(key)
-        new_p, new_n = p[src[first]], corner_n[first]
-        new_uv = None if uv is None else uv[src[first]]
-        groups = groups[src[first]]
+        kept = _rows(src, first)
+        new_p, new_n = _rows(p, kept), _rows(corner_n, first)
+        new_uv = None if uv is None else _rows(uv, kept)
+        groups = _rows(groups, kept)
         tri = inverse.reshape(-1, 3)
     else:
         new_p = p

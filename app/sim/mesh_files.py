@@ -290,8 +290,8 @@ def _lab_mesh(name: str, g: Geometry) -> LabMesh:
     if welded:
         # vertices only told apart by position: weld them (STL repeats each corner)
         first, inverse = unique_rows(positions.astype(np.float32) + np.float32(0.0))
-        positions = positions[first]
-        faces = inverse[faces]
+        positions = np.take(positions, first, axis=0)  # as positions[first], faster
+        faces = np.take(inverse, faces)
     return from_arrays(name, positions, faces, normals=g.normals, uvs=g.uvs, welded=welded)
 
 
