@@ -1,12 +1,10 @@
 """``natura bench SCENE --budget MS``: which passes blow a frame budget, and which measured
 parameter changes bring the frame under it at the least error.
 
-The options come from the sweeps of the scene's bench module (``report["sweep"]``, written by
-``app/bench/<scene>.py``, read by app/teach/sweeps.py): each measured variant becomes an
-:class:`Option` — the parameter assignment the sweep set, its ms per frame at the size the
-sweep timed it, and its error against the sweep's reference. Options whose time, scaled by
-pixel count from the sweep's size to the bench size, fits the budget are listed lowest error
-first, each as a ready ``--set name=value`` string (only the values that differ from the
+The options are the measured points of the scene's sweeps (``report["sweep"]``, written by
+``app/bench/<scene>.py``, read back by app/teach/sweeps.py: settings, ms, error). Options whose
+time, scaled to the bench's frame (see :func:`budget_view`), fits the budget are listed lowest
+error first, each as a ready ``--set name=value`` string (only the values that differ from the
 bench's parameters).
 
 Everything here reads the report dict only: no GL, no session.
@@ -16,18 +14,8 @@ from __future__ import annotations
 
 from typing import Any
 
-# the sweeps' extraction lives in app.teach.sweeps (the quality picker reads it too); its names
-# are re-exported here for the bench's callers and tests
-from ..teach.sweeps import (  # noqa: F401
-    EXTRACT,
-    Option,
-    SceneOptions,
-    _finite,
-    _size,
-    format_value,
-    scene_options,
-)
-from ..teach.sweeps import same as _same
+# the sweeps' extraction lives in app.teach.sweeps (the quality picker reads it too)
+from ..teach.sweeps import _finite, _size, format_value, same, scene_options
 
 #: passes that are references, not parts of the frame
 REFERENCES = ("reference.fullscreen", "reference.clear")
@@ -38,7 +26,7 @@ TOP = 5
 def set_string(sets: dict[str, Any], current: dict[str, Any]) -> str:
     """``--set name=value`` for each value that differs from ``current``."""
     changed = [f"--set {k}={format_value(v)}" for k, v in sets.items()
-               if k not in current or not _same(current[k], v)]
+               if k not in current or not same(current[k], v)]
     return " ".join(changed) if changed else "(the bench's own settings)"
 
 
@@ -77,16 +65,13 @@ def budget_view(report: dict, budget_ms: float, top: int = TOP) -> list[str]:
     # ratio carries over, its absolute time does not); without a current-settings row, the
     # option's own time scaled by pixel count.
     base = next((o for o in opts
-                 if all(k in current and _same(current[k], v) for k, v in o.sets.items())), None)
-    estimate: dict[int, float] = {}
+                 if all(k in current and same(current[k], v) for k, v in o.sets.items())), None)
     if base is not None and _finite(frame) and base.ms > 0:
-        for o in opts:
-            estimate[id(o)] = frame * o.ms / base.ms
+        estimate = {id(o): frame * o.ms / base.ms for o in opts}
         lines.append("each option's frame time = the measured frame × its time ratio to the "
                      f"current settings' in the sweep ({base.label})")
     else:
-        for o in opts:
-            estimate[id(o)] = o.scaled_ms(size)
+        estimate = {id(o): o.ms_at(size) for o in opts}
         scaled = sorted({o.size for o in opts if o.size != size})
         if scaled:
             lines.append("times scaled by pixel count from the sweep's "

@@ -56,7 +56,7 @@ from ..errors import UsageError, quote
 from ..imageio import check_output_path, save_figure
 from ..runtime import scene_params
 from . import sweeps
-from .sweeps import _finite, _size, format_value, hillaire_scaled, ocean_error, same
+from .sweeps import Point, _finite, _size, format_value, hillaire_scaled, ocean_rows, same
 
 #: the shipped measured runs (llvmpipe): docs/ (bench-planet.json and the like)
 SHIPPED = PROJECT_ROOT / "docs"
@@ -69,27 +69,6 @@ MAX_REPORT_BYTES = 64 * 2**20
 NOISE_SHARE = 0.05
 
 MODES = ("fixed", "auto")
-
-
-@dataclass
-class Point:
-    """One measured setting of a family: the parameters it sets, its ms at ``size`` (the size
-    the sweep timed it at) and its error in the family's metric."""
-
-    label: str
-    sets: dict[str, Any]
-    ms: float
-    error: float
-    size: tuple[int, int]
-    #: the part of ``ms`` that does not grow with the pixel count (not scaled by ms_at)
-    fixed_ms: float = 0.0
-
-    def ms_at(self, size: tuple[int, int] | None = None) -> float:
-        """ms at ``size``: the per-pixel part scaled by pixel count from the sweep's size."""
-        if size is None or tuple(size) == tuple(self.size):
-            return self.ms
-        scale = (size[0] * size[1]) / (self.size[0] * self.size[1])
-        return self.fixed_ms + (self.ms - self.fixed_ms) * scale
 
 
 @dataclass
@@ -569,9 +548,7 @@ def _ocean(report: dict, source: str) -> tuple[list[Family], list[str]]:
     where = [f"measured at wind {sweep.get('wind', '?')} m/s, {sweep.get('spectrum', '?')} "
              "spectrum; the simulation's ms are not scaled by pixel count"]
     fft, gerstner, shapes = [], [], []
-    for r in sweep.get("fft", {}).get("rows", []):
-        if ocean_error(r) is None or not _finite(r.get("ms_frame")):
-            continue
+    for r, _ in ocean_rows(sweep, "fft"):
         err = max(abs(r["mss_deficit"]), abs(r["hs_error"]))
         shapes.append(r["shape_distance"])
         n, c = int(r["fft_size"]), int(r["cascades"])
@@ -580,10 +557,7 @@ def _ocean(report: dict, source: str) -> tuple[list[Family], list[str]]:
         fft.append(Point(f"FFT {n}² × {c} cascade{'s' if c != 1 else ''}",
                          {"ocean.fft_size": str(n), "ocean.cascades": c}, r["ms_frame"], err,
                          size, fixed))
-    for r in sweep.get("gerstner", {}).get("rows", []):
-        err = ocean_error(r)
-        if r.get("model") != "gerstner" or err is None or not _finite(r.get("ms_frame")):
-            continue
+    for r, err in ocean_rows(sweep, "gerstner"):
         gerstner.append(Point(f"{int(r['waves'])} waves",
                               {"ocean.gerstner_waves": int(r["waves"])}, r["ms_frame"], err,
                               size))
@@ -603,8 +577,7 @@ def _ocean(report: dict, source: str) -> tuple[list[Family], list[str]]:
 
 def _materials(report: dict, source: str) -> tuple[list[Family], list[str]]:
     # the same ring-edge rows as natura bench --budget reads
-    pts = [Point(o.label, o.sets, o.ms, o.error, o.size)
-           for o in sweeps.EXTRACT["materials"](report["sweep"], {}).options]
+    pts = sweeps.EXTRACT["materials"](report["sweep"], {}).options
     fams = []
     if pts:
         s = pts[0].size

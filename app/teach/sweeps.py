@@ -1,8 +1,9 @@
-"""The benches' sweeps read back from a bench report (``report["sweep"]``) as the
-:class:`Option` s of ``natura bench SCENE --budget MS`` (app/bench/budget.py says what they
-are); the quality picker (app/teach/quality.py) shares the helpers. The settings the benches
-measure with live here too (:data:`THESIS_MARCH`, :data:`HILLAIRE_SIZES`): app.bench imports
-them from here, as app.teach may not import app.bench. No GL, no session.
+"""The benches' sweeps read back from a bench report (``report["sweep"]``) as the measured
+:class:`Point` s of ``natura bench SCENE --budget MS`` (app/bench/budget.py says what they
+are); the quality picker (app/teach/quality.py) shares the points and the helpers. The
+settings the benches measure with live here too (:data:`THESIS_MARCH`,
+:data:`HILLAIRE_SIZES`): app.bench imports them from here, as app.teach may not import
+app.bench. No GL, no session.
 """
 
 from __future__ import annotations
@@ -38,27 +39,32 @@ def scale_hillaire(params, scale: float) -> None:
 
 
 @dataclass
-class Option:
-    """One measured variant of a scene's sweep."""
+class Point:
+    """One measured setting of a sweep: the parameters it sets, its ms at ``size`` (the size
+    the sweep timed it at) and its error against the sweep's reference."""
 
     label: str
     sets: dict[str, Any]
-    ms: float                      # ms per frame as measured by the sweep
-    size: tuple[int, int]          # the size the sweep timed it at
+    ms: float
     error: float
-    notes: list[str] = field(default_factory=list)
+    size: tuple[int, int]
+    #: the part of ``ms`` that does not grow with the pixel count (not scaled by ms_at)
+    fixed_ms: float = 0.0
 
-    def scaled_ms(self, size: tuple[int, int]) -> float:
-        """ms at ``size``, scaled by pixel count from the size the sweep timed it at."""
-        return self.ms * (size[0] * size[1]) / (self.size[0] * self.size[1])
+    def ms_at(self, size: tuple[int, int] | None = None) -> float:
+        """ms at ``size``: the per-pixel part scaled by pixel count from the sweep's size."""
+        if size is None or tuple(size) == tuple(self.size):
+            return self.ms
+        scale = (size[0] * size[1]) / (self.size[0] * self.size[1])
+        return self.fixed_ms + (self.ms - self.fixed_ms) * scale
 
 
 @dataclass
 class SceneOptions:
-    """A scene's options and what their error means."""
+    """A scene's options (``natura bench --budget``) and what their error means."""
 
     metric: str
-    options: list[Option]
+    options: list[Point]
     notes: list[str] = field(default_factory=list)
 
 
@@ -106,8 +112,8 @@ def _clouds(sweep: dict) -> SceneOptions:
         knobs = {f"clouds.{k}": v for k, v in row.items() if k not in known}
         # "default …" rows start from the scene's default march, the others from the thesis's
         start = {} if row["config"].startswith("default ") else base
-        opts.append(Option(row["config"], {**start, **knobs}, row["ms"], _size(acc["size"]),
-                           row["mean"]))
+        opts.append(Point(row["config"], {**start, **knobs}, row["ms"], row["mean"],
+                          _size(acc["size"])))
     return SceneOptions(f"mean |cloud layer − 512-step reference| ({acc.get('preset', '?')}, "
                         "no wind)", opts)
 
@@ -116,9 +122,7 @@ def hillaire_scaled(scale: float, params=None) -> dict[str, Any]:
     """The Hillaire LUT sizes the planet sweep's "lut scale" knob set (defaults × scale);
     ``params``: a planet ParamSet to work on (its sizes are overwritten)."""
     if params is None:
-        params = scene_params("planet", None, [], None)
-    if scale == 1.0:
-        return {name: params.spec(name).default for name in HILLAIRE_SIZES}
+        params = scene_params("planet")
     scale_hillaire(params, scale)
     return {name: params[name] for name in HILLAIRE_SIZES}
 
@@ -162,7 +166,7 @@ def _planet(sweep: dict, current: dict) -> SceneOptions:
             sets["hillaire.multiple_scattering"] = False
         else:
             continue
-        opts.append(Option(label, sets, r["ms"], size, error))
+        opts.append(Point(label, sets, r["ms"], error, size))
     if any(o.label.startswith("hillaire") for o in opts):
         notes.append("hillaire's error counts its multiple scattering (the reference is single "
                      "scattering)")
@@ -170,32 +174,29 @@ def _planet(sweep: dict, current: dict) -> SceneOptions:
                         f"{acc['size'][0]}x{acc['size'][1]})", opts, notes)
 
 
-def ocean_error(row: dict) -> float | None:
-    """The ocean sweep's error of a row: the worst of |mean-square-slope deficit|, |Hs error|
-    and the directional-shape distance (all relative, against the spectrum)."""
-    parts = [row.get("mss_deficit"), row.get("hs_error"), row.get("shape_distance")]
-    if not all(_finite(p) for p in parts):
-        return None
-    return max(abs(p) for p in parts)  # type: ignore[arg-type]
+def ocean_rows(sweep: dict, model: str) -> list[tuple[dict, float]]:
+    """The rows of the ocean sweep's ``model`` table ("fft" or "gerstner") with a frame time
+    and an error, each with its error: the worst of |mean-square-slope deficit|, |Hs error| and
+    the directional-shape distance (all relative, against the spectrum)."""
+    out = []
+    for r in sweep.get(model, {}).get("rows", []):
+        parts = [r.get("mss_deficit"), r.get("hs_error"), r.get("shape_distance")]
+        if (model == "fft" or r.get("model") == model) and _finite(r.get("ms_frame"), *parts):
+            out.append((r, max(abs(p) for p in parts)))
+    return out
 
 
 def _ocean(sweep: dict) -> SceneOptions:
     size = _size(sweep.get("view_size", (640, 360)))
     opts = []
-    for r in sweep.get("fft", {}).get("rows", []):
-        err = ocean_error(r)
-        if err is None or not _finite(r.get("ms_frame")):
-            continue
-        opts.append(Option(f"fft {r['fft_size']}² × {r['cascades']} cascades",
-                           {"ocean.model": "fft", "ocean.fft_size": str(r["fft_size"]),
-                            "ocean.cascades": int(r["cascades"])}, r["ms_frame"], size, err))
-    for r in sweep.get("gerstner", {}).get("rows", []):
-        err = ocean_error(r)
-        if r.get("model") != "gerstner" or err is None or not _finite(r.get("ms_frame")):
-            continue
-        opts.append(Option(f"{r['waves']} Gerstner waves",
-                           {"ocean.model": "gerstner", "ocean.gerstner_waves": int(r["waves"])},
-                           r["ms_frame"], size, err))
+    for r, err in ocean_rows(sweep, "fft"):
+        opts.append(Point(f"fft {r['fft_size']}² × {r['cascades']} cascades",
+                          {"ocean.model": "fft", "ocean.fft_size": str(r["fft_size"]),
+                           "ocean.cascades": int(r["cascades"])}, r["ms_frame"], err, size))
+    for r, err in ocean_rows(sweep, "gerstner"):
+        opts.append(Point(f"{r['waves']} Gerstner waves",
+                          {"ocean.model": "gerstner", "ocean.gerstner_waves": int(r["waves"])},
+                          r["ms_frame"], err, size))
     return SceneOptions("the worst of |mean-square-slope deficit|, |Hs error| and the "
                         "directional-shape distance against the spectrum", opts)
 
@@ -206,8 +207,8 @@ def _materials(sweep: dict) -> SceneOptions:
     for key, value in (("hard", False), ("filtered", True)):
         r = rings.get(key)
         if r and _finite(r.get("median_ms"), r.get("mean_error")):
-            opts.append(Option(f"{key} ring edges", {"materials.filter_rings": value},
-                               r["median_ms"], _size(rings["size"]), r["mean_error"]))
+            opts.append(Point(f"{key} ring edges", {"materials.filter_rings": value},
+                              r["median_ms"], r["mean_error"], _size(rings["size"])))
     notes = ["materials' timed sweep is a wood slice seen from above, not the whole frame; "
              "its octave and bake sweeps have no parameter with an error"]
     return SceneOptions("mean |display − 8×8 supersampled| of fine wood rings", opts, notes)

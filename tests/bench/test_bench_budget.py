@@ -75,7 +75,7 @@ def test_times_scale_by_pixel_count_and_say_so():
     lines = bb.budget_view(report, 100_000.0)
     assert any("scaled by pixel count from the sweep's 64x64 to 640x360" in ln for ln in lines)
     o = next(o for o in bb.scene_options(report).options if o.size == (64, 64))
-    assert o.scaled_ms((640, 360)) == pytest.approx(o.ms * 640 * 360 / 64**2)
+    assert o.ms_at((640, 360)) == pytest.approx(o.ms * 640 * 360 / 64**2)
 
 
 def test_nothing_fits_names_the_fastest():
