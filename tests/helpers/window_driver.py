@@ -359,7 +359,14 @@ class XKeys:
             self.received.append(("char", char, None))
             on_char(char)
 
+        on_motion = win.wnd.mouse_position_event_func
+
+        def spy_motion(x, y, dx, dy):
+            self.received.append(("motion", (dx, dy), None))
+            on_motion(x, y, dx, dy)
+
         win.wnd.key_event_func, win.wnd.unicode_char_entered_func = spy_key, spy_char
+        win.wnd.mouse_position_event_func = spy_motion
         self.xdo = _xdo()
         self.frames(2)
         found = subprocess.run(["xdotool", "search", "--sync", "--name", pattern],
@@ -387,18 +394,40 @@ class XKeys:
             time.sleep(0.002)
         return bool(arrived()) or bool(self.win.wnd.is_closing)
 
-    def _until(self, kind: str, since: int, limit: int = 240, step=None) -> None:
-        """Until an event of ``kind`` ("press"/"release") arrives after ``since``: dispatched
-        between frames when it is there, else after frames (``step``, one frame by default)."""
+    def _until(self, kind: str, since: int, limit: int = 240, step=None,
+               moved: bool = False) -> None:
+        """Until an event of ``kind`` ("press"/"release"/"motion", with ``moved`` a motion by a
+        nonzero move: toggling the pointer grab sends one of 0) arrives after ``since``:
+        dispatched between frames when it is there, else after frames (``step``, one frame by
+        default)."""
         def arrived():
-            return any(e[0] == kind for e in self.received[since:])
+            return any(e[0] == kind and (not moved or any(e[1])) for e in self.received[since:])
 
         for _ in range(limit):
             if self.dispatch(arrived):
                 return
             (step or (lambda: self.frames(1)))()
-        raise AssertionError(f"no key {kind} reached the window in {limit} frames: "
+        raise AssertionError(f"no {kind} event reached the window in {limit} frames: "
                              f"{self.received[since:]}")
+
+    def pointer_home(self) -> None:
+        """The pointer back where a new X server puts it, the screen's centre: the tests of one
+        worker share its Xvfb, and with the pointer left inside the window by an earlier test,
+        a move made under mouse look's pointer grab never reached the window."""
+        w, h = subprocess.run(["xdotool", "getdisplaygeometry"], capture_output=True,
+                              text=True, check=True, timeout=30).stdout.split()
+        subprocess.run(["xdotool", "mousemove", "--sync", str(int(w) // 2), str(int(h) // 2)],
+                       check=True, timeout=30)
+        self.frames(1)
+
+    def move_pointer(self, dx: int, dy: int) -> None:
+        """``xdotool mousemove_relative`` by (dx, dy) pixels, then frames until the window's
+        motion handler has had it (as for a key: the event's arrival, not a time)."""
+        n = len(self.received)
+        subprocess.run(["xdotool", "mousemove_relative", "--", str(dx), str(dy)], check=True,
+                       timeout=30)
+        self._until("motion", n, moved=True)
+        self.frames(1)
 
     def send(self, action: str, key: str) -> None:
         """``xdotool key{action} KEY`` ("down" / "up"), in this process where libxdo loads."""
@@ -520,17 +549,16 @@ def fly_keys(work: str) -> int:
                        "yaw_error": float(abs(cam.yaw - h.yaw)),
                        "pitch_error": float(abs(cam.pitch - h.pitch))}
     # M: mouse look without a button; real pointer motion turns the camera, then M stops it
+    keys.pointer_home()
     keys.tap("m")
     out["m_mouse_look"] = win.mouse_look
     yaw0 = cam.yaw
-    subprocess.run(["xdotool", "mousemove_relative", "--", "40", "0"], check=True, timeout=30)
-    keys.frames(4)
+    keys.move_pointer(40, 0)
     out["m_mouse_yaw"] = float((cam.yaw - yaw0 + 180) % 360 - 180)
     keys.tap("m")
     out["m_again_off"] = not win.mouse_look
     yaw0 = cam.yaw
-    subprocess.run(["xdotool", "mousemove_relative", "--", "40", "0"], check=True, timeout=30)
-    keys.frames(4)
+    keys.move_pointer(40, 0)
     out["m_off_mouse_yaw"] = float((cam.yaw - yaw0 + 180) % 360 - 180)
     # Space: time runs, then stops again
     keys.tap("space")
