@@ -15,6 +15,7 @@ import pytest
 
 from app import DEFAULT_SHADER_ROOT, PROJECT_ROOT
 from app.gpu.shaders import SHADER_ENV
+from tests.helpers.window_driver import NO_XVFB, XVFB_SKIP
 
 # ---- the project's own shaders, through the CLI ------------------------------------------------
 
@@ -82,8 +83,7 @@ def _suggested(stdout: str) -> list[str]:
     return words[1:]
 
 
-@pytest.mark.skipif(shutil.which("xvfb-run") is None,
-                    reason="no display: Xvfb not installed (apt-get install xvfb)")
+@pytest.mark.skipif(NO_XVFB, reason=XVFB_SKIP)
 def test_the_command_shaders_copy_suggests_runs_on_the_copy(tmp_path):
     """The trial's `natura --shaders g window sky` (what the copy suggests) failed with
     `unrecognized arguments: sky`: run as suggested, it opens the window on the copy."""

@@ -23,6 +23,8 @@ from pathlib import Path
 import numpy as np
 
 XVFB_SKIP = "no display: Xvfb not installed (apt-get install xvfb)"
+#: what the window tests need: the X server itself, which xvfb_display starts
+NO_XVFB = shutil.which("Xvfb") is None
 XDOTOOL_SKIP = "xdotool not installed: no real key events (apt-get install xdotool)"
 
 

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import os
-import shutil
 import subprocess
 import sys
 import time
@@ -12,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.window_driver import XVFB_SKIP, under_xvfb
+from tests.helpers.window_driver import NO_XVFB, XVFB_SKIP, under_xvfb
 
 pytestmark = pytest.mark.window
 
@@ -52,14 +51,14 @@ def test_a_display_that_does_not_answer():
                                          "False"]
 
 
-@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason=XVFB_SKIP)
+@pytest.mark.skipif(NO_XVFB, reason=XVFB_SKIP)
 def test_a_live_display_has_no_problem():
     proc = under_xvfb([sys.executable, "-c", PROBE], cwd=".")
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.splitlines() == ["None", "True"]
 
 
-@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason=XVFB_SKIP)
+@pytest.mark.skipif(NO_XVFB, reason=XVFB_SKIP)
 def test_commands_share_one_xvfb_and_leave_nothing_running(tmp_path):
     """tests/helpers/window_driver.py's ``under_xvfb``: a test process's commands run on one
     Xvfb (the same display each time, and it answers), and what a command left running (a

@@ -12,7 +12,6 @@ from __future__ import annotations
 import json
 import os
 import random
-import shutil
 import sys
 
 import numpy as np
@@ -28,10 +27,10 @@ from app.ui.resolution import (
     scale_line,
     scaled_size,
 )
-from tests.helpers.window_driver import XVFB_SKIP, drive, under_xvfb
+from tests.helpers.window_driver import NO_XVFB, XVFB_SKIP, drive, under_xvfb
 
 pytestmark = pytest.mark.window
-needs_xvfb = pytest.mark.skipif(shutil.which("xvfb-run") is None, reason=XVFB_SKIP)
+needs_xvfb = pytest.mark.skipif(NO_XVFB, reason=XVFB_SKIP)
 
 
 def feed(res: DynamicResolution, times, budget=33.0, setting=0.0) -> list[float]:

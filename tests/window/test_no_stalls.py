@@ -11,18 +11,17 @@ calls and names the file and line that called each.
 from __future__ import annotations
 
 import json
-import shutil
 import sys
 from pathlib import Path
 
 import pytest
 
 from app.scenes import SCENES
-from tests.helpers.window_driver import XVFB_SKIP, under_xvfb
+from tests.helpers.window_driver import NO_XVFB, XVFB_SKIP, under_xvfb
 
 DRIVER = Path(__file__).parent.parent / "helpers" / "stall_driver.py"
 
-pytestmark = [pytest.mark.skipif(shutil.which("xvfb-run") is None, reason=XVFB_SKIP)]
+pytestmark = [pytest.mark.skipif(NO_XVFB, reason=XVFB_SKIP)]
 
 #: the documented asynchronous readback: (call, the file it is in) — a pixel-buffer copy of the
 #: FFT displacement and the read of the buffer copied a frame earlier

@@ -11,14 +11,13 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.window_driver import under_xvfb
+from tests.helpers.window_driver import NO_XVFB, XVFB_SKIP, under_xvfb
 
 DRIVER = Path(__file__).parent.parent / "helpers" / "window_driver.py"
 
 pytestmark = [
     pytest.mark.window,
-    pytest.mark.skipif(shutil.which("xvfb-run") is None,
-                       reason="no display: Xvfb not installed (apt-get install xvfb)"),
+    pytest.mark.skipif(NO_XVFB, reason=XVFB_SKIP),
 ]
 
 

@@ -10,10 +10,10 @@ import shutil
 import pytest
 
 from tests.helpers import picker_driver
-from tests.helpers.window_driver import XDOTOOL_SKIP, XVFB_SKIP, drive
+from tests.helpers.window_driver import NO_XVFB, XDOTOOL_SKIP, XVFB_SKIP, drive
 
 pytestmark = [
-    pytest.mark.skipif(shutil.which("xvfb-run") is None, reason=XVFB_SKIP),
+    pytest.mark.skipif(NO_XVFB, reason=XVFB_SKIP),
     pytest.mark.skipif(shutil.which("xdotool") is None, reason=XDOTOOL_SKIP),
 ]
 

@@ -11,13 +11,13 @@ from pathlib import Path
 
 import pytest
 
-from tests.helpers.window_driver import XDOTOOL_SKIP, XVFB_SKIP, drive
+from tests.helpers.window_driver import NO_XVFB, XDOTOOL_SKIP, XVFB_SKIP, drive
 
 DRIVER = Path(__file__).parent.parent / "helpers" / "typing_driver.py"
 
 pytestmark = [
     pytest.mark.window,
-    pytest.mark.skipif(shutil.which("xvfb-run") is None, reason=XVFB_SKIP),
+    pytest.mark.skipif(NO_XVFB, reason=XVFB_SKIP),
     pytest.mark.skipif(shutil.which("xdotool") is None, reason=XDOTOOL_SKIP),
 ]
 

@@ -438,17 +438,18 @@ class Village(Effect):
                 "uViewProj": cam.projection_matrix(frame.aspect) @ cam.view_matrix(),
                 **fog_uniforms(frame.fog, cam.position, cam.near, cam.far)}
 
-    def surface_program(self, frame, material: int, ready: dict):
-        """The surface program of ``material`` (:meth:`receiver`) and its textures, its frame's
-        uniforms set once per frame (``ready`` holds those set up so far, by spec)."""
+    def surface_program(self, frame, material: int, ready: dict, uniforms: dict, lit: list):
+        """The surface program of ``material`` (:meth:`receiver`) and its textures, the frame's
+        ``uniforms`` (:meth:`light_uniforms`) and ``lit`` lights set once per frame (``ready``
+        holds the programs set up so far, by spec)."""
         spec = self.receiver(material)
         if spec in ready:
             return ready[spec]
         p = self.params
         prog = self.program(spec)
         self.apply_params(prog)
-        prog.set_many(self.light_uniforms(frame))
-        self.set_point_lights(prog, self.lit_lights())
+        prog.set_many(uniforms)
+        self.set_point_lights(prog, lit)
         textures = self.shadows.bind(prog) if frame.shadows else {}
         if not frame.shadows:
             prog.set("uShadowSunEnabled", False)
@@ -484,10 +485,11 @@ class Village(Effect):
             ctx.depth_func = "<="
             target.fbo.depth_mask = False
         ready: dict = {}
+        uniforms = self.light_uniforms(frame)
         # near and small first, the terrain last, its chunks front to back: the depth test then
         # rejects the ground's hidden fragments before its parallax shader runs (as Unity
         # sorts the opaque queue); after a depth pre-pass each pixel is shaded once anyway
-        prog, textures = self.surface_program(frame, 2, ready)
+        prog, textures = self.surface_program(frame, 2, ready, uniforms, lit)
         prog.set_many({"uMaterial": 2, "uUseRelief": False, "uUseMasks": False,
                        "uEmissionColor": (0.0, 0.0, 0.0), "uDebugId": GROUPS.index("people"),
                        "uFlicker": 0.0})
@@ -498,7 +500,7 @@ class Village(Effect):
         for name in sorted(batches, key=lambda n: n == "terrain"):
             vbo, ibo, _ = batches[name]
             material = MATERIALS[name]
-            prog, shared = self.surface_program(frame, material, ready)
+            prog, shared = self.surface_program(frame, material, ready, uniforms, lit)
             textures = dict(shared)
             if name == "terrain":
                 textures.update(uNormalMap=self._texture(f"{relief} normal", field.normal_texture),
