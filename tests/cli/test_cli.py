@@ -207,13 +207,14 @@ def test_params_of_an_annotated_copy(tmp_path):
 # ---- no display --------------------------------------------------------------------------------
 
 def test_no_display_renders_the_default_scene_headless(tmp_path):
-    """Bare ``natura`` with no display renders the default scene to a new PNG, and never
-    overwrites a picture an earlier run left (one is there already: the same check as running
-    twice, for one render of the default scene instead of two)."""
+    """``natura`` with no scene and no display renders the default scene to a new PNG, and
+    never overwrites a picture an earlier run left (one is there already: the same check as
+    running twice, for one render of the default scene instead of two). At a small ``--size``:
+    the README walk-through (test_readme.py) runs the bare command at its default size."""
     earlier = tmp_path / "natura-maritime-0001.png"
     earlier.write_bytes(b"an earlier run's picture")
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
-    r = run(cwd=tmp_path, env=env)
+    r = run("--size", SMALL, cwd=tmp_path, env=env)
     assert r.returncode == 0, r.stderr
     err = messages(r.stderr)
     assert len(err) == 1 and "no display" in err[0].lower(), r.stderr
@@ -224,7 +225,7 @@ def test_no_display_renders_the_default_scene_headless(tmp_path):
     assert path.is_file() and path.suffix == ".png"
     assert path.name.startswith("natura-maritime")  # the scene the picker highlights first
     with Image.open(path) as im:
-        assert im.format == "PNG"
+        assert im.format == "PNG" and im.size == SIZE
     assert path != earlier and earlier.read_bytes() == b"an earlier run's picture"
 
 

@@ -27,7 +27,9 @@ from app.gpu.shaders import SHADER_ENV
 from tests.cli import fuzz_cases as fc
 from tests.helpers.cli import NATURA
 
-SAMPLE = 45  # cases also run as the console script
+#: cases also run as the console script: ten of the fixed ones, the rest drawn from the seed (every
+#: case runs in process; these check what only a real process shows: the exit status, stderr)
+SAMPLE = 20
 DRIVER_BUDGET = 420.0  # seconds for all in-process cases together
 
 
@@ -120,7 +122,7 @@ def test_bad_invocations_as_the_console_script(fuzz):
     fixed = len(fc._fixed_cases(fx))
     picks = sorted(rng.sample(range(len(cases)), SAMPLE - 10)
                    + list(range(0, fixed, max(1, fixed // 10)))[:10])
-    assert len(set(picks)) >= 40
+    assert len(set(picks)) >= SAMPLE - 3
     results = []
     for i in sorted(set(picks)):
         cwd = tmp / "s" / str(i)
