@@ -66,10 +66,11 @@ LANE = 4
 
 
 def rasteriser_threads() -> int:
-    """The threads llvmpipe shades with: ``LP_NUM_THREADS``, else one per CPU."""
+    """The threads llvmpipe shades with: ``LP_NUM_THREADS`` (0: the drawing thread alone),
+    else one per CPU."""
     try:
-        return max(1, int(os.environ.get("LP_NUM_THREADS") or 0) or os.cpu_count() or 1)
-    except ValueError:
+        return max(1, int(os.environ["LP_NUM_THREADS"]))
+    except (KeyError, ValueError):
         return max(1, os.cpu_count() or 1)
 
 

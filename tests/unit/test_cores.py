@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from app import PROJECT_ROOT
-from tests.helpers.cores import LLVMPIPE_THREADS, cores, share
+from tests.helpers.cores import LLVMPIPE_THREADS, cores, setting, share
 
 SAMPLE = """
 import os
@@ -47,9 +47,13 @@ def test_the_share_is_the_cores_over_the_workers_at_least_one():
     assert [share(2, 2), share(16, 4), share(3, 2), share(2, 8), share(None, 2)] == [1, 4, 1, 1, 1]
 
 
+def test_a_share_of_one_core_rasterizes_on_the_drawing_thread():
+    assert [setting(2, 2), setting(16, 4), setting(3, 2), setting(None, 2)] == [0, 4, 0, 0]
+
+
 @pytest.mark.slow
 def test_xdist_workers_render_with_their_share_of_the_cores(tmp_path):
-    assert _threads(tmp_path, "-n", "2") == [str(share(cores(), 2))] * 2
+    assert _threads(tmp_path, "-n", "2") == [str(setting(cores(), 2))] * 2
 
 
 @pytest.mark.slow
