@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 
 import numpy as np
+import pytest
 
 from app import DEFAULT_SHADER_ROOT
 from app.render import shadows
@@ -54,6 +55,9 @@ def test_baked_ground_noise_keeps_the_image(planet):
     assert effect._ground_noise.builds == builds + 1
 
 
+# eight views × two ground passes, each a program variant of its own: 0.5 s with the driver's
+# shader cache warm, 8-10 s on a fresh machine (CI), where each variant is compiled
+@pytest.mark.slow
 def test_ground_pass_keeps_the_image_and_leaves_the_scattering_pass_the_atmosphere(planet):
     """The analytic ground and the background shaded into the G-buffer (planet.ground_pass =
     gbuffer, the default) give the image of shading them in the scattering pass, bit for bit,
