@@ -526,16 +526,58 @@ def sample_periodic_cascades(grids, patch_sizes, x, z, channels: int | None = No
     ``patch_sizes[c]``) at world points (x, z), summed in cascade order: ``grids`` (C, N, N, K),
     one gather for all cascades (the boat's dozen queries a physics step pay numpy's per-call
     cost once, not C times); ``channels``: only the first that many of the K (the height
-    queries leave the Jacobian out).
+    queries leave the Jacobian out). Grids of several sizes: :func:`group_cascade_grids`."""
+    grids = np.asarray(grids)
+    table = group_cascade_grids(grids if grids.ndim > 3 else grids[..., None], patch_sizes)
+    out = sample_cascade_groups(table, x, z, channels)
+    return out if grids.ndim > 3 else out.reshape(np.shape(x))
+
+
+@dataclass(frozen=True)
+class CascadeGrids:
+    """Cascade grids of any sizes N_c as one table, for the many lookups of
+    :func:`sample_cascade_groups`: every texel in ``flat`` (Σ N_c², K), cascade c's from
+    ``base[c]``, its side ``n[c]`` and ``scale[c]`` = N_c / L_c; the cascades in summation
+    order (grouped by size, each group in cascade order; ``spans``: each group's cascades)."""
+
+    flat: np.ndarray
+    n: np.ndarray
+    scale: np.ndarray
+    base: np.ndarray
+    spans: tuple[tuple[int, int], ...]
+
+
+def group_cascade_grids(grids, patch_sizes) -> CascadeGrids:
+    """Cascade grids of possibly different N — one (C, N, N, K) array, or a sequence of
+    (N_i, N_i, K) grids — as one :class:`CascadeGrids`, made once for the many lookups of
+    :func:`sample_cascade_groups`. The sum runs over the grids of one N in cascade order, then
+    over the sizes in the order they first appear."""
+    groups: dict[int, list] = {}
+    for grid, size in zip(grids, patch_sizes):
+        grid = np.asarray(grid)
+        groups.setdefault(grid.shape[0], []).append((grid, float(size)))
+    ordered = [m for group in groups.values() for m in group]
+    ends = np.cumsum([len(group) for group in groups.values()])
+    n = np.array([g.shape[0] for g, _ in ordered], dtype=np.int64)
+    return CascadeGrids(
+        flat=np.concatenate([g.reshape(-1, g.shape[-1]) for g, _ in ordered]),
+        n=n, scale=np.array([int(k) / s for k, s in zip(n, (s for _, s in ordered))]),
+        base=np.concatenate([[0], np.cumsum(n * n)[:-1]]).astype(np.int64),
+        spans=tuple((int(e - len(g)), int(e)) for e, g in zip(ends, groups.values())))
+
+
+def sample_cascade_groups(groups: CascadeGrids, x, z, channels: int | None = None):
+    """Σ over every cascade of :func:`group_cascade_grids` of the bilinear lookup at world
+    points (x, z) (shape (..., K)): one gather for every cascade, whatever its size.
 
     The corners are gathered, then laid out channel-major (4, K, C, points) for the arithmetic:
     the same operations on the same numbers as per point, but over long rows instead of rows of
     K (numpy's per-row cost made the point-major form twice as slow)."""
-    grids = np.asarray(grids)
-    count, n = grids.shape[0], grids.shape[1]
     x = np.asarray(x, dtype=float)
     z = np.asarray(z, dtype=float)
-    scale = np.array([n / float(s) for s in patch_sizes]).reshape((count,) + (1,) * x.ndim)
+    shape = (len(groups.n),) + (1,) * x.ndim
+    scale = groups.scale.reshape(shape)
+    side = groups.n.reshape(shape)
     u = x * scale  # (C, ...)
     v = z * scale
     i0 = np.floor(u)
@@ -544,21 +586,22 @@ def sample_periodic_cascades(grids, patch_sizes, x, z, channels: int | None = No
     fv = v - j0
     cols = np.empty((2,) + u.shape, dtype=np.int64)  # i0, i1 (mod N)
     rows = np.empty((2,) + u.shape, dtype=np.int64)  # j0, j1 (mod N)
-    if n & (n - 1) == 0:  # a power of two: the mask is the modulo (for negatives too)
-        np.bitwise_and(i0.astype(np.int64), n - 1, out=cols[0])
-        np.bitwise_and(j0.astype(np.int64), n - 1, out=rows[0])
-        np.bitwise_and(cols[0] + 1, n - 1, out=cols[1])
-        np.bitwise_and(rows[0] + 1, n - 1, out=rows[1])
+    if not np.any(groups.n & (groups.n - 1)):  # powers of two: the mask is the modulo
+        mask = side - 1
+        np.bitwise_and(i0.astype(np.int64), mask, out=cols[0])
+        np.bitwise_and(j0.astype(np.int64), mask, out=rows[0])
+        np.bitwise_and(cols[0] + 1, mask, out=cols[1])
+        np.bitwise_and(rows[0] + 1, mask, out=rows[1])
     else:
-        np.remainder(i0.astype(np.int64), n, out=cols[0])
-        np.remainder(j0.astype(np.int64), n, out=rows[0])
-        np.remainder(cols[0] + 1, n, out=cols[1])
-        np.remainder(rows[0] + 1, n, out=rows[1])
-    rows *= n
-    rows += (np.arange(count) * (n * n)).reshape(scale.shape)
+        np.remainder(i0.astype(np.int64), side, out=cols[0])
+        np.remainder(j0.astype(np.int64), side, out=rows[0])
+        np.remainder(cols[0] + 1, side, out=cols[1])
+        np.remainder(rows[0] + 1, side, out=rows[1])
+    rows *= side
+    rows += groups.base.reshape(shape)
     # (r0 + i0, r0 + i1, r1 + i0, r1 + i1): the corners a, b, c, d
     index = (rows[:, None] + cols[None]).reshape(-1)
-    flat = grids.reshape(count * n * n, -1)
+    flat = groups.flat
     k = flat.shape[1] if channels is None else min(int(channels), flat.shape[1])
     corners = flat.take(index, axis=0).reshape(4, -1, flat.shape[1])[..., :k]
     corners = np.ascontiguousarray(corners.transpose(0, 2, 1), dtype=np.float64)
@@ -575,34 +618,13 @@ def sample_periodic_cascades(grids, patch_sizes, x, z, channels: int | None = No
     lower += part
     lower *= fv
     each += lower  # (K, C, ...)
-    out = each[:, 0]
-    for i in range(1, count):
-        out = out + each[:, i]
-    out = np.ascontiguousarray(out.transpose(tuple(range(1, out.ndim)) + (0,)))  # (..., K)
-    return out if grids.ndim > 3 else out.reshape(x.shape)
-
-
-def group_cascade_grids(grids, patch_sizes) -> list[tuple[np.ndarray, tuple]]:
-    """Cascade grids of possibly different N — one (C, N, N, K) array, or a sequence of
-    (N_i, N_i, K) grids — as groups of one N each, in cascade order: [(stacked grids, their
-    patch sizes)], made once for the many lookups of :func:`sample_cascade_groups`."""
-    if isinstance(grids, np.ndarray):
-        return [(grids, tuple(float(s) for s in patch_sizes))]
-    groups: dict[int, list] = {}
-    for grid, size in zip(grids, patch_sizes):
-        groups.setdefault(np.shape(grid)[0], []).append((grid, float(size)))
-    return [(np.stack([g for g, _ in members]), tuple(s for _, s in members))
-            for members in groups.values()]
-
-
-def sample_cascade_groups(groups, x, z, channels: int | None = None):
-    """Σ over every cascade of :func:`group_cascade_grids`'s groups of the bilinear lookup at
-    world points (x, z): :func:`sample_periodic_cascades` per group (one group: exactly it)."""
     out = None
-    for grids, sizes in groups:
-        part = sample_periodic_cascades(grids, sizes, x, z, channels=channels)
-        out = part if out is None else out + part
-    return out
+    for first, end in groups.spans:  # a group's sum, then the groups' (the order of the sums)
+        group = each[:, first]
+        for i in range(first + 1, end):
+            group = group + each[:, i]
+        out = group if out is None else out + group
+    return np.ascontiguousarray(out.transpose(tuple(range(1, out.ndim)) + (0,)))  # (..., K)
 
 
 

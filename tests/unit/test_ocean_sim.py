@@ -453,6 +453,26 @@ def test_sampling_every_cascade_at_once_is_the_sum_of_each():
         assert np.array_equal(oc.sample_periodic_cascades(grids, sizes, x, z), each)
 
 
+def test_cascades_of_several_sizes_are_one_gather_summed_size_by_size():
+    """group_cascade_grids makes one table of grids of any sizes: its lookup is, bit for bit, the
+    sum over the sizes (in the order they first appear) of each size's cascades summed in
+    cascade order — what the boat's queries summed when each size was gathered on its own."""
+    rng = np.random.default_rng(4)
+    for ns in ((256, 32, 16), (16, 32, 16, 32), (12, 16), (24, 24)):
+        grids = [rng.normal(size=(n, n, 4)).astype(np.float32) for n in ns]
+        sizes = sorted(rng.uniform(3.0, 300.0, len(ns)), reverse=True)
+        x, z = rng.uniform(-900.0, 900.0, (2, 3, 5))
+        want = None
+        for n in dict.fromkeys(ns):  # the sizes in the order they first appear
+            mine = [i for i, m in enumerate(ns) if m == n]
+            part = oc.sample_periodic_cascades(np.stack([grids[i] for i in mine]),
+                                               [sizes[i] for i in mine], x, z)
+            want = part if want is None else want + part
+        table = oc.group_cascade_grids(grids, sizes)
+        assert np.array_equal(oc.sample_cascade_groups(table, x, z), want)
+        assert np.array_equal(oc.sample_cascade_groups(table, x, z, channels=3), want[..., :3])
+
+
 def test_sampling_follows_the_point_by_point_formula_and_keeps_channels():
     """The gather (channel-major arithmetic) is the bilinear formula of each point, bit for bit,
     in grid arithmetic of float64 and with any N (power of two or not); ``channels`` keeps the
