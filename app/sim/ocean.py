@@ -559,8 +559,10 @@ def group_cascade_grids(grids, patch_sizes) -> CascadeGrids:
     ordered = [m for group in groups.values() for m in group]
     ends = np.cumsum([len(group) for group in groups.values()])
     n = np.array([g.shape[0] for g, _ in ordered], dtype=np.int64)
+    one = isinstance(grids, np.ndarray)  # one N: its texels as they lie, not a copy
     return CascadeGrids(
-        flat=np.concatenate([g.reshape(-1, g.shape[-1]) for g, _ in ordered]),
+        flat=grids.reshape(-1, grids.shape[-1]) if one else
+        np.concatenate([g.reshape(-1, g.shape[-1]) for g, _ in ordered]),
         n=n, scale=np.array([int(k) / s for k, s in zip(n, (s for _, s in ordered))]),
         base=np.concatenate([[0], np.cumsum(n * n)[:-1]]).astype(np.int64),
         spans=tuple((int(e - len(g)), int(e)) for e, g in zip(ends, groups.values())))
