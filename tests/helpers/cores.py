@@ -9,6 +9,15 @@ and the ``natura`` processes the tests start inherit it, and a GPU driver ignore
 one core is ``0``: llvmpipe then rasterizes on the thread that draws, with no thread to hand
 each frame to and wait for (2,891 tests: 415 s with one rasterizer thread a worker, 381 s with
 none; user CPU 707 s against 657 s). A run in one process (``-n 0``) leaves llvmpipe every core.
+
+numpy's BLAS gets the same share (``OPENBLAS_NUM_THREADS``, and ``OMP_NUM_THREADS`` for a BLAS
+built on OpenMP). OpenBLAS starts a thread per core when numpy is imported and its threads spin
+for a while after each call: in the ~400 ``natura`` processes the tests start and in the workers
+they only took CPU from the rest of a run that already uses every core. ``natura params sky``:
+0.28 s of CPU with a thread a core, 0.12 s with one; the full suite (2,893 tests, one run each,
+same machine and hour): 371 s against 340 s, user CPU 639 s against 577 s. The frames ``natura
+bench maritime`` times did not change (37.9–45.4 ms either way, three rounds interleaved), so
+the app leaves its BLAS as it is.
 """
 
 from __future__ import annotations
@@ -17,6 +26,8 @@ import os
 
 #: read by llvmpipe when it creates a context: how many rasterizer threads it starts
 LLVMPIPE_THREADS = "LP_NUM_THREADS"
+#: read by numpy's BLAS when numpy is imported: OpenBLAS, and a BLAS built on OpenMP
+BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")
 
 
 def share(cores: int | None, workers: int) -> int:
@@ -44,3 +55,5 @@ def pytest_configure(config):
     if not isinstance(workers, int) or workers < 2:
         return
     os.environ.setdefault(LLVMPIPE_THREADS, str(setting(cores(), workers)))
+    for name in BLAS_THREADS:
+        os.environ.setdefault(name, str(share(cores(), workers)))

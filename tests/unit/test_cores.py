@@ -11,24 +11,29 @@ from pathlib import Path
 import pytest
 
 from app import PROJECT_ROOT
-from tests.helpers.cores import LLVMPIPE_THREADS, cores, setting, share
+from tests.helpers.cores import BLAS_THREADS, LLVMPIPE_THREADS, cores, setting, share
 
 SAMPLE = """
 import os
 
+def _say():
+    import numpy  # noqa: F401 - what a worker's BLAS reads is set before numpy starts it
+    names = ("LP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")
+    print("threads:", " ".join(os.environ.get(n, "unset") for n in names))
+
 def test_a():
-    print("threads:", os.environ.get("LP_NUM_THREADS", "unset"))
+    _say()
     assert False  # shows the printed line in the report
 
 def test_b():
-    print("threads:", os.environ.get("LP_NUM_THREADS", "unset"))
+    _say()
     assert False
 """
 
 
 def _threads(folder: Path, *args: str, **env_extra: str) -> list[str]:
     env = {k: v for k, v in os.environ.items()
-           if k not in (LLVMPIPE_THREADS, "PYTEST_XDIST_WORKER", "PYTEST_ADDOPTS")}
+           if k not in (LLVMPIPE_THREADS, *BLAS_THREADS, "PYTEST_XDIST_WORKER", "PYTEST_ADDOPTS")}
     env.update(env_extra, PYTHONPATH=str(PROJECT_ROOT))
     (folder / "pytest.ini").write_text("[pytest]\n")
     (folder / "test_sample.py").write_text(SAMPLE)
@@ -52,14 +57,17 @@ def test_a_share_of_one_core_rasterizes_on_the_drawing_thread():
 
 
 @pytest.mark.slow
-def test_xdist_workers_render_with_their_share_of_the_cores(tmp_path):
-    assert _threads(tmp_path, "-n", "2") == [str(setting(cores(), 2))] * 2
+def test_xdist_workers_render_and_multiply_with_their_share_of_the_cores(tmp_path):
+    n = share(cores(), 2)
+    assert _threads(tmp_path, "-n", "2") == [f"{setting(cores(), 2)} {n} {n}"] * 2
 
 
 @pytest.mark.slow
 def test_a_value_the_user_set_is_kept(tmp_path):
-    assert _threads(tmp_path, "-n", "2", LP_NUM_THREADS="3") == ["3", "3"]
+    n = share(cores(), 2)
+    assert _threads(tmp_path, "-n", "2", LP_NUM_THREADS="3", OMP_NUM_THREADS="5") == [
+        f"3 {n} 5"] * 2
 
 
-def test_one_process_leaves_llvmpipe_every_core(tmp_path):
-    assert _threads(tmp_path) == ["unset", "unset"]
+def test_one_process_leaves_llvmpipe_and_blas_every_core(tmp_path):
+    assert _threads(tmp_path) == ["unset unset unset"] * 2
