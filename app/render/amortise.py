@@ -16,12 +16,16 @@ derive from :class:`app.render.layers.MarchedLayer`, whose ``render_layer`` runs
 ``grid.uniforms`` and draws into ``grid``) and whose ``composite`` skips the near cut.
 
 Still renders (``frame.interactive`` false: ``natura render``, the gallery, the tests, the
-bench) converge before they return: the first render of a view resets the history and runs
-``schedule.still_steps`` steps — every full-resolution pixel of each ``scale × scale`` block
-marched once, at refresh 1, the state the window reaches after ``schedule.cycle`` frames of a
-still camera — so a still image is the full-resolution march itself (with its blue-noise
-jitter). Rendering the same view again (the bench's repeated frame) runs one ordinary step: what
-``natura bench`` times is the steady-state cost per frame.
+bench) converge before they return: the first render of a view resets the history with one
+march of every full-resolution pixel (a grid at block 1) and its resolve — the state the window
+reaches after ``schedule.cycle`` frames of a still camera, bit for bit, since a pixel's ray
+depends on its full-resolution position only — so a still image is the full-resolution march
+itself (with its blue-noise jitter). Until issue 40 the reset marched the ``scale²`` sub-grids
+one by one, each with a full-resolution resolve: the same picture (all 54 pinned renders and
+clouds and maritime at quarter and half scale, 257x143 to 1280x720, were bit-identical) for
+more time: ``natura render maritime --size 1280x720`` took 6.4–7.7 s on llvmpipe and takes
+4.7–5.1 s (three rounds, interleaved). Rendering the same view again (the bench's repeated
+frame) runs one ordinary step: what ``natura bench`` times is the steady-state cost per frame.
 """
 
 from __future__ import annotations
@@ -410,12 +414,8 @@ class Amortiser:
                    np.asarray(state.field_offset, float).tobytes(), float(cam.near),
                    float(cam.far))
             if key != self._converged or self._last is None:
-                self._reset(frame, size, schedule, state, march, scene_depth, "a new still view")
-                for i in range(1, schedule.still_steps):
-                    sub = block_position(i, schedule.scale)
-                    self._resolve(frame, size, self._march(size, schedule.scale, sub, 0.0, march),
-                                  schedule.scale, sub, state, scene_depth, view_proj, position,
-                                  forward)
+                self._reset(frame, size, schedule, state, march, scene_depth, "a new still view",
+                            block=1)
                 self.counter = 0
                 self._converged = key
                 return self._pair[0]
@@ -440,15 +440,17 @@ class Amortiser:
                       forward)
         return self._pair[0]
 
-    def _reset(self, frame, size, schedule, state, march, scene_depth, why: str) -> None:
+    def _reset(self, frame, size, schedule, state, march, scene_depth, why: str,
+               block: int | None = None) -> None:
         self.resets += 1
         self.last_reset = why
         self._last = None
         self._schedule = schedule
         self.counter = 0
-        grid = self._march(size, schedule.scale, (0, 0), 0.0, march)
+        block = schedule.scale if block is None else block
+        grid = self._march(size, block, (0, 0), 0.0, march)
         cam = frame.camera
-        self._resolve(frame, size, grid, schedule.scale, (0, 0), state, scene_depth,
+        self._resolve(frame, size, grid, block, (0, 0), state, scene_depth,
                       cam.view_projection_relative(frame.aspect),
                       np.asarray(cam.position, dtype=np.float64),
                       np.asarray(cam.forward(), dtype=np.float64))

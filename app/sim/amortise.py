@@ -83,11 +83,6 @@ class Schedule:
         """Frames until every full-resolution pixel has been marched once."""
         return self.block ** 2
 
-    @property
-    def still_steps(self) -> int:
-        """Steps a still render runs: every pixel of each ``scale`` block once, at refresh 1."""
-        return self.scale ** 2
-
     def label(self) -> str:
         s = {v: k for k, v in SCALES.items()}[self.scale]
         r = {v: k for k, v in REFRESHES.items()}[self.refresh]

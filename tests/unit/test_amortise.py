@@ -79,7 +79,7 @@ def test_fixed_choices_are_kept():
     assert choose_schedule("quarter", "1/16", (64, 64), 0.0, 33.0) == Schedule(4, 4)
     assert choose_schedule("half", "auto", (640, 360), 1050.0, 33.0).scale == 2
     s = Schedule(4, 2)
-    assert (s.block, s.cycle, s.still_steps, s.fraction) == (8, 64, 16, 1 / 64)
+    assert (s.block, s.cycle, s.fraction) == (8, 64, 1 / 64)
     assert s.label() == "quarter, refresh 1/4"
 
 
