@@ -14,8 +14,9 @@ numpy's BLAS gets the same share (``OPENBLAS_NUM_THREADS``, and ``OMP_NUM_THREAD
 built on OpenMP). OpenBLAS starts a thread per core when numpy is imported and its threads spin
 for a while after each call: in the ~400 ``natura`` processes the tests start and in the workers
 they only took CPU from the rest of a run that already uses every core. ``natura params sky``:
-0.28 s of CPU with a thread a core, 0.12 s with one; the full suite (2,893 tests, one run each,
-same machine and hour): 371 s against 340 s, user CPU 639 s against 577 s. The frames ``natura
+0.28 s of CPU with a thread a core, 0.12 s with one; ``tests/unit`` and ``tests/stability``
+under ``-n 2``, back to back: 98.0 s against 89.6 s, user CPU 163 s against 145 s (whole-suite
+runs drift by ±25 s with the host's hour, more than this change). The frames ``natura
 bench maritime`` times did not change (37.9–45.4 ms either way, three rounds interleaved), so
 the app leaves its BLAS as it is.
 """
