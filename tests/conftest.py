@@ -4,6 +4,7 @@ when a test asks for it; and the layer markers, one per folder (tests/unit, test
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 import pytest
@@ -20,6 +21,12 @@ pytest_plugins = ["tests.helpers.fixtures", "tests.helpers.tiers", "tests.helper
 TESTS = Path(__file__).resolve().parent
 #: a natura process a test starts that dies of a signal (a driver crash) prints where it was
 os.environ.setdefault("PYTHONFAULTHANDLER", "1")
+#: pytest keeps each test module's assertion-rewritten bytecode in tests/**/__pycache__ (ignored
+#: by git), as setup.sh compiles app/, even where $PYTHONDONTWRITEBYTECODE is set: without it
+#: every worker rewrites all ~300 modules on each run (collecting the suite took 9.9 s of CPU
+#: a process, 2.5 s with the bytecode kept). Only this process: the ones the tests start are
+#: set up by ``session_cache`` below.
+sys.dont_write_bytecode = False
 #: the folders under tests/ and the marker each gives its tests (registered in pyproject.toml)
 LAYERS = ("unit", "gl", "stability", "bench", "cli", "window")
 

@@ -1,5 +1,6 @@
 """Under pytest-xdist each worker's llvmpipe gets its share of the cores (tests/helpers/cores.py):
-tried with pytest in a process of its own on a small test folder, as a developer's run would be."""
+tried with pytest in a process of its own on a small test folder, as a developer's run would be.
+And each test process keeps the bytecode of the test modules it collects (tests/conftest.py)."""
 
 from __future__ import annotations
 
@@ -71,3 +72,14 @@ def test_a_value_the_user_set_is_kept(tmp_path):
 
 def test_one_process_leaves_llvmpipe_and_blas_every_core(tmp_path):
     assert _threads(tmp_path) == ["unset unset unset"] * 2
+
+
+def test_this_process_kept_the_bytecode_of_the_test_module_it_collected():
+    """Whatever $PYTHONDONTWRITEBYTECODE says, the module was rewritten into a cached file."""
+    here = Path(__file__)
+    if not os.access(here.parent, os.W_OK):
+        pytest.skip(f"{here.parent} is read-only: pytest cannot keep bytecode there")
+    assert sys.dont_write_bytecode is False
+    cache = here.parent / "__pycache__"
+    kept = list(cache.glob(f"{here.stem}.*-pytest-{pytest.__version__}.pyc"))
+    assert kept, f"no rewritten bytecode of {here.name} in {cache}"
