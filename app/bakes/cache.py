@@ -14,9 +14,9 @@ File format (little-endian)::
     offset 0   8 bytes   magic b"NATBAKE\\n"
            8   u32       FILE_FORMAT (1)
           12   u32       header length H
-          16   H bytes   header, UTF-8 JSON: key, kind, shape, dtype ("uint8"), payload_bytes,
-                         path, bake_seconds, renderer, created, params
-        16+H   N bytes   payload: the texels, C order, shape as in the header
+          16   H bytes   header, UTF-8 JSON: key, kind, shape, dtype ("uint8" or "float32"),
+                         payload_bytes, path, bake_seconds, renderer, created, params
+        16+H   N bytes   payload: the texels, C order, shape as in the header, little-endian
          end   32 bytes  SHA-256 of everything before it
 
 Reading checks, in order: length, magic ("foreign"), format ("foreign"), header length and
@@ -115,8 +115,10 @@ class BakeCache:
     def path_for(self, kind: str, size: int, key: str) -> Path:
         return self.directory / f"{kind}-{int(size)}-{key[:16]}.bake"
 
-    def load(self, path: Path, key: str, kind: str, shape: tuple[int, ...]) -> CacheRead:
-        """The array in ``path`` if the file is whole, ours, current and of the expected shape."""
+    def load(self, path: Path, key: str, kind: str, shape: tuple[int, ...],
+             dtype: str = "uint8") -> CacheRead:
+        """The array in ``path`` if the file is whole, ours, current and of the expected shape
+        and dtype (``uint8`` texels, or ``float32`` ones: the planet's ground noise)."""
         try:
             blob = Path(path).read_bytes()
         except FileNotFoundError:
@@ -124,12 +126,13 @@ class BakeCache:
         except OSError as exc:
             return CacheRead(None, "rebuilt", f"unreadable ({exc.strerror or exc})")
         try:
-            return self._parse(blob, key, kind, tuple(int(s) for s in shape))
+            return self._parse(blob, key, kind, tuple(int(s) for s in shape), np.dtype(dtype))
         except Exception as exc:  # never trust, never crash: anything odd is a rebuild
             return CacheRead(None, "rebuilt", f"corrupt ({type(exc).__name__}: {exc})")
 
     @staticmethod
-    def _parse(blob: bytes, key: str, kind: str, shape: tuple[int, ...]) -> CacheRead:
+    def _parse(blob: bytes, key: str, kind: str, shape: tuple[int, ...],
+               dtype: np.dtype) -> CacheRead:
         def bad(reason: str) -> CacheRead:
             return CacheRead(None, "rebuilt", reason)
 
@@ -162,22 +165,23 @@ class BakeCache:
         if header.get("key") != key:
             return bad("stale (made with other parameters or shaders)")
         if (header.get("kind") != kind or tuple(header.get("shape", ())) != shape
-                or header.get("dtype") != "uint8"):
+                or header.get("dtype") != dtype.name):
             return bad(f"stale (holds {header.get('kind')} {header.get('shape')} "
                        f"{header.get('dtype')})")
-        if payload_bytes != int(np.prod(shape)):
+        if payload_bytes != int(np.prod(shape)) * dtype.itemsize:
             return bad("corrupt (payload size does not match the shape)")
-        data = np.frombuffer(payload, dtype=np.uint8).reshape(shape).copy()
+        data = np.frombuffer(payload, dtype=dtype.newbyteorder("<")).reshape(shape).astype(dtype)
         return CacheRead(data, "hit", "", header)
 
     def store(self, path: Path, key: str, kind: str, data: np.ndarray,
               meta: dict[str, Any] | None = None) -> bool:
-        """Write ``data`` (uint8) atomically. False, with one warning per directory, when the
-        directory cannot be created or written."""
-        data = np.ascontiguousarray(data)
-        if data.dtype != np.uint8:
-            raise TypeError(f"bake cache stores uint8 texels, got {data.dtype}")
-        header = {"key": key, "kind": kind, "shape": list(data.shape), "dtype": "uint8",
+        """Write ``data`` (uint8 or float32, stored little-endian) atomically. False, with one
+        warning per directory, when the directory cannot be created or written."""
+        if np.dtype(data.dtype).name not in ("uint8", "float32"):
+            raise TypeError(f"bake cache stores uint8 or float32 texels, got {data.dtype}")
+        data = np.ascontiguousarray(data, dtype=np.dtype(data.dtype).newbyteorder("<"))
+        header = {"key": key, "kind": kind, "shape": list(data.shape),
+                  "dtype": np.dtype(data.dtype).name,
                   "payload_bytes": int(data.nbytes),
                   "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
                   **(meta or {})}

@@ -465,6 +465,23 @@ def test_stale_and_misshapen_files_are_rebuilt(gpu, tmp_path):
     assert bake(gpu, spec, cache=tmp_path).hit
 
 
+def test_float_texels_round_trip_and_a_dtype_other_than_asked_is_stale(tmp_path):
+    """The planet's ground noise is float32: stored and read back bit for bit; a file of the
+    right key holding another dtype, or texels of a dtype the cache does not store, is not."""
+    store = BakeCache(tmp_path)
+    data = np.random.default_rng(0).standard_normal(40).astype(np.float32)
+    data[:3] = (np.inf, -0.0, np.float32(1e-42))  # a subnormal and a signed zero survive
+    path = store.path_for("ground-noise", 40, "k" * 64)
+    assert store.store(path, "k" * 64, "ground-noise", data)
+    back = store.load(path, "k" * 64, "ground-noise", (40,), "float32")
+    assert back.status == "hit" and back.data.dtype == np.float32
+    assert back.data.tobytes() == data.tobytes()
+    as_bytes = store.load(path, "k" * 64, "ground-noise", (160,))
+    assert as_bytes.data is None and "stale" in as_bytes.reason and "float32" in as_bytes.reason
+    with pytest.raises(TypeError, match="uint8 or float32"):
+        store.store(path, "k" * 64, "ground-noise", data.astype(np.float64))
+
+
 def test_unwritable_cache_still_bakes_and_warns_once(gpu, tmp_path):
     blocker = tmp_path / "not-a-dir"
     blocker.write_text("a file where the cache directory should be")

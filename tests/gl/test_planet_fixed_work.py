@@ -55,6 +55,43 @@ def test_baked_ground_noise_keeps_the_image(planet):
     assert effect._ground_noise.builds == builds + 1
 
 
+def test_the_ground_noise_bake_is_cached_on_disk_and_read_back_bit_for_bit(
+        gl_ctx, tmp_path, monkeypatch):
+    """The first session bakes the ground noise into $NATURA_CACHE; the next one (another
+    process, as a second ``natura render planet`` would be) loads those texels without baking;
+    another size is a file of its own; a file damaged on disk is baked again."""
+    from app.bakes import CACHE_ENV
+    from app.runtime import open_session, render_frames, scene_params
+
+    monkeypatch.setenv(CACHE_ENV, str(tmp_path))
+
+    def session_texels(size: int):
+        session = open_session("planet", scene_params(
+            "planet", sets=[f"planet.ground_noise_size={size}", "planet.method=lut"]),
+            ctx=gl_ctx)
+        try:
+            next(render_frames(session, (32, 18)))
+            effect = session.scene.effect("planet")
+            cap, cube = effect.ground_noise()
+            return (cap.read() + b"".join(cube.read(f) for f in range(6)),
+                    effect._gradient is not None)  # the bake's noise tables were made
+        finally:
+            session.release()
+
+    baked, made_tables = session_texels(64)
+    (file,) = tmp_path.glob("ground-noise-64-*.bake")
+    loaded, made_again = session_texels(64)
+    assert made_tables and not made_again and loaded == baked
+    assert np.frombuffer(baked, np.float32).std() > 0.01  # a noise, not a cleared texture
+    session_texels(128)
+    assert len(list(tmp_path.glob("ground-noise-128-*.bake"))) == 1
+    blob = bytearray(file.read_bytes())
+    blob[-40] ^= 0xFF  # a flipped bit in the texels: the checksum no longer matches
+    file.write_bytes(bytes(blob))
+    rebaked, made = session_texels(64)
+    assert made and rebaked == baked and file.read_bytes() != bytes(blob)
+
+
 # eight views × two ground passes, each a program variant of its own: 0.5 s with the driver's
 # shader cache warm, 8-10 s on a fresh machine (CI), where each variant is compiled
 @pytest.mark.slow

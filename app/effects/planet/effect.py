@@ -626,6 +626,8 @@ class Planet(Effect):
         """Render f(n) (glsl/planet/ground_noise_bake.frag) into the cap directly and into each
         cubemap face through a 2D R32F target copied into the face on the GPU (moderngl cannot
         attach a cube face to a framebuffer: ``Gpu.copy_to_cube_face``)."""
+        from ...bakes.cache import BakeCache, cache_key
+
         ctx = self.gpu.ctx
         linear = (moderngl.LINEAR, moderngl.LINEAR)
         cap = self.gpu.texture(self.name, "ground noise cap", (size, size), 1, dtype="f4",
@@ -634,20 +636,24 @@ class Planet(Effect):
         cube = self.gpu.texture_cube(self.name, "ground noise", n, 1, dtype="f4")
         cube.filter = linear
         prog = self.program(GROUND_NOISE_BAKE)
-        # what the bake depends on: the program's every file (its name and content hash, not
-        # its place: a copy of the shaders, as an exercise's, shares the bake), its uniforms
-        # (the cap's angle, the faces, Perlin's reference table), the size and the driver; a
-        # session that baked the same left the texels in MEMO (~0.7 s of llvmpipe at 2048², a
-        # readback and an upload of ~20 MB otherwise)
+        # the bake cache on disk ($NATURA_CACHE, beside the cloud noise): keyed by what the
+        # texels depend on: the program's every file (its name and content hash, not its place:
+        # a copy of the shaders, as an exercise's, shares the bake), the cap's angle, the sizes
+        # and the driver; ~0.7 s of llvmpipe at 2048² otherwise, in every process that shows
+        # the planet. A program with errors (a broken copy) neither reads nor writes it.
+        store = None if prog.errors else BakeCache()
         info = ctx.info
-        key = ("planet ground noise", info.get("GL_VENDOR"), info.get("GL_RENDERER"),
-               info.get("GL_VERSION"), size, n, GROUND_CAP_TAN, GROUND_NOISE_BAKE,
-               repr([(f.name, s and s[1]) for f, s in sorted(prog.stamps.items())]))
-        held = None if prog.errors else MEMO.held(key)
-        if held is not None:
-            cap.write(held[0])
-            for face in range(6):
-                cube.write(face, held[1 + face])
+        key = cache_key("ground-noise", {"size": size, "cube": n, "cap_tan": GROUND_CAP_TAN},
+                        repr([(f.name, s and s[1]) for f, s in sorted(prog.stamps.items())]),
+                        {"driver": [info.get(k) for k in ("GL_VENDOR", "GL_RENDERER",
+                                                            "GL_VERSION")]})
+        file = store and store.path_for("ground-noise", size, key)
+        found = store and store.load(file, key, "ground-noise", (size * size + 6 * n * n,),
+                                     "float32")
+        if found and found.data is not None:  # the cap's texels, then each face's
+            cap.write(found.data[:size * size])
+            for face, texels in enumerate(np.split(found.data[size * size:], 6)):
+                cube.write(face, texels)
             return cap, cube
         face_tex = self.gpu.texture(self.name, "ground noise face", (n, n), 1, dtype="f4")
         fbos = [self.gpu.framebuffer(self.name, "ground noise face", [face_tex]),
@@ -668,8 +674,11 @@ class Planet(Effect):
             for fbo in fbos:
                 self.gpu.free(fbo)
             self.gpu.free(face_tex)
-        if not prog.errors:
-            MEMO.put(key, (cap.read(), *(cube.read(face) for face in range(6))))
+        if store and file:
+            texels = [cap.read(), *(cube.read(face) for face in range(6))]
+            store.store(file, key, "ground-noise",
+                        np.concatenate([np.frombuffer(t, np.float32) for t in texels]),
+                        {"renderer": info.get("GL_RENDERER")})
         return cap, cube
 
     def _make_shadow_map(self, size: int):
