@@ -3,6 +3,7 @@ when a test asks for it; and the layer markers, one per folder (tests/unit, test
 
 from __future__ import annotations
 
+import gc
 import os
 import sys
 from pathlib import Path
@@ -52,6 +53,14 @@ def pytest_collection_modifyitems(config, items):
             continue
         if uses_module_fixture(item):
             item.add_marker(pytest.mark.xdist_group(f"module {item.path.name}"))
+
+
+def pytest_collection_finish(session):
+    """What collection made (the test modules, their items, the imported app) lives to the end
+    of the run: frozen out of the garbage collector's generations, so its later full collections
+    (and the leak tests' explicit ones) no longer walk it. ``gc.get_objects`` does not list
+    frozen objects; no GL object exists yet at this point."""
+    gc.freeze()
 
 
 @pytest.fixture(scope="session", autouse=True)
