@@ -30,9 +30,11 @@ created or written turns caching off for that call with one warning per director
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
+import re
 import struct
 import time
 import warnings
@@ -200,6 +202,21 @@ class BakeCache:
         except OSError as exc:
             _warn_once(path.parent, f"cannot be written ({exc.strerror or exc})")
             return False
+
+    def keep_newest(self, kind: str, count: int) -> None:
+        """Remove all but the ``count`` most recently written files of ``kind``: a slider
+        dragged through sizes, or sources edited again and again, writes one file each time
+        (the planet's ground noise is 22 MB at 2048²). A file another process removes first,
+        or reads meanwhile, is its own miss, never an error."""
+        try:
+            name = re.compile(rf"{re.escape(kind)}-\d+-[0-9a-f]{{16}}\.bake")
+            found = [(f.stat().st_mtime_ns, f) for f in self.directory.glob(f"{kind}-*.bake")
+                     if name.fullmatch(f.name)]
+        except OSError:
+            return
+        for _, old in sorted(found, reverse=True)[count:]:
+            with contextlib.suppress(OSError):
+                old.unlink()
 
     def files(self) -> list[Path]:
         try:

@@ -383,6 +383,7 @@ def reference_view(ex: Exercise, ctx) -> np.ndarray:
         return found.data.astype(np.float64) / 255.0
     view = render_view(ex, DEFAULT_SHADER_ROOT, ctx)
     store.store(path, key, f"exercise-{ex.name}", _as8(view))
+    store.keep_newest(f"exercise-{ex.name}", 2)  # a new one for each edit of Natura's sources
     return view
 
 

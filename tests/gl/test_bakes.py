@@ -482,6 +482,26 @@ def test_float_texels_round_trip_and_a_dtype_other_than_asked_is_stale(tmp_path)
         store.store(path, "k" * 64, "ground-noise", data.astype(np.float64))
 
 
+def test_only_the_newest_files_of_a_kind_are_kept_when_asked(tmp_path):
+    """A size dragged through the panel writes one ground-noise bake a size: the cache keeps the
+    newest of that kind only, and leaves every other kind (and other files) alone."""
+    store = BakeCache(tmp_path)
+    data = np.zeros(4, np.uint8)
+    written = []
+    for i, size in enumerate((64, 65, 66, 67, 68)):
+        path = store.path_for("ground-noise", size, f"{i:064x}")
+        assert store.store(path, f"{i:064x}", "ground-noise", data)
+        os.utime(path, ns=(i * 10**9, i * 10**9))  # written in this order, whatever the clock
+        written.append(path)
+    other = store.path_for("ground-noise-2", 64, "f" * 64)  # another kind that shares a prefix
+    assert store.store(other, "f" * 64, "ground-noise-2", data)
+    stray = tmp_path / "ground-noise-notes.txt"
+    stray.write_text("not a bake")
+    store.keep_newest("ground-noise", 2)
+    assert sorted(tmp_path.iterdir()) == sorted([*written[3:], other, stray])
+    BakeCache(tmp_path / "missing").keep_newest("ground-noise", 2)  # no folder: nothing to do
+
+
 def test_unwritable_cache_still_bakes_and_warns_once(gpu, tmp_path):
     blocker = tmp_path / "not-a-dir"
     blocker.write_text("a file where the cache directory should be")

@@ -71,6 +71,9 @@ GROUND_PASS = ("gbuffer", "scattering")
 #: horizon is 17° from it)
 GROUND_CAP_DEG = 25.0
 GROUND_CAP_TAN = math.tan(math.radians(GROUND_CAP_DEG))
+#: ground-noise bakes kept on disk (22 MB each at 2048²): a size dragged in the panel
+#: writes one file a size (and a GL 4.1 context has files of its own)
+KEPT_GROUND_NOISE = 6
 
 
 def composite_spec(method: str, compare: str = "hardware", noise: str = "baked",
@@ -679,6 +682,7 @@ class Planet(Effect):
             store.store(file, key, "ground-noise",
                         np.concatenate([np.frombuffer(t, np.float32) for t in texels]),
                         {"renderer": info.get("GL_RENDERER")})
+            store.keep_newest("ground-noise", KEPT_GROUND_NOISE)
         return cap, cube
 
     def _make_shadow_map(self, size: int):
