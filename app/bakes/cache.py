@@ -34,7 +34,6 @@ import contextlib
 import hashlib
 import json
 import os
-import re
 import struct
 import time
 import warnings
@@ -93,6 +92,11 @@ def cache_key(kind: str, params: dict[str, Any], shader_digest: str,
            "glsl": shader_digest, "extra": extra or {}}
     text = json.dumps(doc, sort_keys=True, separators=(",", ":"), default=str)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def driver(ctx) -> list:
+    """What a GPU bake's texels depend on beside their inputs: the context's driver."""
+    return [ctx.info.get(k) for k in ("GL_VENDOR", "GL_RENDERER", "GL_VERSION")]
 
 
 @dataclass
@@ -204,14 +208,10 @@ class BakeCache:
             return False
 
     def keep_newest(self, kind: str, count: int) -> None:
-        """Remove all but the ``count`` most recently written files of ``kind``: a slider
-        dragged through sizes, or sources edited again and again, writes one file each time
-        (the planet's ground noise is 22 MB at 2048²). A file another process removes first,
-        or reads meanwhile, is its own miss, never an error."""
+        """Remove all but the ``count`` newest files of ``kind`` (a size dragged in the panel
+        writes one file a size); another process then misses, never fails."""
         try:
-            name = re.compile(rf"{re.escape(kind)}-\d+-[0-9a-f]{{16}}\.bake")
-            found = [(f.stat().st_mtime_ns, f) for f in self.directory.glob(f"{kind}-*.bake")
-                     if name.fullmatch(f.name)]
+            found = [(f.stat().st_mtime_ns, f) for f in self.directory.glob(f"{kind}-*.bake")]
         except OSError:
             return
         for _, old in sorted(found, reverse=True)[count:]:

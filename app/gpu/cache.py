@@ -59,45 +59,35 @@ class Keyed(Generic[T]):
         self.key = _UNSET
 
 
-#: how many bytes of arrays :data:`MEMO` keeps (least recently used out first): every parity
-#: job's memoised builds together (roots, noise textures and bakes, meshes) are
-#: ~40 MB; and how many entries at most (values without arrays count no bytes)
+#: the bytes of arrays and the entries :data:`MEMO` keeps, least recently used out first (every
+#: parity job's builds together are ~40 MB; values without arrays count no bytes)
 MEMO_BUDGET = 256 << 20
 MEMO_ENTRIES = 4096
 
 
-def freeze(value: Any) -> Any:
-    """Make every numpy array in ``value`` read-only (in tuples, lists, dict values and
-    dataclass fields, one level deep each), so no holder of a shared value can change it for
-    the others; returns ``value``."""
-    if isinstance(value, np.ndarray):
-        value.flags.writeable = False
-    elif isinstance(value, (tuple, list)):
-        for v in value:
-            freeze(v)
-    elif isinstance(value, dict):
-        for v in value.values():
-            freeze(v)
+def _arrays(value: Any):
+    """The arrays and bytes in ``value``, its tuples, lists, dict values and dataclass fields."""
+    if isinstance(value, (np.ndarray, bytes, bytearray)):
+        yield value
+    elif isinstance(value, (tuple, list, dict)):
+        for v in value.values() if isinstance(value, dict) else value:
+            yield from _arrays(v)
     elif dataclasses.is_dataclass(value) and not isinstance(value, type):
         for f in dataclasses.fields(value):
-            freeze(getattr(value, f.name))
+            yield from _arrays(getattr(value, f.name))
+
+
+def freeze(value: Any) -> Any:
+    """``value``, every numpy array in it read-only: no holder of a shared value changes it."""
+    for a in _arrays(value):
+        if isinstance(a, np.ndarray):
+            a.flags.writeable = False
     return value
 
 
 def nbytes(value: Any) -> int:
-    """Bytes of the numpy arrays (and bytes objects) in ``value``, walked as :func:`freeze`
-    walks it."""
-    if isinstance(value, np.ndarray):
-        return int(value.nbytes)
-    if isinstance(value, (bytes, bytearray)):
-        return len(value)
-    if isinstance(value, (tuple, list)):
-        return sum(nbytes(v) for v in value)
-    if isinstance(value, dict):
-        return sum(nbytes(v) for v in value.values())
-    if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return sum(nbytes(getattr(value, f.name)) for f in dataclasses.fields(value))
-    return 0
+    """Bytes of the numpy arrays (and bytes objects) in ``value``."""
+    return sum(int(a.nbytes) if isinstance(a, np.ndarray) else len(a) for a in _arrays(value))
 
 
 class Memo:
@@ -107,9 +97,8 @@ class Memo:
     every argument); the arrays held take at most ``budget`` bytes, the least recently used
     dropped first (a value larger than the budget is returned but not kept).
 
-    Why: a process that opens many sessions (a test module, the gallery, a bench) otherwise
-    rebuilds the same noise fields, meshes and placements in every one; a session's own
-    :class:`Keyed` values still die with it."""
+    Why: a process that opens many sessions (compare, report, a bench) builds each noise field,
+    mesh and placement once; a session's own :class:`Keyed` values still die with it."""
 
     def __init__(self, budget: int = MEMO_BUDGET):
         self.budget = int(budget)
@@ -118,41 +107,25 @@ class Memo:
         self.hits = 0
         self.builds = 0
 
-    def __len__(self) -> int:
-        return len(self._items)
-
     def __contains__(self, key: Any) -> bool:
         return key in self._items
 
     def get(self, key: Any, build: Callable[[], T]) -> T:
-        if key in self._items:
-            return self.held(key)
+        item = self._items.get(key)
+        if item is not None:  # now the most recently used
+            self._items.move_to_end(key)
+            self.hits += 1
+            return item[0]
         value = freeze(build())
         self.builds += 1
-        self.put(key, value)
+        size = nbytes(value)
+        if size <= self.budget:
+            self._items[key] = (value, size)
+            self.bytes += size
+            while self.bytes > self.budget or len(self._items) > MEMO_ENTRIES:
+                _, (_, dropped) = self._items.popitem(last=False)
+                self.bytes -= dropped
         return value
-
-    def held(self, key: Any) -> Any:
-        """The value kept for ``key`` (now the most recently used), or None."""
-        item = self._items.get(key)
-        if item is None:
-            return None
-        self._items.move_to_end(key)
-        self.hits += 1
-        return item[0]
-
-    def put(self, key: Any, value: Any) -> None:
-        """Keep ``value`` (frozen) for ``key``, replacing what was there."""
-        size = nbytes(freeze(value))
-        if key in self._items:
-            self.bytes -= self._items.pop(key)[1]
-        if size > self.budget:
-            return
-        self._items[key] = (value, size)
-        self.bytes += size
-        while self.bytes > self.budget or len(self._items) > MEMO_ENTRIES:
-            _, (_, dropped) = self._items.popitem(last=False)
-            self.bytes -= dropped
 
     def clear(self) -> None:
         self._items.clear()

@@ -11,7 +11,6 @@ probe shows).
 
 from __future__ import annotations
 
-import hashlib
 import os
 import re
 import shutil
@@ -350,43 +349,6 @@ def render_view(ex: Exercise, root: Path, ctx) -> np.ndarray:
     return srgb.astype(np.float64) / 255.0
 
 
-def _sources_digest() -> str:
-    """SHA-256 of every file a render of Natura's own can depend on: its shaders, its Python
-    code and its resources (names and bytes)."""
-    digest = hashlib.sha256()
-    for root, pattern in ((DEFAULT_SHADER_ROOT, "*"), (PROJECT_ROOT / "app", "*.py"),
-                          (RESOURCES, "*")):
-        for path in sorted(root.rglob(pattern)):
-            if path.is_file() and "__pycache__" not in path.parts:
-                digest.update(f"{root.name}/{path.relative_to(root).as_posix()}\0".encode())
-                digest.update(path.read_bytes())
-    return digest.hexdigest()
-
-
-def reference_view(ex: Exercise, ctx) -> np.ndarray:
-    """:func:`render_view` with Natura's own shaders, kept in the bake cache ($NATURA_CACHE):
-    ``start`` renders it, each ``check`` then renders only the student's copy. Keyed by the
-    exercise's text, every file of Natura's shaders, code and resources, numpy's version and the
-    driver; a damaged or stale file is rendered again (app/bakes/cache.py)."""
-    from ..bakes.cache import BakeCache, cache_key
-
-    info = ctx.info
-    key = cache_key("exercise-reference", {"exercise": ex.name, "text": ex.text},
-                    _sources_digest(),
-                    {"driver": [info.get(k) for k in ("GL_VENDOR", "GL_RENDERER", "GL_VERSION")],
-                     "numpy": np.__version__})
-    store = BakeCache()
-    path = store.path_for(f"exercise-{ex.name}", ex.size[0], key)
-    shape = (ex.size[1], ex.size[0], 3)
-    found = store.load(path, key, f"exercise-{ex.name}", shape)
-    if found.data is not None:
-        return found.data.astype(np.float64) / 255.0
-    view = render_view(ex, DEFAULT_SHADER_ROOT, ctx)
-    store.store(path, key, f"exercise-{ex.name}", _as8(view))
-    store.keep_newest(f"exercise-{ex.name}", 2)  # a new one for each edit of Natura's sources
-    return view
-
-
 _PROBE_SOURCE = """#version {version}
 #include "{file}"
 
@@ -481,7 +443,7 @@ def cmd_start(name: str, dest_arg: str) -> int:
                          "folder")
     shown = dest if dest.is_absolute() else Path(dest_arg)
     ctx = gl_context.create_headless_context()
-    expected = reference_view(ex, ctx)  # before anything is written
+    expected = render_view(ex, DEFAULT_SHADER_ROOT, ctx)  # before anything is written
     tmp = temp_name_in(parent)
     _LIVE.add(tmp)  # removed on an error, Ctrl-C or SIGTERM
     try:
@@ -555,7 +517,7 @@ def cmd_check(dir_arg: str) -> int:
     root = folder / "glsl"
     ctx = gl_context.create_headless_context()
     mine = render_view(ex, root, ctx)  # a compile error stops here, as file:line lines
-    ref = reference_view(ex, ctx)
+    ref = render_view(ex, DEFAULT_SHADER_ROOT, ctx)
     mean, p99 = image_errors(mine, ref)
     ok = mean <= ex.mean_tolerance and p99 <= ex.p99_tolerance
     lines = [f"  view {ex.view_args()} ({ex.size[0]}x{ex.size[1]}): mean error {mean:.4f} "

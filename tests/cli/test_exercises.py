@@ -6,7 +6,6 @@ is named by file and line."""
 from __future__ import annotations
 
 import re
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -82,35 +81,6 @@ def test_the_reference_body_passes_and_a_wrong_one_fails_with_its_hint(tmp_path,
         assert heat.max() > 100
     else:  # only the probe tells them apart
         assert re.search(r"probe of .* worst error \S+ \(>", r.stdout), r.stdout
-
-
-def test_the_reference_picture_is_rendered_once_until_a_source_changes(tmp_path, monkeypatch,
-                                                                       gl_ctx):
-    """``start`` and each ``check`` grade against Natura's own picture of the view, kept in the
-    bake cache: rendered once, the same pixels read back; an edit of any of Natura's shaders
-    (or its code, or the exercise) renders it again."""
-    from app.bakes import CACHE_ENV
-
-    monkeypatch.setenv(CACHE_ENV, str(tmp_path / "cache"))
-    ex = ex_mod.find("schlick-fresnel")
-    rendered = []
-    real = ex_mod.render_view
-    monkeypatch.setattr(ex_mod, "render_view",
-                        lambda ex, root, ctx: rendered.append(root) or real(ex, root, ctx))
-    own = ex_mod.DEFAULT_SHADER_ROOT
-    first = ex_mod.reference_view(ex, gl_ctx)
-    again = ex_mod.reference_view(ex, gl_ctx)
-    assert rendered == [own] and np.array_equal(first, again)
-    assert first.shape == (ex.size[1], ex.size[0], 3) and first.std() > 0.01
-    glsl = tmp_path / "glsl"
-    shutil.copytree(own, glsl)
-    monkeypatch.setattr(ex_mod, "DEFAULT_SHADER_ROOT", glsl)
-    ex_mod.reference_view(ex, gl_ctx)
-    assert len(rendered) == 1  # the same bytes under another folder: the same picture
-    with (glsl / ex.file).open("a", encoding="utf-8") as f:
-        f.write("\n// a teacher's edit\n")
-    ex_mod.reference_view(ex, gl_ctx)
-    assert rendered == [own, glsl]
 
 
 def test_a_compile_error_is_named_by_file_and_line(tmp_path):

@@ -629,7 +629,7 @@ class Planet(Effect):
         """Render f(n) (glsl/planet/ground_noise_bake.frag) into the cap directly and into each
         cubemap face through a 2D R32F target copied into the face on the GPU (moderngl cannot
         attach a cube face to a framebuffer: ``Gpu.copy_to_cube_face``)."""
-        from ...bakes.cache import BakeCache, cache_key
+        from ...bakes.cache import BakeCache, cache_key, driver
 
         ctx = self.gpu.ctx
         linear = (moderngl.LINEAR, moderngl.LINEAR)
@@ -639,17 +639,13 @@ class Planet(Effect):
         cube = self.gpu.texture_cube(self.name, "ground noise", n, 1, dtype="f4")
         cube.filter = linear
         prog = self.program(GROUND_NOISE_BAKE)
-        # the bake cache on disk ($NATURA_CACHE, beside the cloud noise): keyed by what the
-        # texels depend on: the program's every file (its name and content hash, not its place:
-        # a copy of the shaders, as an exercise's, shares the bake), the cap's angle, the sizes
-        # and the driver; ~0.7 s of llvmpipe at 2048² otherwise, in every process that shows
-        # the planet. A program with errors (a broken copy) neither reads nor writes it.
+        # on disk beside the cloud noise (~0.7 s of llvmpipe at 2048² otherwise), keyed by the
+        # program's files (names and content hashes: an exercise's copy shares it), the sizes,
+        # the cap and the driver; a broken program neither reads nor writes it
         store = None if prog.errors else BakeCache()
-        info = ctx.info
         key = cache_key("ground-noise", {"size": size, "cube": n, "cap_tan": GROUND_CAP_TAN},
                         repr([(f.name, s and s[1]) for f, s in sorted(prog.stamps.items())]),
-                        {"driver": [info.get(k) for k in ("GL_VENDOR", "GL_RENDERER",
-                                                            "GL_VERSION")]})
+                        {"driver": driver(ctx)})
         file = store and store.path_for("ground-noise", size, key)
         found = store and store.load(file, key, "ground-noise", (size * size + 6 * n * n,),
                                      "float32")
@@ -681,7 +677,7 @@ class Planet(Effect):
             texels = [cap.read(), *(cube.read(face) for face in range(6))]
             store.store(file, key, "ground-noise",
                         np.concatenate([np.frombuffer(t, np.float32) for t in texels]),
-                        {"renderer": info.get("GL_RENDERER")})
+                        {"renderer": ctx.info.get("GL_RENDERER")})
             store.keep_newest("ground-noise", KEPT_GROUND_NOISE)
         return cap, cube
 
