@@ -17,7 +17,6 @@ from app import PROJECT_ROOT
 from tests.helpers.cores import BLAS_THREADS, LLVMPIPE_THREADS, cores, setting, share
 
 SAMPLE = """
-import gc
 import os
 
 def _say():

@@ -642,14 +642,14 @@ class Planet(Effect):
         # on disk beside the cloud noise (~0.7 s of llvmpipe at 2048² otherwise), keyed by the
         # program's files (names and content hashes: an exercise's copy shares it), the sizes,
         # the cap and the driver; a broken program neither reads nor writes it
-        store = None if prog.errors else BakeCache()
+        store = BakeCache()
         key = cache_key("ground-noise", {"size": size, "cube": n, "cap_tan": GROUND_CAP_TAN},
                         repr([(f.name, s and s[1]) for f, s in sorted(prog.stamps.items())]),
                         {"driver": driver(ctx)})
-        file = store and store.path_for("ground-noise", size, key)
-        found = store and store.load(file, key, "ground-noise", (size * size + 6 * n * n,),
-                                     "float32")
-        if found and found.data is not None:  # the cap's texels, then each face's
+        file = store.path_for("ground-noise", size, key)
+        found = None if prog.errors else store.load(file, key, "ground-noise",
+                                                    (size * size + 6 * n * n,), "float32")
+        if found is not None and found.data is not None:  # the cap's texels, then each face's
             cap.write(found.data[:size * size])
             for face, texels in enumerate(np.split(found.data[size * size:], 6)):
                 cube.write(face, texels)
@@ -673,7 +673,7 @@ class Planet(Effect):
             for fbo in fbos:
                 self.gpu.free(fbo)
             self.gpu.free(face_tex)
-        if store and file:
+        if not prog.errors:
             texels = [cap.read(), *(cube.read(face) for face in range(6))]
             store.store(file, key, "ground-noise",
                         np.concatenate([np.frombuffer(t, np.float32) for t in texels]),
