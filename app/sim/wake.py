@@ -123,7 +123,7 @@ def wake_foam(x: np.ndarray, z: np.ndarray, positions: np.ndarray, ages: np.ndar
               params: WakeParams) -> np.ndarray:
     """Foam of trail samples at world points (the max over samples, in [0, 1]); the twin of
     ``WakeFoam`` in glsl/common/wake.glsl (Kelvin 1887: ring centre P + d·U·a/4, radius
-    U·a/4, cusp at cos = 1/3), ~64 k (point, sample) pairs at a time (20× faster than at once)."""
+    U·a/4, cusp at cos = 1/3), ~64 k (point, sample) pairs at a time: temporaries in cache."""
     p = params
     shape = np.broadcast(x, z).shape
     out = np.zeros(shape)
@@ -179,9 +179,9 @@ def ridge_angle(along, across, foam, start: float = 8.0, stop: float | None = No
     of (along, |across|) over the points within ``share`` of that side's maximum and within
     ``crest_m`` metres of it across (the ridge's crest, at sub-sample precision) — skipped where
     the maximum is below ``floor``; then the least-squares line through the apex, |across| =
-    tan θ · along. Returns ``angle`` (both
-    sides), ``port`` and ``starboard`` (across > 0 and < 0 alone), ``points`` (the crest
-    points used, per side) and ``rms_m`` (their rms lateral distance from the fitted line)."""
+    tan θ · along. Returns ``angle`` (both sides), ``port`` and ``starboard`` (across > 0 and
+    < 0 alone), ``points`` (the crest points used, per side) and ``rms_m`` (their rms lateral
+    distance from the fitted line)."""
     x = np.asarray(along, float).ravel()
     y = np.asarray(across, float).ravel()
     f = np.asarray(foam, float).ravel()
