@@ -20,7 +20,7 @@ runs drift by ±25 s with the host's hour, more than this change). The frames ``
 bench maritime`` times did not change (37.9–45.4 ms either way, three rounds interleaved), so
 the app leaves its BLAS as it is.
 
-glibc's malloc gets two settings in every run, one process or many (``MALLOC_SETTINGS``, read
+glibc's malloc gets two settings in every run, one process or many (``MEMORY_SETTINGS``, read
 when a process starts, so the workers and the ``natura`` processes have them): arrays up to
 32 MiB come from the heap instead of a fresh ``mmap`` each, and freed heap stays with the process
 for the next array. The suite's processes make and drop such arrays all the time (frames read
@@ -30,6 +30,19 @@ kernel time. Full suite, back to back in one hour: 15.1 M page faults against 18
 reads the resident memory after ``malloc_trim`` (tests/helpers/leaks.py), which hands the kept
 heap back whatever these say, and the session-release loop grew alike over 40 cycles with and
 without them (sky 1.95 and 1.91 MB, ocean 4.06 and 3.94 MB; its bound is 8 MB).
+
+numpy gets one (``NUMPY_MADVISE_HUGEPAGE=0``, read when numpy is imported: the workers and the
+``natura`` processes, not the process that runs ``-n 0``): it then stops asking the kernel for
+2 MiB pages for every array of 4 MiB or more. Where the kernel grants them on request (THP
+``madvise``, as here), each first touch clears 2 MiB at once, and on this virtual machine that
+cost more than the small pages it saves. Measured here, alternated: the largest STL allowed
+(tests/unit/test_mesh_files.py, the test alone, ``-n 0``) 15.3 s with 10.6-11.0 s of system CPU,
+and 6.6-7.4 s with 2.8-3.0 s without huge pages; ``tests/unit`` and ``tests/stability`` under
+``-n 2``: system CPU 26.1 and 24.6 s, 14.8 s without. Whole-suite runs drift more than that
+(303-385 s in one morning, with the setting or without).
+A third setting was tried and left out: ``MALLOC_MMAP_MAX_=0`` (every array from the heap) also
+halved those two folders' system CPU, but doubled it where a test allocates hundreds of MiB at
+once (tests/cli/test_fuzz_residue.py 4.6 → 8.5 s, tests/bench/test_gpu_report.py 1.2 → 5.0 s).
 """
 
 from __future__ import annotations
@@ -41,8 +54,10 @@ LLVMPIPE_THREADS = "LP_NUM_THREADS"
 #: read by numpy's BLAS when numpy is imported: OpenBLAS, and a BLAS built on OpenMP
 BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")
 #: read by glibc's malloc when a process starts: the largest request served from the heap, and
-#: how much free heap a process keeps before handing it back
-MALLOC_SETTINGS = {"MALLOC_MMAP_THRESHOLD_": str(32 << 20), "MALLOC_TRIM_THRESHOLD_": str(1 << 30)}
+#: how much free heap a process keeps before handing it back; read by numpy when it is imported:
+#: whether its large arrays ask for huge pages
+MEMORY_SETTINGS = {"MALLOC_MMAP_THRESHOLD_": str(32 << 20), "MALLOC_TRIM_THRESHOLD_": str(1 << 30),
+                   "NUMPY_MADVISE_HUGEPAGE": "0"}
 
 
 def share(cores: int | None, workers: int) -> int:
@@ -63,7 +78,7 @@ def cores() -> int | None:
 
 def pytest_configure(config):
     # every run: the processes it starts inherit the environment
-    for name, value in MALLOC_SETTINGS.items():
+    for name, value in MEMORY_SETTINGS.items():
         os.environ.setdefault(name, value)
     # in the controller before it starts the workers (they inherit the environment); in a
     # worker from the count the controller sends, for a worker started some other way

@@ -18,14 +18,14 @@ from app import PROJECT_ROOT
 from tests.helpers.cores import (
     BLAS_THREADS,
     LLVMPIPE_THREADS,
-    MALLOC_SETTINGS,
+    MEMORY_SETTINGS,
     cores,
     setting,
     share,
 )
 
 #: what every run hands its processes, after the threads
-MALLOC = " ".join(MALLOC_SETTINGS.values())
+MEMORY = " ".join(MEMORY_SETTINGS.values())
 
 SAMPLE = """
 import os
@@ -33,7 +33,7 @@ import os
 def _say():
     import numpy  # noqa: F401 - what a worker's BLAS reads is set before numpy starts it
     names = ("LP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
-             "MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_")
+             "MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_", "NUMPY_MADVISE_HUGEPAGE")
     print("threads:", " ".join(os.environ.get(n, "unset") for n in names))
 
 def test_a():
@@ -48,7 +48,7 @@ def test_b():
 
 def _threads(folder: Path, *args: str, **env_extra: str) -> list[str]:
     env = {k: v for k, v in os.environ.items()
-           if k not in (LLVMPIPE_THREADS, *BLAS_THREADS, *MALLOC_SETTINGS, "PYTEST_XDIST_WORKER",
+           if k not in (LLVMPIPE_THREADS, *BLAS_THREADS, *MEMORY_SETTINGS, "PYTEST_XDIST_WORKER",
                         "PYTEST_ADDOPTS")}
     env.update(env_extra, PYTHONPATH=str(PROJECT_ROOT))
     (folder / "pytest.ini").write_text("[pytest]\n")
@@ -75,19 +75,20 @@ def test_a_share_of_one_core_rasterizes_on_the_drawing_thread():
 @pytest.mark.slow
 def test_xdist_workers_render_and_multiply_with_their_share_of_the_cores(tmp_path):
     n = share(cores(), 2)
-    assert _threads(tmp_path, "-n", "2") == [f"{setting(cores(), 2)} {n} {n} {MALLOC}"] * 2
+    assert _threads(tmp_path, "-n", "2") == [f"{setting(cores(), 2)} {n} {n} {MEMORY}"] * 2
 
 
 @pytest.mark.slow
 def test_a_value_the_user_set_is_kept(tmp_path):
     n = share(cores(), 2)
-    mmap = MALLOC_SETTINGS["MALLOC_MMAP_THRESHOLD_"]
-    assert _threads(tmp_path, "-n", "2", LP_NUM_THREADS="3", OMP_NUM_THREADS="5",
-                    MALLOC_TRIM_THRESHOLD_="7") == [f"3 {n} 5 {mmap} 7"] * 2
+    mmap = MEMORY_SETTINGS["MALLOC_MMAP_THRESHOLD_"]
+    kept = _threads(tmp_path, "-n", "2", LP_NUM_THREADS="3", OMP_NUM_THREADS="5",
+                    MALLOC_TRIM_THRESHOLD_="7", NUMPY_MADVISE_HUGEPAGE="1")
+    assert kept == [f"3 {n} 5 {mmap} 7 1"] * 2
 
 
 def test_one_process_leaves_llvmpipe_and_blas_every_core_and_sets_malloc(tmp_path):
-    assert _threads(tmp_path) == [f"unset unset unset {MALLOC}"] * 2
+    assert _threads(tmp_path) == [f"unset unset unset {MEMORY}"] * 2
 
 
 FAULTS = """
@@ -110,12 +111,12 @@ def test_with_the_malloc_settings_arrays_reuse_the_pages_freed_before():
     third (its threshold has only risen to 24 MiB); with the settings, only the first two
     arrays touch new pages."""
     def faults(**extra):
-        env = {k: v for k, v in os.environ.items() if k not in MALLOC_SETTINGS}
+        env = {k: v for k, v in os.environ.items() if k not in MEMORY_SETTINGS}
         r = subprocess.run([sys.executable, "-c", FAULTS], env={**env, **extra},
                            capture_output=True, text=True, timeout=60, check=True)
         return [int(x) for x in r.stdout.split()]
 
-    default, tuned = faults(), faults(**MALLOC_SETTINGS)
+    default, tuned = faults(), faults(**MEMORY_SETTINGS)
     assert sum(default[2:]) > default[0] // 2, default
     assert sum(tuned[2:]) < tuned[0] // 10, tuned
 
