@@ -134,10 +134,11 @@ def wake_foam(x: np.ndarray, z: np.ndarray, positions: np.ndarray, ages: np.ndar
     radius = speeds * a / 4.0
     width = np.maximum(p.cusp_width, speeds * p.spacing / 4.0)
     reach = np.maximum(p.cusp_width, 0.75 * speeds * p.spacing)
+    fade, grow = np.exp(-a / p.cusp_life), _smoothstep(0.0, 1.0, radius)
     nxt = np.minimum(np.arange(len(ages)) + 1, len(ages) - 1)
-    sx = positions[nxt, 0] - positions[:, 0]
-    sz = positions[nxt, 1] - positions[:, 1]
+    sx, sz = (positions[nxt] - positions).T
     s2 = np.maximum(sx * sx + sz * sz, 1e-12)
+    da, du = a[nxt] - a, speeds[nxt] - speeds
     x, z = np.broadcast_to(x, shape).ravel(), np.broadcast_to(z, shape).ravel()
     step = max(1, (1 << 16) // len(ages))
     for i in range(0, x.size, step):
@@ -152,13 +153,12 @@ def wake_foam(x: np.ndarray, z: np.ndarray, positions: np.ndarray, ages: np.ndar
         # cusps (0.75·U·spacing apart along the arm), so the arm is a line, not a string of beads
         arc = radius * np.abs(np.arccos(np.clip(cos_d, -1.0, 1.0)) - CUSP_ANGLE)
         cusp = np.exp(-(arc / reach) ** 2)
-        cusp_foam = ring * cusp * np.exp(-a / p.cusp_life) * _smoothstep(0.0, 1.0, radius)
+        cusp_foam = ring * cusp * fade * grow
         # the wash: a band along the path — the distance to the segment from each sample to
         # the one left before it, age and speed interpolated along it (discs would show beads)
         f = np.clip((px * sx + pz * sz) / s2, 0.0, 1.0)
         rw = np.hypot(px - f * sx, pz - f * sz)
-        aw = a + f * (a[nxt] - a)
-        uw = speeds + f * (speeds[nxt] - speeds)
+        aw, uw = a + f * da, speeds + f * du
         half = 0.35 * beam + p.wash_spread * uw * aw
         wash = 0.7 * np.exp(-(rw / half) ** 2) * np.exp(-aw / p.wash_life)
         foam = np.maximum(cusp_foam, wash) * way * p.strength
