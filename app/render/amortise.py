@@ -20,12 +20,8 @@ bench) converge before they return: the first render of a view resets the histor
 march of every full-resolution pixel (a grid at block 1) and its resolve — the state the window
 reaches after ``schedule.cycle`` frames of a still camera, bit for bit, since a pixel's ray
 depends on its full-resolution position only — so a still image is the full-resolution march
-itself (with its blue-noise jitter). The reset used to march the ``scale²`` sub-grids
-one by one, each with a full-resolution resolve: the same picture (all 54 pinned renders and
-clouds and maritime at quarter and half scale, 257x143 to 1280x720, were bit-identical) for
-more time: ``natura render maritime --size 1280x720`` took 6.4–7.7 s on llvmpipe and takes
-4.7–5.1 s (three rounds, interleaved). Rendering the same view again (the bench's repeated
-frame) runs one ordinary step: what ``natura bench`` times is the steady-state cost per frame.
+itself (with its blue-noise jitter). Rendering the same view again (the bench's repeated frame)
+runs one ordinary step: what ``natura bench`` times is the steady-state cost per frame.
 """
 
 from __future__ import annotations

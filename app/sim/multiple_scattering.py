@@ -111,16 +111,6 @@ class _Model:
             ext = ext + atm.ozone_density(h)[..., None] * self.e_o
         return ext
 
-    def _coords(self, h, mu):
-        R, T = self.R, self.top
-        r = R + np.clip(h, 0.0, self.H)
-        Hh = math.sqrt(T * T - R * R)
-        rho = np.sqrt(np.maximum(r * r - R * R, 0.0))
-        d = -r * mu + np.sqrt(np.maximum((T - r) * (T + r) + (r * mu) ** 2, 0.0))
-        d_min, d_max = T - r, rho + Hh
-        x_mu = np.clip((d - d_min) / np.maximum(d_max - d_min, 1e-9), 0.0, 1.0)
-        return x_mu, rho / Hh
-
     def _build_transmittance(self, n_mu: int = 512, n_r: int = 128) -> None:
         R, T = self.R, self.top
         Hh = math.sqrt(T * T - R * R)
@@ -143,13 +133,28 @@ class _Model:
 
     def sun_transmittance(self, h, mu_s):
         """T to the sun (RGB, shape + (3,)), 0 where the sun ray hits the planet."""
-        h = np.asarray(h, dtype=float)
-        mu_s = np.clip(np.asarray(mu_s, dtype=float), -1.0, 1.0)
-        x_mu, x_r = self._coords(h, mu_s)
-        n_r, n_mu = self._t_shape
-        out = _bilinear(self._t_table, x_r * (n_r - 1), x_mu * (n_mu - 1))
-        dark = atm.sun_ray_hits_ground(np.clip(h, 0.0, self.H), mu_s, self.p)
-        return np.where(dark[..., None], 0.0, out)
+        return np.ascontiguousarray(np.moveaxis(self.sun_transmittance_at(h)(mu_s), 0, -1))
+
+    def sun_transmittance_at(self, h):
+        """:meth:`sun_transmittance` at the altitudes ``h`` as a function of μ_s (broadcast),
+        channels first, (3,) + shape: what the altitude alone sets is made once for all μ_s."""
+        R, T, (n_r, n_mu) = self.R, self.top, self._t_shape
+        h = np.clip(np.asarray(h, dtype=float), 0.0, self.H)
+        r, Hh = R + h, math.sqrt(T * T - R * R)
+        rho = np.sqrt(np.maximum(r * r - R * R, 0.0))
+        d_min, inside, rr, shadow = T - r, (T - r) * (T + r), r * r, h * (2.0 * R + h)
+        span = np.maximum(rho + Hh - d_min, 1e-9)
+        y0, fy = _cell(rho / Hh * (n_r - 1), n_r)
+        table = self._t_table.reshape(n_r * n_mu, -1).T.copy()  # (3, texels)
+
+        def at(mu_s):
+            mu = np.clip(np.asarray(mu_s, dtype=float), -1.0, 1.0)
+            d = -r * mu + np.sqrt(np.maximum(inside + (r * mu) ** 2, 0.0))
+            x0, fx = _cell(np.clip((d - d_min) / span, 0.0, 1.0) * (n_mu - 1), n_mu)
+            out = _bilinear(table, y0 * n_mu + x0, fy, fx, n_mu)
+            dark = (mu < 0.0) & (rr * mu * mu >= shadow)
+            return np.where(dark, 0.0, out)
+        return at
 
     def segment_length(self, h, mu):
         """Distance from altitude h along μ to the top, or to the ground if the ray hits it."""
@@ -163,19 +168,18 @@ class _Model:
         return np.where(ground, np.maximum(t_g, 0.0), np.maximum(t_top, 0.0))
 
 
-def _bilinear(table, y, x):
-    """table (ny, nx, C) at fractional indices (y, x), clamped."""
-    ny, nx = table.shape[:2]
-    y = np.clip(y, 0.0, ny - 1.0)
-    x = np.clip(x, 0.0, nx - 1.0)
-    y0 = np.minimum(y.astype(np.intp), ny - 2)
-    x0 = np.minimum(x.astype(np.intp), nx - 2)
-    fy = (y - y0)[..., None]
-    fx = (x - x0)[..., None]
-    flat = table.reshape(ny * nx, -1)  # take on flat indices: twice as fast as table[y0, x0]
-    i = y0 * nx + x0
-    t00, t01 = flat.take(i, axis=0), flat.take(i + 1, axis=0)
-    t10, t11 = flat.take(i + nx, axis=0), flat.take(i + nx + 1, axis=0)
+def _cell(f, n: int):
+    """The fractional index ``f`` on ``n`` nodes, clamped: (its low node, the next one's weight)."""
+    f = np.clip(f, 0.0, n - 1.0)
+    i0 = np.minimum(f.astype(np.intp), n - 2)
+    return i0, f - i0
+
+
+def _bilinear(texels, i, fy, fx, nx: int):
+    """The channels-first ``texels`` (C, rows × nx) blended around each low corner's flat index
+    ``i`` with the next row's and column's weights (fy, fx): (C,) + i.shape."""
+    t00, t01 = texels.take(i, axis=1), texels.take(i + 1, axis=1)
+    t10, t11 = texels.take(i + nx, axis=1), texels.take(i + nx + 1, axis=1)
     return (1 - fy) * ((1 - fx) * t00 + fx * t01) + fy * ((1 - fx) * t10 + fx * t11)
 
 
@@ -225,14 +229,12 @@ class Reference:
         self.mu_nodes = 0.5 * (self.mu_edges[1:] + self.mu_edges[:-1])
         self.phi_nodes = (np.arange(g.n_phi) + 0.5) * np.pi / g.n_phi
         self._phase_matrices()
-        H, S, MU, PHI = np.meshgrid(self.h_nodes, self.mu_s_nodes, self.mu_nodes, self.phi_nodes,
+        _, S, MU, PHI = np.meshgrid(self.h_nodes, self.mu_s_nodes, self.mu_nodes, self.phi_nodes,
                                     indexing="ij")
-        del H
         self._nu = MU * S + np.sqrt(1 - MU * MU) * np.sqrt(np.maximum(1 - S * S, 0.0)) * np.cos(PHI)
         self.j: dict[int, np.ndarray] = {}
         # order 1 at the nodes: exact J_1 along each ray
-        l_prev = self._march_nodes(None)
-        self.l1_nodes = l_prev
+        self.l1_nodes = l_prev = self._march_nodes(None)
         for n in range(2, orders + 1):
             self.j[n] = self._gather(l_prev)
             if n < orders:
@@ -254,8 +256,7 @@ class Reference:
         src = np.concatenate([_dirs(MU, PH).reshape(g.n_mu * g.n_phi, k * k, 3),
                               _dirs(MU, -PH).reshape(g.n_mu * g.n_phi, k * k, 3)], axis=1)
         w = (dmu[:, None] * np.full(g.n_phi, dphi)[None, :]).reshape(-1, 1) / (k * k)
-        pr = np.empty((len(tgt), len(src)))
-        pm = np.empty_like(pr)
+        pr, pm = np.empty((2, len(tgt), len(src)))
         for a0 in range(0, len(tgt), 64):                                # chunks of targets
             cos = np.einsum("dc,sjc->dsj", tgt[a0:a0 + 64], src)          # (64, D, 2k²)
             pr[a0:a0 + 64] = phase_rayleigh(cos).sum(-1) * w.T
@@ -283,8 +284,7 @@ class Reference:
         for i, k0 in ((i, k0) for i in range(g.n_h) for k0 in range(0, g.n_mu_s, chunk)):
             ks = slice(k0, k0 + chunk)
             r0 = m.R + self.h_nodes[i]
-            # (μ_s block, n_mu, n_phi, steps)
-            nu = self._nu[i, ks][..., None]
+            nu = self._nu[i, ks][..., None]  # then (μ_s block, n_mu, n_phi, steps)
             tt = t[i][None, :, None, :]
             rr = r[i][None, :, None, :]
             mu_s_t = np.clip((r0 * self.mu_s_nodes[ks, None, None, None] + tt * nu) / rr, -1, 1)
@@ -309,20 +309,18 @@ class Reference:
         strides = (g.n_mu_s * g.n_mu * g.n_phi, g.n_mu * g.n_phi, g.n_phi, 1)
         base, weights = 0, []  # the low corner's flat index; per axis (1 − w, w)
         for f, n, stride in zip((fh, fs, fm, fp), (g.n_h, g.n_mu_s, g.n_mu, g.n_phi), strides):
-            f = np.clip(f, 0.0, n - 1.0)
-            i0 = np.minimum(f.astype(np.intp), n - 2)
+            i0, w = _cell(f, n)
             base = base + i0 * stride
-            weights.append((1.0 - (f - i0), f - i0))
-        flat = table.reshape(-1, 3)
-        out = 0.0
+            weights.append((1.0 - w, w))
+        flat = np.ascontiguousarray(table.reshape(-1, 3).T)  # channels first: rows of samples
+        out: np.ndarray = np.zeros(())
         for c in range(16):  # the corners: a fixed offset from the low one (take: no 2D index)
             bits = [(c >> k) & 1 for k in range(4)]
             w = weights[0][bits[0]]
             for k in range(1, 4):
                 w = w * weights[k][bits[k]]
-            out = out + flat.take(base + sum(b * s for b, s in zip(bits, strides)),
-                                  axis=0) * w[..., None]
-        return out
+            out = out + flat.take(base + sum(b * s for b, s in zip(bits, strides)), axis=1) * w
+        return np.ascontiguousarray(np.moveaxis(out, 0, -1))
 
     def averaged(self, over: str) -> dict[int, np.ndarray]:
         """The J_n tables averaged over the sphere of directions (``over="sphere"``: the best
@@ -379,9 +377,8 @@ def _view(elevation_deg, azimuth_deg, sun_elevation_deg):
     el, az = np.broadcast_arrays(el, az)
     se = math.radians(sun_elevation_deg)
     mu = np.sin(el)
-    mu_s = math.sin(se)
-    nu = np.sin(el) * math.sin(se) + np.cos(el) * math.cos(se) * np.cos(az)
-    return mu, np.full(mu.shape, mu_s), nu
+    nu = mu * math.sin(se) + np.cos(el) * math.cos(se) * np.cos(az)
+    return mu, np.full(mu.shape, math.sin(se)), nu
 
 
 # ==== Hillaire 2020's Ψ_ms, its numpy twin (converged integrals) =============================
@@ -394,40 +391,46 @@ def hillaire_ms_lut(params: atm.AtmosphereParams, size: int = 32, directions: in
     9 (F_ms = 1/(1 − f_ms), or 1 without ``infinite``) and 10 (Ψ_ms = L_2nd F_ms), on
     ``directions``² directions uniform in cos θ and φ, black ground.
 
-    ``first_phase``: "isotropic" is Hillaire's choice (p_u for both scattering events);
-    "full" gives the first event — sunlight scattered at x + tω toward x, scattering angle
-    cos θ = ω·s — the true Rayleigh and Mie phases (the second event, at x, stays isotropic,
-    so Ψ_ms is still a function of (h, μ_s) and the LUT keeps its size and cost)."""
+    ``first_phase``: "isotropic" is Hillaire's choice (p_u for both scattering events); "full"
+    gives the first event (sunlight scattered at x + tω toward x, cos θ = ω·s) the true Rayleigh
+    and Mie phases; the second, at x, stays isotropic, so Ψ_ms is still a function of (h, μ_s)."""
     m = model or _Model(params)
-    H = m.H
-    hs = np.linspace(0.0, 1.0, size) * H
+    hs = np.linspace(0.0, 1.0, size) * m.H
     mus_s = np.linspace(0.0, 1.0, size) * 2.0 - 1.0
     n = directions
-    mu_d = 1.0 - 2.0 * (np.arange(n) + 0.5) / n
-    phi_d = 2.0 * np.pi * (np.arange(n) + 0.5) / n
-    pu = 1.0 / (4.0 * np.pi)
+    mu_d, half = 1.0 - 2.0 * (np.arange(n) + 0.5) / n, (n + 1) // 2
+    # φ and 2π − φ give one scattering angle ν: marched once, counted twice (φ = π once)
+    cos_phi = np.cos(2.0 * np.pi * (np.arange(half) + 0.5) / n)   # φ uniform in [0, 2π)
+    sin_d = np.sqrt(1 - mu_d ** 2)
+    twice = np.where(np.arange(half) == n - 1 - np.arange(half), 1.0, 2.0)
+    chunk = max(1, 16384 // (n * half * steps))  # sun cosines at a time: ~16k samples
+
+    def channels(a):  # (n, steps, 3) → (3, 1, n, 1, steps): a row of samples per channel
+        return np.ascontiguousarray(np.moveaxis(a, -1, 0))[:, None, :, None, :]
     out = np.zeros((size, size, 3))
     for i, h0 in enumerate(hs):
         t, dt, h, mu_t, trans, r = _march(m, np.full(n, h0), mu_d, steps)   # (n, steps)
         sr, sm = m.scattering(h)
         sig = sr + sm
         f = (trans * sig * dt[..., None]).sum(1).mean(0)                      # (3,)
-        r0 = m.R + h0
-        sin_d = np.sqrt(1 - mu_d ** 2)
-        for j, ms in enumerate(mus_s):
-            nu = mu_d[:, None] * ms + sin_d[:, None] * math.sqrt(max(0.0, 1 - ms * ms)) \
-                * np.cos(phi_d)[None, :]                                       # (n, n)
-            mu_s_t = np.clip((r0 * ms + t[:, None, :] * nu[..., None]) / r[:, None, :], -1, 1)
-            ts = m.sun_transmittance(np.broadcast_to(h[:, None, :], mu_s_t.shape), mu_s_t)
-            w = (trans * dt[..., None])[:, None]
+        F = 1.0 / (1.0 - np.minimum(f, 0.999)) if infinite else np.ones(3)
+        sun = m.sun_transmittance_at(h[:, None, :])                          # (n, 1, steps)
+        w = channels(trans * dt[..., None])
+        ws = w * channels(sig) * (1.0 / (4.0 * np.pi))                   # the phase p_u
+        for j in range(0, size, chunk):
+            ms = mus_s[j:j + chunk, None, None]                              # (J, 1, 1)
+            nu = mu_d[:, None] * ms + sin_d[:, None] * np.sqrt(np.maximum(0.0, 1 - ms * ms)) \
+                * cos_phi                                                     # (J, n, half)
+            mu_s_t = np.clip(((m.R + h0) * ms[..., None] + t[:, None, :] * nu[..., None])
+                             / r[:, None, :], -1, 1)                          # (J, n, half, steps)
+            ts = sun(mu_s_t)                                            # (3, J, n, half, steps)
             if first_phase == "full":
-                src = (sr[:, None] * phase_rayleigh(nu)[..., None, None]
-                       + sm[:, None] * phase_mie_cornette_shanks(nu, m.p.g)[..., None, None])
+                ts *= w * (channels(sr) * phase_rayleigh(nu)[..., None]
+                           + channels(sm) * phase_mie_cornette_shanks(nu, m.p.g)[..., None])
             else:
-                src = sig[:, None] * pu
-            L2 = (ts * w * src).sum(2).mean((0, 1))
-            F = 1.0 / (1.0 - np.minimum(f, 0.999)) if infinite else 1.0
-            out[i, j] = L2 * F
+                ts *= ws
+            L2 = (ts.sum(-1) * twice).sum((2, 3)) / (n * n)                   # (3, J)
+            out[i, j:j + chunk] = L2.T * F
     return out
 
 
@@ -435,9 +438,10 @@ def ms_lookup(table, H: float, h, mu_s):
     """Bilinear Ψ_ms read as HillaireMultipleScatteringAt (vectorised twin of
     :func:`app.sim.hillaire.multiple_scattering_lookup`)."""
     rows, cols = table.shape[:2]
-    y = np.clip(np.asarray(h) / H, 0.0, 1.0) * (rows - 1)
-    x = np.clip(0.5 * np.asarray(mu_s) + 0.5, 0.0, 1.0) * (cols - 1)
-    return _bilinear(np.asarray(table[..., :3], dtype=float), y, x)
+    y0, fy = _cell(np.clip(np.asarray(h) / H, 0.0, 1.0) * (rows - 1), rows)
+    x0, fx = _cell(np.clip(0.5 * np.asarray(mu_s) + 0.5, 0.0, 1.0) * (cols - 1), cols)
+    texels = np.asarray(table[..., :3], dtype=float).reshape(rows * cols, 3).T
+    return np.ascontiguousarray(np.moveaxis(_bilinear(texels, y0 * cols + x0, fy, fx, cols), 0, -1))
 
 
 def hillaire_multiple(params, table, h_cam: float, elevation_deg, azimuth_deg,
