@@ -128,7 +128,7 @@ class _Model:
             + D[..., 1:2] * np.asarray(self.p.beta_mie_ext)
         if self.p.ozone > 0.0:
             tau = tau + atm.ozone_optical_depth(h, mu, self.p, ground=False)[..., None] * self.e_o
-        self._t_table = np.exp(-tau)
+        self._t_texels = np.ascontiguousarray(np.exp(-tau).reshape(n_r * n_mu, 3).T)  # (3, texels)
         self._t_shape = (n_r, n_mu)
 
     def sun_transmittance(self, h, mu_s):
@@ -145,13 +145,12 @@ class _Model:
         d_min, inside, rr, shadow = T - r, (T - r) * (T + r), r * r, h * (2.0 * R + h)
         span = np.maximum(rho + Hh - d_min, 1e-9)
         y0, fy = _cell(rho / Hh * (n_r - 1), n_r)
-        table = self._t_table.reshape(n_r * n_mu, -1).T.copy()  # (3, texels)
 
         def at(mu_s):
             mu = np.clip(np.asarray(mu_s, dtype=float), -1.0, 1.0)
             d = -r * mu + np.sqrt(np.maximum(inside + (r * mu) ** 2, 0.0))
             x0, fx = _cell(np.clip((d - d_min) / span, 0.0, 1.0) * (n_mu - 1), n_mu)
-            out = _bilinear(table, y0 * n_mu + x0, fy, fx, n_mu)
+            out = _bilinear(self._t_texels, y0 * n_mu + x0, fy, fx, n_mu)
             dark = (mu < 0.0) & (rr * mu * mu >= shadow)
             return np.where(dark, 0.0, out)
         return at
@@ -417,6 +416,7 @@ def hillaire_ms_lut(params: atm.AtmosphereParams, size: int = 32, directions: in
         sun = m.sun_transmittance_at(h[:, None, :])                          # (n, 1, steps)
         w = channels(trans * dt[..., None])
         ws = w * channels(sig) * (1.0 / (4.0 * np.pi))                   # the phase p_u
+        cr, cm = (channels(sr), channels(sm)) if first_phase == "full" else (None, None)
         for j in range(0, size, chunk):
             ms = mus_s[j:j + chunk, None, None]                              # (J, 1, 1)
             nu = mu_d[:, None] * ms + sin_d[:, None] * np.sqrt(np.maximum(0.0, 1 - ms * ms)) \
@@ -425,8 +425,8 @@ def hillaire_ms_lut(params: atm.AtmosphereParams, size: int = 32, directions: in
                              / r[:, None, :], -1, 1)                          # (J, n, half, steps)
             ts = sun(mu_s_t)                                            # (3, J, n, half, steps)
             if first_phase == "full":
-                ts *= w * (channels(sr) * phase_rayleigh(nu)[..., None]
-                           + channels(sm) * phase_mie_cornette_shanks(nu, m.p.g)[..., None])
+                ts *= w * (cr * phase_rayleigh(nu)[..., None]
+                           + cm * phase_mie_cornette_shanks(nu, m.p.g)[..., None])
             else:
                 ts *= ws
             L2 = (ts.sum(-1) * twice).sum((2, 3)) / (n * n)                   # (3, J)
