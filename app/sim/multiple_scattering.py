@@ -142,7 +142,7 @@ class _Model:
         h = np.clip(np.asarray(h, dtype=float), 0.0, self.H)
         r, Hh = R + h, math.sqrt(T * T - R * R)
         rho = np.sqrt(np.maximum(r * r - R * R, 0.0))
-        d_min, inside, rr, shadow = T - r, (T - r) * (T + r), r * r, h * (2.0 * R + h)
+        d_min, inside = T - r, (T - r) * (T + r)
         span = np.maximum(rho + Hh - d_min, 1e-9)
         y0, fy = _cell(rho / Hh * (n_r - 1), n_r)
 
@@ -151,7 +151,7 @@ class _Model:
             d = -r * mu + np.sqrt(np.maximum(inside + (r * mu) ** 2, 0.0))
             x0, fx = _cell(np.clip((d - d_min) / span, 0.0, 1.0) * (n_mu - 1), n_mu)
             out = _bilinear(self._t_texels, y0 * n_mu + x0, fy, fx, n_mu)
-            dark = (mu < 0.0) & (rr * mu * mu >= shadow)
+            dark = atm.sun_ray_hits_ground(h, mu, self.p)
             return np.where(dark, 0.0, out)
         return at
 
