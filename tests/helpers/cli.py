@@ -1,5 +1,7 @@
 """Running ``natura`` as a user runs it (tests/cli and tests/bench): the console script of the
-interpreter running the tests, the project on PYTHONPATH, $NATURA_SHADERS unset.
+interpreter running the tests, the project on PYTHONPATH, $NATURA_SHADERS unset. Where the test
+leaves the environment as it is, the process is forked from a server that has the modules
+imported already (tests/helpers/forkserver.py).
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from pathlib import Path
 
 from app import PROJECT_ROOT
 from app.gpu.shaders import SHADER_ENV
+from tests.helpers import forkserver
 
 SIZE = (64, 36)
 SMALL = f"{SIZE[0]}x{SIZE[1]}"
@@ -29,9 +32,14 @@ NATURA = natura_command()
 
 
 def run(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
+    own_env = env is None
     env = dict(os.environ if env is None else env)
     env.pop(SHADER_ENV, None)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(PROJECT_ROOT), env.get("PYTHONPATH")]))
+    if own_env and len(NATURA) == 1:  # the console script: a child of the warm server
+        r = forkserver.run([*NATURA, *args], cwd, env, timeout=120)
+        if r is not None:
+            return r
     return subprocess.run([*NATURA, *args], cwd=cwd, env=env, capture_output=True, text=True,
                           timeout=120)
 
