@@ -23,6 +23,7 @@ import pytest
 
 from app import PROJECT_ROOT
 from app.cli import program_specs
+from tests.helpers.fixtures import bake_cloud_noise
 from tests.helpers.parity import GL41_ENV
 
 SIZE = "96x54"  # small: a path that differs between the contexts shows at any size
@@ -113,18 +114,10 @@ def _render(out, jobs, env_extra):
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory, gl_ctx):
     # the cloud noise bakes the jobs sample, made once into the run's cache before the two
-    # processes start: started side by side on an empty cache, both baked them (~5 s of CPU
-    # each). Their bytes do not depend on the bake's path (tests/gl/test_bakes.py checks the
-    # fragment path on a 4.1 context against the compute one), so the pictures are the same.
-    from app.bakes import bake, defaults, maritime
-    from app.gpu.device import Gpu
-
-    gpu = Gpu(gl_ctx)
-    try:
-        for spec in defaults() + maritime():
-            bake(gpu, spec)
-    finally:
-        gpu.release()
+    # processes start (side by side on an empty cache, both would bake it). Its bytes do not
+    # depend on the bake's path (tests/gl/test_bakes.py checks the fragment path on a 4.1
+    # context against the compute one), so the pictures are the same.
+    bake_cloud_noise(gl_ctx)
     base = tmp_path_factory.mktemp("parity")
     jobs45 = [[name, job[0], _cheap(job[0]) + job[1], *job[2:]] for name, job in JOBS.items()]
     jobs41 = [[name, job[0], _cheap(job[0]) + ON_41.get(name, job[1]), *job[2:]]

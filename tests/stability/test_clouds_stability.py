@@ -17,25 +17,18 @@ from app.runtime import open_session, render_frames, scene_params
 from app.sim.camera import Camera
 from tests.helpers.clouds import finite
 
-#: the cloud bakes of this module go to a cache of their own
+#: the cloud bakes of this module go to the run's cache (its small ones, and the default ones
+#: of the rig: baked once in a run, not once more here)
 pytestmark = pytest.mark.usefixtures("isolated_bake_cache")
 
 
 @pytest.fixture(scope="module")
-def clouds(gl_ctx, tmp_path_factory):
-    import os
-
-    old = os.environ.get("NATURA_CACHE")
-    os.environ["NATURA_CACHE"] = str(tmp_path_factory.mktemp("cache"))
+def clouds(gl_ctx):
     sets = ["clouds.preset=stratocumulus", "clouds.sun_from_sky=false", "clouds.wind_speed=0",
             "bake_shape.size=32", "bake_detail.size=16", "bake_weather.size=64", "clouds.steps=32"]
     session = open_session("clouds", scene_params("clouds", sets=sets), ctx=gl_ctx)
     yield session
     session.release()
-    if old is None:
-        os.environ.pop("NATURA_CACHE", None)
-    else:
-        os.environ["NATURA_CACHE"] = old
 
 
 def luminance_series(session, directions):
