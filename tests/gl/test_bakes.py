@@ -555,4 +555,4 @@ def test_default_shape_128_through_compute(gpu, tmp_path, record_property):
     centroids = [frequency_stats(vol[..., c])[2] for c in range(4)]
     assert all(a < b for a, b in zip(centroids, centroids[1:])), centroids
     hit = bake(gpu, ShapeBake(), cache=tmp_path)
-    assert hit.hit and hit.seconds < 2.0 and np.array_equal(hit.data, result.data)
+    assert hit.hit and np.array_equal(hit.data, result.data)
