@@ -10,23 +10,17 @@ import subprocess
 import pytest
 
 from app import PROJECT_ROOT
-from app.gpu.shaders import SHADER_ENV
 from tests.helpers import forkserver
-from tests.helpers.cli import NATURA, SMALL
+from tests.helpers.cli import NATURA, SMALL, command_env
 
-pytestmark = pytest.mark.skipif(len(NATURA) != 1, reason="no natura console script to fork")
-
-
-def _env() -> dict[str, str]:
-    env = {k: v for k, v in os.environ.items() if k != SHADER_ENV}
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(PROJECT_ROOT),
-                                                      env.get("PYTHONPATH")]))
-    return env
+pytestmark = pytest.mark.skipif(
+    len(NATURA) != 1, reason="natura is not installed as a console script beside this Python "
+    "(pip install -e .): run() starts real processes then, and there is nothing to fork")
 
 
 @pytest.fixture(scope="module")
 def server():
-    s = forkserver.Server(_env(), str(PROJECT_ROOT))
+    s = forkserver.Server(command_env(), str(PROJECT_ROOT))
     yield s
     s.close()
 
@@ -50,10 +44,10 @@ def test_a_forked_command_gives_what_a_real_process_gives(server, tmp_path, args
         (folder / "taken.png").write_bytes(b"mine")
         argv = [*NATURA, *args]
         if way == "real":
-            r = subprocess.run(argv, cwd=folder, env=_env(), capture_output=True, text=True,
+            r = subprocess.run(argv, cwd=folder, env=command_env(), capture_output=True, text=True,
                                timeout=120)
         else:
-            r = server.run(argv, str(folder), _env(), timeout=120)
+            r = server.run(argv, str(folder), command_env(), timeout=120)
         results.append((r.returncode, r.stdout, r.stderr))
         files.append({p.name: p.read_bytes() for p in sorted(folder.iterdir())})
     assert results[0] == results[1]
@@ -65,7 +59,7 @@ def test_the_child_writes_with_the_callers_umask(server, tmp_path):
     old = os.umask(0o077)
     try:
         r = server.run([*NATURA, "render", "sky", "--size", SMALL, "--out", "u.png"],
-                       str(tmp_path), _env(), timeout=120)
+                       str(tmp_path), command_env(), timeout=120)
     finally:
         os.umask(old)
     assert r.returncode == 0, r.stderr
@@ -75,15 +69,15 @@ def test_the_child_writes_with_the_callers_umask(server, tmp_path):
 def test_a_command_past_its_limit_is_killed_and_the_server_goes_on(server, tmp_path):
     argv = [*NATURA, "render", "sky", "--frames", "100000", "--size", SMALL, "--out", "l.png"]
     with pytest.raises(subprocess.TimeoutExpired):
-        server.run(argv, str(tmp_path), _env(), timeout=1)
+        server.run(argv, str(tmp_path), command_env(), timeout=1)
     assert not (tmp_path / "l.png").exists()
-    r = server.run([*NATURA, "scenes"], str(tmp_path), _env(), timeout=120)
+    r = server.run([*NATURA, "scenes"], str(tmp_path), command_env(), timeout=120)
     assert r.returncode == 0 and "maritime" in r.stdout
 
 
 def test_a_changed_environment_or_the_switch_gets_a_real_process(tmp_path, monkeypatch):
     monkeypatch.setattr(forkserver, "_server", None)  # this test's own, started with env
-    env = _env()
+    env = command_env()
     assert forkserver.run([*NATURA, "scenes"], tmp_path, env, timeout=120) is not None
     started = forkserver._server
     assert started is not None

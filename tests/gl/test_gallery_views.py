@@ -37,14 +37,16 @@ ALL_VIEWS = [(scene, view.name) for scene in SCENES for view in views_of(scene)]
 @pytest.fixture(scope="module")
 def renders(gl_ctx):
     out = {}
+
+    def render(scenes):
+        for scene in scenes:
+            for view in views_of(scene):
+                out[(scene, view.name)] = render_view(view, SIZE, ctx=gl_ctx)
+
     # the scenes without cloud noise first: meanwhile another test process may be baking it
-    baked = False
-    for scene in sorted(SCENES, key=lambda s: s in BAKING_SCENES):
-        if scene in BAKING_SCENES and not baked:
-            bake_cloud_noise(gl_ctx)
-            baked = True
-        for view in views_of(scene):
-            out[(scene, view.name)] = render_view(view, SIZE, ctx=gl_ctx)
+    render(s for s in SCENES if s not in BAKING_SCENES)
+    bake_cloud_noise(gl_ctx)
+    render(s for s in SCENES if s in BAKING_SCENES)
     return out
 
 

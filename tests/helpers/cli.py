@@ -31,11 +31,18 @@ def natura_command() -> list[str]:
 NATURA = natura_command()
 
 
-def run(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
-    own_env = env is None
+def command_env(env: dict | None = None) -> dict[str, str]:
+    """The environment ``run`` gives a command: ``env`` (else this process's), the project on
+    PYTHONPATH, $NATURA_SHADERS unset."""
     env = dict(os.environ if env is None else env)
     env.pop(SHADER_ENV, None)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(PROJECT_ROOT), env.get("PYTHONPATH")]))
+    return env
+
+
+def run(*args: str, cwd: Path, env: dict | None = None) -> subprocess.CompletedProcess:
+    own_env = env is None
+    env = command_env(env)
     if own_env and len(NATURA) == 1:  # the console script: a child of the warm server
         r = forkserver.run([*NATURA, *args], cwd, env, timeout=120)
         if r is not None:

@@ -36,8 +36,7 @@ from typing import NoReturn
 #: imported once by the server: what most commands import before they parse their arguments,
 #: and the chart library of the benches (with the backend the benches choose)
 PRELOAD = ("numpy", "PIL.Image", "PIL.PngImagePlugin", "moderngl", "app.cli", "app.runtime",
-           "app.imageio", "app.scenes", "app.bench", "app.teach.exercise", "matplotlib",
-           "matplotlib.pyplot")
+           "app.imageio", "app.scenes", "app.bench", "app.teach.exercise", "matplotlib.pyplot")
 #: the switch that turns the server off (any value but "0" leaves it on)
 SWITCH = "NATURA_TEST_FORK"
 #: the largest request: the arguments, the folder and the environment as JSON
