@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from app.effects.fog import Fog
@@ -164,13 +164,18 @@ def test_exactly_horizontal_ray_is_a_uniform_slab():
 
 
 @given(points, points, st.floats(1e-3, 1.0), st.floats(0.05, 1.0), st.floats(-5.0, 10.0))
+@example((0.0, 132.0, 0.0), (0.0, 131.875, 1.0), 1.0, 0.0625, 0.0)  # u = 0.0078: the series
 def test_analytic_form_equals_quilez_where_his_is_well_conditioned(o, p, a, b, y0):
     ray = np.subtract(p, o)
     t = float(np.linalg.norm(ray))
     assume(t > 1.0 and abs(ray[1]) / t > 0.05 and b * abs(ray[1]) < 30.0)
     assume(b * (o[1] - y0) > -30.0)
+    # below HEIGHT_SERIES_BELOW the twin takes (1 − e^(−u))/u as 1 − u/2 + u²/6, as the shader
+    # does: its truncation error is under u³/24, relative (2e-8 at u = 0.0078)
+    u = b * abs(ray[1])
+    series = u**3 / 24.0 if u < fs.HEIGHT_SERIES_BELOW else 0.0
     assert fs.fog_height_optical_depth(p, o, a, b, y0) == pytest.approx(quilez(p, o, a, b, y0),
-                                                                        rel=1e-9)
+                                                                        rel=1e-9 + series)
 
 
 def test_height_fog_edges():
