@@ -32,7 +32,7 @@ from ..gpu import context as gl_context
 from ..gpu.device import Gpu
 from ..imageio import (
     _LIVE,
-    _can_create_in,
+    check_new_folder,
     expand,
     temp_name_in,
     write_bytes_atomic,
@@ -436,11 +436,8 @@ def cmd_start(name: str, dest_arg: str) -> int:
     if os.path.lexists(dest):
         raise UsageError(f"{quote(str(dest))} already exists: allowed a new folder name "
                          "(nothing is overwritten)")
-    parent = dest.parent if str(dest.parent) else Path(".")
-    if not parent.is_dir() or not _can_create_in(parent):
-        raise UsageError(f"the folder {quote(str(parent))} of {quote(str(dest))} is not a "
-                         "writable folder: allowed a new folder name in an existing, writable "
-                         "folder")
+    parent = check_new_folder(dest, quote(str(dest)), "allowed a new folder name in an "
+                              "existing, writable folder")
     shown = dest if dest.is_absolute() else Path(dest_arg)
     ctx = gl_context.create_headless_context()
     expected = render_view(ex, DEFAULT_SHADER_ROOT, ctx)  # before anything is written

@@ -111,6 +111,16 @@ def test_start_never_overwrites_and_check_wants_an_exercise(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["mine"]  # no temporary left
 
 
+def test_start_refuses_a_folder_it_cannot_make_before_any_work(tmp_path):
+    """As ``shaders copy`` and ``report --out``: a name longer than the file system allows, or
+    a folder in one that does not exist, is one line naming it, before the expected render."""
+    line = usage_error(run("exercise", "start", "schlick-fresnel", "e" * 300, cwd=tmp_path))
+    assert "is 300 bytes: allowed at most" in line, line
+    line = usage_error(run("exercise", "start", "schlick-fresnel", "no/work", cwd=tmp_path))
+    assert "'no' of 'no/work' does not exist" in line, line
+    assert list(tmp_path.iterdir()) == []  # no temporary left
+
+
 def test_a_teachers_own_toml_file_is_an_exercise(tmp_path):
     text = ex_mod.find("schlick-fresnel").text.replace('title = "Schlick\'s Fresnel"',
                                                        'title = "Fresnel, my way"')
