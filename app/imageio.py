@@ -124,7 +124,7 @@ def temp_name_in(folder: Path) -> Path:
 def temp_beside(path: Path) -> Iterator[Path]:
     """A temporary file beside ``path`` with the umask's permissions, registered while it
     lives; removed when the block fails (any exception, Ctrl-C, SIGTERM) or did not use it."""
-    folder = path.parent if str(path.parent) else Path(".")
+    folder = path.parent
     _remove_stale_temps(folder)
     # The name is registered before the file exists: a Ctrl-C already caught by Python's
     # handler is raised between two bytecodes even while the signals are blocked, and one
@@ -233,7 +233,7 @@ def check_output_path(path: str | os.PathLike, force: bool = False,
     if p.suffix.lower() not in suffixes or p.name == p.suffix:
         raise UsageError(f"output {shown} has an unsupported extension: "
                          f"allowed {', '.join(suffixes)}")
-    parent = p.parent if str(p.parent) else Path(".")
+    parent = p.parent
     try:
         parent_is_dir = parent.is_dir()
         exists = os.path.lexists(p)
@@ -266,7 +266,7 @@ def check_output_path(path: str | os.PathLike, force: bool = False,
 def check_new_folder(path: Path, shown: str, allowed: str, option: str = "") -> Path:
     """Check that a new folder ``path`` can be made: its parent is a writable folder and its
     name fits. ``option`` (e.g. ``"--out "``) opens the messages. Returns the parent."""
-    parent = path.parent if str(path.parent) else Path(".")
+    parent = path.parent
     if not parent.is_dir():
         what = "is not a folder" if os.path.lexists(parent) else "does not exist"
         raise UsageError(f"the folder {quote(str(parent))} of {option}{shown} {what}: {allowed}")

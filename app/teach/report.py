@@ -591,7 +591,7 @@ def write_handout(h: Handout, out: Path, force: bool = False) -> Path:
         for name, text in files.items():
             imageio.write_text_atomic(out / name, text, force=force)
         return out / PAGE
-    parent = out.parent if str(out.parent) else Path(".")
+    parent = out.parent
     tmp = temp_name_in(parent)
     with signals_deferred():
         tmp.mkdir()  # the umask's permissions, as a plain mkdir
