@@ -32,9 +32,6 @@ from app.sim import optics
 from app.sim.camera import Camera
 from tests.helpers.clouds import FIXED_LIGHT, SIZE, alpha, default_camera, finite, luminance
 
-#: the cloud bakes of this module go to a cache of their own
-pytestmark = pytest.mark.usefixtures("isolated_bake_cache")
-
 PROBE = fullscreen("tests/clouds_probe")
 
 

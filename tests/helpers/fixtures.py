@@ -18,17 +18,6 @@ from app.sim import atmosphere as atm
 from tests.helpers import clouds, clouds_b, hillaire, ocean, preetham
 from tests.helpers.noise_probe import NoiseProbe
 
-
-@pytest.fixture(scope="module")
-def isolated_bake_cache(session_cache):
-    """The cloud bakes of a module go to the test run's cache (``session_cache`` in
-    tests/conftest.py), never the user's: baked once per run, shared with the other modules
-    (use with ``pytestmark = pytest.mark.usefixtures("isolated_bake_cache")``)."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv(CACHE_ENV, str(session_cache))
-        yield
-
-
 #: the scenes whose first frame samples the cloud noise that ``bake_cloud_noise`` bakes
 BAKING_SCENES = ("clouds", "noise", "ocean", "maritime")
 
@@ -88,15 +77,13 @@ def clouds_rig(gl_ctx):
 
 
 @pytest.fixture(scope="module")
-def clouds_b_rig(gl_ctx, session_cache):
-    """Cloud model B on its own, its bakes in the test run's cache."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv(CACHE_ENV, str(session_cache))
-        gpu = Gpu(gl_ctx)
-        r = clouds_b.Rig(gpu)
-        r.reset()
-        yield r
-        gpu.release()
+def clouds_b_rig(gl_ctx):
+    """Cloud model B on its own, its bakes in the test run's cache (``session_cache``)."""
+    gpu = Gpu(gl_ctx)
+    r = clouds_b.Rig(gpu)
+    r.reset()
+    yield r
+    gpu.release()
 
 
 @pytest.fixture(scope="module")

@@ -17,10 +17,6 @@ from app.runtime import open_session, render_frames, scene_params
 from app.sim.camera import Camera
 from tests.helpers.clouds import finite
 
-#: the cloud bakes of this module go to the run's cache (its small ones, and the default ones
-#: of the rig: baked once in a run, not once more here)
-pytestmark = pytest.mark.usefixtures("isolated_bake_cache")
-
 
 @pytest.fixture(scope="module")
 def clouds(gl_ctx):
